@@ -1,0 +1,723 @@
+//! The baseline beam: a planar geometrically exact (Reissner) cantilever with switchable
+//! shear, extension and Poisson effects — the "modified Timoshenko" beam of the paper's §2
+//! (DESIGN §2). Everything in prbfit is judged against it.
+//!
+//! # Method
+//! The tip load keeps its direction, so the boundary-value problem reduces to one unknown,
+//! the root moment `M(0)`, and one condition, `M(L) = beta` (see [`shoot`] for why). It is
+//! solved by shooting with Newton's method, the slope coming from the variational equations
+//! integrated alongside the beam. Every load is reached by continuation from the unloaded
+//! beam: the load is scaled by `lambda` from 0 to 1 in steps that halve whenever Newton
+//! fails, lands on an unstable equilibrium, or jumps too far, so the solution stays on the
+//! branch the physical beam reaches.
+//!
+//! A converged equilibrium is accepted only if it is stable in the sense of the shooting
+//! slope: `dM(L)/dM(0) > 0`. That slope is 1 for the unloaded beam and crosses zero exactly
+//! where a neighbouring equilibrium appears (a buckling bifurcation or limit point). An exactly
+//! axial compression above Euler's load therefore fails with [`SolveError::Unstable`] rather
+//! than reporting the straight, unstable shape as an answer; tilting the load by any amount
+//! picks a buckling direction and the solver follows it.
+//!
+//! # Accuracy
+//! [`Resolution::tol`] is the local error tolerance of the integrator, and through it the
+//! Newton stopping test. The tip error this buys is measured by `cargo bench --bench beam`
+//! and claimed by [`Resolution::claimed_tip_error`]; a property test holds the solver to it.
+
+mod model;
+mod shoot;
+
+use std::fmt;
+
+use serde::{Deserialize, Serialize};
+
+pub use model::{cowper_kappa, BeamModel, Effects, ModelError};
+use shoot::{shoot, Samples, Segment, Shot, ShotFailure, ShotSettings, TipForce};
+
+/// A tip load in the paper's nondimensional form: `alpha_x = Fx L^2 / (E I0)`,
+/// `alpha_y = Fy L^2 / (E I0)`, `beta = Mz L / (E I0)`.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct Load {
+    pub alpha_x: f64,
+    pub alpha_y: f64,
+    pub beta: f64,
+}
+
+impl Load {
+    pub const fn new(alpha_x: f64, alpha_y: f64, beta: f64) -> Load {
+        Load {
+            alpha_x,
+            alpha_y,
+            beta,
+        }
+    }
+
+    /// The load scaled by `lambda` (a point on a proportional load path).
+    pub fn scaled(&self, lambda: f64) -> Load {
+        Load::new(
+            lambda * self.alpha_x,
+            lambda * self.alpha_y,
+            lambda * self.beta,
+        )
+    }
+
+    /// `|alpha_x| + |alpha_y| + |beta|`, the size of the load.
+    pub fn magnitude(&self) -> f64 {
+        self.alpha_x.abs() + self.alpha_y.abs() + self.beta.abs()
+    }
+
+    pub fn is_finite(&self) -> bool {
+        self.alpha_x.is_finite() && self.alpha_y.is_finite() && self.beta.is_finite()
+    }
+
+    /// Parses `AX,AY,BETA`.
+    pub fn parse(text: &str) -> Result<Load, String> {
+        let parts: Vec<&str> = text.split(',').map(str::trim).collect();
+        if parts.len() != 3 {
+            return Err(format!(
+                "expected three numbers AX,AY,BETA, got {} in `{text}`",
+                parts.len()
+            ));
+        }
+        let mut v = [0.0; 3];
+        for (slot, part) in v.iter_mut().zip(&parts) {
+            let x: f64 = part
+                .parse()
+                .map_err(|_| format!("`{part}` is not a number (in `{text}`)"))?;
+            if !x.is_finite() {
+                return Err(format!("`{part}` is not a finite number (in `{text}`)"));
+            }
+            *slot = x;
+        }
+        Ok(Load::new(v[0], v[1], v[2]))
+    }
+}
+
+impl fmt::Display for Load {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "alpha_x = {}, alpha_y = {}, beta = {}",
+            self.alpha_x, self.alpha_y, self.beta
+        )
+    }
+}
+
+/// The tip pose: position in units of L, cross-section angle in radians.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct TipPose {
+    pub a: f64,
+    pub b: f64,
+    pub phi: f64,
+}
+
+impl TipPose {
+    /// The pose of the unloaded beam.
+    pub const STRAIGHT: TipPose = TipPose {
+        a: 1.0,
+        b: 0.0,
+        phi: 0.0,
+    };
+
+    /// Largest component difference (units of L and radians).
+    pub fn max_diff(&self, other: &TipPose) -> f64 {
+        (self.a - other.a)
+            .abs()
+            .max((self.b - other.b).abs())
+            .max((self.phi - other.phi).abs())
+    }
+}
+
+/// A point of the deformed centre line.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct ShapePoint {
+    /// Material coordinate, units of L.
+    pub s: f64,
+    pub x: f64,
+    pub y: f64,
+    /// Cross-section angle.
+    pub psi: f64,
+}
+
+/// The solver's resolution: the speed/accuracy knob.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Resolution {
+    /// Local error tolerance of the integrator (units of L and radians).
+    pub tol: f64,
+    /// Points of the deformed shape returned with each solution (root and tip included).
+    pub shape_points: usize,
+}
+
+impl Default for Resolution {
+    fn default() -> Self {
+        Resolution {
+            tol: 1e-9,
+            shape_points: 41,
+        }
+    }
+}
+
+impl Resolution {
+    /// A resolution with the given tolerance and the default shape sampling.
+    pub fn with_tol(tol: f64) -> Resolution {
+        Resolution {
+            tol,
+            ..Resolution::default()
+        }
+    }
+
+    /// The tip error (units of L, radians) this resolution promises, for loads within the
+    /// solver's range. Calibrated by `cargo bench --bench beam` and enforced by
+    /// `tests/beam_properties.rs`.
+    pub fn claimed_tip_error(&self) -> f64 {
+        10.0 * self.tol
+    }
+
+    fn validate(&self) -> Result<(), SolveError> {
+        if !(self.tol.is_finite() && self.tol >= 1e-14 && self.tol <= 1e-2) {
+            return Err(SolveError::BadResolution(format!(
+                "tolerance must be in [1e-14, 1e-2], got {}",
+                self.tol
+            )));
+        }
+        if self.shape_points < 2 || self.shape_points > 100_000 {
+            return Err(SolveError::BadResolution(format!(
+                "shape points must be in [2, 100000], got {}",
+                self.shape_points
+            )));
+        }
+        Ok(())
+    }
+}
+
+/// How a solve ended. A solve that did not converge is an `Err`, so this records how well
+/// the accepted equilibrium is pinned down.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Convergence {
+    /// `|M(L) - beta|` at the last shot, before the final linear correction.
+    pub residual: f64,
+    /// The last Newton update of the root moment.
+    pub last_update: f64,
+    /// `dM(L)/dM(0)`: positive for a stable equilibrium, zero at a buckling point.
+    pub stability: f64,
+}
+
+/// One equilibrium of the beam.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct BeamSolution {
+    pub load: Load,
+    pub tip: TipPose,
+    /// Bending moment at the clamp, units of `E I0 / L`.
+    pub root_moment: f64,
+    /// The deformed centre line at uniform `s`.
+    pub shape: Vec<ShapePoint>,
+    /// Newton iterations (shots) spent on this load, continuation sub-steps included.
+    pub iterations: u32,
+    /// Continuation steps taken to reach this load from the previous one.
+    pub continuation_steps: u32,
+    /// Integration steps of the final shot.
+    pub rk_steps: u32,
+    pub convergence: Convergence,
+}
+
+/// Why the beam could not be solved.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SolveError {
+    #[error("load is not finite: {0}")]
+    NonFiniteLoad(Load),
+    #[error("bad resolution: {0}")]
+    BadResolution(String),
+    #[error(
+        "no equilibrium found for {load}: stuck at {:.4} of the load path ({reason})",
+        fraction
+    )]
+    NoConvergence {
+        load: Load,
+        fraction: f64,
+        reason: String,
+    },
+    #[error(
+        "the equilibrium path for {load} reaches a critical point at {:.4} of the load \
+         (dM(L)/dM(0) -> 0, a buckling bifurcation or limit point); past it the beam's \
+         shape is not unique. For an exactly axial compression, tilt the load slightly to \
+         choose the buckling direction",
+        fraction
+    )]
+    Unstable { load: Load, fraction: f64 },
+    #[error("the material law fails for {load} at {:.4} of the load path: {reason}", fraction)]
+    MaterialLimit {
+        load: Load,
+        fraction: f64,
+        reason: String,
+    },
+}
+
+/// The accepted state at one point of a load path: `(psi, M)` at the start of every
+/// shooting segment.
+#[derive(Debug, Clone)]
+struct PathPoint {
+    lambda: f64,
+    nodes: Vec<[f64; 2]>,
+    tip: TipPose,
+}
+
+/// The outcome of one Newton solve at a fixed load.
+struct NewtonResult {
+    nodes: Vec<[f64; 2]>,
+    shape: Vec<ShapePoint>,
+    tip: TipPose,
+    shots: u32,
+    rk_steps: u32,
+    convergence: Convergence,
+}
+
+enum NewtonFailure {
+    Shot(ShotFailure),
+    Diverged(String),
+}
+
+/// The solver: a validated beam plus a resolution.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BeamSolver {
+    pub model: BeamModel,
+    pub resolution: Resolution,
+}
+
+/// Continuation never takes a step that turns the tip by more than this (radians) ...
+const MAX_TIP_TURN: f64 = 1.0;
+/// ... or moves it by more than this (units of L), so it cannot hop to another branch.
+const MAX_TIP_MOVE: f64 = 0.6;
+/// Newton's correction of the predicted tip may always be this large (units of L, radians).
+const MIN_CORRECTION: f64 = 0.15;
+/// The smallest continuation step before the solver gives up.
+const MIN_STEP: f64 = 1e-7;
+const MAX_NEWTON: u32 = 30;
+/// Shooting segments are short enough that perturbations grow by at most about
+/// `exp(SEGMENT_GROWTH)` across one (they grow like `exp(sqrt(|alpha|) s)`).
+const SEGMENT_GROWTH: f64 = 3.0;
+const MAX_SEGMENTS: usize = 16;
+
+impl BeamSolver {
+    pub fn new(model: BeamModel, resolution: Resolution) -> Result<BeamSolver, SolveError> {
+        resolution.validate()?;
+        Ok(BeamSolver { model, resolution })
+    }
+
+    /// Solves one load by continuation from the unloaded beam.
+    pub fn solve(&self, load: Load) -> Result<BeamSolution, SolveError> {
+        let mut out = self.solve_path(load, 1)?;
+        Ok(out.pop().expect("one case per step"))
+    }
+
+    /// Solves the proportional path to `end`, returning the cases at `k / steps`,
+    /// `k = 1..=steps` (DESIGN §5). Each case warm-starts from the previous ones.
+    pub fn solve_path(&self, end: Load, steps: u32) -> Result<Vec<BeamSolution>, SolveError> {
+        if !end.is_finite() {
+            return Err(SolveError::NonFiniteLoad(end));
+        }
+        let steps = steps.max(1);
+        let segments = segment_count(end);
+        let mut history = vec![PathPoint {
+            lambda: 0.0,
+            nodes: vec![[0.0, 0.0]; segments],
+            tip: TipPose::STRAIGHT,
+        }];
+        let mut out = Vec::with_capacity(steps as usize);
+        let mut dlam = 1.0 / steps as f64;
+        for k in 1..=steps {
+            let target = k as f64 / steps as f64;
+            let (solution, next_dlam) = self.advance(end, &mut history, target, dlam)?;
+            dlam = next_dlam;
+            out.push(solution);
+        }
+        Ok(out)
+    }
+
+    /// Continues from the last point of `history` to `target`, sub-stepping as needed.
+    fn advance(
+        &self,
+        end: Load,
+        history: &mut Vec<PathPoint>,
+        target: f64,
+        mut dlam: f64,
+    ) -> Result<(BeamSolution, f64), SolveError> {
+        let mut shots = 0u32;
+        let mut sub_steps = 0u32;
+        loop {
+            let prev = history.last().expect("history starts with the unloaded beam");
+            let (prev_lambda, prev_tip) = (prev.lambda, prev.tip);
+            let lambda = (prev_lambda + dlam).min(target);
+            let (guess, predicted_tip) = predict(end, history, lambda);
+            let load = end.scaled(lambda);
+            let attempt = self.newton(load, guess);
+            if std::env::var("PRB_DEBUG").is_ok() { eprintln!("lam {lambda} -> {:?}", attempt.as_ref().map(|r| (r.shots, r.tip.phi, r.convergence.last_update)).map_err(|e| match e { NewtonFailure::Shot(s) => format!("{s:?}"), NewtonFailure::Diverged(d) => d.clone() })); }
+            let failure = match attempt {
+                Ok(result) => {
+                    shots += result.shots;
+                    let turn = (result.tip.phi - prev_tip.phi).abs();
+                    let moved = (result.tip.a - prev_tip.a).hypot(result.tip.b - prev_tip.b);
+                    // Newton may correct the predictor, but not by much more than the step
+                    // itself: a big correction means it found another branch.
+                    let correction = result.tip.max_diff(&predicted_tip);
+                    let allowed = MIN_CORRECTION + 0.5 * predicted_tip.max_diff(&prev_tip);
+                    if result.convergence.stability <= 0.0 {
+                        SolveError::Unstable {
+                            load: end,
+                            fraction: prev_lambda,
+                        }
+                    } else if turn > MAX_TIP_TURN || moved > MAX_TIP_MOVE || correction > allowed {
+                        SolveError::NoConvergence {
+                            load: end,
+                            fraction: prev_lambda,
+                            reason: "continuation step too large".into(),
+                        }
+                    } else {
+                        sub_steps += 1;
+                        if history.len() == 2 {
+                            history.remove(0);
+                        }
+                        history.push(PathPoint {
+                            lambda,
+                            nodes: result.nodes.clone(),
+                            tip: result.tip,
+                        });
+                        dlam = (dlam * 2.0).min(1.0);
+                        if lambda >= target {
+                            let solution = BeamSolution {
+                                load,
+                                tip: result.tip,
+                                root_moment: result.nodes[0][1],
+                                shape: result.shape,
+                                iterations: shots,
+                                continuation_steps: sub_steps,
+                                rk_steps: result.rk_steps,
+                                convergence: result.convergence,
+                            };
+                            return Ok((solution, dlam));
+                        }
+                        continue;
+                    }
+                }
+                Err(NewtonFailure::Shot(ShotFailure::Material(limit))) => {
+                    SolveError::MaterialLimit {
+                        load: end,
+                        fraction: prev_lambda,
+                        reason: limit.to_string(),
+                    }
+                }
+                Err(NewtonFailure::Shot(ShotFailure::StepBudget)) => SolveError::NoConvergence {
+                    load: end,
+                    fraction: prev_lambda,
+                    reason: "the integrator's step size collapsed".into(),
+                },
+                Err(NewtonFailure::Shot(ShotFailure::NonFinite)) => SolveError::NoConvergence {
+                    load: end,
+                    fraction: prev_lambda,
+                    reason: "a shot overflowed".into(),
+                },
+                Err(NewtonFailure::Diverged(reason)) => SolveError::NoConvergence {
+                    load: end,
+                    fraction: prev_lambda,
+                    reason,
+                },
+            };
+            dlam *= 0.5;
+            if dlam < MIN_STEP {
+                return Err(failure);
+            }
+        }
+    }
+
+    /// Newton's method for multiple shooting at a fixed load.
+    ///
+    /// The unknowns are the root moment and `(psi, M)` at the start of every later segment;
+    /// the equations are continuity of `(psi, M)` between segments and `M(L) = beta`. With one
+    /// segment this is plain shooting on the root moment. More segments keep each shot's
+    /// sensitivity near `exp(SEGMENT_GROWTH)` where a single shot's would be
+    /// `exp(sqrt(alpha))` and Newton's basin would shrink to nothing. An update that makes
+    /// the (scaled) residual grow is halved.
+    fn newton(&self, load: Load, mut nodes: Vec<[f64; 2]>) -> Result<NewtonResult, NewtonFailure> {
+        let force = TipForce {
+            alpha_x: load.alpha_x,
+            alpha_y: load.alpha_y,
+        };
+        let settings = self.settings(load);
+        let magnitude = load.magnitude();
+        let moment_weight = 1.0 / (1.0 + magnitude);
+        // The tip must be right to the tolerance, relative to the deflection for tiny loads
+        // so that a load of 1e-9 still agrees with linear theory to many digits.
+        let tip_tol = self.resolution.tol * magnitude.min(1.0);
+        let segments = nodes.len();
+        let unknowns = 2 * segments - 1;
+        let samples = self.resolution.shape_points;
+        let mut shape = Vec::with_capacity(samples);
+        let mut ends: Vec<[f64; 12]> = vec![[0.0; 12]; segments];
+        let mut jacobian = vec![0.0; unknowns * unknowns];
+        let mut residual = vec![0.0; unknowns];
+        // The last iterate that improved the residual, and the update taken from it.
+        let mut base: Option<(Vec<[f64; 2]>, f64, Vec<f64>)> = None;
+        let mut last_measure = f64::INFINITY;
+        nodes[0][0] = 0.0;
+        for shot_no in 1..=MAX_NEWTON {
+            // Shoot every segment; the shape is sampled on every iteration, which is far
+            // cheaper than one more pass at the end.
+            shape.clear();
+            let mut origin = (0.0, 0.0);
+            let mut rk_steps = 0;
+            for (k, node) in nodes.iter().enumerate() {
+                let segment = Segment {
+                    s_start: k as f64 / segments as f64,
+                    s_end: (k + 1) as f64 / segments as f64,
+                    psi: node[0],
+                    moment: node[1],
+                    origin,
+                };
+                let sampling = Samples {
+                    points: &mut shape,
+                    count: samples,
+                };
+                let Shot { end, steps } =
+                    shoot(&self.model, force, segment, settings, Some(sampling))
+                        .map_err(NewtonFailure::Shot)?;
+                origin = (origin.0 + end[2], origin.1 + end[3]);
+                ends[k] = end;
+                rk_steps += steps;
+            }
+            let last = &ends[segments - 1];
+
+            // Residual and Jacobian. Column of psi_k is 2k - 1 (k >= 1), of M_k is 2k.
+            jacobian.iter_mut().for_each(|v| *v = 0.0);
+            for k in 0..segments {
+                let e = &ends[k];
+                let (row_psi, row_m) = (2 * k, 2 * k + 1);
+                let rows: &[(usize, usize, usize)] = if k + 1 < segments {
+                    residual[row_psi] = e[0] - nodes[k + 1][0];
+                    residual[row_m] = e[1] - nodes[k + 1][1];
+                    jacobian[row_psi * unknowns + 2 * k + 1] = -1.0;
+                    jacobian[row_m * unknowns + 2 * k + 2] = -1.0;
+                    &[(row_psi, 4, 8), (row_m, 5, 9)]
+                } else {
+                    residual[row_psi] = e[1] - load.beta;
+                    &[(row_psi, 5, 9)]
+                };
+                for &(row, d_psi, d_m) in rows {
+                    if k > 0 {
+                        jacobian[row * unknowns + 2 * k - 1] = e[d_psi];
+                    }
+                    jacobian[row * unknowns + 2 * k] = e[d_m];
+                }
+            }
+            let merit = residual
+                .iter()
+                .enumerate()
+                .map(|(i, r)| if i % 2 == 1 || i == unknowns - 1 { r * moment_weight } else { *r })
+                .fold(0.0_f64, |acc, r| acc.max(r.abs()));
+
+            if let Some((base_nodes, base_merit, update)) = &base {
+                let noise_level = last_measure <= 10.0 * tip_tol;
+                if merit > *base_merit && !noise_level {
+                    let half: Vec<f64> = update.iter().map(|u| 0.5 * u).collect();
+                    nodes = apply(base_nodes, &half);
+                    base = Some((base_nodes.clone(), *base_merit, half));
+                    last_measure *= 0.5;
+                    continue;
+                }
+            }
+
+            let mut update: Vec<f64> = residual.iter().map(|r| -r).collect();
+            if !solve_dense(&mut jacobian, &mut update, unknowns) {
+                return Err(NewtonFailure::Diverged("singular shooting Jacobian".into()));
+            }
+
+            // How far the update moves the tip (by the linearisation) and the nodes.
+            let mut delta = TipPose {
+                a: 0.0,
+                b: 0.0,
+                phi: 0.0,
+            };
+            let mut node_change = 0.0_f64;
+            for (k, e) in ends.iter().enumerate() {
+                let d_psi = if k > 0 { update[2 * k - 1] } else { 0.0 };
+                let d_m = update[2 * k];
+                delta.a += e[6] * d_psi + e[10] * d_m;
+                delta.b += e[7] * d_psi + e[11] * d_m;
+                if k + 1 == segments {
+                    delta.phi = e[4] * d_psi + e[8] * d_m;
+                }
+                node_change = node_change.max(d_psi.abs()).max(d_m.abs() * moment_weight);
+            }
+            let measure = delta.max_diff(&TipPose::default()).max(node_change);
+            if !measure.is_finite() {
+                return Err(NewtonFailure::Diverged("the Newton update is not finite".into()));
+            }
+            // Stop when the update would move the tip and nodes by less than the tolerance,
+            // or when the integrator's noise keeps the updates from shrinking any further.
+            let stalled = measure > 0.5 * last_measure && measure <= 10.0 * tip_tol;
+            if measure <= tip_tol || stalled {
+                // Apply the last update linearly: free, and it removes the Newton error.
+                let tip = TipPose {
+                    a: origin.0 + delta.a,
+                    b: origin.1 + delta.b,
+                    phi: last[0] + delta.phi,
+                };
+                // dM(L)/dM(0) through the chain of segments.
+                let mut v = [0.0, 1.0];
+                for e in &ends {
+                    v = [e[4] * v[0] + e[8] * v[1], e[5] * v[0] + e[9] * v[1]];
+                }
+                return Ok(NewtonResult {
+                    nodes: apply(&nodes, &update),
+                    shape,
+                    tip,
+                    shots: shot_no,
+                    rk_steps,
+                    convergence: Convergence {
+                        residual: merit,
+                        last_update: measure,
+                        stability: v[1],
+                    },
+                });
+            }
+            // Damp wild updates: angles beyond a radian or moments beyond what the load can
+            // produce mean the linearisation is useless here.
+            let biggest = update
+                .iter()
+                .enumerate()
+                .map(|(i, u)| {
+                    if i % 2 == 0 {
+                        u.abs() / (2.0 * (magnitude + 1.0))
+                    } else {
+                        u.abs()
+                    }
+                })
+                .fold(0.0_f64, f64::max);
+            if biggest > 1.0 {
+                update.iter_mut().for_each(|u| *u /= biggest);
+            }
+            let next = apply(&nodes, &update);
+            base = Some((std::mem::replace(&mut nodes, next), merit, update));
+            last_measure = measure;
+        }
+        Err(NewtonFailure::Diverged(format!(
+            "Newton did not converge in {MAX_NEWTON} iterations"
+        )))
+    }
+
+    fn settings(&self, load: Load) -> ShotSettings {
+        let magnitude = load.magnitude();
+        ShotSettings {
+            tol: self.resolution.tol,
+            moment_scale: magnitude,
+            h0: 0.1 / (1.0 + magnitude.sqrt()),
+            max_steps: 200_000,
+        }
+    }
+}
+
+/// How many shooting segments a load path needs (see [`SEGMENT_GROWTH`]).
+fn segment_count(end: Load) -> usize {
+    let force = end.alpha_x.hypot(end.alpha_y);
+    ((force.sqrt() / SEGMENT_GROWTH).ceil() as usize).clamp(1, MAX_SEGMENTS)
+}
+
+/// `nodes` moved by a Newton update laid out as the unknowns (`M_0, psi_1, M_1, ...`).
+fn apply(nodes: &[[f64; 2]], update: &[f64]) -> Vec<[f64; 2]> {
+    nodes
+        .iter()
+        .enumerate()
+        .map(|(k, n)| {
+            let d_psi = if k > 0 { update[2 * k - 1] } else { 0.0 };
+            [n[0] + d_psi, n[1] + update[2 * k]]
+        })
+        .collect()
+}
+
+/// Gaussian elimination with partial pivoting on a small dense row-major system; the
+/// solution replaces `rhs`. Returns false for a singular matrix.
+fn solve_dense(matrix: &mut [f64], rhs: &mut [f64], n: usize) -> bool {
+    for col in 0..n {
+        let pivot = (col..n)
+            .max_by(|&i, &j| matrix[i * n + col].abs().total_cmp(&matrix[j * n + col].abs()))
+            .expect("non-empty range");
+        let p = matrix[pivot * n + col];
+        if p == 0.0 || !p.is_finite() {
+            return false;
+        }
+        if pivot != col {
+            for j in 0..n {
+                matrix.swap(col * n + j, pivot * n + j);
+            }
+            rhs.swap(col, pivot);
+        }
+        for row in col + 1..n {
+            let factor = matrix[row * n + col] / p;
+            if factor != 0.0 {
+                for j in col..n {
+                    matrix[row * n + j] -= factor * matrix[col * n + j];
+                }
+                rhs[row] -= factor * rhs[col];
+            }
+        }
+    }
+    for col in (0..n).rev() {
+        let mut v = rhs[col];
+        for j in col + 1..n {
+            v -= matrix[col * n + j] * rhs[j];
+        }
+        rhs[col] = v / matrix[col * n + col];
+    }
+    rhs.iter().all(|v| v.is_finite())
+}
+
+/// Predicts the nodes and the tip at `lambda` from the path so far: the linear-theory
+/// tangent at the start (`M(s) = beta + alpha_y (1 - s)`, `psi` its integral, the tip
+/// moving by the Euler-Bernoulli compliance), then secant extrapolation.
+fn predict(end: Load, history: &[PathPoint], lambda: f64) -> (Vec<[f64; 2]>, TipPose) {
+    match history {
+        [p] => {
+            let segments = p.nodes.len();
+            let dl = lambda - p.lambda;
+            let nodes = (0..segments)
+                .map(|k| {
+                    let s = k as f64 / segments as f64;
+                    let m = end.beta + end.alpha_y * (1.0 - s);
+                    let psi = end.beta * s + end.alpha_y * (s - 0.5 * s * s);
+                    [p.nodes[k][0] + dl * psi, p.nodes[k][1] + dl * m]
+                })
+                .collect();
+            let tip = TipPose {
+                a: p.tip.a,
+                b: p.tip.b + dl * (end.alpha_y / 3.0 + end.beta / 2.0),
+                phi: p.tip.phi + dl * (end.alpha_y / 2.0 + end.beta),
+            };
+            (nodes, tip)
+        }
+        [.., p0, p1] => {
+            let t = (lambda - p1.lambda) / (p1.lambda - p0.lambda);
+            let nodes = p1
+                .nodes
+                .iter()
+                .zip(&p0.nodes)
+                .map(|(n1, n0)| [n1[0] + t * (n1[0] - n0[0]), n1[1] + t * (n1[1] - n0[1])])
+                .collect();
+            let tip = TipPose {
+                a: p1.tip.a + t * (p1.tip.a - p0.tip.a),
+                b: p1.tip.b + t * (p1.tip.b - p0.tip.b),
+                phi: p1.tip.phi + t * (p1.tip.phi - p0.tip.phi),
+            };
+            (nodes, tip)
+        }
+        [] => unreachable!("history starts with the unloaded beam"),
+    }
+}
+
+/// Solves every case of a set of load paths with one solver.
+pub fn solve_paths(
+    solver: &BeamSolver,
+    paths: &[(Load, u32)],
+) -> Result<Vec<BeamSolution>, SolveError> {
+    let mut out = Vec::new();
+    for &(end, steps) in paths {
+        out.extend(solver.solve_path(end, steps)?);
+    }
+    Ok(out)
+}

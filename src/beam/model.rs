@@ -1,0 +1,333 @@
+//! The beam's cross-section and constitutive law, nondimensional (L = 1, E I0 = 1).
+//!
+//! DESIGN §2: with the section rotated by `psi`, the tip load `(alpha_x, alpha_y)` splits into
+//! the axial force `N = alpha_x cos psi + alpha_y sin psi` and the shear force
+//! `Q = -alpha_x sin psi + alpha_y cos psi`. The strains are
+//!
+//! ```text
+//! eps   = N / (E A)          with  E A  = E A0 (1 - nu eps)^2     [extension, poisson]
+//! gamma = Q / (kappa G A)                                        [shear]
+//! ```
+//!
+//! In units of `E I0 / L^2` for forces, `E A0 = 1 / c_e` with `c_e = I0 / (A0 L^2) =
+//! 1 / (12 (L/t0)^2)` and `kappa G A0 = 1 / c_s` with `c_s = c_e 2 (1 + nu) / kappa`.
+//!
+//! With Poisson on, `eps (1 - nu eps)^2 = c_e N` is solved for `eps` by a bracketed Newton
+//! iteration. The left side peaks at `eps = 1 / (3 nu)` (value `4 / (27 nu)`): a tension above
+//! that has no equilibrium in this material law (the section necks), and a compression that
+//! drives `1 + eps` to zero crushes the beam. Both are reported, never papered over.
+
+use std::fmt;
+
+use serde::{Deserialize, Serialize};
+
+/// Which of the modified-Timoshenko effects the beam model includes (DESIGN §2).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
+pub struct Effects {
+    /// Shear strain `gamma = Q / (kappa G A)`.
+    pub shear: bool,
+    /// Axial strain `eps = N / (E A)`.
+    pub extension: bool,
+    /// The section shrinks with the axial strain (needs `extension`).
+    pub poisson: bool,
+}
+
+impl Effects {
+    /// The inextensible Euler-Bernoulli elastica.
+    pub const NONE: Effects = Effects {
+        shear: false,
+        extension: false,
+        poisson: false,
+    };
+    /// Every effect on.
+    pub const ALL: Effects = Effects {
+        shear: true,
+        extension: true,
+        poisson: true,
+    };
+
+    /// Parses `none`, `all` or a comma-separated list such as `shear,extension`.
+    pub fn parse_list(text: &str) -> Result<Effects, ModelError> {
+        let trimmed = text.trim();
+        match trimmed {
+            "none" | "" => return Ok(Effects::NONE),
+            "all" => return Ok(Effects::ALL),
+            _ => {}
+        }
+        let mut effects = Effects::NONE;
+        for word in trimmed.split(',').map(str::trim) {
+            effects.set(word)?;
+        }
+        effects.validate()?;
+        Ok(effects)
+    }
+
+    /// Switches on the effect called `name`.
+    pub fn set(&mut self, name: &str) -> Result<(), ModelError> {
+        match name {
+            "shear" => self.shear = true,
+            "extension" => self.extension = true,
+            "poisson" => self.poisson = true,
+            other => return Err(ModelError::UnknownEffect(other.to_string())),
+        }
+        Ok(())
+    }
+
+    /// Poisson's effect acts through the axial strain, so it needs `extension`.
+    pub fn validate(&self) -> Result<(), ModelError> {
+        if self.poisson && !self.extension {
+            return Err(ModelError::PoissonWithoutExtension);
+        }
+        Ok(())
+    }
+
+    /// The names of the effects that are on, in the canonical order.
+    pub fn names(&self) -> Vec<&'static str> {
+        let mut out = Vec::new();
+        if self.shear {
+            out.push("shear");
+        }
+        if self.extension {
+            out.push("extension");
+        }
+        if self.poisson {
+            out.push("poisson");
+        }
+        out
+    }
+}
+
+impl fmt::Display for Effects {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let names = self.names();
+        if names.is_empty() {
+            write!(f, "none")
+        } else {
+            write!(f, "{}", names.join(","))
+        }
+    }
+}
+
+/// Errors in the description of a beam.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ModelError {
+    #[error("slenderness L/t0 must be a finite number > 0, got {0}")]
+    Slenderness(f64),
+    #[error("Poisson's ratio must be in [0, 0.5), got {0}")]
+    PoissonRatio(f64),
+    #[error("shear coefficient kappa must be a finite number > 0, got {0}")]
+    ShearCoefficient(f64),
+    #[error("unknown effect `{0}` (expected shear, extension, poisson, none or all)")]
+    UnknownEffect(String),
+    #[error("the poisson effect needs extension: add \"extension\" to the effects")]
+    PoissonWithoutExtension,
+}
+
+/// Cowper's shear coefficient of a rectangular section, `10 (1 + nu) / (12 + 11 nu)`.
+pub fn cowper_kappa(nu: f64) -> f64 {
+    10.0 * (1.0 + nu) / (12.0 + 11.0 * nu)
+}
+
+/// A beam in the nondimensional core: everything the solution depends on.
+///
+/// Width and Young's modulus cancel out once loads are written as `alpha` and `beta`; what
+/// remains is the slenderness `L / t0`, Poisson's ratio, the shear coefficient and the effects.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct BeamModel {
+    pub slenderness: f64,
+    pub nu: f64,
+    pub kappa: f64,
+    pub effects: Effects,
+    /// `I0 / (A0 L^2)`: axial compliance in units of `L^2 / (E I0)`.
+    c_e: f64,
+    /// `E I0 / (kappa G A0 L^2)`: shear compliance.
+    c_s: f64,
+}
+
+impl BeamModel {
+    /// A validated beam; `kappa = None` takes Cowper's value for the rectangle.
+    pub fn new(
+        slenderness: f64,
+        nu: f64,
+        kappa: Option<f64>,
+        effects: Effects,
+    ) -> Result<BeamModel, ModelError> {
+        if !(slenderness.is_finite() && slenderness > 0.0) {
+            return Err(ModelError::Slenderness(slenderness));
+        }
+        if !(nu.is_finite() && (0.0..0.5).contains(&nu)) {
+            return Err(ModelError::PoissonRatio(nu));
+        }
+        let kappa = kappa.unwrap_or_else(|| cowper_kappa(nu));
+        if !(kappa.is_finite() && kappa > 0.0) {
+            return Err(ModelError::ShearCoefficient(kappa));
+        }
+        effects.validate()?;
+        let c_e = 1.0 / (12.0 * slenderness * slenderness);
+        let c_s = c_e * 2.0 * (1.0 + nu) / kappa;
+        Ok(BeamModel {
+            slenderness,
+            nu,
+            kappa,
+            effects,
+            c_e,
+            c_s,
+        })
+    }
+
+    /// The inextensible, shear-rigid elastica (slenderness and nu are then irrelevant).
+    pub fn elastica() -> BeamModel {
+        BeamModel::new(100.0, 0.3, None, Effects::NONE).expect("constant beam is valid")
+    }
+
+    /// Axial compliance `I0 / (A0 L^2) = 1 / (12 (L/t0)^2)`.
+    pub fn axial_compliance(&self) -> f64 {
+        self.c_e
+    }
+
+    /// Shear compliance `E I0 / (kappa G A0 L^2)`.
+    pub fn shear_compliance(&self) -> f64 {
+        self.c_s
+    }
+
+    /// Strains of the section under axial force `n` and shear force `q` (units of
+    /// `E I0 / L^2`): `(eps, gamma, I / I0)`, or `None` where the material law has no state.
+    pub fn section_strains(&self, n: f64, q: f64) -> Option<(f64, f64, f64)> {
+        let (eps, _, p) = self.axial_strain(n).ok()?;
+        let gamma = if self.effects.shear {
+            self.c_s * q / (p * p)
+        } else {
+            0.0
+        };
+        let stiffness = if self.effects.poisson { p.powi(4) } else { 1.0 };
+        Some((eps, gamma, stiffness))
+    }
+
+    /// The section state for an axial force `n`: strain, `d eps / d N`, shrink factor `p`.
+    #[inline]
+    pub(crate) fn axial_strain(&self, n: f64) -> Result<(f64, f64, f64), MaterialLimit> {
+        if !self.effects.extension {
+            return Ok((0.0, 0.0, 1.0));
+        }
+        let rhs = self.c_e * n;
+        let (eps, de_dn, p) = if self.effects.poisson && self.nu > 0.0 {
+            let (eps, slope) = solve_poisson(self.nu, rhs)
+                .ok_or(MaterialLimit::Necked { axial_force: n })?;
+            (eps, self.c_e / slope, 1.0 - self.nu * eps)
+        } else {
+            (rhs, self.c_e, 1.0)
+        };
+        if 1.0 + eps <= 0.0 {
+            return Err(MaterialLimit::Crushed { axial_force: n });
+        }
+        Ok((eps, de_dn, p))
+    }
+}
+
+/// The constitutive law has no state for this axial force.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) enum MaterialLimit {
+    /// Tension beyond the peak of `eps (1 - nu eps)^2`.
+    Necked { axial_force: f64 },
+    /// Compression that shortens the centre line to nothing.
+    Crushed { axial_force: f64 },
+}
+
+impl fmt::Display for MaterialLimit {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            MaterialLimit::Necked { axial_force } => write!(
+                f,
+                "axial tension {axial_force:.4} E I0/L^2 exceeds what the Poisson material law can \
+                 carry (the section necks)"
+            ),
+            MaterialLimit::Crushed { axial_force } => write!(
+                f,
+                "axial compression {axial_force:.4} E I0/L^2 shortens the centre line to nothing"
+            ),
+        }
+    }
+}
+
+/// Solves `eps (1 - nu eps)^2 = r` for the physical root `eps < 1 / (3 nu)`.
+/// Returns `eps` and the slope `d/d eps [eps (1 - nu eps)^2]` there.
+#[inline]
+fn solve_poisson(nu: f64, r: f64) -> Option<(f64, f64)> {
+    let eps_peak = 1.0 / (3.0 * nu);
+    let r_peak = 4.0 / (27.0 * nu);
+    if r >= r_peak || !r.is_finite() {
+        return None;
+    }
+    // For r < 0, (1 - nu eps)^2 > 1 so r <= eps < 0; for r > 0, r <= eps < eps_peak.
+    let (mut lo, mut hi) = if r < 0.0 { (r, 0.0) } else { (r, eps_peak) };
+    let mut eps = r;
+    for _ in 0..80 {
+        let p = 1.0 - nu * eps;
+        let g = eps * p * p - r;
+        let slope = p * (1.0 - 3.0 * nu * eps);
+        if g > 0.0 {
+            hi = eps;
+        } else {
+            lo = eps;
+        }
+        let mut next = eps - g / slope;
+        if !(next > lo && next < hi) || !next.is_finite() {
+            next = 0.5 * (lo + hi);
+        }
+        let done = (next - eps).abs() <= 1e-16 * (1.0 + eps.abs());
+        eps = next;
+        if done {
+            break;
+        }
+    }
+    let p = 1.0 - nu * eps;
+    Some((eps, p * (1.0 - 3.0 * nu * eps)))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn poisson_root_satisfies_the_equation() {
+        for &nu in &[0.1, 0.3, 0.45, 0.499] {
+            for &r in &[-5.0, -0.3, -1e-9, 0.0, 1e-9, 0.01, 0.2, 4.0 / (27.0 * nu) * 0.999] {
+                let (eps, _) = solve_poisson(nu, r).unwrap();
+                let p = 1.0 - nu * eps;
+                assert!((eps * p * p - r).abs() <= 1e-14 * (1.0 + r.abs()), "nu {nu} r {r}");
+                assert!(eps < 1.0 / (3.0 * nu));
+            }
+        }
+    }
+
+    #[test]
+    fn necking_is_reported() {
+        assert!(solve_poisson(0.49, 4.0 / (27.0 * 0.49) * 1.001).is_none());
+    }
+
+    #[test]
+    fn effects_parse_and_print() {
+        assert_eq!(Effects::parse_list("none").unwrap(), Effects::NONE);
+        assert_eq!(
+            Effects::parse_list("shear, extension").unwrap().to_string(),
+            "shear,extension"
+        );
+        assert_eq!(
+            Effects::parse_list("poisson"),
+            Err(ModelError::PoissonWithoutExtension)
+        );
+        assert!(matches!(
+            Effects::parse_list("shear,twist"),
+            Err(ModelError::UnknownEffect(w)) if w == "twist"
+        ));
+    }
+
+    #[test]
+    fn bad_beams_are_rejected() {
+        assert!(BeamModel::new(-1.0, 0.3, None, Effects::ALL).is_err());
+        assert!(BeamModel::new(10.0, 0.7, None, Effects::ALL).is_err());
+        assert!(BeamModel::new(10.0, f64::NAN, None, Effects::ALL).is_err());
+        assert!(BeamModel::new(10.0, 0.3, Some(0.0), Effects::ALL).is_err());
+        assert!((cowper_kappa(0.3) - 13.0 / 15.3).abs() < 1e-15);
+    }
+}

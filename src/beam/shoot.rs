@@ -1,0 +1,373 @@
+//! One shot: integrate the beam from the clamped root with a guessed root moment.
+//!
+//! Because the tip load keeps its direction, differentiating DESIGN's Eq. 3,
+//! `M = beta + alpha_y (a - x) - alpha_x (b - y)`, along the beam gives
+//!
+//! ```text
+//! dM/ds = -alpha_y dx/ds + alpha_x dy/ds = -(1 + eps) Q + gamma N
+//! ```
+//!
+//! which no longer contains the unknown tip `(a, b)`. `(psi, M)` obey an autonomous 2-state
+//! system and `x, y` follow by quadrature, so a shot over a segment of the beam needs only
+//! `(psi, M)` at its start. Each shot also integrates the variational equations (the
+//! derivatives of the state with respect to the starting `psi` and `M`), which give Newton
+//! its exact Jacobian and the tip's sensitivity for free.
+//!
+//! The integrator is the Dormand-Prince 5(4) pair with local error control on
+//! `psi, x, y` (absolute, units of L and radians) and `M` (relative to the load), the
+//! first-same-as-last property, and cubic Hermite dense output for the shape samples.
+//!
+//! ## References
+//! - J. R. Dormand, P. J. Prince, "A family of embedded Runge-Kutta formulae",
+//!   J. Comput. Appl. Math. 6 (1980) 19-26.
+//! - E. Reissner, "On one-dimensional finite-strain beam theory: the plane problem",
+//!   ZAMP 23 (1972) 795-804.
+
+use super::model::{BeamModel, MaterialLimit};
+use super::ShapePoint;
+
+/// State layout: `psi, M, x, y`, then their derivatives with respect to the starting `psi`
+/// (slots 4..8) and the starting `M` (slots 8..12).
+pub(crate) type State = [f64; 12];
+const PSI: usize = 0;
+const MOM: usize = 1;
+const X: usize = 2;
+const Y: usize = 3;
+
+/// The end of one shot: the state at `s = L` and the work it took.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Shot {
+    pub end: State,
+    pub steps: u32,
+}
+
+/// Why a shot could not reach the tip.
+#[derive(Debug, Clone, Copy)]
+pub(crate) enum ShotFailure {
+    Material(MaterialLimit),
+    /// The step size collapsed or the step budget ran out (a wildly wrong guess).
+    StepBudget,
+    NonFinite,
+}
+
+/// A tip load in the nondimensional core.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct TipForce {
+    pub alpha_x: f64,
+    pub alpha_y: f64,
+}
+
+#[inline]
+fn rhs(model: &BeamModel, f: TipForce, u: &State) -> Result<State, MaterialLimit> {
+    let (sn, cs) = u[PSI].sin_cos();
+    let m = u[MOM];
+    let n = f.alpha_x * cs + f.alpha_y * sn;
+    let q = -f.alpha_x * sn + f.alpha_y * cs;
+    let (eps, de_dn, p) = model.axial_strain(n)?;
+    // d/dpsi of N is Q and of Q is -N.
+    let eps_psi = de_dn * q;
+    let (p_psi, bend_compliance) = if model.effects.poisson {
+        let p2 = p * p;
+        (-model.nu * eps_psi, 1.0 / (p2 * p2))
+    } else {
+        (0.0, 1.0)
+    };
+    let (gamma, gamma_psi) = if model.effects.shear {
+        let c_s = model.shear_compliance();
+        let inv_p2 = 1.0 / (p * p);
+        (
+            c_s * q * inv_p2,
+            c_s * (-n * inv_p2 - 2.0 * q * p_psi * inv_p2 / p),
+        )
+    } else {
+        (0.0, 0.0)
+    };
+    let stretch = 1.0 + eps;
+    let dx = stretch * cs - gamma * sn;
+    let dy = stretch * sn + gamma * cs;
+    let dpsi = m * bend_compliance;
+    let dm = -stretch * q + gamma * n;
+
+    // Variational equations, linearised about this state.
+    let f1_psi = -4.0 * m * p_psi * bend_compliance / p;
+    let f2_psi = -eps_psi * q + stretch * n + gamma_psi * n + gamma * q;
+    let dx_psi = eps_psi * cs - stretch * sn - gamma_psi * sn - gamma * cs;
+    let dy_psi = eps_psi * sn + stretch * cs + gamma_psi * cs - gamma * sn;
+    let (a_psi, a_m) = (u[4], u[5]);
+    let (b_psi, b_m) = (u[8], u[9]);
+    Ok([
+        dpsi,
+        dm,
+        dx,
+        dy,
+        f1_psi * a_psi + bend_compliance * a_m,
+        f2_psi * a_psi,
+        dx_psi * a_psi,
+        dy_psi * a_psi,
+        f1_psi * b_psi + bend_compliance * b_m,
+        f2_psi * b_psi,
+        dx_psi * b_psi,
+        dy_psi * b_psi,
+    ])
+}
+
+// Dormand-Prince 5(4) tableau (the nodes c_i are not needed: the system is autonomous).
+const A21: f64 = 1.0 / 5.0;
+const A31: f64 = 3.0 / 40.0;
+const A32: f64 = 9.0 / 40.0;
+const A41: f64 = 44.0 / 45.0;
+const A42: f64 = -56.0 / 15.0;
+const A43: f64 = 32.0 / 9.0;
+const A51: f64 = 19372.0 / 6561.0;
+const A52: f64 = -25360.0 / 2187.0;
+const A53: f64 = 64448.0 / 6561.0;
+const A54: f64 = -212.0 / 729.0;
+const A61: f64 = 9017.0 / 3168.0;
+const A62: f64 = -355.0 / 33.0;
+const A63: f64 = 46732.0 / 5247.0;
+const A64: f64 = 49.0 / 176.0;
+const A65: f64 = -5103.0 / 18656.0;
+const B1: f64 = 35.0 / 384.0;
+const B3: f64 = 500.0 / 1113.0;
+const B4: f64 = 125.0 / 192.0;
+const B5: f64 = -2187.0 / 6784.0;
+const B6: f64 = 11.0 / 84.0;
+// Error coefficients: fifth-order minus fourth-order weights.
+const E1: f64 = 71.0 / 57600.0;
+const E3: f64 = -71.0 / 16695.0;
+const E4: f64 = 71.0 / 1920.0;
+const E5: f64 = -17253.0 / 339200.0;
+const E6: f64 = 22.0 / 525.0;
+const E7: f64 = -1.0 / 40.0;
+
+#[inline]
+fn combine(u: &State, h: f64, terms: &[(f64, &State)]) -> State {
+    let mut out = *u;
+    for (coef, k) in terms {
+        let c = h * coef;
+        for i in 0..12 {
+            out[i] += c * k[i];
+        }
+    }
+    out
+}
+
+/// Relative accuracy of the variational (sensitivity) states.
+const VARIATIONAL_TOL: f64 = 1e-7;
+/// Longest step: keeps the dense output of the shape accurate even where the error
+/// estimate alone would allow one step over the whole beam (a pure moment).
+const MAX_STEP: f64 = 0.1;
+
+/// Integration settings of one shot.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct ShotSettings {
+    /// Local error tolerance (absolute on `psi, x, y`).
+    pub tol: f64,
+    /// Scale of the bending moment, for the relative error test on `M`.
+    pub moment_scale: f64,
+    /// First trial step.
+    pub h0: f64,
+    pub max_steps: u32,
+}
+
+/// Where a shot starts and ends on the beam.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Segment {
+    pub s_start: f64,
+    pub s_end: f64,
+    /// `psi` and `M` at `s_start`.
+    pub psi: f64,
+    pub moment: f64,
+    /// Position of the segment's start, added to the shape samples.
+    pub origin: (f64, f64),
+}
+
+/// Shape samples: uniform in `s` over the whole beam, `count` of them (root and tip
+/// included); a shot appends those inside its segment.
+pub(crate) struct Samples<'a> {
+    pub points: &'a mut Vec<ShapePoint>,
+    pub count: usize,
+}
+
+/// Integrates one segment. Position states start at zero (they are increments), the
+/// sensitivities at the identity.
+pub(crate) fn shoot(
+    model: &BeamModel,
+    force: TipForce,
+    segment: Segment,
+    settings: ShotSettings,
+    mut shape: Option<Samples<'_>>,
+) -> Result<Shot, ShotFailure> {
+    let mut u: State = [0.0; 12];
+    u[PSI] = segment.psi;
+    u[MOM] = segment.moment;
+    u[4] = 1.0;
+    u[9] = 1.0;
+    let mut k1 = rhs(model, force, &u).map_err(ShotFailure::Material)?;
+    let mut s = segment.s_start;
+    let s_end = segment.s_end;
+    let mut h = settings.h0.clamp(1e-6, MAX_STEP);
+    let inv_tol = 1.0 / settings.tol;
+    let inv_m = 1.0 / settings.moment_scale.max(1.0);
+    let (ox, oy) = segment.origin;
+    // The next sample index to emit, and the second derivatives at the step's start.
+    let mut next_sample = 0usize;
+    let mut g0 = [0.0; 4];
+    if let Some(samples) = shape.as_mut() {
+        g0 = second_derivatives(model, force, &u, &k1)?;
+        let n = samples.count;
+        let spacing = 1.0 / (n - 1) as f64;
+        // Samples on a segment boundary belong to the segment that ends there.
+        next_sample = (s / spacing + 1e-9).floor() as usize + 1;
+        if s == 0.0 {
+            samples.points.push(ShapePoint {
+                s: 0.0,
+                x: ox,
+                y: oy,
+                psi: segment.psi,
+            });
+            next_sample = 1;
+        }
+    }
+    let mut steps = 0u32;
+    let mut tries = 0u32;
+    while s < s_end {
+        tries += 1;
+        if tries > settings.max_steps || h < 1e-12 {
+            return Err(ShotFailure::StepBudget);
+        }
+        let last = s + h >= s_end - 1e-12;
+        if last {
+            h = s_end - s;
+        }
+        let stage = |v: State| rhs(model, force, &v).map_err(ShotFailure::Material);
+        let k2 = stage(combine(&u, h, &[(A21, &k1)]))?;
+        let k3 = stage(combine(&u, h, &[(A31, &k1), (A32, &k2)]))?;
+        let k4 = stage(combine(&u, h, &[(A41, &k1), (A42, &k2), (A43, &k3)]))?;
+        let k5 = stage(combine(
+            &u,
+            h,
+            &[(A51, &k1), (A52, &k2), (A53, &k3), (A54, &k4)],
+        ))?;
+        let k6 = stage(combine(
+            &u,
+            h,
+            &[(A61, &k1), (A62, &k2), (A63, &k3), (A64, &k4), (A65, &k5)],
+        ))?;
+        let u_new = combine(
+            &u,
+            h,
+            &[(B1, &k1), (B3, &k3), (B4, &k4), (B5, &k5), (B6, &k6)],
+        );
+        let k7 = stage(u_new)?;
+        let mut ratio = 0.0_f64;
+        for i in 0..12 {
+            let e = h
+                * (E1 * k1[i] + E3 * k3[i] + E4 * k4[i] + E5 * k5[i] + E6 * k6[i] + E7 * k7[i]);
+            let w = match i {
+                MOM => inv_m * inv_tol,
+                // The sensitivities only steer Newton and the stability test: a relative
+                // accuracy of VARIATIONAL_TOL keeps Newton quadratic and finds buckling
+                // points to that accuracy.
+                4..=11 => 1.0 / (VARIATIONAL_TOL * (1.0 + u_new[i].abs())),
+                _ => inv_tol,
+            };
+            ratio = ratio.max((e * w).abs());
+        }
+        if !ratio.is_finite() {
+            return Err(ShotFailure::NonFinite);
+        }
+        if ratio <= 1.0 {
+            let s_new = if last { s_end } else { s + h };
+            if let Some(samples) = shape.as_mut() {
+                let g1 = second_derivatives(model, force, &u_new, &k7)?;
+                let n = samples.count;
+                while next_sample < n {
+                    let sj = next_sample as f64 / (n - 1) as f64;
+                    if sj > s_new + 1e-12 {
+                        break;
+                    }
+                    let mut point = hermite(s, h, &u, &k1, &g0, &u_new, &k7, &g1, sj);
+                    point.x += ox;
+                    point.y += oy;
+                    samples.points.push(point);
+                    next_sample += 1;
+                }
+                g0 = g1;
+            }
+            s = s_new;
+            u = u_new;
+            k1 = k7;
+            steps += 1;
+        }
+        // Standard step-size controller for a fifth-order pair.
+        let factor = if ratio == 0.0 {
+            5.0
+        } else {
+            (0.9 * ratio.powf(-0.2)).clamp(0.2, 5.0)
+        };
+        h = (h * factor).min(MAX_STEP);
+    }
+    if u.iter().any(|v| !v.is_finite()) {
+        return Err(ShotFailure::NonFinite);
+    }
+    Ok(Shot { end: u, steps })
+}
+
+/// Second derivatives `(psi'', M'', x'', y'')` from the linearisation: the variational
+/// right-hand side applied to the direction `(psi', M')`.
+fn second_derivatives(
+    model: &BeamModel,
+    force: TipForce,
+    u: &State,
+    f: &State,
+) -> Result<[f64; 4], ShotFailure> {
+    let mut probe = *u;
+    probe[4] = f[PSI];
+    probe[5] = f[MOM];
+    let d = rhs(model, force, &probe).map_err(ShotFailure::Material)?;
+    Ok([d[4], d[5], d[6], d[7]])
+}
+
+/// Quintic Hermite interpolation of `psi, x, y` inside one accepted step, from values, first
+/// and second derivatives at both ends (local error O(h^6)).
+#[allow(clippy::too_many_arguments)]
+fn hermite(
+    s0: f64,
+    h: f64,
+    u0: &State,
+    f0: &State,
+    g0: &[f64; 4],
+    u1: &State,
+    f1: &State,
+    g1: &[f64; 4],
+    s: f64,
+) -> ShapePoint {
+    let t = ((s - s0) / h).clamp(0.0, 1.0);
+    let t2 = t * t;
+    let t3 = t2 * t;
+    let t4 = t3 * t;
+    let t5 = t4 * t;
+    let h0 = 1.0 - 10.0 * t3 + 15.0 * t4 - 6.0 * t5;
+    let h1 = t - 6.0 * t3 + 8.0 * t4 - 3.0 * t5;
+    let h2 = 0.5 * t2 - 1.5 * t3 + 1.5 * t4 - 0.5 * t5;
+    let h3 = 0.5 * t3 - t4 + 0.5 * t5;
+    let h4 = -4.0 * t3 + 7.0 * t4 - 3.0 * t5;
+    let h5 = 10.0 * t3 - 15.0 * t4 + 6.0 * t5;
+    let hh = h * h;
+    // Index i of the state; index j of the second-derivative array.
+    let interp = |i: usize, j: usize| {
+        h0 * u0[i]
+            + h1 * h * f0[i]
+            + h2 * hh * g0[j]
+            + h3 * hh * g1[j]
+            + h4 * h * f1[i]
+            + h5 * u1[i]
+    };
+    ShapePoint {
+        s,
+        x: interp(X, 2),
+        y: interp(Y, 3),
+        psi: interp(PSI, 0),
+    }
+}
