@@ -348,9 +348,7 @@ impl BeamSolver {
             let lambda = (prev_lambda + dlam).min(target);
             let (guess, predicted_tip) = predict(end, history, lambda);
             let load = end.scaled(lambda);
-            let attempt = self.newton(load, guess);
-            if std::env::var("PRB_DEBUG").is_ok() { eprintln!("lam {lambda} -> {:?}", attempt.as_ref().map(|r| (r.shots, r.tip.phi, r.convergence.last_update)).map_err(|e| match e { NewtonFailure::Shot(s) => format!("{s:?}"), NewtonFailure::Diverged(d) => d.clone() })); }
-            let failure = match attempt {
+            let failure = match self.newton(load, guess) {
                 Ok(result) => {
                     shots += result.shots;
                     let turn = (result.tip.phi - prev_tip.phi).abs();
@@ -475,9 +473,13 @@ impl BeamSolver {
                     points: &mut shape,
                     count: samples,
                 };
-                let Shot { end, steps } =
-                    shoot(&self.model, force, segment, settings, Some(sampling))
-                        .map_err(NewtonFailure::Shot)?;
+                // The first segment starts at the clamp, where psi = 0 is no unknown.
+                let shot = if k == 0 {
+                    shoot::<8>(&self.model, force, segment, settings, Some(sampling))
+                } else {
+                    shoot::<12>(&self.model, force, segment, settings, Some(sampling))
+                };
+                let Shot { end, steps } = shot.map_err(NewtonFailure::Shot)?;
                 origin = (origin.0 + end[2], origin.1 + end[3]);
                 ends[k] = end;
                 rk_steps += steps;
@@ -494,10 +496,10 @@ impl BeamSolver {
                     residual[row_m] = e[1] - nodes[k + 1][1];
                     jacobian[row_psi * unknowns + 2 * k + 1] = -1.0;
                     jacobian[row_m * unknowns + 2 * k + 2] = -1.0;
-                    &[(row_psi, 4, 8), (row_m, 5, 9)]
+                    &[(row_psi, 8, 4), (row_m, 9, 5)]
                 } else {
                     residual[row_psi] = e[1] - load.beta;
-                    &[(row_psi, 5, 9)]
+                    &[(row_psi, 9, 5)]
                 };
                 for &(row, d_psi, d_m) in rows {
                     if k > 0 {
@@ -538,10 +540,10 @@ impl BeamSolver {
             for (k, e) in ends.iter().enumerate() {
                 let d_psi = if k > 0 { update[2 * k - 1] } else { 0.0 };
                 let d_m = update[2 * k];
-                delta.a += e[6] * d_psi + e[10] * d_m;
-                delta.b += e[7] * d_psi + e[11] * d_m;
+                delta.a += e[10] * d_psi + e[6] * d_m;
+                delta.b += e[11] * d_psi + e[7] * d_m;
                 if k + 1 == segments {
-                    delta.phi = e[4] * d_psi + e[8] * d_m;
+                    delta.phi = e[8] * d_psi + e[4] * d_m;
                 }
                 node_change = node_change.max(d_psi.abs()).max(d_m.abs() * moment_weight);
             }
@@ -549,10 +551,18 @@ impl BeamSolver {
             if !measure.is_finite() {
                 return Err(NewtonFailure::Diverged("the Newton update is not finite".into()));
             }
-            // Stop when the update would move the tip and nodes by less than the tolerance,
-            // or when the integrator's noise keeps the updates from shrinking any further.
-            let stalled = measure > 0.5 * last_measure && measure <= 10.0 * tip_tol;
-            if measure <= tip_tol || stalled {
+            // Stop when the update moves the tip and nodes by less than the tolerance; or
+            // when Newton's quadratic convergence (contraction C = measure / last^2) says the
+            // error left after applying this update, C measure^2, is well below it; or when
+            // the integrator's noise keeps the updates from shrinking any further.
+            let contracting = measure < 0.5 * last_measure;
+            let left_after = measure * measure * (measure / (last_measure * last_measure));
+            let quadratic = contracting
+                && last_measure.is_finite()
+                && measure <= 1e-3
+                && left_after <= 0.1 * tip_tol;
+            let stalled = !contracting && measure <= 100.0 * self.resolution.tol;
+            if measure <= tip_tol || quadratic || stalled {
                 // Apply the last update linearly: free, and it removes the Newton error.
                 let tip = TipPose {
                     a: origin.0 + delta.a,
@@ -562,7 +572,7 @@ impl BeamSolver {
                 // dM(L)/dM(0) through the chain of segments.
                 let mut v = [0.0, 1.0];
                 for e in &ends {
-                    v = [e[4] * v[0] + e[8] * v[1], e[5] * v[0] + e[9] * v[1]];
+                    v = [e[8] * v[0] + e[4] * v[1], e[9] * v[0] + e[5] * v[1]];
                 }
                 return Ok(NewtonResult {
                     nodes: apply(&nodes, &update),
@@ -606,6 +616,8 @@ impl BeamSolver {
         let magnitude = load.magnitude();
         ShotSettings {
             tol: self.resolution.tol,
+            // A slope good to 1e-5 still gains five digits per Newton step.
+            variational_tol: (self.resolution.tol * 1e3).clamp(1e-7, 1e-5),
             moment_scale: magnitude,
             h0: 0.1 / (1.0 + magnitude.sqrt()),
             max_steps: 200_000,

@@ -260,21 +260,27 @@ fn solve_poisson(nu: f64, r: f64) -> Option<(f64, f64)> {
     }
     // For r < 0, (1 - nu eps)^2 > 1 so r <= eps < 0; for r > 0, r <= eps < eps_peak.
     let (mut lo, mut hi) = if r < 0.0 { (r, 0.0) } else { (r, eps_peak) };
-    let mut eps = r;
+    // Two terms of the series r + 2 nu r^2 + ... start Newton close to the root.
+    let mut eps = (r + 2.0 * nu * r * r).clamp(lo, hi);
     for _ in 0..80 {
         let p = 1.0 - nu * eps;
         let g = eps * p * p - r;
-        let slope = p * (1.0 - 3.0 * nu * eps);
+        if g == 0.0 {
+            break;
+        }
         if g > 0.0 {
             hi = eps;
         } else {
             lo = eps;
         }
+        let slope = p * (1.0 - 3.0 * nu * eps);
         let mut next = eps - g / slope;
-        if !(next > lo && next < hi) || !next.is_finite() {
+        // Newton, unless it leaves the bracket (then bisect). At convergence the Newton
+        // step lands on the bracket end it came from, which must not count as leaving.
+        if !(next >= lo && next <= hi) {
             next = 0.5 * (lo + hi);
         }
-        let done = (next - eps).abs() <= 1e-16 * (1.0 + eps.abs());
+        let done = (next - eps).abs() <= 2.0 * f64::EPSILON * eps.abs();
         eps = next;
         if done {
             break;
