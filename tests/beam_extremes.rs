@@ -100,6 +100,28 @@ fn combined_load_makes_an_s() {
     }
 }
 
+/// Force up, moment down: the beam first curls down, then the growing force flips it. The
+/// equilibrium reached from zero ends at a limit point (the beam snaps through); the solver
+/// reports it and its neighbourhood shows the stability slope collapsing.
+#[test]
+fn snap_through_is_reported() {
+    let solver = fine(BeamModel::elastica());
+    let end = Load::new(0.0, 4.855, -3.685);
+    let fraction = match solver.solve(end) {
+        Err(SolveError::Unstable { fraction, .. }) => fraction,
+        other => panic!("expected a critical point, got {other:?}"),
+    };
+    assert!(fraction > 0.70 && fraction < 0.72, "at {fraction}");
+    // Near a fold the slope vanishes like the square root of the distance to it.
+    let stability = |f: f64| solver.solve(end.scaled(fraction * f)).unwrap().convergence.stability;
+    let (early, near, nearer) = (stability(0.5), stability(0.999), stability(0.9999));
+    assert!(near < 0.05 * early, "{near} vs {early}");
+    let ratio = near / nearer;
+    assert!(ratio > 2.0 && ratio < 4.5, "sqrt(10) expected, got {ratio}");
+    let before = solver.solve(end.scaled(fraction * 0.9999)).unwrap();
+    assert!(equilibrium_defect(&BeamModel::elastica(), &before) < 1e-6);
+}
+
 #[test]
 fn nearly_incompressible_rubber() {
     let model = BeamModel::new(4.0, 0.499, None, Effects::ALL).unwrap();

@@ -237,9 +237,9 @@ pub enum SolveError {
     },
     #[error(
         "the equilibrium path for {load} reaches a critical point at {:.4} of the load \
-         (dM(L)/dM(0) -> 0, a buckling bifurcation or limit point); past it the beam's \
-         shape is not unique. For an exactly axial compression, tilt the load slightly to \
-         choose the buckling direction",
+         (dM(L)/dM(0) -> 0): a snap-through limit point, past which the beam jumps to another \
+         shape, or a buckling bifurcation, past which the shape is not unique (for an exactly \
+         axial compression, tilt the load slightly to choose the buckling direction)",
         fraction
     )]
     Unstable { load: Load, fraction: f64 },
@@ -258,6 +258,8 @@ struct PathPoint {
     lambda: f64,
     nodes: Vec<[f64; 2]>,
     tip: TipPose,
+    /// `dM(L)/dM(0)` here.
+    stability: f64,
 }
 
 /// The outcome of one Newton solve at a fixed load.
@@ -288,6 +290,9 @@ const MAX_TIP_TURN: f64 = 1.0;
 const MAX_TIP_MOVE: f64 = 0.6;
 /// Newton's correction of the predicted tip may always be this large (units of L, radians).
 const MIN_CORRECTION: f64 = 0.15;
+/// A continuation stuck where `dM(L)/dM(0)` has fallen below this fraction of its largest
+/// value on the path has reached a critical point.
+const NEAR_CRITICAL: f64 = 0.01;
 /// The smallest continuation step before the solver gives up.
 const MIN_STEP: f64 = 1e-7;
 const MAX_NEWTON: u32 = 30;
@@ -320,6 +325,7 @@ impl BeamSolver {
             lambda: 0.0,
             nodes: vec![[0.0, 0.0]; segments],
             tip: TipPose::STRAIGHT,
+            stability: 1.0,
         }];
         let mut out = Vec::with_capacity(steps as usize);
         let mut dlam = 1.0 / steps as f64;
@@ -342,9 +348,10 @@ impl BeamSolver {
     ) -> Result<(BeamSolution, f64), SolveError> {
         let mut shots = 0u32;
         let mut sub_steps = 0u32;
+        let mut peak_stability = history.iter().map(|p| p.stability).fold(1.0, f64::max);
         loop {
             let prev = history.last().expect("history starts with the unloaded beam");
-            let (prev_lambda, prev_tip) = (prev.lambda, prev.tip);
+            let (prev_lambda, prev_tip, prev_stability) = (prev.lambda, prev.tip, prev.stability);
             let lambda = (prev_lambda + dlam).min(target);
             let (guess, predicted_tip) = predict(end, history, lambda);
             let load = end.scaled(lambda);
@@ -377,7 +384,9 @@ impl BeamSolver {
                             lambda,
                             nodes: result.nodes.clone(),
                             tip: result.tip,
+                            stability: result.convergence.stability,
                         });
+                        peak_stability = peak_stability.max(result.convergence.stability);
                         dlam = (dlam * 2.0).min(1.0);
                         if lambda >= target {
                             let solution = BeamSolution {
@@ -420,6 +429,14 @@ impl BeamSolver {
             };
             dlam *= 0.5;
             if dlam < MIN_STEP {
+                // Stuck where the stability slope has collapsed: a limit point, past which
+                // the equilibrium followed from zero no longer exists (the beam snaps).
+                if prev_stability < NEAR_CRITICAL * peak_stability {
+                    return Err(SolveError::Unstable {
+                        load: end,
+                        fraction: prev_lambda,
+                    });
+                }
                 return Err(failure);
             }
         }
