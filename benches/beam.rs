@@ -56,7 +56,16 @@ fn main() {
         }
         println!(" {:>9} {:>9}", "us/case", "");
         for tol in tols {
-            let solver = BeamSolver::new(model, Resolution { tol, shape_points: std::env::var("SHAPE").map(|s| s.parse().unwrap()).unwrap_or(41) }).unwrap();
+            let solver = BeamSolver::new(
+                model,
+                Resolution {
+                    tol,
+                    shape_points: std::env::var("SHAPE")
+                        .map(|s| s.parse().unwrap())
+                        .unwrap_or(41),
+                },
+            )
+            .unwrap();
             print!("{tol:>8.0e} |");
             let mut all_times = Vec::new();
             let mut worst = 0.0_f64;

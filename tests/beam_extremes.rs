@@ -26,9 +26,14 @@ fn fine(model: BeamModel) -> BeamSolver {
 }
 
 fn check(model: BeamModel, load: Load, defect_bound: f64) -> prbfit::beam::BeamSolution {
-    let sol = fine(model).solve(load).unwrap_or_else(|e| panic!("{load}: {e}"));
+    let sol = fine(model)
+        .solve(load)
+        .unwrap_or_else(|e| panic!("{load}: {e}"));
     let defect = equilibrium_defect(&model, &sol);
-    println!("{load}: tip {:?}, defect {defect:.2e}, iterations {}", sol.tip, sol.iterations);
+    println!(
+        "{load}: tip {:?}, defect {defect:.2e}, iterations {}",
+        sol.tip, sol.iterations
+    );
     assert!(defect < defect_bound, "{load}: defect {defect:.3e}");
     assert!(sol.convergence.stability > 0.0);
     sol
@@ -49,7 +54,10 @@ fn huge_transverse_force_alpha_100() {
 fn full_loop_both_ways() {
     for beta in [2.0 * PI, -2.0 * PI] {
         let sol = check(BeamModel::elastica(), Load::new(0.0, 0.0, beta), 1e-6);
-        assert!(sol.tip.a.abs() < 1e-9 && sol.tip.b.abs() < 1e-9, "tip back at the root");
+        assert!(
+            sol.tip.a.abs() < 1e-9 && sol.tip.b.abs() < 1e-9,
+            "tip back at the root"
+        );
         assert!((sol.tip.phi - beta).abs() < 1e-9);
     }
 }
@@ -63,7 +71,11 @@ fn post_buckling_load_at_135_degrees() {
     for effects in [Effects::NONE, Effects::ALL] {
         let model = BeamModel::new(50.0, 0.3, None, effects).unwrap();
         let sol = check(model, Load::new(c, s, 0.0), 1e-6);
-        assert!(sol.tip.phi > PI / 2.0, "tip angle {} not past vertical", sol.tip.phi);
+        assert!(
+            sol.tip.phi > PI / 2.0,
+            "tip angle {} not past vertical",
+            sol.tip.phi
+        );
         assert!(sol.tip.a < 0.0, "tip behind the clamp");
     }
 }
@@ -73,12 +85,17 @@ fn post_buckling_load_at_135_degrees() {
 #[test]
 fn axial_compression_and_euler_load() {
     let solver = fine(BeamModel::elastica());
-    let below = solver.solve(Load::new(-0.95 * PI * PI / 4.0, 0.0, 0.0)).unwrap();
+    let below = solver
+        .solve(Load::new(-0.95 * PI * PI / 4.0, 0.0, 0.0))
+        .unwrap();
     assert!(below.tip.b.abs() < 1e-12 && (below.tip.a - 1.0).abs() < 1e-12);
     match solver.solve(Load::new(-3.0, 0.0, 0.0)) {
         Err(SolveError::Unstable { fraction, .. }) => {
             // The critical point is Euler's load: lambda * 3 = pi^2 / 4.
-            assert!((fraction * 3.0 - PI * PI / 4.0).abs() < 1e-3, "at {fraction}");
+            assert!(
+                (fraction * 3.0 - PI * PI / 4.0).abs() < 1e-3,
+                "at {fraction}"
+            );
         }
         other => panic!("expected an instability error, got {other:?}"),
     }
@@ -96,7 +113,10 @@ fn combined_load_makes_an_s() {
         let psi: Vec<f64> = sol.shape.iter().map(|p| p.psi).collect();
         let peak = psi.iter().cloned().fold(f64::MIN, f64::max);
         assert!(peak > psi[psi.len() - 1] + 0.05, "psi rises then falls");
-        assert!(sol.root_moment > 0.0, "root moment and tip moment have opposite signs");
+        assert!(
+            sol.root_moment > 0.0,
+            "root moment and tip moment have opposite signs"
+        );
     }
 }
 
@@ -113,7 +133,13 @@ fn snap_through_is_reported() {
     };
     assert!(fraction > 0.70 && fraction < 0.72, "at {fraction}");
     // Near a fold the slope vanishes like the square root of the distance to it.
-    let stability = |f: f64| solver.solve(end.scaled(fraction * f)).unwrap().convergence.stability;
+    let stability = |f: f64| {
+        solver
+            .solve(end.scaled(fraction * f))
+            .unwrap()
+            .convergence
+            .stability
+    };
     let (early, near, nearer) = (stability(0.5), stability(0.999), stability(0.9999));
     assert!(near < 0.05 * early, "{near} vs {early}");
     let ratio = near / nearer;
@@ -156,7 +182,10 @@ fn material_limit_is_an_error() {
     let err = fine(model).solve(Load::new(10.0, 0.0, 0.0)).unwrap_err();
     match &err {
         SolveError::MaterialLimit { fraction, .. } => {
-            assert!((fraction * 10.0 - peak).abs() < 1e-3 * peak, "at {fraction}")
+            assert!(
+                (fraction * 10.0 - peak).abs() < 1e-3 * peak,
+                "at {fraction}"
+            )
         }
         other => panic!("expected a material limit, got {other}"),
     }

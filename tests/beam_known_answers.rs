@@ -22,9 +22,21 @@ fn elliptic_table_transverse_force() {
     let solver = elastica(1e-10);
     for (alpha_y, a, b, phi) in table {
         let tip = solver.solve(Load::new(0.0, alpha_y, 0.0)).unwrap().tip;
-        assert!((tip.a - a).abs() < 1e-6, "alpha_y {alpha_y}: a {} vs {a}", tip.a);
-        assert!((tip.b - b).abs() < 1e-6, "alpha_y {alpha_y}: b {} vs {b}", tip.b);
-        assert!((tip.phi - phi).abs() < 1e-6, "alpha_y {alpha_y}: phi {} vs {phi}", tip.phi);
+        assert!(
+            (tip.a - a).abs() < 1e-6,
+            "alpha_y {alpha_y}: a {} vs {a}",
+            tip.a
+        );
+        assert!(
+            (tip.b - b).abs() < 1e-6,
+            "alpha_y {alpha_y}: b {} vs {b}",
+            tip.b
+        );
+        assert!(
+            (tip.phi - phi).abs() < 1e-6,
+            "alpha_y {alpha_y}: phi {} vs {phi}",
+            tip.phi
+        );
     }
 }
 
@@ -38,12 +50,19 @@ fn circle_under_pure_moment() {
         let (a, b) = (beta.sin() / beta, (1.0 - beta.cos()) / beta);
         assert!((sol.tip.a - a).abs() < 1e-6, "beta {beta}: a {}", sol.tip.a);
         assert!((sol.tip.b - b).abs() < 1e-6, "beta {beta}: b {}", sol.tip.b);
-        assert!((sol.tip.phi - beta).abs() < 1e-6, "beta {beta}: phi {}", sol.tip.phi);
+        assert!(
+            (sol.tip.phi - beta).abs() < 1e-6,
+            "beta {beta}: phi {}",
+            sol.tip.phi
+        );
         // Every shape point lies on the circle of radius 1/beta centred at (0, 1/beta).
         let r = 1.0 / beta;
         for p in &sol.shape {
             let d = (p.x.powi(2) + (p.y - r).powi(2)).sqrt();
-            assert!((d - r.abs()).abs() < 1e-6, "beta {beta}: point off the circle");
+            assert!(
+                (d - r.abs()).abs() < 1e-6,
+                "beta {beta}: point off the circle"
+            );
         }
     }
 }
@@ -53,8 +72,13 @@ fn circle_under_pure_moment() {
 #[test]
 fn linear_timoshenko_limit_with_shear() {
     for slenderness in [1.0, 3.0, 10.0, 100.0] {
-        let model = BeamModel::new(slenderness, 0.3, None, Effects::parse_list("shear").unwrap())
-            .unwrap();
+        let model = BeamModel::new(
+            slenderness,
+            0.3,
+            None,
+            Effects::parse_list("shear").unwrap(),
+        )
+        .unwrap();
         let solver = BeamSolver::new(model, Resolution::with_tol(1e-11)).unwrap();
         let f = 1e-4;
         let tip = solver.solve(Load::new(0.0, f, 0.0)).unwrap().tip;
@@ -76,8 +100,16 @@ fn tiny_loads_match_linear_theory() {
     let f = 1e-9;
     let tip = solver.solve(Load::new(0.0, f, 0.0)).unwrap().tip;
     let expected_b = f / 3.0 + f * model.shear_compliance();
-    assert!(((tip.b - expected_b) / expected_b).abs() < 1e-8, "b {}", tip.b);
-    assert!(((tip.phi - f / 2.0) / (f / 2.0)).abs() < 1e-8, "phi {}", tip.phi);
+    assert!(
+        ((tip.b - expected_b) / expected_b).abs() < 1e-8,
+        "b {}",
+        tip.b
+    );
+    assert!(
+        ((tip.phi - f / 2.0) / (f / 2.0)).abs() < 1e-8,
+        "phi {}",
+        tip.phi
+    );
     let m = 1e-9;
     let tip = solver.solve(Load::new(0.0, 0.0, m)).unwrap().tip;
     assert!(((tip.phi - m) / m).abs() < 1e-8);
@@ -89,21 +121,32 @@ fn tiny_loads_match_linear_theory() {
     let expected = t * model.axial_compliance();
     // The stretch (2e-13) is read off a = 1 + stretch, which double precision holds only to
     // its last bits: allow four ulps of 1.
-    assert!((stretch - expected).abs() < 4.0 * f64::EPSILON, "stretch {stretch}");
+    assert!(
+        (stretch - expected).abs() < 4.0 * f64::EPSILON,
+        "stretch {stretch}"
+    );
 }
 
 /// Pure tension with extension on (Poisson off): a = 1 + Fx / (E A0), exactly, any load.
 #[test]
 fn pure_tension_stretches_by_n_over_ea() {
     for slenderness in [2.0, 10.0] {
-        let model =
-            BeamModel::new(slenderness, 0.3, None, Effects::parse_list("extension").unwrap())
-                .unwrap();
+        let model = BeamModel::new(
+            slenderness,
+            0.3,
+            None,
+            Effects::parse_list("extension").unwrap(),
+        )
+        .unwrap();
         let solver = BeamSolver::new(model, Resolution::default()).unwrap();
         for alpha_x in [0.5, 5.0, 50.0] {
             let tip = solver.solve(Load::new(alpha_x, 0.0, 0.0)).unwrap().tip;
             let expected = 1.0 + alpha_x * model.axial_compliance();
-            assert!((tip.a - expected).abs() < 1e-12, "a {} vs {expected}", tip.a);
+            assert!(
+                (tip.a - expected).abs() < 1e-12,
+                "a {} vs {expected}",
+                tip.a
+            );
             assert!(tip.b.abs() < 1e-12 && tip.phi.abs() < 1e-12);
         }
     }
@@ -119,5 +162,8 @@ fn pure_tension_with_poisson() {
     let tip = solver.solve(Load::new(alpha_x, 0.0, 0.0)).unwrap().tip;
     let eps = tip.a - 1.0;
     let lhs = eps * (1.0 - nu * eps).powi(2);
-    assert!((lhs - alpha_x * model.axial_compliance()).abs() < 1e-12, "eps {eps}");
+    assert!(
+        (lhs - alpha_x * model.axial_compliance()).abs() < 1e-12,
+        "eps {eps}"
+    );
 }

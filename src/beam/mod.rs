@@ -243,7 +243,10 @@ pub enum SolveError {
         fraction
     )]
     Unstable { load: Load, fraction: f64 },
-    #[error("the material law fails for {load} at {:.4} of the load path: {reason}", fraction)]
+    #[error(
+        "the material law fails for {load} at {:.4} of the load path: {reason}",
+        fraction
+    )]
     MaterialLimit {
         load: Load,
         fraction: f64,
@@ -350,7 +353,9 @@ impl BeamSolver {
         let mut sub_steps = 0u32;
         let mut peak_stability = history.iter().map(|p| p.stability).fold(1.0, f64::max);
         loop {
-            let prev = history.last().expect("history starts with the unloaded beam");
+            let prev = history
+                .last()
+                .expect("history starts with the unloaded beam");
             let (prev_lambda, prev_tip, prev_stability) = (prev.lambda, prev.tip, prev.stability);
             let lambda = (prev_lambda + dlam).min(target);
             let (guess, predicted_tip) = predict(end, history, lambda);
@@ -528,7 +533,13 @@ impl BeamSolver {
             let merit = residual
                 .iter()
                 .enumerate()
-                .map(|(i, r)| if i % 2 == 1 || i == unknowns - 1 { r * moment_weight } else { *r })
+                .map(|(i, r)| {
+                    if i % 2 == 1 || i == unknowns - 1 {
+                        r * moment_weight
+                    } else {
+                        *r
+                    }
+                })
                 .fold(0.0_f64, |acc, r| acc.max(r.abs()));
 
             if let Some((base_nodes, base_merit, update)) = &base {
@@ -566,7 +577,9 @@ impl BeamSolver {
             }
             let measure = delta.max_diff(&TipPose::default()).max(node_change);
             if !measure.is_finite() {
-                return Err(NewtonFailure::Diverged("the Newton update is not finite".into()));
+                return Err(NewtonFailure::Diverged(
+                    "the Newton update is not finite".into(),
+                ));
             }
             // Stop when the update moves the tip and nodes by less than the tolerance; or
             // when Newton's quadratic convergence (contraction C = measure / last^2) says the
@@ -665,7 +678,11 @@ fn apply(nodes: &[[f64; 2]], update: &[f64]) -> Vec<[f64; 2]> {
 fn solve_dense(matrix: &mut [f64], rhs: &mut [f64], n: usize) -> bool {
     for col in 0..n {
         let pivot = (col..n)
-            .max_by(|&i, &j| matrix[i * n + col].abs().total_cmp(&matrix[j * n + col].abs()))
+            .max_by(|&i, &j| {
+                matrix[i * n + col]
+                    .abs()
+                    .total_cmp(&matrix[j * n + col].abs())
+            })
             .expect("non-empty range");
         let p = matrix[pivot * n + col];
         if p == 0.0 || !p.is_finite() {

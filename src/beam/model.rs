@@ -211,8 +211,8 @@ impl BeamModel {
         }
         let rhs = self.c_e * n;
         let (eps, de_dn, p) = if self.effects.poisson && self.nu > 0.0 {
-            let (eps, slope) = solve_poisson(self.nu, rhs)
-                .ok_or(MaterialLimit::Necked { axial_force: n })?;
+            let (eps, slope) =
+                solve_poisson(self.nu, rhs).ok_or(MaterialLimit::Necked { axial_force: n })?;
             (eps, self.c_e / slope, 1.0 - self.nu * eps)
         } else {
             (rhs, self.c_e, 1.0)
@@ -297,10 +297,22 @@ mod tests {
     #[test]
     fn poisson_root_satisfies_the_equation() {
         for &nu in &[0.1, 0.3, 0.45, 0.499] {
-            for &r in &[-5.0, -0.3, -1e-9, 0.0, 1e-9, 0.01, 0.2, 4.0 / (27.0 * nu) * 0.999] {
+            for &r in &[
+                -5.0,
+                -0.3,
+                -1e-9,
+                0.0,
+                1e-9,
+                0.01,
+                0.2,
+                4.0 / (27.0 * nu) * 0.999,
+            ] {
                 let (eps, _) = solve_poisson(nu, r).unwrap();
                 let p = 1.0 - nu * eps;
-                assert!((eps * p * p - r).abs() <= 1e-14 * (1.0 + r.abs()), "nu {nu} r {r}");
+                assert!(
+                    (eps * p * p - r).abs() <= 1e-14 * (1.0 + r.abs()),
+                    "nu {nu} r {r}"
+                );
                 assert!(eps < 1.0 / (3.0 * nu));
             }
         }

@@ -254,8 +254,8 @@ pub(crate) fn shoot<const N: usize>(
         let k7 = stage(u_new)?;
         let mut ratio = 0.0_f64;
         for i in 0..N {
-            let e = h
-                * (E1 * k1[i] + E3 * k3[i] + E4 * k4[i] + E5 * k5[i] + E6 * k6[i] + E7 * k7[i]);
+            let e =
+                h * (E1 * k1[i] + E3 * k3[i] + E4 * k4[i] + E5 * k5[i] + E6 * k6[i] + E7 * k7[i]);
             let w = match i {
                 MOM => inv_m * inv_tol,
                 // The sensitivities only steer Newton and the stability test, so they are

@@ -1,1 +1,532 @@
-pub fn placeholder() {}
+//! Scenes: what the user is designing for — the beam, the load paths, the accuracy needed
+//! (DESIGN §5). A scene is read from TOML, validated with errors that name the file, line and
+//! key, and converted from SI to the nondimensional core.
+//!
+//! `effects = "auto"` is accepted and, until automatic effect selection lands, means every
+//! effect on (shear, extension, poisson): the safe superset, never a silently thinner model.
+
+use std::fmt;
+use std::ops::Range;
+use std::path::Path;
+
+use serde::{Deserialize, Serialize};
+use toml::Spanned;
+
+use crate::beam::{cowper_kappa, BeamModel, Effects, Load};
+
+/// The scene compiled into the binary: what `prbfit` runs on with no `--scene`.
+pub const DEFAULT_SCENE_TOML: &str = include_str!("../../assets/scenes/default.toml");
+/// The name under which the built-in scene reports errors.
+pub const DEFAULT_SCENE_NAME: &str = "<built-in scene>";
+
+/// A load path: the end load, reached proportionally from zero and evaluated at
+/// `k / steps`, `k = 1..=steps`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct LoadPath {
+    pub end: Load,
+    pub steps: u32,
+}
+
+impl LoadPath {
+    /// The load cases along the path.
+    pub fn cases(&self) -> impl Iterator<Item = Load> + '_ {
+        (1..=self.steps).map(move |k| self.end.scaled(k as f64 / self.steps as f64))
+    }
+}
+
+/// Which beam effects the scene asks for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum EffectsChoice {
+    /// Decide from the beam and loads (for now: all effects on).
+    Auto,
+    Fixed(Effects),
+}
+
+impl EffectsChoice {
+    /// The effects the baseline uses.
+    pub fn resolve(&self) -> Effects {
+        match self {
+            EffectsChoice::Auto => Effects::ALL,
+            EffectsChoice::Fixed(e) => *e,
+        }
+    }
+}
+
+impl fmt::Display for EffectsChoice {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            EffectsChoice::Auto => write!(f, "auto"),
+            EffectsChoice::Fixed(e) => write!(f, "{e}"),
+        }
+    }
+}
+
+/// The beam in SI units.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct BeamSpec {
+    /// m
+    pub length: f64,
+    /// m
+    pub width: f64,
+    /// m
+    pub thickness: f64,
+    /// Pa
+    pub youngs_modulus: f64,
+    pub poisson_ratio: f64,
+    /// `None`: Cowper's rectangle value.
+    pub shear_coefficient: Option<f64>,
+    pub effects: EffectsChoice,
+}
+
+impl BeamSpec {
+    pub fn slenderness(&self) -> f64 {
+        self.length / self.thickness
+    }
+
+    /// `kappa` in use: the given one or Cowper's.
+    pub fn kappa(&self) -> f64 {
+        self.shear_coefficient
+            .unwrap_or_else(|| cowper_kappa(self.poisson_ratio))
+    }
+
+    /// `A0 = w0 t0`.
+    pub fn area(&self) -> f64 {
+        self.width * self.thickness
+    }
+
+    /// `I0 = w0 t0^3 / 12`.
+    pub fn second_moment(&self) -> f64 {
+        self.width * self.thickness.powi(3) / 12.0
+    }
+
+    /// The nondimensional beam the solver works on.
+    pub fn model(&self) -> BeamModel {
+        BeamModel::new(
+            self.slenderness(),
+            self.poisson_ratio,
+            self.shear_coefficient,
+            self.effects.resolve(),
+        )
+        .expect("a validated scene describes a valid beam")
+    }
+}
+
+/// What "good enough" means for a scene.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Accuracy {
+    /// Units of L.
+    pub max_pos_err: f64,
+    /// Radians.
+    pub max_ang_err: f64,
+}
+
+impl Default for Accuracy {
+    fn default() -> Self {
+        Accuracy {
+            max_pos_err: 0.01,
+            max_ang_err: 0.02,
+        }
+    }
+}
+
+/// Settings of the fit.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct FitSettings {
+    /// `w` in `J = mean(e_pos^2 + w e_ang^2)`.
+    pub angle_weight: f64,
+}
+
+impl Default for FitSettings {
+    fn default() -> Self {
+        FitSettings { angle_weight: 1.0 }
+    }
+}
+
+/// A validated scene.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Scene {
+    pub name: String,
+    pub beam: BeamSpec,
+    pub loads: Vec<LoadPath>,
+    pub accuracy: Accuracy,
+    pub fit: FitSettings,
+}
+
+impl Scene {
+    /// The built-in scene.
+    pub fn builtin() -> Scene {
+        Scene::from_toml_str(DEFAULT_SCENE_TOML, DEFAULT_SCENE_NAME)
+            .expect("the built-in scene is valid (checked by a test)")
+    }
+
+    /// Reads and validates a scene file.
+    pub fn from_file(path: &Path) -> Result<Scene, SceneError> {
+        let origin = path.display().to_string();
+        let text = std::fs::read_to_string(path).map_err(|e| SceneError {
+            origin: origin.clone(),
+            line: None,
+            key: None,
+            message: format!("cannot read the scene file: {e}"),
+        })?;
+        Scene::from_toml_str(&text, &origin)
+    }
+
+    /// Parses and validates a scene; `origin` names it in errors (a file path).
+    pub fn from_toml_str(text: &str, origin: &str) -> Result<Scene, SceneError> {
+        let raw: RawScene = toml::from_str(text).map_err(|e| SceneError {
+            origin: origin.to_string(),
+            line: e.span().map(|s| line_of(text, s.start)),
+            key: None,
+            message: e.message().trim().to_string(),
+        })?;
+        Validator { text, origin }.scene(raw)
+    }
+
+    /// Every load case of every path, in order.
+    pub fn cases(&self) -> Vec<Load> {
+        self.loads.iter().flat_map(|p| p.cases()).collect()
+    }
+
+    /// The load paths as `(end, steps)` pairs.
+    pub fn paths(&self) -> Vec<(Load, u32)> {
+        self.loads.iter().map(|p| (p.end, p.steps)).collect()
+    }
+
+    /// The scene as TOML, in the schema it was read from.
+    pub fn to_toml(&self) -> String {
+        let mut out = String::new();
+        out.push_str(&format!("name = {}\n\n[beam]\n", toml_string(&self.name)));
+        let b = &self.beam;
+        out.push_str(&format!("length = {:e}\n", b.length));
+        out.push_str(&format!("width = {:e}\n", b.width));
+        out.push_str(&format!("thickness = {:e}\n", b.thickness));
+        out.push_str(&format!("youngs_modulus = {:e}\n", b.youngs_modulus));
+        out.push_str(&format!("poisson_ratio = {:?}\n", b.poisson_ratio));
+        if let Some(k) = b.shear_coefficient {
+            out.push_str(&format!("shear_coefficient = {k:?}\n"));
+        }
+        match b.effects {
+            EffectsChoice::Auto => out.push_str("effects = \"auto\"\n"),
+            EffectsChoice::Fixed(e) => {
+                let names: Vec<String> = e.names().iter().map(|n| format!("\"{n}\"")).collect();
+                out.push_str(&format!("effects = [{}]\n", names.join(", ")));
+            }
+        }
+        for path in &self.loads {
+            out.push_str(&format!(
+                "\n[[loads]]\nalpha_x = {:?}\nalpha_y = {:?}\nbeta = {:?}\nsteps = {}\n",
+                path.end.alpha_x, path.end.alpha_y, path.end.beta, path.steps
+            ));
+        }
+        out.push_str(&format!(
+            "\n[accuracy]\nmax_pos_err = {:?}\nmax_ang_err = {:?}\n",
+            self.accuracy.max_pos_err, self.accuracy.max_ang_err
+        ));
+        out.push_str(&format!(
+            "\n[fit]\nangle_weight = {:?}\n",
+            self.fit.angle_weight
+        ));
+        out
+    }
+}
+
+fn toml_string(s: &str) -> String {
+    toml::Value::String(s.to_string()).to_string()
+}
+
+/// A scene that cannot be used, with where and why.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub struct SceneError {
+    /// The file (or `<built-in scene>`).
+    pub origin: String,
+    pub line: Option<usize>,
+    /// Dotted key, such as `beam.thickness` or `loads[2].steps`.
+    pub key: Option<String>,
+    pub message: String,
+}
+
+impl fmt::Display for SceneError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}", self.origin)?;
+        if let Some(line) = self.line {
+            write!(f, ":{line}")?;
+        }
+        write!(f, ": ")?;
+        if let Some(key) = &self.key {
+            write!(f, "{key}: ")?;
+        }
+        write!(f, "{}", self.message)
+    }
+}
+
+/// 1-based line of a byte offset.
+fn line_of(text: &str, offset: usize) -> usize {
+    text[..offset.min(text.len())].matches('\n').count() + 1
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawScene {
+    name: Option<Spanned<String>>,
+    beam: Spanned<RawBeam>,
+    #[serde(default)]
+    loads: Vec<Spanned<RawLoad>>,
+    accuracy: Option<Spanned<RawAccuracy>>,
+    fit: Option<Spanned<RawFit>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawBeam {
+    length: Spanned<f64>,
+    width: Spanned<f64>,
+    thickness: Spanned<f64>,
+    youngs_modulus: Spanned<f64>,
+    poisson_ratio: Spanned<f64>,
+    shear_coefficient: Option<Spanned<f64>>,
+    effects: Option<Spanned<RawEffects>>,
+}
+
+#[derive(Deserialize)]
+#[serde(untagged)]
+enum RawEffects {
+    Word(String),
+    List(Vec<String>),
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawLoad {
+    alpha_x: Option<Spanned<f64>>,
+    alpha_y: Option<Spanned<f64>>,
+    beta: Option<Spanned<f64>>,
+    steps: Option<Spanned<i64>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawAccuracy {
+    max_pos_err: Option<Spanned<f64>>,
+    max_ang_err: Option<Spanned<f64>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawFit {
+    angle_weight: Option<Spanned<f64>>,
+}
+
+/// The most load steps one path may ask for.
+pub const MAX_STEPS: i64 = 10_000;
+
+struct Validator<'a> {
+    text: &'a str,
+    origin: &'a str,
+}
+
+impl Validator<'_> {
+    fn error(&self, span: Range<usize>, key: &str, message: String) -> SceneError {
+        SceneError {
+            origin: self.origin.to_string(),
+            line: Some(line_of(self.text, span.start)),
+            key: Some(key.to_string()),
+            message,
+        }
+    }
+
+    /// A finite number satisfying `ok`, described by `rule` in the error.
+    fn number(
+        &self,
+        value: &Spanned<f64>,
+        key: &str,
+        ok: impl Fn(f64) -> bool,
+        rule: &str,
+    ) -> Result<f64, SceneError> {
+        let v = *value.get_ref();
+        if v.is_finite() && ok(v) {
+            Ok(v)
+        } else {
+            Err(self.error(value.span(), key, format!("must be {rule}, got {v}")))
+        }
+    }
+
+    fn positive(&self, value: &Spanned<f64>, key: &str) -> Result<f64, SceneError> {
+        self.number(value, key, |v| v > 0.0, "a finite number > 0")
+    }
+
+    fn scene(&self, raw: RawScene) -> Result<Scene, SceneError> {
+        let name = raw
+            .name
+            .map(|n| n.into_inner())
+            .unwrap_or_else(|| "unnamed scene".to_string());
+        let beam = self.beam(raw.beam.get_ref())?;
+        if raw.loads.is_empty() {
+            return Err(SceneError {
+                origin: self.origin.to_string(),
+                line: None,
+                key: Some("loads".into()),
+                message: "the scene has no load paths: add at least one [[loads]] table".into(),
+            });
+        }
+        let mut loads = Vec::with_capacity(raw.loads.len());
+        for (i, load) in raw.loads.iter().enumerate() {
+            loads.push(self.load(load, i + 1)?);
+        }
+        let accuracy = match &raw.accuracy {
+            None => Accuracy::default(),
+            Some(acc) => {
+                let acc = acc.get_ref();
+                let default = Accuracy::default();
+                Accuracy {
+                    max_pos_err: match &acc.max_pos_err {
+                        Some(v) => self.positive(v, "accuracy.max_pos_err")?,
+                        None => default.max_pos_err,
+                    },
+                    max_ang_err: match &acc.max_ang_err {
+                        Some(v) => self.positive(v, "accuracy.max_ang_err")?,
+                        None => default.max_ang_err,
+                    },
+                }
+            }
+        };
+        let fit = match raw
+            .fit
+            .as_ref()
+            .and_then(|f| f.get_ref().angle_weight.as_ref())
+        {
+            None => FitSettings::default(),
+            Some(w) => FitSettings {
+                angle_weight: self.number(
+                    w,
+                    "fit.angle_weight",
+                    |v| v >= 0.0,
+                    "a finite number >= 0",
+                )?,
+            },
+        };
+        Ok(Scene {
+            name,
+            beam,
+            loads,
+            accuracy,
+            fit,
+        })
+    }
+
+    fn beam(&self, raw: &RawBeam) -> Result<BeamSpec, SceneError> {
+        let length = self.positive(&raw.length, "beam.length")?;
+        let width = self.positive(&raw.width, "beam.width")?;
+        let thickness = self.positive(&raw.thickness, "beam.thickness")?;
+        if thickness > length {
+            return Err(self.error(
+                raw.thickness.span(),
+                "beam.thickness",
+                format!(
+                    "a beam must be at least as long as it is thick (slenderness L/t0 >= 1), \
+                     got thickness {thickness} > length {length}"
+                ),
+            ));
+        }
+        let youngs_modulus = self.positive(&raw.youngs_modulus, "beam.youngs_modulus")?;
+        let poisson_ratio = self.number(
+            &raw.poisson_ratio,
+            "beam.poisson_ratio",
+            |v| (0.0..0.5).contains(&v),
+            "in [0, 0.5)",
+        )?;
+        let shear_coefficient = match &raw.shear_coefficient {
+            Some(k) => Some(self.positive(k, "beam.shear_coefficient")?),
+            None => None,
+        };
+        let effects = match &raw.effects {
+            None => EffectsChoice::Auto,
+            Some(spanned) => self.effects(spanned)?,
+        };
+        Ok(BeamSpec {
+            length,
+            width,
+            thickness,
+            youngs_modulus,
+            poisson_ratio,
+            shear_coefficient,
+            effects,
+        })
+    }
+
+    fn effects(&self, spanned: &Spanned<RawEffects>) -> Result<EffectsChoice, SceneError> {
+        let key = "beam.effects";
+        let fail = |message: String| self.error(spanned.span(), key, message);
+        match spanned.get_ref() {
+            RawEffects::Word(w) if w == "auto" => Ok(EffectsChoice::Auto),
+            RawEffects::Word(w) if w == "none" => Ok(EffectsChoice::Fixed(Effects::NONE)),
+            RawEffects::Word(w) if w == "all" => Ok(EffectsChoice::Fixed(Effects::ALL)),
+            RawEffects::Word(w) => Err(fail(format!(
+                "expected \"auto\", \"none\", \"all\" or a list such as [\"shear\", \"extension\"], \
+                 got \"{w}\""
+            ))),
+            RawEffects::List(list) => {
+                let mut effects = Effects::NONE;
+                for name in list {
+                    effects.set(name).map_err(|e| fail(e.to_string()))?;
+                }
+                effects.validate().map_err(|e| fail(e.to_string()))?;
+                Ok(EffectsChoice::Fixed(effects))
+            }
+        }
+    }
+
+    fn load(&self, raw: &Spanned<RawLoad>, index: usize) -> Result<LoadPath, SceneError> {
+        let key = |field: &str| format!("loads[{index}].{field}");
+        let component = |value: &Option<Spanned<f64>>, field: &str| match value {
+            None => Ok(0.0),
+            Some(v) => self.number(v, &key(field), |_| true, "a finite number"),
+        };
+        let r = raw.get_ref();
+        let end = Load::new(
+            component(&r.alpha_x, "alpha_x")?,
+            component(&r.alpha_y, "alpha_y")?,
+            component(&r.beta, "beta")?,
+        );
+        if end.magnitude() == 0.0 {
+            return Err(self.error(
+                raw.span(),
+                &format!("loads[{index}]"),
+                "the load path is all zero: give alpha_x, alpha_y or beta".into(),
+            ));
+        }
+        let steps = match &r.steps {
+            None => 1,
+            Some(s) => {
+                let v = *s.get_ref();
+                if !(1..=MAX_STEPS).contains(&v) {
+                    return Err(self.error(
+                        s.span(),
+                        &key("steps"),
+                        format!("must be a whole number from 1 to {MAX_STEPS}, got {v}"),
+                    ));
+                }
+                v as u32
+            }
+        };
+        Ok(LoadPath { end, steps })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn builtin_scene_is_valid() {
+        let scene = Scene::builtin();
+        assert!(!scene.loads.is_empty());
+        assert!(scene.cases().len() >= 10);
+    }
+
+    #[test]
+    fn toml_round_trip() {
+        let scene = Scene::builtin();
+        let again = Scene::from_toml_str(&scene.to_toml(), "round trip").unwrap();
+        assert_eq!(scene, again);
+    }
+}

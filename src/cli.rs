@@ -1,0 +1,302 @@
+//! The command line (DESIGN §6). Input errors exit with status 2 and one line on stderr that
+//! names the file, line or flag; a computation that fails (a load past a critical point, say)
+//! exits with status 1; results go to stdout, as text or, with `--json`, one JSON object.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::time::Instant;
+
+use anyhow::{Context, Result};
+use clap::{Args, Parser, Subcommand};
+use serde_json::json;
+
+use prbfit::beam::{BeamModel, BeamSolution, BeamSolver, Effects, Load, ModelError, Resolution};
+use prbfit::scene::{Scene, SceneError};
+
+#[derive(Parser)]
+#[command(
+    name = "prbfit",
+    version,
+    about = "Finds the best pseudo-rigid-body (PRB) model of a compliant cantilever beam",
+    long_about = None
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Option<Command>,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Solve the large-deflection baseline beam: one load, or every load case of the scene.
+    Solve(SolveArgs),
+}
+
+/// Options every subcommand shares.
+#[derive(Args)]
+struct Common {
+    /// Scene file (TOML, DESIGN §5); default: the built-in scene.
+    #[arg(long, value_name = "FILE")]
+    scene: Option<PathBuf>,
+    /// Print one JSON object on stdout instead of text.
+    #[arg(long)]
+    json: bool,
+}
+
+#[derive(Args)]
+struct SolveArgs {
+    #[command(flatten)]
+    common: Common,
+    /// One tip load, nondimensional: alpha_x, alpha_y, beta.
+    #[arg(long, value_name = "AX,AY,BETA", value_parser = Load::parse, allow_hyphen_values = true)]
+    load: Option<Load>,
+    /// Beam effects: a comma-separated list of shear, extension, poisson; or none; or all.
+    #[arg(long, value_name = "LIST|none")]
+    effects: Option<String>,
+    /// Slenderness L/t0 (overrides the scene's beam).
+    #[arg(long, value_name = "L_OVER_T", allow_negative_numbers = true)]
+    slenderness: Option<f64>,
+    /// Poisson's ratio (overrides the scene's beam).
+    #[arg(long, value_name = "NU", allow_negative_numbers = true)]
+    nu: Option<f64>,
+    /// Shear coefficient kappa (default: Cowper's rectangle value for nu).
+    #[arg(long, value_name = "K", allow_negative_numbers = true)]
+    kappa: Option<f64>,
+    /// Integrator tolerance: the speed/accuracy knob (tip error about 10x this or better).
+    #[arg(long, value_name = "TOL", allow_negative_numbers = true, default_value_t = Resolution::default().tol)]
+    tol: f64,
+    /// Include the deformed shape (points along the beam) in the JSON output.
+    #[arg(long)]
+    shape: bool,
+}
+
+/// An error in what the user gave us: exit status 2.
+#[derive(Debug, thiserror::Error)]
+#[error("{0}")]
+struct BadInput(String);
+
+fn bad(message: impl Into<String>) -> anyhow::Error {
+    BadInput(message.into()).into()
+}
+
+pub fn run() -> ExitCode {
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) => {
+            use clap::error::ErrorKind;
+            if matches!(e.kind(), ErrorKind::DisplayHelp | ErrorKind::DisplayVersion) {
+                let _ = e.print();
+                return ExitCode::SUCCESS;
+            }
+            // clap's message is several lines; the contract is one line naming the flag.
+            let text = e.to_string();
+            let first = text
+                .lines()
+                .find(|l| !l.trim().is_empty())
+                .unwrap_or("invalid arguments");
+            let first = first.trim_start_matches("error: ");
+            eprintln!("prbfit: {first} (see prbfit --help)");
+            return ExitCode::from(2);
+        }
+    };
+    let outcome = match cli.command {
+        Some(Command::Solve(args)) => solve(args),
+        None => {
+            eprintln!(
+                "prbfit: the terminal UI is not part of this build yet; run `prbfit --help` for \
+                 the headless commands"
+            );
+            return ExitCode::from(2);
+        }
+    };
+    match outcome {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            let input =
+                e.downcast_ref::<BadInput>().is_some() || e.downcast_ref::<SceneError>().is_some();
+            eprintln!("prbfit: {}", one_line(&e));
+            ExitCode::from(if input { 2 } else { 1 })
+        }
+    }
+}
+
+/// The error and its causes on one line.
+fn one_line(e: &anyhow::Error) -> String {
+    let parts: Vec<String> = e
+        .chain()
+        .map(|c| c.to_string().replace('\n', " "))
+        .collect();
+    parts.join(": ")
+}
+
+fn load_scene(common: &Common) -> Result<Scene> {
+    match &common.scene {
+        None => Ok(Scene::builtin()),
+        Some(path) => Ok(Scene::from_file(path)?),
+    }
+}
+
+/// The beam of the scene with the command-line overrides applied; errors name the flag.
+fn beam_model(scene: &Scene, args: &SolveArgs) -> Result<BeamModel> {
+    let base = scene.beam.model();
+    let effects = match &args.effects {
+        None => base.effects,
+        Some(text) => {
+            Effects::parse_list(text).map_err(|e| bad(format!("--effects {text}: {e}")))?
+        }
+    };
+    let slenderness = args.slenderness.unwrap_or(base.slenderness);
+    let nu = args.nu.unwrap_or(base.nu);
+    // A new nu changes Cowper's kappa unless kappa itself was given.
+    let kappa = match (args.kappa, args.nu) {
+        (Some(k), _) => Some(k),
+        (None, Some(_)) => scene.beam.shear_coefficient,
+        (None, None) => Some(base.kappa),
+    };
+    BeamModel::new(slenderness, nu, kappa, effects).map_err(|e| {
+        let flag = match e {
+            ModelError::Slenderness(_) => "--slenderness",
+            ModelError::PoissonRatio(_) => "--nu",
+            ModelError::ShearCoefficient(_) => "--kappa",
+            ModelError::UnknownEffect(_) | ModelError::PoissonWithoutExtension => "--effects",
+        };
+        bad(format!("{flag}: {e}"))
+    })
+}
+
+fn solve(args: SolveArgs) -> Result<()> {
+    let scene = load_scene(&args.common)?;
+    let model = beam_model(&scene, &args)?;
+    let resolution = Resolution::with_tol(args.tol);
+    let solver =
+        BeamSolver::new(model, resolution).map_err(|e| bad(format!("--tol {}: {e}", args.tol)))?;
+    let json = args.common.json;
+    if let Some(load) = args.load {
+        let t0 = Instant::now();
+        let sol = solver.solve(load).with_context(|| "solve failed")?;
+        let seconds = t0.elapsed().as_secs_f64();
+        if json {
+            let mut out = json!({
+                "load": load,
+                "a": sol.tip.a,
+                "b": sol.tip.b,
+                "phi": sol.tip.phi,
+                "root_moment": sol.root_moment,
+                "iterations": sol.iterations,
+                "continuation_steps": sol.continuation_steps,
+                "stability": sol.convergence.stability,
+                "beam": beam_json(&model),
+                "tol": args.tol,
+                "seconds": seconds,
+            });
+            if args.shape {
+                out["shape"] = serde_json::to_value(&sol.shape)?;
+            }
+            print_json(&out)?;
+        } else {
+            println!("{}", beam_line(&model));
+            println!("load: {load}");
+            println!(
+                "tip:  a = {:.9}  b = {:.9}  phi = {:.9} rad ({:.4} deg)",
+                sol.tip.a,
+                sol.tip.b,
+                sol.tip.phi,
+                sol.tip.phi.to_degrees()
+            );
+            println!(
+                "root moment {:.6} E I0/L; {} Newton shots over {} continuation steps; {:.3} ms",
+                sol.root_moment,
+                sol.iterations,
+                sol.continuation_steps,
+                seconds * 1e3
+            );
+        }
+        return Ok(());
+    }
+
+    let t0 = Instant::now();
+    let mut solutions: Vec<BeamSolution> = Vec::new();
+    for (i, path) in scene.loads.iter().enumerate() {
+        let sols = solver
+            .solve_path(path.end, path.steps)
+            .with_context(|| format!("load path {} of the scene", i + 1))?;
+        solutions.extend(sols);
+    }
+    let seconds = t0.elapsed().as_secs_f64();
+    if json {
+        let cases: Vec<_> = solutions
+            .iter()
+            .map(|s| {
+                let mut case = json!({
+                    "load": s.load, "a": s.tip.a, "b": s.tip.b, "phi": s.tip.phi,
+                    "iterations": s.iterations,
+                });
+                if args.shape {
+                    case["shape"] = serde_json::to_value(&s.shape).expect("finite shape");
+                }
+                case
+            })
+            .collect();
+        print_json(&json!({
+            "scene": scene.name,
+            "beam": beam_json(&model),
+            "tol": args.tol,
+            "cases": cases,
+            "seconds": seconds,
+        }))?;
+    } else {
+        println!("scene: {}", scene.name);
+        println!("{}", beam_line(&model));
+        println!(
+            "{:>9} {:>9} {:>9} | {:>12} {:>12} {:>12} | {:>5}",
+            "alpha_x", "alpha_y", "beta", "a", "b", "phi", "shots"
+        );
+        for s in &solutions {
+            println!(
+                "{:>9.4} {:>9.4} {:>9.4} | {:>12.8} {:>12.8} {:>12.8} | {:>5}",
+                s.load.alpha_x,
+                s.load.alpha_y,
+                s.load.beta,
+                s.tip.a,
+                s.tip.b,
+                s.tip.phi,
+                s.iterations
+            );
+        }
+        println!("{} cases in {:.3} ms", solutions.len(), seconds * 1e3);
+    }
+    Ok(())
+}
+
+fn beam_json(model: &BeamModel) -> serde_json::Value {
+    json!({
+        "slenderness": model.slenderness,
+        "nu": model.nu,
+        "kappa": model.kappa,
+        "effects": model.effects.names(),
+    })
+}
+
+fn beam_line(model: &BeamModel) -> String {
+    format!(
+        "beam: L/t0 = {}, nu = {}, kappa = {:.4}, effects: {}",
+        model.slenderness, model.nu, model.kappa, model.effects
+    )
+}
+
+/// Prints one JSON object; refuses non-finite numbers rather than writing `null`.
+fn print_json(value: &serde_json::Value) -> Result<()> {
+    fn finite(v: &serde_json::Value) -> bool {
+        match v {
+            serde_json::Value::Null => false,
+            serde_json::Value::Array(a) => a.iter().all(finite),
+            serde_json::Value::Object(o) => o.values().all(finite),
+            _ => true,
+        }
+    }
+    anyhow::ensure!(
+        finite(value),
+        "internal error: a result is not a finite number"
+    );
+    println!("{}", serde_json::to_string_pretty(value)?);
+    Ok(())
+}

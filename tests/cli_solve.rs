@@ -1,0 +1,249 @@
+//! `prbfit solve` end to end: the real binary, its JSON, its errors and exit statuses.
+
+use std::io::Write;
+use std::process::{Command, Output};
+
+fn prbfit(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_prbfit"))
+        .args(args)
+        .output()
+        .expect("the binary runs")
+}
+
+fn json(out: &Output) -> serde_json::Value {
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice(&out.stdout).expect("one JSON object on stdout")
+}
+
+/// A scene file in a temporary directory that lives as long as the returned guard.
+fn scene_file(text: &str) -> (tempdir::Guard, String) {
+    let guard = tempdir::Guard::new();
+    let path = guard.path.join("scene.toml");
+    std::fs::File::create(&path)
+        .unwrap()
+        .write_all(text.as_bytes())
+        .unwrap();
+    let p = path.display().to_string();
+    (guard, p)
+}
+
+mod tempdir {
+    pub struct Guard {
+        pub path: std::path::PathBuf,
+    }
+    impl Guard {
+        pub fn new() -> Guard {
+            use std::sync::atomic::{AtomicU32, Ordering};
+            static N: AtomicU32 = AtomicU32::new(0);
+            let path = std::env::temp_dir().join(format!(
+                "prbfit-test-{}-{}",
+                std::process::id(),
+                N.fetch_add(1, Ordering::SeqCst)
+            ));
+            std::fs::create_dir_all(&path).unwrap();
+            Guard { path }
+        }
+    }
+    impl Drop for Guard {
+        fn drop(&mut self) {
+            let _ = std::fs::remove_dir_all(&self.path);
+        }
+    }
+}
+
+/// One line on stderr, exit status 2, nothing on stdout.
+fn assert_input_error(out: &Output, must_contain: &[&str]) {
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "stderr: {err}");
+    assert!(
+        out.stdout.is_empty(),
+        "stdout: {}",
+        String::from_utf8_lossy(&out.stdout)
+    );
+    assert_eq!(err.trim_end().lines().count(), 1, "not one line: {err}");
+    for needle in must_contain {
+        assert!(err.contains(needle), "`{needle}` missing from: {err}");
+    }
+}
+
+#[test]
+fn one_load_as_json_matches_the_elliptic_table() {
+    let out = prbfit(&["solve", "--load", "0,2,0", "--effects", "none", "--json"]);
+    let v = json(&out);
+    assert!((v["a"].as_f64().unwrap() - 0.839358).abs() < 1e-6);
+    assert!((v["b"].as_f64().unwrap() - 0.493457).abs() < 1e-6);
+    assert!((v["phi"].as_f64().unwrap() - 0.781750).abs() < 1e-6);
+}
+
+#[test]
+fn negative_loads_and_shape_output() {
+    let out = prbfit(&["solve", "--load", "-1,-2,-0.5", "--json", "--shape"]);
+    let v = json(&out);
+    let shape = v["shape"].as_array().unwrap();
+    assert_eq!(shape.len(), 41);
+    let last = &shape[40];
+    assert!((last["x"].as_f64().unwrap() - v["a"].as_f64().unwrap()).abs() < 1e-6);
+    assert!(v["b"].as_f64().unwrap() < 0.0);
+}
+
+#[test]
+fn whole_scene_solves_every_case() {
+    let v = json(&prbfit(&["solve", "--json"]));
+    let cases = v["cases"].as_array().unwrap();
+    assert_eq!(cases.len(), 20, "the built-in scene has 4 paths of 5 steps");
+    assert!(v["seconds"].as_f64().unwrap() > 0.0);
+    // The first path is a transverse force; its last case is alpha_y = 5 (slenderness 100:
+    // within 1e-3 of the elastica's 0.612372).
+    let c = &cases[4];
+    assert_eq!(c["load"]["alpha_y"].as_f64(), Some(5.0));
+    assert!((c["a"].as_f64().unwrap() - 0.612372).abs() < 1e-3);
+}
+
+#[test]
+fn flag_overrides_reach_the_solver() {
+    // Shear only, slenderness 2: linear Timoshenko at a small load.
+    let v = json(&prbfit(&[
+        "solve",
+        "--load",
+        "0,1e-4,0",
+        "--effects",
+        "shear",
+        "--slenderness",
+        "2",
+        "--nu",
+        "0.3",
+        "--json",
+    ]));
+    let kappa = 10.0 * 1.3 / (12.0 + 3.3);
+    let c_s = 1.0 / (12.0 * 4.0) * 2.0 * 1.3 / kappa;
+    let expected = 1e-4 / 3.0 + 1e-4 * c_s;
+    assert!(((v["b"].as_f64().unwrap() - expected) / expected).abs() < 1e-6);
+}
+
+#[test]
+fn bad_flags_exit_2_naming_the_flag() {
+    assert_input_error(
+        &prbfit(&["solve", "--load", "1,2"]),
+        &["--load", "three numbers"],
+    );
+    assert_input_error(&prbfit(&["solve", "--load", "1,x,2"]), &["--load", "`x`"]);
+    assert_input_error(
+        &prbfit(&["solve", "--load", "1,nan,2"]),
+        &["--load", "finite"],
+    );
+    assert_input_error(&prbfit(&["solve", "--nu", "0.7"]), &["--nu", "0.7"]);
+    assert_input_error(
+        &prbfit(&["solve", "--slenderness", "-3"]),
+        &["--slenderness"],
+    );
+    assert_input_error(&prbfit(&["solve", "--kappa", "0"]), &["--kappa"]);
+    assert_input_error(
+        &prbfit(&["solve", "--effects", "twist"]),
+        &["--effects", "twist"],
+    );
+    assert_input_error(
+        &prbfit(&["solve", "--effects", "poisson"]),
+        &["--effects", "extension"],
+    );
+    assert_input_error(&prbfit(&["solve", "--tol", "0"]), &["--tol"]);
+    assert_input_error(&prbfit(&["solve", "--bogus"]), &["--bogus"]);
+    assert_input_error(
+        &prbfit(&["solve", "--scene", "/no/such/file.toml"]),
+        &["/no/such/file.toml"],
+    );
+}
+
+#[test]
+fn a_failed_solve_exits_1_and_says_why() {
+    let out = prbfit(&["solve", "--load", "-3,0,0", "--effects", "none"]);
+    assert_eq!(out.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("critical point"), "{err}");
+    assert!(out.stdout.is_empty());
+}
+
+const GOOD: &str = r#"
+name = "test"
+[beam]
+length = 0.05
+width = 0.01
+thickness = 0.0005
+youngs_modulus = 200e9
+poisson_ratio = 0.3
+effects = ["shear"]
+[[loads]]
+alpha_y = 2.0
+steps = 2
+"#;
+
+#[test]
+fn scene_file_is_read() {
+    let (_g, path) = scene_file(GOOD);
+    let v = json(&prbfit(&["solve", "--scene", &path, "--json"]));
+    assert_eq!(v["cases"].as_array().unwrap().len(), 2);
+    assert_eq!(v["beam"]["effects"], serde_json::json!(["shear"]));
+    assert_eq!(v["scene"], "test");
+}
+
+#[test]
+fn bad_scene_files_exit_2_with_file_line_and_key() {
+    let cases: &[(&str, &str, &[&str])] = &[
+        (
+            "thickness = 0.0005",
+            "thickness = -0.0005",
+            &[":6:", "beam.thickness", "> 0"],
+        ),
+        (
+            "poisson_ratio = 0.3",
+            "poisson_ratio = 0.7",
+            &[":8:", "beam.poisson_ratio", "0.7"],
+        ),
+        (
+            "poisson_ratio = 0.3",
+            "poisson_ratio = nan",
+            &[":8:", "beam.poisson_ratio", "NaN"],
+        ),
+        ("thickness = 0.0005", "thicknes = 0.0005", &["thicknes"]),
+        (
+            "effects = [\"shear\"]",
+            "effects = [\"poisson\"]",
+            &[":9:", "beam.effects", "extension"],
+        ),
+        (
+            "effects = [\"shear\"]",
+            "effects = \"some\"",
+            &[":9:", "beam.effects", "some"],
+        ),
+        ("steps = 2", "steps = 0", &[":12:", "loads[1].steps"]),
+        ("steps = 2", "steps = 2.5", &[":12:"]),
+        ("alpha_y = 2.0", "alpha_y = 0.0", &["loads[1]", "all zero"]),
+        (
+            "alpha_y = 2.0",
+            "alpha_y = inf",
+            &[":11:", "loads[1].alpha_y"],
+        ),
+        (
+            "length = 0.05",
+            "length = 0.0001",
+            &["beam.thickness", "slenderness"],
+        ),
+        ("[[loads]]", "[[load]]", &["load"]),
+        ("width = 0.01", "width = \"wide\"", &[":5:"]),
+        ("name = \"test\"", "name = \"test", &[":2:"]),
+    ];
+    for (from, to, needles) in cases {
+        let text = GOOD.replace(from, to);
+        assert_ne!(text, GOOD, "{from} not in the scene");
+        let (_g, path) = scene_file(&text);
+        let out = prbfit(&["solve", "--scene", &path]);
+        let mut all = vec![path.as_str()];
+        all.extend_from_slice(needles);
+        assert_input_error(&out, &all);
+    }
+    let (_g, path) = scene_file(&GOOD.replace("[[loads]]\nalpha_y = 2.0\nsteps = 2\n", ""));
+    assert_input_error(&prbfit(&["solve", "--scene", &path]), &["no load paths"]);
+}
