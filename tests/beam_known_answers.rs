@@ -167,3 +167,101 @@ fn pure_tension_with_poisson() {
         "eps {eps}"
     );
 }
+
+/// Carlson's symmetric elliptic integral R_F (duplication; Numerical Recipes' `rf`), iterated
+/// until the series remainder (the sixth power of the deviation) is below round-off.
+fn carlson_rf(x: f64, y: f64, z: f64) -> f64 {
+    let (mut x, mut y, mut z) = (x, y, z);
+    loop {
+        let (sx, sy, sz) = (x.sqrt(), y.sqrt(), z.sqrt());
+        let lambda = sx * (sy + sz) + sy * sz;
+        x = 0.25 * (x + lambda);
+        y = 0.25 * (y + lambda);
+        z = 0.25 * (z + lambda);
+        let ave = (x + y + z) / 3.0;
+        let (dx, dy, dz) = ((ave - x) / ave, (ave - y) / ave, (ave - z) / ave);
+        if dx.abs().max(dy.abs()).max(dz.abs()) < 1e-4 {
+            let e2 = dx * dy - dz * dz;
+            let e3 = dx * dy * dz;
+            return (1.0 + (e2 / 24.0 - 0.1 - 3.0 / 44.0 * e3) * e2 + e3 / 14.0) / ave.sqrt();
+        }
+    }
+}
+
+/// Carlson's R_D (Numerical Recipes' `rd`).
+fn carlson_rd(x: f64, y: f64, z: f64) -> f64 {
+    let (c1, c2, c3, c4) = (3.0 / 14.0, 1.0 / 6.0, 9.0 / 22.0, 3.0 / 26.0);
+    let (c5, c6) = (0.25 * c3, 1.5 * c4);
+    let (mut x, mut y, mut z) = (x, y, z);
+    let (mut sum, mut fac) = (0.0, 1.0);
+    loop {
+        let (sx, sy, sz) = (x.sqrt(), y.sqrt(), z.sqrt());
+        let lambda = sx * (sy + sz) + sy * sz;
+        sum += fac / (sz * (z + lambda));
+        fac *= 0.25;
+        x = 0.25 * (x + lambda);
+        y = 0.25 * (y + lambda);
+        z = 0.25 * (z + lambda);
+        let ave = 0.2 * (x + y + 3.0 * z);
+        let (dx, dy, dz) = ((ave - x) / ave, (ave - y) / ave, (ave - z) / ave);
+        if dx.abs().max(dy.abs()).max(dz.abs()) < 1e-4 {
+            let ea = dx * dy;
+            let eb = dz * dz;
+            let ec = ea - eb;
+            let ed = ea - 6.0 * eb;
+            let ee = ed + ec + ec;
+            return 3.0 * sum
+                + fac
+                    * (1.0
+                        + ed * (-c1 + c5 * ed - c6 * dz * ee)
+                        + dz * (c2 * ee + dz * (-c3 * ec + dz * c4 * ea)))
+                    / (ave * ave.sqrt());
+        }
+    }
+}
+
+/// Incomplete elliptic integrals of the first and second kind, modulus k.
+fn elliptic_f_e(phi: f64, k: f64) -> (f64, f64) {
+    let (s, c) = phi.sin_cos();
+    let y = 1.0 - k * k * s * s;
+    let rf = carlson_rf(c * c, y, 1.0);
+    let rd = carlson_rd(c * c, y, 1.0);
+    (s * rf, s * rf - k * k * s * s * s * rd / 3.0)
+}
+
+/// Bisshopp & Drucker's closed form (validation.md) for the tip angle `phi`: the load that
+/// produces it and the tip position.
+fn bisshopp_drucker(phi: f64) -> (f64, f64, f64) {
+    let k = ((1.0 + phi.sin()) / 2.0).sqrt();
+    let p1 = (1.0 / (2.0_f64.sqrt() * k)).asin();
+    let (kk, ek) = elliptic_f_e(PI / 2.0, k);
+    let (f1, e1) = elliptic_f_e(p1, k);
+    let root_alpha = kk - f1;
+    let a = (2.0 * phi.sin()).sqrt() / root_alpha;
+    let b = 1.0 - 2.0 * (ek - e1) / root_alpha;
+    (root_alpha * root_alpha, a, b)
+}
+
+/// The closed form reproduces the published table, and the solver matches the closed form
+/// to 1e-8 from small to very large deflections (tip angles 0.05 to 1.55 rad, alpha_y up to
+/// about 60).
+#[test]
+fn elliptic_closed_form_transverse_force() {
+    // The table's alpha_y = 2 row, through the closed form: tip angle 0.781750.
+    let (alpha, a, b) = bisshopp_drucker(0.781750);
+    assert!((alpha - 2.0).abs() < 1e-5 && (a - 0.839358).abs() < 1e-6);
+    assert!((b - 0.493457).abs() < 1e-6);
+    let solver = elastica(1e-11);
+    for i in 1..=31 {
+        let phi = 0.05 * i as f64;
+        let (alpha_y, a, b) = bisshopp_drucker(phi);
+        let tip = solver.solve(Load::new(0.0, alpha_y, 0.0)).unwrap().tip;
+        assert!((tip.a - a).abs() < 1e-8, "phi {phi}: a {} vs {a}", tip.a);
+        assert!((tip.b - b).abs() < 1e-8, "phi {phi}: b {} vs {b}", tip.b);
+        assert!(
+            (tip.phi - phi).abs() < 1e-8,
+            "phi {phi}: {} at alpha_y {alpha_y}",
+            tip.phi
+        );
+    }
+}
