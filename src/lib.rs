@@ -2,7 +2,10 @@
 //!
 //! The library is the numerical core (no terminal, no files except through [`scene`]):
 //! - [`beam`]: the large-deflection baseline beam (DESIGN §2),
+//! - [`prb`]: the PRB matrix, topology names, kinematics and statics (DESIGN §3),
 //! - [`scene`]: scene files — beam, load paths, accuracy targets (DESIGN §5).
 
 pub mod beam;
+pub mod linalg;
+pub mod prb;
 pub mod scene;

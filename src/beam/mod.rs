@@ -30,6 +30,7 @@ use std::fmt;
 
 use serde::{Deserialize, Serialize};
 
+use crate::linalg::solve_dense;
 pub use model::{cowper_kappa, BeamModel, Effects, ModelError};
 use shoot::{shoot, Samples, Segment, Shot, ShotFailure, ShotSettings, TipForce};
 
@@ -671,47 +672,6 @@ fn apply(nodes: &[[f64; 2]], update: &[f64]) -> Vec<[f64; 2]> {
             [n[0] + d_psi, n[1] + update[2 * k]]
         })
         .collect()
-}
-
-/// Gaussian elimination with partial pivoting on a small dense row-major system; the
-/// solution replaces `rhs`. Returns false for a singular matrix.
-fn solve_dense(matrix: &mut [f64], rhs: &mut [f64], n: usize) -> bool {
-    for col in 0..n {
-        let pivot = (col..n)
-            .max_by(|&i, &j| {
-                matrix[i * n + col]
-                    .abs()
-                    .total_cmp(&matrix[j * n + col].abs())
-            })
-            .expect("non-empty range");
-        let p = matrix[pivot * n + col];
-        if p == 0.0 || !p.is_finite() {
-            return false;
-        }
-        if pivot != col {
-            for j in 0..n {
-                matrix.swap(col * n + j, pivot * n + j);
-            }
-            rhs.swap(col, pivot);
-        }
-        for row in col + 1..n {
-            let factor = matrix[row * n + col] / p;
-            if factor != 0.0 {
-                for j in col..n {
-                    matrix[row * n + j] -= factor * matrix[col * n + j];
-                }
-                rhs[row] -= factor * rhs[col];
-            }
-        }
-    }
-    for col in (0..n).rev() {
-        let mut v = rhs[col];
-        for j in col + 1..n {
-            v -= matrix[col * n + j] * rhs[j];
-        }
-        rhs[col] = v / matrix[col * n + col];
-    }
-    rhs.iter().all(|v| v.is_finite())
 }
 
 /// Predicts the nodes and the tip at `lambda` from the path so far: the linear-theory

@@ -1,0 +1,563 @@
+//! The PRB matrix `Omega` (DESIGN §3): one row per rigid segment, root first, columns
+//! `[gamma, k_theta, k_ex]`.
+//!
+//! - `gamma`: the segment's nominal length as a fraction of L (the gammas sum to 1);
+//! - `k_theta`: torsion spring at the segment's root end, `K_theta = k_theta E I0 / L`, or
+//!   `inf` for no joint there;
+//! - `k_ex`: extension spring along the segment, `K_ex = k_ex E A0 / L`, or `inf` for a fixed
+//!   length.
+//!
+//! Text form: rows separated by `;`, entries by `,`, `inf` for infinity, and a trailing `!`
+//! on a cell that the fit must leave alone (`0.1!,inf,inf; 0.9,2.25,inf`). `inf` cells are
+//! the topology and never fitted. Floats print in Rust's shortest round-trip form, so text,
+//! TOML and JSON all round-trip exactly.
+//!
+//! Topology names list the segments from the root: `L` rigid, `R` torsion spring, `P`
+//! extension spring, `RP` both, joined by `-` (Su's 3R is `L-R-R-R`, Howell's 1R `L-R`).
+
+use std::fmt;
+use std::str::FromStr;
+
+use serde::de::{self, Deserializer};
+use serde::ser::Serializer;
+use serde::{Deserialize, Serialize};
+
+/// How far the gammas' sum may stray from 1 (round-off in a typed matrix, not rounding of
+/// published values, which must be converted explicitly).
+pub const GAMMA_SUM_TOL: f64 = 1e-9;
+
+/// The three columns of a row.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Column {
+    Gamma,
+    KTheta,
+    KEx,
+}
+
+impl Column {
+    pub const ALL: [Column; 3] = [Column::Gamma, Column::KTheta, Column::KEx];
+
+    pub fn index(self) -> usize {
+        match self {
+            Column::Gamma => 0,
+            Column::KTheta => 1,
+            Column::KEx => 2,
+        }
+    }
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Column::Gamma => "gamma",
+            Column::KTheta => "k_theta",
+            Column::KEx => "k_ex",
+        }
+    }
+}
+
+impl fmt::Display for Column {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// One segment of the chain.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PrbRow {
+    pub gamma: f64,
+    pub k_theta: f64,
+    pub k_ex: f64,
+    /// Per cell (gamma, k_theta, k_ex): may the fit change it? `inf` cells never are.
+    pub free: [bool; 3],
+}
+
+impl PrbRow {
+    pub fn get(&self, column: Column) -> f64 {
+        match column {
+            Column::Gamma => self.gamma,
+            Column::KTheta => self.k_theta,
+            Column::KEx => self.k_ex,
+        }
+    }
+
+    pub fn set(&mut self, column: Column, value: f64) {
+        match column {
+            Column::Gamma => self.gamma = value,
+            Column::KTheta => self.k_theta = value,
+            Column::KEx => self.k_ex = value,
+        }
+    }
+
+    /// A torsion spring at this segment's root end.
+    pub fn has_revolute(&self) -> bool {
+        self.k_theta.is_finite()
+    }
+
+    /// An extension spring along this segment.
+    pub fn has_prismatic(&self) -> bool {
+        self.k_ex.is_finite()
+    }
+
+    /// Whether the fit may change this cell (finite and marked free).
+    pub fn is_free(&self, column: Column) -> bool {
+        self.free[column.index()] && self.get(column).is_finite()
+    }
+
+    /// The row's topology letter(s): `L`, `R`, `P` or `RP`.
+    pub fn kind(&self) -> &'static str {
+        match (self.has_revolute(), self.has_prismatic()) {
+            (false, false) => "L",
+            (true, false) => "R",
+            (false, true) => "P",
+            (true, true) => "RP",
+        }
+    }
+}
+
+/// A PRB matrix. Construct with [`PrbMatrix::new`] (validates) or parse the text form.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PrbMatrix {
+    rows: Vec<PrbRow>,
+}
+
+/// What is wrong with a matrix; rows and columns are 1-based, as a user counts them.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum MatrixError {
+    #[error("the matrix has no rows")]
+    Empty,
+    #[error("row {row}: expected 3 entries (gamma, k_theta, k_ex), got {got}")]
+    RowLength { row: usize, got: usize },
+    #[error("row {row}, column {column}: `{text}` is not a number or inf")]
+    NotANumber {
+        row: usize,
+        column: Column,
+        text: String,
+    },
+    #[error(
+        "row {row}, column gamma: the segment length must be a finite number > 0, got {value}"
+    )]
+    Gamma { row: usize, value: f64 },
+    #[error(
+        "row {row}, column {column}: a spring constant must be > 0 or inf (no spring), got {value}"
+    )]
+    Spring {
+        row: usize,
+        column: Column,
+        value: f64,
+    },
+    #[error("the gammas must sum to 1, they sum to {sum} (off by {:.3e})", sum - 1.0)]
+    GammaSum { sum: f64 },
+    #[error("the matrix has no joint: give at least one finite k_theta or k_ex")]
+    NoJoint,
+    #[error("unknown topology segment `{0}` (expected L, R, P or RP, joined by -)")]
+    Topology(String),
+}
+
+impl PrbMatrix {
+    /// A validated matrix.
+    pub fn new(mut rows: Vec<PrbRow>) -> Result<PrbMatrix, MatrixError> {
+        // A flag on an `inf` cell means nothing; keep it canonical (free, so that a cell
+        // later given a finite value starts out free) so equal matrices compare equal.
+        for r in &mut rows {
+            for c in Column::ALL {
+                if r.get(c) == f64::INFINITY {
+                    r.free[c.index()] = true;
+                }
+            }
+        }
+        let m = PrbMatrix { rows };
+        m.validate()?;
+        Ok(m)
+    }
+
+    /// Builds from `[gamma, k_theta, k_ex]` triples, every finite cell free.
+    pub fn from_values(values: &[[f64; 3]]) -> Result<PrbMatrix, MatrixError> {
+        PrbMatrix::new(
+            values
+                .iter()
+                .map(|v| PrbRow {
+                    gamma: v[0],
+                    k_theta: v[1],
+                    k_ex: v[2],
+                    free: [true; 3],
+                })
+                .collect(),
+        )
+    }
+
+    pub fn rows(&self) -> &[PrbRow] {
+        &self.rows
+    }
+
+    pub fn len(&self) -> usize {
+        self.rows.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.rows.is_empty()
+    }
+
+    /// Checks every rule of DESIGN §3.
+    pub fn validate(&self) -> Result<(), MatrixError> {
+        if self.rows.is_empty() {
+            return Err(MatrixError::Empty);
+        }
+        for (i, r) in self.rows.iter().enumerate() {
+            let row = i + 1;
+            if !(r.gamma.is_finite() && r.gamma > 0.0) {
+                return Err(MatrixError::Gamma {
+                    row,
+                    value: r.gamma,
+                });
+            }
+            for column in [Column::KTheta, Column::KEx] {
+                let value = r.get(column);
+                let ok = value == f64::INFINITY || (value.is_finite() && value > 0.0);
+                if !ok {
+                    return Err(MatrixError::Spring { row, column, value });
+                }
+            }
+        }
+        let sum: f64 = self.rows.iter().map(|r| r.gamma).sum();
+        if (sum - 1.0).abs() > GAMMA_SUM_TOL {
+            return Err(MatrixError::GammaSum { sum });
+        }
+        if !self
+            .rows
+            .iter()
+            .any(|r| r.has_revolute() || r.has_prismatic())
+        {
+            return Err(MatrixError::NoJoint);
+        }
+        Ok(())
+    }
+
+    /// Sets one cell and validates; on error the matrix is unchanged.
+    pub fn with_cell(
+        &self,
+        row: usize,
+        column: Column,
+        value: f64,
+    ) -> Result<PrbMatrix, MatrixError> {
+        let mut rows = self.rows.clone();
+        rows[row].set(column, value);
+        PrbMatrix::new(rows)
+    }
+
+    /// Marks a cell free (the fit may change it) or fixed.
+    pub fn set_free(&mut self, row: usize, column: Column, free: bool) {
+        self.rows[row].free[column.index()] = free;
+    }
+
+    /// The topology name (`L-R-R-R`).
+    pub fn topology(&self) -> String {
+        self.rows
+            .iter()
+            .map(|r| r.kind())
+            .collect::<Vec<_>>()
+            .join("-")
+    }
+
+    /// Number of revolute joints.
+    pub fn revolute_count(&self) -> usize {
+        self.rows.iter().filter(|r| r.has_revolute()).count()
+    }
+
+    /// Number of prismatic joints.
+    pub fn prismatic_count(&self) -> usize {
+        self.rows.iter().filter(|r| r.has_prismatic()).count()
+    }
+
+    /// A matrix for a topology name with sensible starting values:
+    /// - a leading rigid segment gets `gamma = 0.3 / (n + 1)` for `n` later segments (Howell's
+    ///   0.15 for one joint, close to Su's 0.10 for three);
+    /// - the rest share the length equally, the last at half weight (a tip segment carries
+    ///   little moment, as in Su's and Chen's 3R);
+    /// - every torsion spring starts at `k_theta = n_R`, so that `sum 1/k_theta = 1` and a
+    ///   pure moment is exact from the start;
+    /// - every extension spring starts at `k_ex = 1 / gamma`, the axial stiffness of that
+    ///   length of beam.
+    pub fn from_topology(name: &str) -> Result<PrbMatrix, MatrixError> {
+        let kinds: Vec<&str> = name.trim().split('-').map(str::trim).collect();
+        for k in &kinds {
+            if !matches!(*k, "L" | "R" | "P" | "RP") {
+                return Err(MatrixError::Topology(k.to_string()));
+            }
+        }
+        let n = kinds.len();
+        let leading_rigid = kinds[0] == "L" && n > 1;
+        let mut gammas = vec![0.0; n];
+        let start = if leading_rigid {
+            gammas[0] = 0.3 / n as f64;
+            1
+        } else {
+            0
+        };
+        let rest = 1.0 - gammas[0];
+        let weights: Vec<f64> = (start..n)
+            .map(|i| {
+                if i + 1 == n && n - start > 1 {
+                    0.5
+                } else {
+                    1.0
+                }
+            })
+            .collect();
+        let total: f64 = weights.iter().sum();
+        for (i, w) in (start..n).zip(&weights) {
+            gammas[i] = rest * w / total;
+        }
+        // Make the sum exactly 1 despite round-off.
+        let sum_others: f64 = gammas[..n - 1].iter().sum();
+        gammas[n - 1] = 1.0 - sum_others;
+        let n_r = kinds.iter().filter(|k| k.contains('R')).count().max(1) as f64;
+        let rows = kinds
+            .iter()
+            .zip(&gammas)
+            .map(|(k, &gamma)| PrbRow {
+                gamma,
+                k_theta: if k.contains('R') { n_r } else { f64::INFINITY },
+                k_ex: if k.contains('P') {
+                    1.0 / gamma
+                } else {
+                    f64::INFINITY
+                },
+                free: [true; 3],
+            })
+            .collect();
+        PrbMatrix::new(rows)
+    }
+
+    /// The text form (with `!` on fixed finite cells).
+    pub fn to_text(&self) -> String {
+        self.rows
+            .iter()
+            .map(|r| {
+                Column::ALL
+                    .iter()
+                    .map(|&c| {
+                        let v = r.get(c);
+                        if v == f64::INFINITY {
+                            "inf".to_string()
+                        } else if r.free[c.index()] {
+                            format!("{v}")
+                        } else {
+                            format!("{v}!")
+                        }
+                    })
+                    .collect::<Vec<_>>()
+                    .join(",")
+            })
+            .collect::<Vec<_>>()
+            .join("; ")
+    }
+
+    /// Parses the text form and validates.
+    pub fn parse(text: &str) -> Result<PrbMatrix, MatrixError> {
+        let mut rows = Vec::new();
+        for (i, row_text) in text.split(';').enumerate() {
+            let row = i + 1;
+            let trimmed = row_text.trim();
+            if trimmed.is_empty() && i > 0 && text.trim_end().ends_with(';') {
+                continue; // a trailing `;`
+            }
+            let cells: Vec<&str> = trimmed.split(',').map(str::trim).collect();
+            if cells.len() != 3 {
+                return Err(MatrixError::RowLength {
+                    row,
+                    got: if trimmed.is_empty() { 0 } else { cells.len() },
+                });
+            }
+            let mut values = [0.0; 3];
+            let mut free = [true; 3];
+            for (j, cell) in cells.iter().enumerate() {
+                let column = Column::ALL[j];
+                let (number, fixed) = match cell.strip_suffix('!') {
+                    Some(rest) => (rest.trim(), true),
+                    None => (*cell, false),
+                };
+                let value = parse_entry(number).ok_or_else(|| MatrixError::NotANumber {
+                    row,
+                    column,
+                    text: cell.to_string(),
+                })?;
+                values[j] = value;
+                free[j] = !fixed;
+            }
+            rows.push(PrbRow {
+                gamma: values[0],
+                k_theta: values[1],
+                k_ex: values[2],
+                free,
+            });
+        }
+        PrbMatrix::new(rows)
+    }
+}
+
+/// A number or `inf` (any case, optionally `+inf`/`infinity`); NaN is not a number here.
+fn parse_entry(text: &str) -> Option<f64> {
+    let lower = text.to_ascii_lowercase();
+    if matches!(lower.as_str(), "inf" | "+inf" | "infinity" | "+infinity") {
+        return Some(f64::INFINITY);
+    }
+    if lower.contains("inf") || lower.contains("nan") {
+        return None;
+    }
+    text.parse::<f64>().ok()
+}
+
+impl fmt::Display for PrbMatrix {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.to_text())
+    }
+}
+
+impl FromStr for PrbMatrix {
+    type Err = MatrixError;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        PrbMatrix::parse(s)
+    }
+}
+
+/// Serialised as a table of rows, each `{gamma, k_theta, k_ex, fixed}` with infinity as the
+/// string `"inf"` (JSON has no infinity) and `fixed` listing the pinned columns. The same
+/// encoding serves TOML and JSON and round-trips exactly.
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RowRepr {
+    gamma: f64,
+    k_theta: Entry,
+    k_ex: Entry,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    fixed: Vec<String>,
+}
+
+#[derive(Serialize, Deserialize)]
+#[serde(untagged)]
+enum Entry {
+    Number(f64),
+    Word(String),
+}
+
+impl Entry {
+    fn from_value(v: f64) -> Entry {
+        if v == f64::INFINITY {
+            Entry::Word("inf".into())
+        } else {
+            Entry::Number(v)
+        }
+    }
+
+    fn value(&self) -> Result<f64, String> {
+        match self {
+            Entry::Number(v) => Ok(*v),
+            Entry::Word(w) => parse_entry(w).ok_or_else(|| format!("`{w}` is not a number or inf")),
+        }
+    }
+}
+
+impl Serialize for PrbMatrix {
+    fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        let rows: Vec<RowRepr> = self
+            .rows
+            .iter()
+            .map(|r| RowRepr {
+                gamma: r.gamma,
+                k_theta: Entry::from_value(r.k_theta),
+                k_ex: Entry::from_value(r.k_ex),
+                fixed: Column::ALL
+                    .iter()
+                    .filter(|c| !r.free[c.index()] && r.get(**c).is_finite())
+                    .map(|c| c.name().to_string())
+                    .collect(),
+            })
+            .collect();
+        rows.serialize(serializer)
+    }
+}
+
+impl<'de> Deserialize<'de> for PrbMatrix {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        let reprs = Vec::<RowRepr>::deserialize(deserializer)?;
+        let mut rows = Vec::with_capacity(reprs.len());
+        for (i, r) in reprs.iter().enumerate() {
+            let ctx = |e: String| de::Error::custom(format!("row {}: {e}", i + 1));
+            let mut free = [true; 3];
+            for name in &r.fixed {
+                let c = Column::ALL
+                    .iter()
+                    .find(|c| c.name() == name)
+                    .ok_or_else(|| ctx(format!("unknown column `{name}` in fixed")))?;
+                free[c.index()] = false;
+            }
+            rows.push(PrbRow {
+                gamma: r.gamma,
+                k_theta: r.k_theta.value().map_err(ctx)?,
+                k_ex: r.k_ex.value().map_err(ctx)?,
+                free,
+            });
+        }
+        PrbMatrix::new(rows).map_err(de::Error::custom)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn su_text_parses_and_prints() {
+        let text = "0.1,inf,inf; 0.35,3.51,inf; 0.4,2.99,inf; 0.15,2.58,inf";
+        let m = PrbMatrix::parse(text).unwrap();
+        assert_eq!(m.topology(), "L-R-R-R");
+        assert_eq!(m.to_text(), text);
+        assert_eq!(m.revolute_count(), 3);
+    }
+
+    #[test]
+    fn fixed_cells_round_trip_in_text() {
+        let m = PrbMatrix::parse("0.15!,inf,inf; 0.85, 2.2525! ,inf").unwrap();
+        assert!(!m.rows()[0].is_free(Column::Gamma));
+        assert!(!m.rows()[1].is_free(Column::KTheta));
+        assert!(m.rows()[1].is_free(Column::Gamma));
+        assert!(!m.rows()[1].is_free(Column::KEx), "inf is never free");
+        assert_eq!(PrbMatrix::parse(&m.to_text()).unwrap(), m);
+    }
+
+    #[test]
+    fn topology_names_give_valid_starting_matrices() {
+        for name in [
+            "L-R",
+            "L-R-R",
+            "L-R-R-R",
+            "L-R-R-R-R",
+            "L-RP",
+            "L-P",
+            "R",
+            "R-R",
+            "L-R-P",
+            "RP-RP",
+        ] {
+            let m = PrbMatrix::from_topology(name).unwrap();
+            assert_eq!(m.topology(), name);
+            let inv: f64 = m
+                .rows()
+                .iter()
+                .filter(|r| r.has_revolute())
+                .map(|r| 1.0 / r.k_theta)
+                .sum();
+            if m.revolute_count() > 0 {
+                assert!((inv - 1.0).abs() < 1e-12);
+            }
+        }
+        let howell_like = PrbMatrix::from_topology("L-R").unwrap();
+        assert!((howell_like.rows()[0].gamma - 0.15).abs() < 1e-15);
+        assert!(
+            matches!(PrbMatrix::from_topology("L-X"), Err(MatrixError::Topology(w)) if w == "X")
+        );
+        assert!(matches!(
+            PrbMatrix::from_topology("L"),
+            Err(MatrixError::NoJoint)
+        ));
+    }
+}

@@ -1,0 +1,7 @@
+//! PRB models: the PRB matrix, topology names, kinematics and statics (DESIGN §3).
+
+mod matrix;
+mod statics;
+
+pub use matrix::{Column, MatrixError, PrbMatrix, PrbRow, GAMMA_SUM_TOL};
+pub use statics::{PrbError, PrbSolution, PrbSolver};

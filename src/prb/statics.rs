@@ -1,0 +1,417 @@
+//! Kinematics and statics of a PRB chain (DESIGN §3), nondimensional (L = 1, E I0 = 1).
+//!
+//! The configuration `q` holds one joint angle `theta_i` per revolute row and one extension
+//! `delta_i` per prismatic row, in row order. With `Theta_i = sum_{j<=i} theta_j` and
+//! `l_i = gamma_i + delta_i`, the tip is `a = sum l_i cos Theta_i`, `b = sum l_i sin Theta_i`,
+//! `phi = Theta_N`. Equilibrium (`tau = J^T F`) is
+//!
+//! ```text
+//! k_theta_i theta_i = beta + sum_{j>=i} l_j Q_j                 each R joint
+//! (k_ex_i / c_e) delta_i = N_i                                  each P joint
+//! ```
+//!
+//! with `N_j = alpha_x cos Theta_j + alpha_y sin Theta_j` and
+//! `Q_j = -alpha_x sin Theta_j + alpha_y cos Theta_j` the axial and transverse components of
+//! the tip force in segment j, and `c_e = I0 / (A0 L^2)` (the P equation is DESIGN's divided by
+//! `c_e`, which makes the tangent stiffness symmetric: it is the Hessian of the potential
+//! energy). Newton's method on the analytic Jacobian solves it; each load is reached by
+//! continuation from zero, like the beam, and an equilibrium is accepted only where the
+//! tangent stiffness is positive definite (a stable equilibrium: Cholesky succeeds).
+
+use crate::beam::{Load, TipPose};
+use crate::linalg::cholesky_solve;
+
+use super::matrix::PrbMatrix;
+
+/// Why a PRB equilibrium could not be found.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum PrbError {
+    #[error("load is not finite: {0}")]
+    NonFiniteLoad(Load),
+    #[error(
+        "the PRB model has no equilibrium for {load} past {:.4} of the load path ({reason})",
+        fraction
+    )]
+    NoEquilibrium {
+        load: Load,
+        fraction: f64,
+        reason: String,
+    },
+    #[error(
+        "the PRB model reaches a critical point (its tangent stiffness turns singular) at {:.4} \
+         of the load path to {load}: it buckles or snaps there",
+        fraction
+    )]
+    Unstable { load: Load, fraction: f64 },
+}
+
+/// One degree of freedom: which row, and whether it is the joint angle or the extension.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Dof {
+    Theta(usize),
+    Delta(usize),
+}
+
+/// An equilibrium of the chain.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PrbSolution {
+    pub load: Load,
+    pub tip: TipPose,
+    /// Joint angles (revolute rows) and extensions (prismatic rows), in row order.
+    pub q: Vec<f64>,
+    /// Newton iterations spent on this load, continuation sub-steps included.
+    pub iterations: u32,
+}
+
+/// Solves a PRB chain's statics. Cheap to build; holds no scratch between calls.
+#[derive(Debug, Clone)]
+pub struct PrbSolver {
+    gamma: Vec<f64>,
+    k_theta: Vec<f64>,
+    /// `k_ex / c_e` per row (infinite for rows without an extension spring).
+    k_ex_scaled: Vec<f64>,
+    dofs: Vec<Dof>,
+}
+
+/// Newton stops when the update is below this (radians, units of L).
+const NEWTON_TOL: f64 = 1e-13;
+const MAX_NEWTON: u32 = 40;
+/// No Newton update turns a joint by more than this (radians).
+const MAX_TURN: f64 = 0.5;
+const MAX_TIP_JUMP: f64 = 1.0;
+const MIN_STEP: f64 = 1e-7;
+
+impl PrbSolver {
+    /// `axial_compliance` is `c_e = I0 / (A0 L^2) = 1 / (12 (L/t0)^2)` of the beam; it only
+    /// matters for extension springs.
+    pub fn new(matrix: &PrbMatrix, axial_compliance: f64) -> PrbSolver {
+        let rows = matrix.rows();
+        let mut dofs = Vec::new();
+        for (i, r) in rows.iter().enumerate() {
+            if r.has_revolute() {
+                dofs.push(Dof::Theta(i));
+            }
+            if r.has_prismatic() {
+                dofs.push(Dof::Delta(i));
+            }
+        }
+        PrbSolver {
+            gamma: rows.iter().map(|r| r.gamma).collect(),
+            k_theta: rows.iter().map(|r| r.k_theta).collect(),
+            k_ex_scaled: rows.iter().map(|r| r.k_ex / axial_compliance).collect(),
+            dofs,
+        }
+    }
+
+    /// Degrees of freedom of the chain.
+    pub fn dof_count(&self) -> usize {
+        self.dofs.len()
+    }
+
+    /// Cumulative angles and lengths of the segments for configuration `q`.
+    fn segments(&self, q: &[f64], theta_cum: &mut [f64], length: &mut [f64]) {
+        let n = self.gamma.len();
+        length[..n].copy_from_slice(&self.gamma);
+        theta_cum[..n].iter_mut().for_each(|t| *t = 0.0);
+        for (dof, &v) in self.dofs.iter().zip(q) {
+            match *dof {
+                Dof::Theta(i) => theta_cum[i] = v,
+                Dof::Delta(i) => length[i] += v,
+            }
+        }
+        for i in 1..n {
+            theta_cum[i] += theta_cum[i - 1];
+        }
+    }
+
+    /// The tip pose for configuration `q`.
+    pub fn tip_pose(&self, q: &[f64]) -> TipPose {
+        let mut ws = Workspace::new(self.gamma.len(), self.dofs.len());
+        self.tip(q, &mut ws)
+    }
+
+    fn tip(&self, q: &[f64], ws: &mut Workspace) -> TipPose {
+        let n = self.gamma.len();
+        self.segments(q, &mut ws.theta_cum, &mut ws.length);
+        let (mut a, mut b) = (0.0, 0.0);
+        for j in 0..n {
+            let (s, c) = ws.theta_cum[j].sin_cos();
+            a += ws.length[j] * c;
+            b += ws.length[j] * s;
+        }
+        TipPose {
+            a,
+            b,
+            phi: ws.theta_cum[n - 1],
+        }
+    }
+
+    /// The root, every segment's end, in order: `n + 1` points for drawing the linkage.
+    pub fn joint_positions(&self, q: &[f64]) -> Vec<[f64; 2]> {
+        let n = self.gamma.len();
+        let mut theta_cum = vec![0.0; n];
+        let mut length = vec![0.0; n];
+        self.segments(q, &mut theta_cum, &mut length);
+        let mut pts = Vec::with_capacity(n + 1);
+        let (mut x, mut y) = (0.0, 0.0);
+        pts.push([x, y]);
+        for i in 0..n {
+            let (s, c) = theta_cum[i].sin_cos();
+            x += length[i] * c;
+            y += length[i] * s;
+            pts.push([x, y]);
+        }
+        pts
+    }
+
+    /// Residual `K q - tau(q)` and tangent stiffness (row-major, symmetric) at `q`.
+    /// Returns the tip pose too.
+    fn residual(&self, load: Load, q: &[f64], ws: &mut Workspace) -> TipPose {
+        let n = self.gamma.len();
+        let m = self.dofs.len();
+        self.segments(q, &mut ws.theta_cum, &mut ws.length);
+        let (mut a, mut b) = (0.0, 0.0);
+        for j in 0..n {
+            let (s, c) = ws.theta_cum[j].sin_cos();
+            ws.axial[j] = load.alpha_x * c + load.alpha_y * s;
+            ws.transverse[j] = -load.alpha_x * s + load.alpha_y * c;
+            a += ws.length[j] * c;
+            b += ws.length[j] * s;
+        }
+        // Suffix sums: moment of the tip force about joint i, and its derivative.
+        let (mut sq, mut sn) = (0.0, 0.0);
+        for j in (0..n).rev() {
+            sq += ws.length[j] * ws.transverse[j];
+            sn += ws.length[j] * ws.axial[j];
+            ws.suffix_q[j] = sq;
+            ws.suffix_n[j] = sn;
+        }
+        for (r, dof) in self.dofs.iter().enumerate() {
+            ws.res[r] = match *dof {
+                Dof::Theta(i) => self.k_theta[i] * q[r] - (load.beta + ws.suffix_q[i]),
+                Dof::Delta(i) => self.k_ex_scaled[i] * q[r] - ws.axial[i],
+            };
+            for (c, other) in self.dofs.iter().enumerate() {
+                ws.jac[r * m + c] = match (*dof, *other) {
+                    (Dof::Theta(i), Dof::Theta(k)) => {
+                        let diag = if r == c { self.k_theta[i] } else { 0.0 };
+                        diag + ws.suffix_n[i.max(k)]
+                    }
+                    (Dof::Theta(i), Dof::Delta(p)) => {
+                        if p >= i {
+                            -ws.transverse[p]
+                        } else {
+                            0.0
+                        }
+                    }
+                    (Dof::Delta(p), Dof::Theta(k)) => {
+                        if k <= p {
+                            -ws.transverse[p]
+                        } else {
+                            0.0
+                        }
+                    }
+                    (Dof::Delta(p), Dof::Delta(_)) => {
+                        if r == c {
+                            self.k_ex_scaled[p]
+                        } else {
+                            0.0
+                        }
+                    }
+                };
+            }
+        }
+        TipPose {
+            a,
+            b,
+            phi: ws.theta_cum[n - 1],
+        }
+    }
+
+    /// Newton at a fixed load from `q` (updated in place). Returns the tip and iterations; a
+    /// tangent stiffness that is not positive definite (an unstable or critical state) fails.
+    fn newton(
+        &self,
+        load: Load,
+        q: &mut [f64],
+        ws: &mut Workspace,
+    ) -> Result<(TipPose, u32), Failure> {
+        let m = self.dofs.len();
+        for iteration in 1..=MAX_NEWTON {
+            let tip = self.residual(load, q, ws);
+            ws.step[..m].copy_from_slice(&ws.res[..m]);
+            if !cholesky_solve(&mut ws.jac[..m * m], &mut ws.step[..m], m) {
+                return Err(Failure::NotPositiveDefinite);
+            }
+            let biggest = ws.step[..m].iter().fold(0.0_f64, |acc, v| acc.max(v.abs()));
+            if !biggest.is_finite() {
+                return Err(Failure::Diverged);
+            }
+            let scale = if biggest > MAX_TURN {
+                MAX_TURN / biggest
+            } else {
+                1.0
+            };
+            for (qi, si) in q.iter_mut().zip(&ws.step[..m]) {
+                *qi -= scale * si;
+            }
+            if biggest <= NEWTON_TOL {
+                // The last update moved nothing by more than NEWTON_TOL: the tip stands.
+                return Ok((tip, iteration));
+            }
+        }
+        Err(Failure::Diverged)
+    }
+
+    /// Solves one load by continuation from the unloaded chain.
+    pub fn solve(&self, load: Load) -> Result<PrbSolution, PrbError> {
+        let mut v = self.solve_path(load, 1)?;
+        Ok(v.pop().expect("one case"))
+    }
+
+    /// Solves the proportional path to `end` at `k / steps`, `k = 1..=steps`, each case
+    /// warm-started from the previous ones.
+    pub fn solve_path(&self, end: Load, steps: u32) -> Result<Vec<PrbSolution>, PrbError> {
+        let mut out = Vec::with_capacity(steps as usize);
+        self.solve_path_with(end, steps, |sol| out.push(sol))?;
+        Ok(out)
+    }
+
+    /// As [`Self::solve_path`], handing each case to `visit` (no allocation per case).
+    pub fn solve_path_with(
+        &self,
+        end: Load,
+        steps: u32,
+        mut visit: impl FnMut(PrbSolution),
+    ) -> Result<(), PrbError> {
+        if !end.is_finite() {
+            return Err(PrbError::NonFiniteLoad(end));
+        }
+        let steps = steps.max(1);
+        let m = self.dofs.len();
+        let mut ws = Workspace::new(self.gamma.len(), m);
+        // Two last accepted points for the secant predictor.
+        let mut prev = (0.0, vec![0.0; m], TipPose::STRAIGHT);
+        let mut prev2: Option<(f64, Vec<f64>, TipPose)> = None;
+        let mut dlam = 1.0 / steps as f64;
+        let mut q = vec![0.0; m];
+        for k in 1..=steps {
+            let target = k as f64 / steps as f64;
+            let mut iterations = 0;
+            loop {
+                let lambda = (prev.0 + dlam).min(target);
+                // Predictor: secant through the last two points, or the linear response
+                // (one Newton step from the unloaded chain) at the start.
+                let mut predicted_tip = prev.2;
+                match &prev2 {
+                    Some((l2, q2, t2)) => {
+                        let t = (lambda - prev.0) / (prev.0 - l2);
+                        for i in 0..m {
+                            q[i] = prev.1[i] + t * (prev.1[i] - q2[i]);
+                        }
+                        predicted_tip = TipPose {
+                            a: prev.2.a + t * (prev.2.a - t2.a),
+                            b: prev.2.b + t * (prev.2.b - t2.b),
+                            phi: prev.2.phi + t * (prev.2.phi - t2.phi),
+                        };
+                    }
+                    None => q.copy_from_slice(&prev.1),
+                }
+                let load = end.scaled(lambda);
+                let outcome = self.newton(load, &mut q, &mut ws);
+                let failure = match outcome {
+                    Ok((tip, its)) => {
+                        iterations += its;
+                        let jump = tip.max_diff(&prev.2);
+                        let off_prediction = tip.max_diff(&predicted_tip);
+                        if jump > MAX_TIP_JUMP
+                            || (prev2.is_some()
+                                && off_prediction > 0.15 + 0.5 * predicted_tip.max_diff(&prev.2))
+                        {
+                            Failure::Jumped
+                        } else {
+                            let old = std::mem::replace(&mut prev, (lambda, q.clone(), tip));
+                            prev2 = Some(old);
+                            dlam = (dlam * 2.0).min(1.0);
+                            if lambda >= target {
+                                visit(PrbSolution {
+                                    load,
+                                    tip,
+                                    q: q.clone(),
+                                    iterations,
+                                });
+                                break;
+                            }
+                            continue;
+                        }
+                    }
+                    Err(f) => f,
+                };
+                dlam *= 0.5;
+                if dlam < MIN_STEP {
+                    return Err(match failure {
+                        Failure::NotPositiveDefinite => PrbError::Unstable {
+                            load: end,
+                            fraction: prev.0,
+                        },
+                        Failure::Diverged => PrbError::NoEquilibrium {
+                            load: end,
+                            fraction: prev.0,
+                            reason: "Newton did not converge".into(),
+                        },
+                        Failure::Jumped => PrbError::NoEquilibrium {
+                            load: end,
+                            fraction: prev.0,
+                            reason: "the equilibrium jumps away from the path".into(),
+                        },
+                    });
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The residual and Jacobian at `q`, for testing the analytic Jacobian.
+    pub fn residual_and_jacobian(&self, load: Load, q: &[f64]) -> (Vec<f64>, Vec<f64>) {
+        let m = self.dofs.len();
+        let mut ws = Workspace::new(self.gamma.len(), m);
+        self.residual(load, q, &mut ws);
+        (ws.res[..m].to_vec(), ws.jac[..m * m].to_vec())
+    }
+}
+
+#[derive(Debug, Clone, Copy)]
+enum Failure {
+    NotPositiveDefinite,
+    Diverged,
+    Jumped,
+}
+
+/// Scratch space for one path solve, so Newton allocates nothing.
+struct Workspace {
+    theta_cum: Vec<f64>,
+    length: Vec<f64>,
+    axial: Vec<f64>,
+    transverse: Vec<f64>,
+    suffix_q: Vec<f64>,
+    suffix_n: Vec<f64>,
+    res: Vec<f64>,
+    step: Vec<f64>,
+    jac: Vec<f64>,
+}
+
+impl Workspace {
+    fn new(n: usize, m: usize) -> Workspace {
+        Workspace {
+            theta_cum: vec![0.0; n],
+            length: vec![0.0; n],
+            axial: vec![0.0; n],
+            transverse: vec![0.0; n],
+            suffix_q: vec![0.0; n],
+            suffix_n: vec![0.0; n],
+            res: vec![0.0; m],
+            step: vec![0.0; m],
+            jac: vec![0.0; m * m],
+        }
+    }
+}

@@ -1,0 +1,234 @@
+//! PRB matrix and statics: closed forms, the analytic Jacobian, round trips, bad input.
+
+use prbfit::beam::Load;
+use prbfit::prb::{Column, MatrixError, PrbMatrix, PrbRow, PrbSolver};
+use proptest::prelude::*;
+
+/// A random valid matrix: 1 to 5 rows, any mix of L, R, P, RP (at least one joint).
+fn matrix() -> impl Strategy<Value = PrbMatrix> {
+    proptest::collection::vec((0.05..1.0f64, 0..4u8, 0.5..20.0f64, 0.5..20.0f64), 1..=5)
+        .prop_filter_map("needs a joint", |rows| {
+            let total: f64 = rows.iter().map(|r| r.0).sum();
+            let mut out: Vec<PrbRow> = rows
+                .iter()
+                .map(|&(g, kind, kt, ke)| PrbRow {
+                    gamma: g / total,
+                    k_theta: if kind & 1 == 1 { kt } else { f64::INFINITY },
+                    k_ex: if kind & 2 == 2 { ke } else { f64::INFINITY },
+                    free: [kind != 0, true, kt > 10.0],
+                })
+                .collect();
+            // Exact unit sum despite round-off in the normalisation.
+            let head: f64 = out[..out.len() - 1].iter().map(|r| r.gamma).sum();
+            let last = out.len() - 1;
+            out[last].gamma = 1.0 - head;
+            PrbMatrix::new(out).ok()
+        })
+}
+
+fn revolute_only() -> impl Strategy<Value = PrbMatrix> {
+    matrix()
+        .prop_map(|m| {
+            let rows = m
+                .rows()
+                .iter()
+                .map(|r| PrbRow {
+                    k_ex: f64::INFINITY,
+                    ..*r
+                })
+                .collect::<Vec<_>>();
+            rows
+        })
+        .prop_filter_map("needs a revolute joint", |rows| PrbMatrix::new(rows).ok())
+}
+
+/// Slenderness 10: c_e = 1 / 1200.
+const C_E: f64 = 1.0 / 1200.0;
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(64))]
+
+    /// Under a pure moment every joint carries beta, so phi = beta sum 1/k_theta: exact for
+    /// the circle when the compliances sum to 1, at any beta.
+    #[test]
+    fn pure_moment_tip_angle_is_exact(m in revolute_only(), beta in -4.0..4.0f64) {
+        // Rescale the springs so that sum 1/k_theta = 1.
+        let inv: f64 = m.rows().iter().filter(|r| r.has_revolute()).map(|r| 1.0 / r.k_theta).sum();
+        let rows: Vec<PrbRow> = m.rows().iter().map(|r| PrbRow { k_theta: r.k_theta * inv, ..*r }).collect();
+        let m = PrbMatrix::new(rows).unwrap();
+        let sol = PrbSolver::new(&m, C_E).solve(Load::new(0.0, 0.0, beta)).unwrap();
+        prop_assert!((sol.tip.phi - beta).abs() < 1e-12, "phi {} vs {beta}", sol.tip.phi);
+    }
+
+    /// Small loads: the linear compliance of the chain. Joint i at s_i = sum_{j<i} gamma_j
+    /// turns by theta_i = (beta + alpha_y (1 - s_i)) / k_i; the tip rises by
+    /// b = sum theta_i (1 - s_i) and turns by sum theta_i; an axial pull stretches each P
+    /// segment by c_e alpha_x / k_ex. Nonlinear terms are O(load^2) ~ 1e-12 relative.
+    #[test]
+    fn small_load_compliance_is_the_closed_form(m in matrix(), ax in -1.0..1.0f64,
+                                                ay in -1.0..1.0f64, beta in -1.0..1.0f64) {
+        let eps = 1e-6;
+        let load = Load::new(ax * eps, ay * eps, beta * eps);
+        let sol = PrbSolver::new(&m, C_E).solve(load).unwrap();
+        let (mut b, mut phi, mut stretch, mut s) = (0.0, 0.0, 0.0, 0.0);
+        for r in m.rows() {
+            if r.has_revolute() {
+                let theta = (load.beta + load.alpha_y * (1.0 - s)) / r.k_theta;
+                b += theta * (1.0 - s);
+                phi += theta;
+            }
+            if r.has_prismatic() {
+                stretch += C_E * load.alpha_x / r.k_ex;
+            }
+            s += r.gamma;
+        }
+        let scale = eps * 100.0;
+        prop_assert!((sol.tip.b - b).abs() < 1e-5 * scale, "b {} vs {b}", sol.tip.b);
+        prop_assert!((sol.tip.phi - phi).abs() < 1e-5 * scale, "phi {} vs {phi}", sol.tip.phi);
+        prop_assert!((sol.tip.a - 1.0 - stretch).abs() < 1e-5 * scale + 1e-15);
+    }
+
+    /// The analytic Jacobian matches central finite differences of the residual.
+    #[test]
+    fn jacobian_matches_finite_differences(m in matrix(),
+                                           q in proptest::collection::vec(-1.0..1.0f64, 10),
+                                           ax in -5.0..5.0f64, ay in -5.0..5.0f64, beta in -3.0..3.0f64) {
+        let solver = PrbSolver::new(&m, C_E);
+        let n = solver.dof_count();
+        let q: Vec<f64> = q[..n].iter().map(|v| v * 0.1).collect();
+        let load = Load::new(ax, ay, beta);
+        let (_, jac) = solver.residual_and_jacobian(load, &q);
+        let h = 1e-6;
+        for c in 0..n {
+            let mut qp = q.clone();
+            let mut qm = q.clone();
+            qp[c] += h;
+            qm[c] -= h;
+            let (rp, _) = solver.residual_and_jacobian(load, &qp);
+            let (rm, _) = solver.residual_and_jacobian(load, &qm);
+            for r in 0..n {
+                let fd = (rp[r] - rm[r]) / (2.0 * h);
+                let an = jac[r * n + c];
+                // Central differences: error h^2 |r'''| ~ 1e-12 * 1e4 (k_ex / c_e) plus
+                // round-off |r| eps / h ~ 1e4 * 1e-16 / 1e-6.
+                prop_assert!((fd - an).abs() < 1e-5 * (1.0 + an.abs()), "J[{r}][{c}] {an} vs {fd}");
+            }
+        }
+    }
+
+    /// Text, TOML and JSON all give back exactly the same matrix, infinity and flags included.
+    #[test]
+    fn round_trips_are_exact(m in matrix()) {
+        prop_assert_eq!(&PrbMatrix::parse(&m.to_text()).unwrap(), &m);
+        let json = serde_json::to_string(&m).unwrap();
+        prop_assert_eq!(&serde_json::from_str::<PrbMatrix>(&json).unwrap(), &m);
+        #[derive(serde::Serialize, serde::Deserialize)]
+        struct Wrapper { prb: PrbMatrix }
+        let toml_text = toml::to_string(&Wrapper { prb: m.clone() }).unwrap();
+        let back: Wrapper = toml::from_str(&toml_text).unwrap();
+        prop_assert_eq!(&back.prb, &m);
+    }
+}
+
+/// A 1R chain under axial compression buckles at alpha = k / gamma (k theta = P gamma sin
+/// theta); the solver stops there and says so.
+#[test]
+fn one_r_buckles_at_k_over_gamma() {
+    let m = PrbMatrix::parse("0.15,inf,inf; 0.85,2.2525,inf").unwrap();
+    let solver = PrbSolver::new(&m, C_E);
+    let critical = 2.2525 / 0.85;
+    let below = solver.solve(Load::new(-0.99 * critical, 0.0, 0.0)).unwrap();
+    assert!(below.tip.b.abs() < 1e-12 && below.tip.phi.abs() < 1e-12);
+    match solver.solve(Load::new(-1.2 * critical, 0.0, 0.0)) {
+        Err(prbfit::prb::PrbError::Unstable { fraction, .. }) => {
+            assert!((fraction * 1.2 - 1.0).abs() < 1e-4, "at {fraction}")
+        }
+        other => panic!("expected a critical point, got {other:?}"),
+    }
+    // Tilted, it buckles sideways and follows the post-buckled branch.
+    let tilted = solver.solve(Load::new(-1.2 * critical, 0.01, 0.0)).unwrap();
+    assert!(tilted.tip.phi > 0.5, "{:?}", tilted.tip);
+}
+
+/// Howell's 1R under a transverse force: k theta = alpha_y (a - x_1) has a one-variable
+/// closed form: theta solves k theta = alpha_y gamma cos theta (joint at 0.15, arm 0.85).
+#[test]
+fn one_r_transverse_force_closed_form() {
+    let m = PrbMatrix::parse("0.15,inf,inf; 0.85,2.2525,inf").unwrap();
+    let solver = PrbSolver::new(&m, C_E);
+    for alpha in [0.5, 2.0, 5.0, 10.0] {
+        let sol = solver.solve(Load::new(0.0, alpha, 0.0)).unwrap();
+        let theta = sol.tip.phi;
+        assert!((2.2525 * theta - alpha * 0.85 * theta.cos()).abs() < 1e-12);
+        assert!((sol.tip.a - (0.15 + 0.85 * theta.cos())).abs() < 1e-14);
+        assert!((sol.tip.b - 0.85 * theta.sin()).abs() < 1e-14);
+    }
+}
+
+#[test]
+fn joint_positions_draw_the_chain() {
+    let m = PrbMatrix::parse("0.1,inf,inf; 0.35,3.51,inf; 0.4,2.99,inf; 0.15,2.58,inf").unwrap();
+    let solver = PrbSolver::new(&m, C_E);
+    let sol = solver.solve(Load::new(0.0, 3.0, 0.0)).unwrap();
+    let pts = solver.joint_positions(&sol.q);
+    assert_eq!(pts.len(), 5);
+    assert_eq!(pts[0], [0.0, 0.0]);
+    assert_eq!(pts[1], [0.1, 0.0]);
+    assert!((pts[4][0] - sol.tip.a).abs() < 1e-15 && (pts[4][1] - sol.tip.b).abs() < 1e-15);
+}
+
+#[test]
+fn bad_matrices_are_rejected_with_row_and_column() {
+    let cases: &[(&str, &str)] = &[
+        ("", "row 1: expected 3 entries"),
+        (
+            "0.5,inf; 0.5,2,inf",
+            "row 1: expected 3 entries (gamma, k_theta, k_ex), got 2",
+        ),
+        (
+            "0.5,inf,inf; 0.5,two,inf",
+            "row 2, column k_theta: `two` is not a number",
+        ),
+        (
+            "0.5,inf,inf; 0.5,2,nan",
+            "row 2, column k_ex: `nan` is not a number",
+        ),
+        (
+            "-0.5,inf,inf; 1.5,2,inf",
+            "row 1, column gamma: the segment length must be",
+        ),
+        ("0,inf,inf; 1,2,inf", "row 1, column gamma"),
+        (
+            "0.5,inf,inf; 0.5,0,inf",
+            "row 2, column k_theta: a spring constant must be > 0",
+        ),
+        ("0.5,inf,inf; 0.5,-2,inf", "row 2, column k_theta"),
+        ("0.5,inf,-inf; 0.5,2,inf", "row 1, column k_ex"),
+        (
+            "0.5,inf,inf; 0.6,2,inf",
+            "the gammas must sum to 1, they sum to 1.1",
+        ),
+        (
+            "0.125,inf,inf; 0.35,3.25,inf; 0.388,2.84,inf; 0.136,2.95,inf",
+            "sum to 0.999",
+        ),
+        ("0.5,inf,inf; 0.5,inf,inf", "no joint"),
+    ];
+    for (text, message) in cases {
+        let err = PrbMatrix::parse(text).unwrap_err().to_string();
+        assert!(
+            err.contains(message),
+            "`{text}`: got `{err}`, wanted `{message}`"
+        );
+    }
+    // Editing a cell to a bad value fails and leaves the matrix as it was.
+    let m = PrbMatrix::parse("0.15,inf,inf; 0.85,2.25,inf").unwrap();
+    let err = m.with_cell(1, Column::KTheta, f64::NAN).unwrap_err();
+    assert!(matches!(err, MatrixError::Spring { row: 2, .. }));
+    assert_eq!(m.to_text(), "0.15,inf,inf; 0.85,2.25,inf");
+    // JSON with a bad entry names the row.
+    let err = serde_json::from_str::<PrbMatrix>(r#"[{"gamma":1.0,"k_theta":"soft","k_ex":"inf"}]"#)
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("row 1") && err.contains("soft"), "{err}");
+}
