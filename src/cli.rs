@@ -11,7 +11,9 @@ use clap::{Args, Parser, Subcommand};
 use serde_json::json;
 
 use prbfit::beam::{BeamModel, BeamSolution, BeamSolver, Effects, Load, ModelError, Resolution};
-use prbfit::scene::{Scene, SceneError};
+use prbfit::eval::{evaluate, Baseline, CaseError};
+use prbfit::prb::{PrbMatrix, PrbSolver};
+use prbfit::scene::{ModelFile, Scene, SceneError};
 
 #[derive(Parser)]
 #[command(
@@ -29,6 +31,8 @@ struct Cli {
 enum Command {
     /// Solve the large-deflection baseline beam: one load, or every load case of the scene.
     Solve(SolveArgs),
+    /// Judge PRB models against the beam: one load, or every load case of the scene.
+    Eval(EvalArgs),
 }
 
 /// Options every subcommand shares.
@@ -69,6 +73,24 @@ struct SolveArgs {
     shape: bool,
 }
 
+#[derive(Args)]
+struct EvalArgs {
+    #[command(flatten)]
+    common: Common,
+    /// A PRB matrix in text form, e.g. "0.15,inf,inf; 0.85,2.2525,inf" (repeatable).
+    #[arg(long, value_name = "MATRIX")]
+    prb: Vec<String>,
+    /// A published model (howell-1r, su-3r, chen-3r) or a model file (repeatable).
+    #[arg(long, value_name = "NAME_OR_FILE")]
+    model: Vec<String>,
+    /// Judge one tip load instead of the scene's cases.
+    #[arg(long, value_name = "AX,AY,BETA", value_parser = Load::parse, allow_hyphen_values = true)]
+    load: Option<Load>,
+    /// Baseline integrator tolerance.
+    #[arg(long, value_name = "TOL", allow_negative_numbers = true, default_value_t = Resolution::default().tol)]
+    tol: f64,
+}
+
 /// An error in what the user gave us: exit status 2.
 #[derive(Debug, thiserror::Error)]
 #[error("{0}")]
@@ -100,6 +122,7 @@ pub fn run() -> ExitCode {
     };
     let outcome = match cli.command {
         Some(Command::Solve(args)) => solve(args),
+        Some(Command::Eval(args)) => eval(args),
         None => {
             eprintln!(
                 "prbfit: the terminal UI is not part of this build yet; run `prbfit --help` for \
@@ -299,4 +322,155 @@ fn print_json(value: &serde_json::Value) -> Result<()> {
     );
     println!("{}", serde_json::to_string_pretty(value)?);
     Ok(())
+}
+
+/// The models named on the command line, in order: `--model`s then `--prb`s.
+fn named_models(args: &EvalArgs) -> Result<Vec<(String, PrbMatrix)>> {
+    let mut out = Vec::new();
+    for name in &args.model {
+        let m = ModelFile::load(name)?;
+        out.push((m.name.clone(), m.prb));
+    }
+    for text in &args.prb {
+        let m = PrbMatrix::parse(text).map_err(|e| bad(format!("--prb \"{text}\": {e}")))?;
+        out.push((m.topology(), m));
+    }
+    if out.is_empty() {
+        return Err(bad("give a model: --prb MATRIX or --model NAME_OR_FILE"));
+    }
+    Ok(out)
+}
+
+fn eval(args: EvalArgs) -> Result<()> {
+    let scene = load_scene(&args.common)?;
+    let models = named_models(&args)?;
+    let resolution = Resolution::with_tol(args.tol);
+    let json = args.common.json;
+    let weight = scene.fit.angle_weight;
+    let beam = scene.beam.model();
+
+    if let Some(load) = args.load {
+        let solver = BeamSolver::new(beam, resolution)
+            .map_err(|e| bad(format!("--tol {}: {e}", args.tol)))?;
+        let sol = solver.solve(load).context("baseline beam")?;
+        let mut rows = Vec::new();
+        for (name, m) in &models {
+            let prb = PrbSolver::new(m, beam.axial_compliance())
+                .solve(load)
+                .with_context(|| format!("model {name}"))?;
+            let case = CaseError::new(load, sol.tip, prb.tip);
+            rows.push((name, m, case));
+        }
+        if json {
+            let objs: Vec<_> = rows
+                .iter()
+                .map(|(name, m, c)| {
+                    json!({
+                        "model": name, "prb": m.to_text(), "load": load,
+                        "a": c.prb.a, "b": c.prb.b, "phi": c.prb.phi,
+                        "pos_err": c.pos_err, "ang_err": c.ang_err,
+                        "beam": {"a": c.beam.a, "b": c.beam.b, "phi": c.beam.phi},
+                    })
+                })
+                .collect();
+            print_json(&one_or_many(objs))?;
+        } else {
+            println!("load: {load}");
+            println!(
+                "{:<12} {:>11} {:>11} {:>11} | {:>10} {:>10}",
+                "model", "a", "b", "phi", "pos_err", "ang_err"
+            );
+            println!(
+                "{:<12} {:>11.7} {:>11.7} {:>11.7} |",
+                "beam", sol.tip.a, sol.tip.b, sol.tip.phi
+            );
+            for (name, _, c) in &rows {
+                println!(
+                    "{:<12} {:>11.7} {:>11.7} {:>11.7} | {:>10.3e} {:>10.3e}",
+                    name, c.prb.a, c.prb.b, c.prb.phi, c.pos_err, c.ang_err
+                );
+            }
+        }
+        return Ok(());
+    }
+
+    // One baseline for every model.
+    let baseline = Baseline::compute(&scene, resolution).context("baseline beam")?;
+    let mut results = Vec::new();
+    for (name, m) in &models {
+        let t0 = Instant::now();
+        let e = evaluate(m, &baseline, weight).with_context(|| format!("model {name}"))?;
+        results.push((name, m, e, t0.elapsed().as_secs_f64()));
+    }
+    if json {
+        let objs: Vec<_> = results
+            .iter()
+            .map(|(name, m, e, secs)| {
+                let f = &e.figures;
+                json!({
+                    "model": name,
+                    "prb": m.to_text(),
+                    "topology": m.topology(),
+                    "rms_pos_err": f.rms_pos_err,
+                    "max_pos_err": f.max_pos_err,
+                    "rms_ang_err": f.rms_ang_err,
+                    "max_ang_err": f.max_ang_err,
+                    "objective": f.objective,
+                    "meets_targets": f.meets(&scene.accuracy),
+                    "seconds": secs,
+                    "cases": e.cases.iter().map(|c| json!({
+                        "load": c.load, "a": c.prb.a, "b": c.prb.b, "phi": c.prb.phi,
+                        "beam": {"a": c.beam.a, "b": c.beam.b, "phi": c.beam.phi},
+                        "pos_err": c.pos_err, "ang_err": c.ang_err,
+                    })).collect::<Vec<_>>(),
+                })
+            })
+            .collect();
+        let mut out = one_or_many(objs);
+        out["scene"] = json!(scene.name);
+        out["baseline_seconds"] = json!(baseline.seconds);
+        print_json(&out)?;
+    } else {
+        println!(
+            "scene: {} ({} load cases)",
+            scene.name,
+            baseline.case_count()
+        );
+        println!(
+            "targets: max position error {} L, max angle error {} rad; angle weight {}",
+            scene.accuracy.max_pos_err, scene.accuracy.max_ang_err, weight
+        );
+        println!(
+            "{:<12} {:>10} {:>10} {:>10} {:>10} {:>11}  targets",
+            "model", "rms pos", "max pos", "rms ang", "max ang", "J"
+        );
+        for (name, _, e, _) in &results {
+            let f = &e.figures;
+            println!(
+                "{:<12} {:>10.3e} {:>10.3e} {:>10.3e} {:>10.3e} {:>11.4e}  {}",
+                name,
+                f.rms_pos_err,
+                f.max_pos_err,
+                f.rms_ang_err,
+                f.max_ang_err,
+                f.objective,
+                if f.meets(&scene.accuracy) {
+                    "met"
+                } else {
+                    "NOT met"
+                }
+            );
+        }
+        println!("baseline: {:.3} ms", baseline.seconds * 1e3);
+    }
+    Ok(())
+}
+
+/// One object as is; several under `models`.
+fn one_or_many(mut objs: Vec<serde_json::Value>) -> serde_json::Value {
+    if objs.len() == 1 {
+        objs.pop().expect("one")
+    } else {
+        json!({ "models": objs })
+    }
 }

@@ -2,10 +2,12 @@
 //!
 //! The library is the numerical core (no terminal, no files except through [`scene`]):
 //! - [`beam`]: the large-deflection baseline beam (DESIGN §2),
+//! - [`eval`]: a PRB model judged against the beam over a scene (DESIGN §4),
 //! - [`prb`]: the PRB matrix, topology names, kinematics and statics (DESIGN §3),
 //! - [`scene`]: scene files — beam, load paths, accuracy targets (DESIGN §5).
 
 pub mod beam;
+pub mod eval;
 pub mod linalg;
 pub mod prb;
 pub mod scene;

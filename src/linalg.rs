@@ -51,7 +51,7 @@ pub fn cholesky_solve(matrix: &mut [f64], rhs: &mut [f64], n: usize) -> bool {
         for k in 0..j {
             d -= matrix[j * n + k] * matrix[j * n + k];
         }
-        if !(d > 0.0) || !d.is_finite() {
+        if d.is_nan() || d <= 0.0 || !d.is_finite() {
             return false;
         }
         let d = d.sqrt();

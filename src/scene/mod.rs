@@ -5,6 +5,10 @@
 //! `effects = "auto"` is accepted and, until automatic effect selection lands, means every
 //! effect on (shear, extension, poisson): the safe superset, never a silently thinner model.
 
+mod model_file;
+
+pub use model_file::{ModelFile, PUBLISHED};
+
 use std::fmt;
 use std::ops::Range;
 use std::path::Path;
