@@ -4,6 +4,7 @@
 
 use std::path::PathBuf;
 use std::process::ExitCode;
+use std::str::FromStr;
 use std::time::Instant;
 
 use anyhow::{Context, Result};
@@ -12,8 +13,10 @@ use serde_json::json;
 
 use prbfit::beam::{BeamModel, BeamSolution, BeamSolver, Effects, Load, ModelError, Resolution};
 use prbfit::eval::{evaluate, Baseline, CaseError};
+use prbfit::files::{utc_timestamp, write_atomic, WriteError};
+use prbfit::fit::{fit, CancelToken, Fidelity, FitError, FitOptions};
 use prbfit::prb::{PrbMatrix, PrbSolver};
-use prbfit::scene::{ModelFile, Scene, SceneError};
+use prbfit::scene::{FitRecord, ModelFile, ModelFormat, Scene, SceneError};
 
 #[derive(Parser)]
 #[command(
@@ -33,6 +36,8 @@ enum Command {
     Solve(SolveArgs),
     /// Judge PRB models against the beam: one load, or every load case of the scene.
     Eval(EvalArgs),
+    /// Fit the free cells of a PRB matrix to the beam over the scene's loads.
+    Fit(FitArgs),
 }
 
 /// Options every subcommand shares.
@@ -91,6 +96,35 @@ struct EvalArgs {
     tol: f64,
 }
 
+#[derive(Args)]
+struct FitArgs {
+    #[command(flatten)]
+    common: Common,
+    /// Topology to fit, from the root: L, R, P, RP joined by - (e.g. L-R-R-R).
+    #[arg(
+        long,
+        value_name = "TOPO",
+        conflicts_with = "prb",
+        required_unless_present = "prb"
+    )]
+    topology: Option<String>,
+    /// Matrix to start from; cells ending in ! stay fixed.
+    #[arg(long, value_name = "MATRIX")]
+    prb: Option<String>,
+    /// draft, normal or precise.
+    #[arg(long, value_name = "LEVEL", default_value = "normal", value_parser = Fidelity::from_str)]
+    fidelity: Fidelity,
+    /// Seed of the random starts: the same seed gives the same fit.
+    #[arg(long, value_name = "N", default_value_t = 1)]
+    seed: u64,
+    /// Save the fitted model (.toml or .json).
+    #[arg(short = 'o', long = "output", value_name = "FILE")]
+    output: Option<PathBuf>,
+    /// Overwrite the output file if it exists.
+    #[arg(long)]
+    force: bool,
+}
+
 /// An error in what the user gave us: exit status 2.
 #[derive(Debug, thiserror::Error)]
 #[error("{0}")]
@@ -123,6 +157,7 @@ pub fn run() -> ExitCode {
     let outcome = match cli.command {
         Some(Command::Solve(args)) => solve(args),
         Some(Command::Eval(args)) => eval(args),
+        Some(Command::Fit(args)) => fit_command(args),
         None => {
             eprintln!(
                 "prbfit: the terminal UI is not part of this build yet; run `prbfit --help` for \
@@ -134,8 +169,9 @@ pub fn run() -> ExitCode {
     match outcome {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            let input =
-                e.downcast_ref::<BadInput>().is_some() || e.downcast_ref::<SceneError>().is_some();
+            let input = e.downcast_ref::<BadInput>().is_some()
+                || e.downcast_ref::<SceneError>().is_some()
+                || e.downcast_ref::<WriteError>().is_some();
             eprintln!("prbfit: {}", one_line(&e));
             ExitCode::from(if input { 2 } else { 1 })
         }
@@ -473,4 +509,129 @@ fn one_or_many(mut objs: Vec<serde_json::Value>) -> serde_json::Value {
     } else {
         json!({ "models": objs })
     }
+}
+
+fn fit_command(args: FitArgs) -> Result<()> {
+    let scene = load_scene(&args.common)?;
+    let start = match (&args.topology, &args.prb) {
+        (Some(t), _) => {
+            PrbMatrix::from_topology(t).map_err(|e| bad(format!("--topology {t}: {e}")))?
+        }
+        (None, Some(text)) => {
+            PrbMatrix::parse(text).map_err(|e| bad(format!("--prb \"{text}\": {e}")))?
+        }
+        (None, None) => return Err(bad("give --topology TOPO or --prb MATRIX")),
+    };
+    let format = match &args.output {
+        Some(path) => {
+            let format = ModelFormat::from_path(path).map_err(bad)?;
+            if path.exists() && !args.force {
+                // Refuse before spending the time on a fit.
+                return Err(WriteError::Exists(path.clone()).into());
+            }
+            Some(format)
+        }
+        None => None,
+    };
+    let t0 = Instant::now();
+    let baseline = args.fidelity.baseline(&scene).context("baseline beam")?;
+    let options = FitOptions {
+        fidelity: args.fidelity,
+        angle_weight: scene.fit.angle_weight,
+        seed: args.seed,
+    };
+    let report = fit(
+        &baseline,
+        &start,
+        &options,
+        &mut |_| {},
+        &CancelToken::new(),
+    )
+    .map_err(|e| match e {
+        FitError::Param(p) => bad(format!("--prb: {p}")),
+        other => anyhow::Error::new(other),
+    })?;
+    let seconds = t0.elapsed().as_secs_f64();
+    let f = report.figures;
+    if let (Some(path), Some(format)) = (&args.output, format) {
+        let model = ModelFile {
+            name: format!("fitted-{}", report.matrix.topology().to_lowercase()),
+            title: Some(format!(
+                "{} fitted to {}",
+                report.matrix.topology(),
+                scene.name
+            )),
+            topology: Some(report.matrix.topology()),
+            source: Some(format!("prbfit fit, fidelity {}", args.fidelity)),
+            conversion: None,
+            prb: report.matrix.clone(),
+            fit: Some(FitRecord {
+                scene: scene.name.clone(),
+                fidelity: args.fidelity.to_string(),
+                angle_weight: scene.fit.angle_weight,
+                rms_pos_err: f.rms_pos_err,
+                max_pos_err: f.max_pos_err,
+                rms_ang_err: f.rms_ang_err,
+                max_ang_err: f.max_ang_err,
+                objective: f.objective,
+                prbfit_version: env!("CARGO_PKG_VERSION").to_string(),
+                created: utc_timestamp(),
+            }),
+        };
+        write_atomic(path, model.to_text(format).as_bytes(), args.force)?;
+    }
+    if args.common.json {
+        print_json(&json!({
+            "prb": report.matrix.to_text(),
+            "topology": report.matrix.topology(),
+            "rms_pos_err": f.rms_pos_err,
+            "max_pos_err": f.max_pos_err,
+            "rms_ang_err": f.rms_ang_err,
+            "max_ang_err": f.max_ang_err,
+            "objective": f.objective,
+            "start_objective": report.start_objective,
+            "meets_targets": f.meets(&scene.accuracy),
+            "iterations": report.iterations,
+            "evaluations": report.evaluations,
+            "stop_reason": report.stop,
+            "fidelity": args.fidelity,
+            "cases": baseline.case_count(),
+            "baseline_seconds": baseline.seconds,
+            "seconds": seconds,
+        }))?;
+    } else {
+        println!(
+            "scene: {} ({} load cases at {} fidelity)",
+            scene.name,
+            baseline.case_count(),
+            args.fidelity
+        );
+        println!("fitted {}: {}", report.matrix.topology(), report.matrix);
+        println!(
+            "J = {:.4e} (start {:.4e}); position error rms {:.3e} max {:.3e} L; angle error rms {:.3e} max {:.3e} rad",
+            f.objective, report.start_objective, f.rms_pos_err, f.max_pos_err, f.rms_ang_err, f.max_ang_err
+        );
+        println!(
+            "targets ({} L, {} rad): {}",
+            scene.accuracy.max_pos_err,
+            scene.accuracy.max_ang_err,
+            if f.meets(&scene.accuracy) {
+                "met"
+            } else {
+                "NOT met"
+            }
+        );
+        println!(
+            "{}; {} iterations, {} evaluations, {:.1} ms (baseline {:.1} ms)",
+            report.stop,
+            report.iterations,
+            report.evaluations,
+            seconds * 1e3,
+            baseline.seconds * 1e3
+        );
+        if let Some(path) = &args.output {
+            println!("saved {}", path.display());
+        }
+    }
+    Ok(())
 }

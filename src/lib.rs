@@ -3,11 +3,14 @@
 //! The library is the numerical core (no terminal, no files except through [`scene`]):
 //! - [`beam`]: the large-deflection baseline beam (DESIGN §2),
 //! - [`eval`]: a PRB model judged against the beam over a scene (DESIGN §4),
+//! - [`fit`]: optimal PRB parameters for any topology (DESIGN §4),
 //! - [`prb`]: the PRB matrix, topology names, kinematics and statics (DESIGN §3),
 //! - [`scene`]: scene files — beam, load paths, accuracy targets (DESIGN §5).
 
 pub mod beam;
 pub mod eval;
+pub mod files;
+pub mod fit;
 pub mod linalg;
 pub mod prb;
 pub mod scene;

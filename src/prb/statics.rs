@@ -71,6 +71,8 @@ pub struct PrbSolver {
     /// `k_ex / c_e` per row (infinite for rows without an extension spring).
     k_ex_scaled: Vec<f64>,
     dofs: Vec<Dof>,
+    /// The smallest continuation step before giving up on a load path.
+    min_step: f64,
 }
 
 /// Newton stops when the update is below this (radians, units of L).
@@ -100,7 +102,17 @@ impl PrbSolver {
             k_theta: rows.iter().map(|r| r.k_theta).collect(),
             k_ex_scaled: rows.iter().map(|r| r.k_ex / axial_compliance).collect(),
             dofs,
+            min_step: MIN_STEP,
         }
+    }
+
+    /// Gives up on a load path once the continuation step falls below `min_step` (default
+    /// 1e-7). A fit, which only needs to know that a model fails, uses a coarser limit so that
+    /// failing trial models cost little; the reported critical load is then only located to
+    /// within `min_step` of the path.
+    pub fn with_min_step(mut self, min_step: f64) -> PrbSolver {
+        self.min_step = min_step;
+        self
     }
 
     /// Degrees of freedom of the chain.
@@ -348,7 +360,7 @@ impl PrbSolver {
                     Err(f) => f,
                 };
                 dlam *= 0.5;
-                if dlam < MIN_STEP {
+                if dlam < self.min_step {
                     return Err(match failure {
                         Failure::NotPositiveDefinite => PrbError::Unstable {
                             load: end,

@@ -7,7 +7,7 @@
 
 mod model_file;
 
-pub use model_file::{ModelFile, PUBLISHED};
+pub use model_file::{FitRecord, ModelFile, ModelFormat, PUBLISHED};
 
 use std::fmt;
 use std::ops::Range;

@@ -35,9 +35,61 @@ pub struct ModelFile {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub conversion: Option<String>,
     pub prb: PrbMatrix,
+    /// How a fitted model was made, and how well it did.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fit: Option<FitRecord>,
+}
+
+/// Provenance and error figures of a fitted model.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct FitRecord {
+    pub scene: String,
+    pub fidelity: String,
+    pub angle_weight: f64,
+    pub rms_pos_err: f64,
+    pub max_pos_err: f64,
+    pub rms_ang_err: f64,
+    pub max_ang_err: f64,
+    pub objective: f64,
+    pub prbfit_version: String,
+    /// UTC, `YYYY-MM-DDTHH:MM:SSZ`.
+    pub created: String,
+}
+
+/// The format a model file is written in, from its extension.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ModelFormat {
+    Toml,
+    Json,
+}
+
+impl ModelFormat {
+    /// `.toml` or `.json`; anything else is an error naming the file.
+    pub fn from_path(path: &Path) -> Result<ModelFormat, String> {
+        match path.extension().and_then(|e| e.to_str()) {
+            Some("toml") => Ok(ModelFormat::Toml),
+            Some("json") => Ok(ModelFormat::Json),
+            _ => Err(format!(
+                "{}: a model file must end in .toml or .json",
+                path.display()
+            )),
+        }
+    }
 }
 
 impl ModelFile {
+    /// The model as text in `format`.
+    pub fn to_text(&self, format: ModelFormat) -> String {
+        match format {
+            ModelFormat::Toml => toml::to_string(self).expect("a model serialises to TOML"),
+            ModelFormat::Json => {
+                let mut s = serde_json::to_string_pretty(self).expect("a model serialises to JSON");
+                s.push('\n');
+                s
+            }
+        }
+    }
+
     /// A published model by name, or a file.
     pub fn load(name_or_file: &str) -> Result<ModelFile, SceneError> {
         if let Some((_, text)) = PUBLISHED.iter().find(|(n, _)| *n == name_or_file) {

@@ -1,0 +1,94 @@
+//! The fit's cost and accuracy by fidelity preset.
+//!
+//! 1. A 3R (`L-R-R-R`) fit on the built-in 20-case scene at `normal` fidelity, baseline
+//!    included: median wall time.
+//! 2. For every example scene and a few topologies, each fidelity's time (baseline + fit) and
+//!    how far its answer is from `precise`: every fitted matrix is judged on the precise
+//!    baseline (fine resolution, doubled load sampling), so the J column is comparable.
+//!
+//! Run: `cargo bench --bench fit`. Prints tables; asserts nothing.
+
+use std::path::Path;
+use std::time::Instant;
+
+use prbfit::eval::evaluate;
+use prbfit::fit::{fit, CancelToken, Fidelity, FitOptions};
+use prbfit::prb::PrbMatrix;
+use prbfit::scene::Scene;
+
+fn run(scene: &Scene, topology: &str, fidelity: Fidelity) -> (f64, PrbMatrix, u64) {
+    let t0 = Instant::now();
+    let baseline = fidelity.baseline(scene).unwrap();
+    let options = FitOptions {
+        fidelity,
+        angle_weight: scene.fit.angle_weight,
+        seed: 1,
+    };
+    let start = PrbMatrix::from_topology(topology).unwrap();
+    let report = fit(&baseline, &start, &options, &mut |_| {}, &CancelToken::new()).unwrap();
+    (t0.elapsed().as_secs_f64(), report.matrix, report.evaluations)
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
+}
+
+fn main() {
+    let builtin = Scene::builtin();
+    let times: Vec<f64> = (0..15)
+        .map(|_| run(&builtin, "L-R-R-R", Fidelity::Normal).0)
+        .collect();
+    println!(
+        "3R fit, built-in scene ({} cases), normal fidelity, baseline included: median {:.1} ms \
+         (min {:.1}, max {:.1}) over {} runs\n",
+        builtin.cases().len(),
+        median(times.clone()) * 1e3,
+        times.iter().cloned().fold(f64::MAX, f64::min) * 1e3,
+        times.iter().cloned().fold(0.0, f64::max) * 1e3,
+        times.len()
+    );
+
+    println!("Fidelity presets: time (baseline + fit, median of 5) and J on the precise baseline");
+    println!(
+        "{:<28} {:<11} {:<8} {:>10} {:>8} {:>12} {:>10}",
+        "scene", "topology", "fidelity", "ms", "evals", "J (precise)", "vs precise"
+    );
+    for name in ["default", "steel-flexure", "urethane-joint"] {
+        let path = format!("{}/assets/scenes/{name}.toml", env!("CARGO_MANIFEST_DIR"));
+        let scene = Scene::from_file(Path::new(&path)).unwrap();
+        let reference = Fidelity::Precise.baseline(&scene).unwrap();
+        for topology in ["L-R", "L-R-R-R", "L-RP-RP-RP"] {
+            let mut rows = Vec::new();
+            for fidelity in Fidelity::ALL {
+                let reps = if fidelity == Fidelity::Precise { 3 } else { 5 };
+                let mut ts = Vec::new();
+                let mut last = None;
+                for _ in 0..reps {
+                    let (t, m, evals) = run(&scene, topology, fidelity);
+                    ts.push(t);
+                    last = Some((m, evals));
+                }
+                let (m, evals) = last.unwrap();
+                let j = evaluate(&m, &reference, scene.fit.angle_weight)
+                    .unwrap()
+                    .figures
+                    .objective;
+                rows.push((fidelity, median(ts), evals, j));
+            }
+            let j_precise = rows[2].3;
+            for (fidelity, t, evals, j) in rows {
+                println!(
+                    "{:<28} {:<11} {:<8} {:>10.1} {:>8} {:>12.4e} {:>+9.2}%",
+                    scene.name.chars().take(28).collect::<String>(),
+                    topology,
+                    fidelity.to_string(),
+                    t * 1e3,
+                    evals,
+                    j,
+                    (j / j_precise - 1.0) * 100.0
+                );
+            }
+        }
+    }
+}

@@ -1,0 +1,198 @@
+//! Levenberg-Marquardt for the fit's least-squares form, `J = |r(p)|^2`, with a
+//! forward-difference Jacobian.
+//!
+//! Written here rather than taken from a crate because the fit needs three things a general
+//! solver does not give together: a residual function that may refuse (cancellation) at any
+//! call, finite penalties for parameter sets whose PRB model cannot follow the loads (steps
+//! into them are simply rejected), and a per-iteration hook for progress. The problem is
+//! tiny (a dozen parameters, a few hundred residuals), so normal equations with Marquardt's
+//! diagonal scaling are accurate enough and cheapest.
+//!
+//! ## References
+//! - D. W. Marquardt, "An algorithm for least-squares estimation of nonlinear parameters",
+//!   SIAM J. Appl. Math. 11 (1963) 431-441.
+
+use nalgebra::{DMatrix, DVector};
+
+/// When to stop.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LmOptions {
+    /// Stop when an accepted step lowers J by less than this fraction.
+    pub ftol: f64,
+    /// Stop when a step moves no parameter by more than this.
+    pub xtol: f64,
+    pub max_iterations: u32,
+}
+
+/// How a run ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum LmStop {
+    Converged,
+    IterationLimit,
+    /// No step direction lowers J any more (the damping ran away).
+    Stalled,
+    Cancelled,
+}
+
+/// The result of a run.
+#[derive(Debug, Clone)]
+pub struct LmResult {
+    pub p: DVector<f64>,
+    pub objective: f64,
+    pub iterations: u32,
+    pub stop: LmStop,
+}
+
+/// Minimises `|r(p)|^2` from `p0`. `residuals(p, out)` fills `out` and returns `false` to
+/// cancel; `on_iteration(iteration, objective, p)` runs after every accepted step.
+pub fn minimise(
+    p0: DVector<f64>,
+    options: LmOptions,
+    residuals: &mut dyn FnMut(&DVector<f64>, &mut Vec<f64>) -> bool,
+    on_iteration: &mut dyn FnMut(u32, f64, &DVector<f64>),
+) -> LmResult {
+    let n = p0.len();
+    let mut p = p0;
+    let mut r = Vec::new();
+    if !residuals(&p, &mut r) {
+        return finish(p, f64::INFINITY, 0, LmStop::Cancelled);
+    }
+    let m = r.len();
+    let mut objective = sum_sq(&r);
+    if n == 0 {
+        return finish(p, objective, 0, LmStop::Converged);
+    }
+    let mut jac = DMatrix::<f64>::zeros(m, n);
+    let mut trial = Vec::with_capacity(m);
+    let mut lambda = 1e-3;
+    let mut small_steps = 0;
+    for iteration in 1..=options.max_iterations {
+        // Forward differences, step relative to the parameter's size.
+        for j in 0..n {
+            let h = 1e-7 * (1.0 + p[j].abs());
+            let mut q = p.clone();
+            q[j] += h;
+            if !residuals(&q, &mut trial) {
+                return finish(p, objective, iteration, LmStop::Cancelled);
+            }
+            for i in 0..m {
+                jac[(i, j)] = (trial[i] - r[i]) / h;
+            }
+        }
+        let jt = jac.transpose();
+        let a = &jt * &jac;
+        let g = &jt * DVector::from_column_slice(&r);
+        loop {
+            let mut damped = a.clone();
+            for j in 0..n {
+                damped[(j, j)] += lambda * (a[(j, j)] + 1e-12);
+            }
+            let Some(step) = damped.cholesky().map(|c| c.solve(&(-&g))) else {
+                lambda *= 10.0;
+                if lambda > 1e12 {
+                    return finish(p, objective, iteration, LmStop::Stalled);
+                }
+                continue;
+            };
+            let q = &p + &step;
+            if !residuals(&q, &mut trial) {
+                return finish(p, objective, iteration, LmStop::Cancelled);
+            }
+            let new_objective = sum_sq(&trial);
+            if new_objective < objective {
+                let decrease = (objective - new_objective) / objective.max(f64::MIN_POSITIVE);
+                let moved = step.amax();
+                p = q;
+                std::mem::swap(&mut r, &mut trial);
+                objective = new_objective;
+                lambda = (lambda / 3.0).max(1e-12);
+                on_iteration(iteration, objective, &p);
+                // Two small steps in a row: converged.
+                if decrease < options.ftol || moved < options.xtol {
+                    small_steps += 1;
+                    if small_steps >= 2 {
+                        return finish(p, objective, iteration, LmStop::Converged);
+                    }
+                } else {
+                    small_steps = 0;
+                }
+                break;
+            }
+            lambda *= 4.0;
+            if lambda > 1e12 {
+                // No direction helps: a minimum to the accuracy the residuals allow.
+                return finish(p, objective, iteration, LmStop::Stalled);
+            }
+        }
+    }
+    finish(p, objective, options.max_iterations, LmStop::IterationLimit)
+}
+
+fn sum_sq(r: &[f64]) -> f64 {
+    r.iter().map(|v| v * v).sum()
+}
+
+fn finish(p: DVector<f64>, objective: f64, iterations: u32, stop: LmStop) -> LmResult {
+    LmResult {
+        p,
+        objective,
+        iterations,
+        stop,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Rosenbrock as residuals (10 (y - x^2), 1 - x): minimum 0 at (1, 1).
+    #[test]
+    fn finds_the_rosenbrock_minimum() {
+        let mut res = |p: &DVector<f64>, out: &mut Vec<f64>| {
+            out.clear();
+            out.push(10.0 * (p[1] - p[0] * p[0]));
+            out.push(1.0 - p[0]);
+            true
+        };
+        let opts = LmOptions {
+            ftol: 1e-14,
+            xtol: 1e-12,
+            max_iterations: 200,
+        };
+        let out = minimise(
+            DVector::from_vec(vec![-1.2, 1.0]),
+            opts,
+            &mut res,
+            &mut |_, _, _| {},
+        );
+        assert!(
+            (out.p[0] - 1.0).abs() < 1e-6 && (out.p[1] - 1.0).abs() < 1e-6,
+            "{}",
+            out.p
+        );
+        assert!(out.objective < 1e-12);
+    }
+
+    #[test]
+    fn cancellation_stops_at_once() {
+        let mut calls = 0;
+        let mut res = |p: &DVector<f64>, out: &mut Vec<f64>| {
+            calls += 1;
+            out.clear();
+            out.push(p[0] - 3.0);
+            calls < 3
+        };
+        let opts = LmOptions {
+            ftol: 0.0,
+            xtol: 0.0,
+            max_iterations: 1000,
+        };
+        let out = minimise(
+            DVector::from_vec(vec![0.0]),
+            opts,
+            &mut res,
+            &mut |_, _, _| {},
+        );
+        assert_eq!(out.stop, LmStop::Cancelled);
+    }
+}
