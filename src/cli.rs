@@ -13,10 +13,10 @@ use serde_json::json;
 
 use prbfit::beam::{BeamModel, BeamSolution, BeamSolver, Effects, Load, ModelError, Resolution};
 use prbfit::eval::{evaluate, Baseline, CaseError};
-use prbfit::files::{utc_timestamp, write_atomic, WriteError};
+use prbfit::files::{write_atomic, WriteError};
 use prbfit::fit::{fit, CancelToken, Fidelity, FitError, FitOptions};
 use prbfit::prb::{PrbMatrix, PrbSolver};
-use prbfit::scene::{FitRecord, ModelFile, ModelFormat, Scene, SceneError};
+use prbfit::scene::{ModelFile, ModelFormat, Scene, SceneError};
 
 #[derive(Parser)]
 #[command(
@@ -38,6 +38,11 @@ enum Command {
     Eval(EvalArgs),
     /// Fit the free cells of a PRB matrix to the beam over the scene's loads.
     Fit(FitArgs),
+    /// Open the terminal UI (the default with no command) on a scene file or the built-in one.
+    Tui {
+        /// Scene file (TOML); default: the built-in scene.
+        scene: Option<PathBuf>,
+    },
 }
 
 /// Options every subcommand shares.
@@ -158,13 +163,8 @@ pub fn run() -> ExitCode {
         Some(Command::Solve(args)) => solve(args),
         Some(Command::Eval(args)) => eval(args),
         Some(Command::Fit(args)) => fit_command(args),
-        None => {
-            eprintln!(
-                "prbfit: the terminal UI is not part of this build yet; run `prbfit --help` for \
-                 the headless commands"
-            );
-            return ExitCode::from(2);
-        }
+        Some(Command::Tui { scene }) => tui(scene),
+        None => tui(None),
     };
     match outcome {
         Ok(()) => ExitCode::SUCCESS,
@@ -554,30 +554,8 @@ fn fit_command(args: FitArgs) -> Result<()> {
     let seconds = t0.elapsed().as_secs_f64();
     let f = report.figures;
     if let (Some(path), Some(format)) = (&args.output, format) {
-        let model = ModelFile {
-            name: format!("fitted-{}", report.matrix.topology().to_lowercase()),
-            title: Some(format!(
-                "{} fitted to {}",
-                report.matrix.topology(),
-                scene.name
-            )),
-            topology: Some(report.matrix.topology()),
-            source: Some(format!("prbfit fit, fidelity {}", args.fidelity)),
-            conversion: None,
-            prb: report.matrix.clone(),
-            fit: Some(FitRecord {
-                scene: scene.name.clone(),
-                fidelity: args.fidelity.to_string(),
-                angle_weight: scene.fit.angle_weight,
-                rms_pos_err: f.rms_pos_err,
-                max_pos_err: f.max_pos_err,
-                rms_ang_err: f.rms_ang_err,
-                max_ang_err: f.max_ang_err,
-                objective: f.objective,
-                prbfit_version: env!("CARGO_PKG_VERSION").to_string(),
-                created: utc_timestamp(),
-            }),
-        };
+        let model =
+            ModelFile::fitted(&report.matrix, &scene, &args.fidelity.to_string(), &f);
         write_atomic(path, model.to_text(format).as_bytes(), args.force)?;
     }
     if args.common.json {
@@ -634,4 +612,12 @@ fn fit_command(args: FitArgs) -> Result<()> {
         }
     }
     Ok(())
+}
+
+fn tui(path: Option<PathBuf>) -> Result<()> {
+    let scene = match &path {
+        Some(p) => Scene::from_file(p)?,
+        None => Scene::builtin(),
+    };
+    prbfit::tui::run(scene, path).map_err(|e| bad(format!("{e:#}")))
 }

@@ -5,7 +5,8 @@
 //! - [`eval`]: a PRB model judged against the beam over a scene (DESIGN §4),
 //! - [`fit`]: optimal PRB parameters for any topology (DESIGN §4),
 //! - [`prb`]: the PRB matrix, topology names, kinematics and statics (DESIGN §3),
-//! - [`scene`]: scene files — beam, load paths, accuracy targets (DESIGN §5).
+//! - [`scene`]: scene files — beam, load paths, accuracy targets (DESIGN §5),
+//! - [`tui`]: the terminal UI (the only module that touches the terminal).
 
 pub mod beam;
 pub mod eval;
@@ -14,3 +15,4 @@ pub mod fit;
 pub mod linalg;
 pub mod prb;
 pub mod scene;
+pub mod tui;

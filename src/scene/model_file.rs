@@ -147,6 +147,35 @@ impl ModelFile {
         Ok(())
     }
 
+    /// A fitted (or hand-made) model of `scene`'s beam, with provenance.
+    pub fn fitted(
+        matrix: &PrbMatrix,
+        scene: &super::Scene,
+        fidelity: &str,
+        figures: &crate::eval::ErrorFigures,
+    ) -> ModelFile {
+        ModelFile {
+            name: format!("fitted-{}", matrix.topology().to_lowercase()),
+            title: Some(format!("{} fitted to {}", matrix.topology(), scene.name)),
+            topology: Some(matrix.topology()),
+            source: Some(format!("prbfit {}, fidelity {fidelity}", env!("CARGO_PKG_VERSION"))),
+            conversion: None,
+            prb: matrix.clone(),
+            fit: Some(FitRecord {
+                scene: scene.name.clone(),
+                fidelity: fidelity.to_string(),
+                angle_weight: scene.fit.angle_weight,
+                rms_pos_err: figures.rms_pos_err,
+                max_pos_err: figures.max_pos_err,
+                rms_ang_err: figures.rms_ang_err,
+                max_ang_err: figures.max_ang_err,
+                objective: figures.objective,
+                prbfit_version: env!("CARGO_PKG_VERSION").to_string(),
+                created: crate::files::utc_timestamp(),
+            }),
+        }
+    }
+
     /// All published models, parsed.
     pub fn published() -> Vec<ModelFile> {
         PUBLISHED

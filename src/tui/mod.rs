@@ -1,0 +1,234 @@
+//! The terminal UI: edit the beam, the loads and the PRB matrix; the worker refits live; the
+//! charts show the deformed shapes and the tip errors.
+//!
+//! - [`app`]: state and update logic (no terminal), unit-tested;
+//! - [`ui`]: drawing from that state, snapshot-tested;
+//! - [`worker`]: the background thread that solves and fits;
+//! - this module: the terminal and the event loop.
+//!
+//! The terminal is restored on quit, on error and on a panic of the UI thread (a panic hook);
+//! a panic inside the worker is caught there and shown as a message, and the UI goes on.
+//! With `PRBFIT_TRACE=FILE` the loop writes timings (edit to redrawn chart, frame draws) and
+//! peak memory to FILE, for measuring.
+
+pub mod app;
+pub mod ui;
+pub mod units;
+pub mod worker;
+
+use std::fs::OpenOptions;
+use std::io::{IsTerminal, Write};
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+use anyhow::{Context, Result};
+use ratatui::crossterm::event::{self, Event};
+use ratatui::crossterm::execute;
+use ratatui::crossterm::terminal::{
+    disable_raw_mode, enable_raw_mode, EnterAlternateScreen, LeaveAlternateScreen,
+};
+use ratatui::backend::CrosstermBackend;
+use ratatui::Terminal;
+
+use crate::files::write_atomic;
+use crate::scene::{ModelFile, ModelFormat, Scene};
+
+use app::{App, Command};
+use worker::{Worker, WorkerMsg, WORKER_THREAD};
+
+/// Runs the UI on `scene` until the user quits.
+pub fn run(scene: Scene, scene_path: Option<PathBuf>) -> Result<()> {
+    if !std::io::stdout().is_terminal() || !std::io::stdin().is_terminal() {
+        anyhow::bail!(
+            "the terminal UI needs a terminal (stdin and stdout); for scripts use the headless \
+             commands: prbfit --help"
+        );
+    }
+    let mut app = App::new(scene, scene_path);
+    app.mono = std::env::var_os("NO_COLOR").is_some_and(|v| !v.is_empty());
+    let trace = std::env::var_os("PRBFIT_TRACE").map(PathBuf::from);
+    install_panic_hook();
+    enable_raw_mode().context("cannot switch the terminal to raw mode")?;
+    let mut stdout = std::io::stdout();
+    if let Err(e) = execute!(stdout, EnterAlternateScreen) {
+        restore_terminal();
+        return Err(e).context("cannot enter the alternate screen");
+    }
+    let result = Terminal::new(CrosstermBackend::new(std::io::stdout()))
+        .context("cannot open the terminal")
+        .and_then(|mut terminal| event_loop(&mut terminal, &mut app, trace.as_deref()));
+    restore_terminal();
+    result
+}
+
+fn restore_terminal() {
+    let _ = disable_raw_mode();
+    let _ = execute!(std::io::stdout(), LeaveAlternateScreen, ratatui::crossterm::cursor::Show);
+}
+
+/// Restores the terminal before a UI-thread panic is reported. The worker catches its own
+/// panics and reports them as messages, so its panics neither restore the terminal nor print
+/// over the screen.
+fn install_panic_hook() {
+    let default = std::panic::take_hook();
+    std::panic::set_hook(Box::new(move |info| {
+        if std::thread::current().name() == Some(WORKER_THREAD) {
+            return;
+        }
+        restore_terminal();
+        default(info);
+    }));
+}
+
+/// Timings for `PRBFIT_TRACE`.
+struct Trace {
+    file: std::fs::File,
+    edit_at: Option<(u64, Instant)>,
+}
+
+impl Trace {
+    fn open(path: &Path) -> Option<Trace> {
+        OpenOptions::new()
+            .create(true)
+            .append(true)
+            .open(path)
+            .ok()
+            .map(|file| Trace { file, edit_at: None })
+    }
+
+    fn line(&mut self, text: String) {
+        let _ = writeln!(self.file, "{text}");
+    }
+}
+
+fn peak_memory_kib() -> Option<u64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    line.split_whitespace().nth(1)?.parse().ok()
+}
+
+fn event_loop(
+    terminal: &mut Terminal<CrosstermBackend<std::io::Stdout>>,
+    app: &mut App,
+    trace_path: Option<&Path>,
+) -> Result<()> {
+    let worker = Worker::spawn().context("cannot start the worker thread")?;
+    let mut trace = trace_path.and_then(Trace::open);
+    let first = app.submit(app.live);
+    execute_command(app, &worker, first, &mut trace);
+    let mut redraw = true;
+    loop {
+        if redraw {
+            let t0 = Instant::now();
+            terminal.draw(|f| ui::draw(f, app))?;
+            if let Some(t) = &mut trace {
+                let ms = t0.elapsed().as_secs_f64() * 1e3;
+                t.line(format!("frame_ms {ms:.3}"));
+            }
+            redraw = false;
+        }
+        let busy = app.has_pending()
+            || matches!(app.activity, app::Activity::Waiting | app::Activity::Fitting(_));
+        let timeout = if busy {
+            Duration::from_millis(5)
+        } else {
+            Duration::from_millis(100)
+        };
+        let mut commands = Vec::new();
+        if event::poll(timeout)? {
+            match event::read()? {
+                Event::Key(key) => {
+                    commands.extend(app.on_key(key, Instant::now()));
+                    redraw = true;
+                }
+                Event::Resize(..) => redraw = true,
+                _ => {}
+            }
+        }
+        while let Ok(msg) = worker.messages.try_recv() {
+            let shows_model = matches!(msg, WorkerMsg::Progress { .. } | WorkerMsg::Done { .. });
+            let id = msg.id();
+            if app.on_worker(msg) {
+                redraw = true;
+                if let (Some(t), true) = (&mut trace, shows_model) {
+                    if let Some((edit_id, at)) = t.edit_at {
+                        if edit_id == id {
+                            // Drawn at the top of the next pass: include that frame.
+                            terminal.draw(|f| ui::draw(f, app))?;
+                            let ms = at.elapsed().as_secs_f64() * 1e3;
+                            t.line(format!("edit_to_chart_ms {ms:.3}"));
+                            t.edit_at = None;
+                        }
+                    }
+                }
+            }
+        }
+        if let Some(cmd) = app.tick(Instant::now()) {
+            commands.push(cmd);
+            redraw = true;
+        }
+        for cmd in commands {
+            execute_command(app, &worker, cmd, &mut trace);
+        }
+        if app.quit {
+            break;
+        }
+    }
+    if let (Some(t), Some(kib)) = (&mut trace, peak_memory_kib()) {
+        t.line(format!("peak_memory_kib {kib}"));
+    }
+    Ok(())
+}
+
+fn execute_command(app: &mut App, worker: &Worker, cmd: Command, trace: &mut Option<Trace>) {
+    match cmd {
+        Command::Submit(job) => {
+            if let (Some(t), Some(at)) = (trace.as_mut(), app.edit_accepted_at) {
+                // Time from the accepted edit (debounce included) to the chart.
+                t.edit_at = Some((job.id, at));
+            }
+            worker.submit(job);
+        }
+        Command::SaveScene(path) => {
+            let overwrite = app.scene_path.as_deref() == Some(path.as_path());
+            match write_atomic(&path, app.scene.to_toml().as_bytes(), overwrite) {
+                Ok(()) => {
+                    app.scene_path = Some(path.clone());
+                    app.scene_dirty = false;
+                    app.set_info(format!("saved {}", path.display()));
+                }
+                Err(e) => app.set_error(format!("not saved: {e}")),
+            }
+        }
+        Command::OpenScene(path) => match Scene::from_file(&path) {
+            Ok(scene) => {
+                app.set_scene(scene, path.clone(), Instant::now());
+                app.set_info(format!("opened {}", path.display()));
+            }
+            Err(e) => app.set_error(format!("not opened: {e}")),
+        },
+        Command::ExportModel(path) => {
+            let result = ModelFormat::from_path(&path).and_then(|format| {
+                let figures = app
+                    .model
+                    .as_ref()
+                    .filter(|m| m.matrix == app.matrix)
+                    .map(|m| m.figures)
+                    .ok_or_else(|| {
+                        "the model has not been judged yet: wait for the status line".to_string()
+                    })?;
+                let model =
+                    ModelFile::fitted(&app.matrix, &app.scene, &app.fidelity.to_string(), &figures);
+                write_atomic(&path, model.to_text(format).as_bytes(), false)
+                    .map_err(|e| e.to_string())
+            });
+            match result {
+                Ok(()) => {
+                    app.model_dirty = false;
+                    app.set_info(format!("exported {}", path.display()));
+                }
+                Err(e) => app.set_error(format!("not exported: {e}")),
+            }
+        }
+    }
+}

@@ -1,0 +1,338 @@
+//! The UI's state logic, without a terminal: edits queue jobs, stale results are dropped,
+//! invalid edits change nothing, quitting with unsaved work asks, and no key sequence panics.
+
+use std::time::{Duration, Instant};
+
+use prbfit::fit::Fidelity;
+use prbfit::prb::{Column, PrbMatrix};
+use prbfit::scene::Scene;
+use prbfit::tui::app::{Activity, App, Command, Panel, PromptKind, DEBOUNCE};
+use prbfit::tui::worker::{baseline_view, model_view, FitStatus, WorkerMsg};
+use ratatui::crossterm::event::{KeyCode, KeyEvent, KeyModifiers};
+
+fn key(code: KeyCode) -> KeyEvent {
+    KeyEvent::new(code, KeyModifiers::NONE)
+}
+
+fn type_text(app: &mut App, text: &str, now: Instant) {
+    for c in text.chars() {
+        app.on_key(key(KeyCode::Char(c)), now);
+    }
+}
+
+/// Replaces the selected field's text with `text` and presses Enter.
+fn edit(app: &mut App, text: &str, now: Instant) -> Vec<Command> {
+    let mut out = app.on_key(key(KeyCode::Enter), now);
+    for _ in 0..40 {
+        app.on_key(key(KeyCode::Backspace), now);
+    }
+    type_text(app, text, now);
+    out.extend(app.on_key(key(KeyCode::Enter), now));
+    out
+}
+
+fn jobs(cmds: &[Command]) -> usize {
+    cmds.iter().filter(|c| matches!(c, Command::Submit(_))).count()
+}
+
+fn app() -> App {
+    App::new(Scene::builtin(), None)
+}
+
+#[test]
+fn an_edit_queues_exactly_one_job() {
+    let mut app = app();
+    let t0 = Instant::now();
+    app.focus = Panel::Matrix;
+    app.matrix_row = 1;
+    app.matrix_col = 1;
+    let cmds = edit(&mut app, "4.2", t0);
+    assert_eq!(jobs(&cmds), 0, "debounced, not sent at once");
+    assert_eq!(app.matrix.rows()[1].k_theta, 4.2);
+    assert!(app.tick(t0 + DEBOUNCE / 2).is_none());
+    let sent = app.tick(t0 + DEBOUNCE);
+    match sent {
+        Some(Command::Submit(job)) => {
+            assert!(job.fit, "live refit is on");
+            assert_eq!(job.matrix.rows()[1].k_theta, 4.2);
+        }
+        other => panic!("expected one job, got {other:?}"),
+    }
+    assert!(app.tick(t0 + DEBOUNCE * 3).is_none(), "exactly one");
+}
+
+#[test]
+fn quick_edits_coalesce_into_one_job() {
+    let mut app = app();
+    let t0 = Instant::now();
+    app.focus = Panel::Matrix;
+    app.matrix_row = 2;
+    app.matrix_col = 1;
+    edit(&mut app, "3", t0);
+    edit(&mut app, "3.5", t0 + DEBOUNCE / 2);
+    assert!(app.tick(t0 + DEBOUNCE).is_none(), "the second edit restarted the debounce");
+    let mut sent = 0;
+    for k in 1..10 {
+        if app.tick(t0 + DEBOUNCE * 2 + Duration::from_millis(k)).is_some() {
+            sent += 1;
+        }
+    }
+    assert_eq!(sent, 1);
+}
+
+#[test]
+fn paused_live_refit_only_judges() {
+    let mut app = app();
+    let t0 = Instant::now();
+    app.on_key(key(KeyCode::Char(' ')), t0);
+    assert!(!app.live);
+    app.focus = Panel::Matrix;
+    app.matrix_col = 1;
+    edit(&mut app, "2.5", t0);
+    match app.tick(t0 + DEBOUNCE) {
+        Some(Command::Submit(job)) => assert!(!job.fit),
+        other => panic!("{other:?}"),
+    }
+    // r fits on demand, at once.
+    let cmds = app.on_key(key(KeyCode::Char('r')), t0);
+    assert!(matches!(&cmds[..], [Command::Submit(job)] if job.fit));
+}
+
+/// A worker message for an older job than the newest is dropped; the newest one is taken.
+#[test]
+fn stale_results_are_dropped() {
+    let mut app = app();
+    let scene = Scene::builtin();
+    let baseline = Fidelity::Draft.baseline(&scene).unwrap();
+    let old = app.submit(true);
+    let new = app.submit(true);
+    let (Command::Submit(old), Command::Submit(new)) = (old, new) else {
+        panic!("jobs expected")
+    };
+    assert!(old.cancel.is_cancelled(), "sending a newer job cancels the older");
+    assert!(!new.cancel.is_cancelled());
+    let view = model_view(&app.matrix, &baseline, 1.0).unwrap();
+    let stale = WorkerMsg::Progress {
+        id: old.id,
+        model: Box::new(view.clone()),
+        status: FitStatus {
+            iteration: 3,
+            evaluations: 10,
+            seconds: 0.01,
+        },
+    };
+    assert!(!app.on_worker(stale));
+    assert!(app.model.is_none());
+    assert_eq!(app.activity, Activity::Waiting);
+    let stale_base = WorkerMsg::Baseline {
+        id: old.id,
+        view: std::sync::Arc::new(baseline_view(&baseline)),
+    };
+    assert!(!app.on_worker(stale_base));
+    assert!(app.baseline.is_none());
+    let fresh = WorkerMsg::Progress {
+        id: new.id,
+        model: Box::new(view),
+        status: FitStatus {
+            iteration: 1,
+            evaluations: 5,
+            seconds: 0.01,
+        },
+    };
+    assert!(app.on_worker(fresh));
+    assert!(app.model.is_some());
+    assert!(matches!(app.activity, Activity::Fitting(_)));
+}
+
+/// Invalid entries are rejected with a message, the old value kept and no job queued.
+#[test]
+fn invalid_edits_change_nothing() {
+    let t0 = Instant::now();
+    let cases: &[(Panel, usize, usize, &str, &str)] = &[
+        (Panel::Matrix, 1, 1, "-3", "k_theta"),
+        (Panel::Matrix, 1, 1, "abc", "number"),
+        (Panel::Matrix, 1, 1, "nan", "number"),
+        (Panel::Matrix, 1, 0, "1.5", "gamma"),
+        (Panel::Matrix, 1, 2, "0", "k_ex"),
+        (Panel::Beam, 2, 0, "-1 mm", "thickness"),
+        (Panel::Beam, 4, 0, "0.7", "poisson"),
+        (Panel::Beam, 0, 0, "5 furlongs", "furlongs"),
+        (Panel::Beam, 6, 0, "poisson", "extension"),
+        (Panel::Loads, 0, 3, "0", "steps"),
+        (Panel::Loads, 0, 1, "1e999", "finite"),
+    ];
+    for &(panel, row, col, text, needle) in cases {
+        let mut app = app();
+        let (scene, matrix) = (app.scene.clone(), app.matrix.clone());
+        app.focus = panel;
+        match panel {
+            Panel::Matrix => {
+                app.matrix_row = row;
+                app.matrix_col = col;
+            }
+            Panel::Beam => app.beam_row = row,
+            Panel::Loads => {
+                app.load_row = row;
+                app.load_col = col;
+            }
+        }
+        edit(&mut app, text, t0);
+        assert_eq!(app.scene, scene, "{text}");
+        assert_eq!(app.matrix, matrix, "{text}");
+        let (message, _) = app.message.clone().expect("a message");
+        assert!(message.to_lowercase().contains(needle), "{text}: {message}");
+        assert!(app.tick(t0 + DEBOUNCE * 2).is_none(), "{text}: no job");
+        assert!(!app.unsaved(), "{text}");
+    }
+}
+
+/// Engineering input is accepted: 0.5 mm, 200 GPa; a gamma edit keeps the sum at 1.
+#[test]
+fn valid_edits_apply() {
+    let t0 = Instant::now();
+    let mut app = app();
+    app.focus = Panel::Beam;
+    app.beam_row = 2;
+    edit(&mut app, "0.4 mm", t0);
+    assert!((app.scene.beam.thickness - 0.4e-3).abs() < 1e-15);
+    app.beam_row = 3;
+    edit(&mut app, "190GPa", t0);
+    assert_eq!(app.scene.beam.youngs_modulus, 190e9);
+    app.beam_row = 6;
+    edit(&mut app, "shear,extension", t0);
+    assert_eq!(app.scene.beam.effects.to_string(), "shear,extension");
+    assert!(app.scene_dirty);
+
+    app.focus = Panel::Matrix;
+    app.matrix_row = 0;
+    app.matrix_col = 0;
+    edit(&mut app, "0.2", t0);
+    let sum: f64 = app.matrix.rows().iter().map(|r| r.gamma).sum();
+    assert!((sum - 1.0).abs() < 1e-12);
+    assert_eq!(app.matrix.rows()[0].gamma, 0.2);
+    // inf turns a joint off.
+    app.matrix_row = 3;
+    app.matrix_col = 1;
+    edit(&mut app, "inf", t0);
+    assert_eq!(app.matrix.topology(), "L-R-R-L");
+}
+
+#[test]
+fn free_flags_rows_and_presets() {
+    let t0 = Instant::now();
+    let mut app = app();
+    app.focus = Panel::Matrix;
+    app.matrix_row = 1;
+    app.matrix_col = 1;
+    app.on_key(key(KeyCode::Char('f')), t0);
+    assert!(!app.matrix.rows()[1].is_free(Column::KTheta));
+    assert!(app.tick(t0 + DEBOUNCE).is_some(), "a flag change refits");
+    app.matrix_col = 2;
+    app.on_key(key(KeyCode::Char('f')), t0);
+    assert!(app.message.as_ref().unwrap().0.contains("inf"), "inf cells are not parameters");
+    let n = app.matrix.len();
+    app.on_key(key(KeyCode::Char('a')), t0);
+    assert_eq!(app.matrix.len(), n + 1);
+    app.on_key(key(KeyCode::Char('d')), t0);
+    app.on_key(key(KeyCode::Char('d')), t0);
+    assert_eq!(app.matrix.len(), n - 1);
+    app.on_key(key(KeyCode::Char('t')), t0);
+    assert!(matches!(app.prompt, Some((PromptKind::Topology, _))));
+    for _ in 0..20 {
+        app.on_key(key(KeyCode::Backspace), t0);
+    }
+    type_text(&mut app, "L-RP", t0);
+    app.on_key(key(KeyCode::Enter), t0);
+    assert_eq!(app.matrix, PrbMatrix::from_topology("L-RP").unwrap());
+    app.on_key(key(KeyCode::Char('m')), t0);
+    assert_eq!(app.matrix.topology(), "L-R", "howell-1r first");
+}
+
+#[test]
+fn quitting_with_unsaved_changes_asks() {
+    let t0 = Instant::now();
+    let mut app = app();
+    app.on_key(key(KeyCode::Char('q')), t0);
+    assert!(app.quit, "nothing unsaved: quits at once");
+
+    let mut app = self::app();
+    app.focus = Panel::Loads;
+    app.load_col = 1;
+    edit(&mut app, "4", t0);
+    app.on_key(key(KeyCode::Char('q')), t0);
+    assert!(!app.quit);
+    assert!(matches!(app.prompt, Some((PromptKind::ConfirmQuit, _))));
+    app.on_key(key(KeyCode::Char('n')), t0);
+    assert!(!app.quit && app.prompt.is_none());
+    app.on_key(KeyEvent::new(KeyCode::Char('c'), KeyModifiers::CONTROL), t0);
+    app.on_key(key(KeyCode::Char('y')), t0);
+    assert!(app.quit);
+}
+
+#[test]
+fn prompts_produce_file_commands() {
+    let t0 = Instant::now();
+    let mut app = app();
+    app.on_key(key(KeyCode::Char('e')), t0);
+    for _ in 0..20 {
+        app.on_key(key(KeyCode::Backspace), t0);
+    }
+    type_text(&mut app, "out.json", t0);
+    let cmds = app.on_key(key(KeyCode::Enter), t0);
+    assert!(matches!(&cmds[..], [Command::ExportModel(p)] if p.to_str() == Some("out.json")));
+    app.on_key(key(KeyCode::Char('o')), t0);
+    app.on_key(key(KeyCode::Esc), t0);
+    assert!(app.prompt.is_none());
+}
+
+mod no_panics {
+    use super::*;
+    use proptest::prelude::*;
+    use ratatui::backend::TestBackend;
+    use ratatui::Terminal;
+
+    fn any_key() -> impl Strategy<Value = KeyEvent> {
+        let codes = prop_oneof![
+            Just(KeyCode::Enter),
+            Just(KeyCode::Esc),
+            Just(KeyCode::Tab),
+            Just(KeyCode::BackTab),
+            Just(KeyCode::Backspace),
+            Just(KeyCode::Up),
+            Just(KeyCode::Down),
+            Just(KeyCode::Left),
+            Just(KeyCode::Right),
+            Just(KeyCode::F(1)),
+            proptest::char::range(' ', '~').prop_map(KeyCode::Char),
+        ];
+        (codes, any::<bool>()).prop_map(|(c, ctrl)| {
+            KeyEvent::new(c, if ctrl { KeyModifiers::CONTROL } else { KeyModifiers::NONE })
+        })
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(64))]
+
+        /// Any key sequence, rendered at any size (tiny included), never panics and never
+        /// leaves an invalid scene or matrix.
+        #[test]
+        fn no_input_sequence_panics(keys in proptest::collection::vec(any_key(), 1..80),
+                                    w in 1u16..140, h in 1u16..50) {
+            let mut app = App::new(Scene::builtin(), None);
+            let mut terminal = Terminal::new(TestBackend::new(w, h)).unwrap();
+            let t0 = Instant::now();
+            for (i, k) in keys.iter().enumerate() {
+                let now = t0 + Duration::from_millis(10 * i as u64);
+                let _ = app.on_key(*k, now);
+                let _ = app.tick(now);
+                terminal.draw(|f| prbfit::tui::ui::draw(f, &app)).unwrap();
+                if app.quit {
+                    break;
+                }
+            }
+            prop_assert!(app.matrix.validate().is_ok());
+            let again = Scene::from_toml_str(&app.scene.to_toml(), "check");
+            prop_assert!(again.is_ok(), "{:?}", again);
+        }
+    }
+}
