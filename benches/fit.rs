@@ -25,8 +25,19 @@ fn run(scene: &Scene, topology: &str, fidelity: Fidelity) -> (f64, PrbMatrix, u6
         seed: 1,
     };
     let start = PrbMatrix::from_topology(topology).unwrap();
-    let report = fit(&baseline, &start, &options, &mut |_| {}, &CancelToken::new()).unwrap();
-    (t0.elapsed().as_secs_f64(), report.matrix, report.evaluations)
+    let report = fit(
+        &baseline,
+        &start,
+        &options,
+        &mut |_| {},
+        &CancelToken::new(),
+    )
+    .unwrap();
+    (
+        t0.elapsed().as_secs_f64(),
+        report.matrix,
+        report.evaluations,
+    )
 }
 
 fn median(mut v: Vec<f64>) -> f64 {

@@ -554,8 +554,7 @@ fn fit_command(args: FitArgs) -> Result<()> {
     let seconds = t0.elapsed().as_secs_f64();
     let f = report.figures;
     if let (Some(path), Some(format)) = (&args.output, format) {
-        let model =
-            ModelFile::fitted(&report.matrix, &scene, &args.fidelity.to_string(), &f);
+        let model = ModelFile::fitted(&report.matrix, &scene, &args.fidelity.to_string(), &f);
         write_atomic(path, model.to_text(format).as_bytes(), args.force)?;
     }
     if args.common.json {

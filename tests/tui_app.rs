@@ -32,7 +32,9 @@ fn edit(app: &mut App, text: &str, now: Instant) -> Vec<Command> {
 }
 
 fn jobs(cmds: &[Command]) -> usize {
-    cmds.iter().filter(|c| matches!(c, Command::Submit(_))).count()
+    cmds.iter()
+        .filter(|c| matches!(c, Command::Submit(_)))
+        .count()
 }
 
 fn app() -> App {
@@ -70,10 +72,16 @@ fn quick_edits_coalesce_into_one_job() {
     app.matrix_col = 1;
     edit(&mut app, "3", t0);
     edit(&mut app, "3.5", t0 + DEBOUNCE / 2);
-    assert!(app.tick(t0 + DEBOUNCE).is_none(), "the second edit restarted the debounce");
+    assert!(
+        app.tick(t0 + DEBOUNCE).is_none(),
+        "the second edit restarted the debounce"
+    );
     let mut sent = 0;
     for k in 1..10 {
-        if app.tick(t0 + DEBOUNCE * 2 + Duration::from_millis(k)).is_some() {
+        if app
+            .tick(t0 + DEBOUNCE * 2 + Duration::from_millis(k))
+            .is_some()
+        {
             sent += 1;
         }
     }
@@ -109,7 +117,10 @@ fn stale_results_are_dropped() {
     let (Command::Submit(old), Command::Submit(new)) = (old, new) else {
         panic!("jobs expected")
     };
-    assert!(old.cancel.is_cancelled(), "sending a newer job cancels the older");
+    assert!(
+        old.cancel.is_cancelled(),
+        "sending a newer job cancels the older"
+    );
     assert!(!new.cancel.is_cancelled());
     let view = model_view(&app.matrix, &baseline, 1.0).unwrap();
     let stale = WorkerMsg::Progress {
@@ -229,7 +240,10 @@ fn free_flags_rows_and_presets() {
     assert!(app.tick(t0 + DEBOUNCE).is_some(), "a flag change refits");
     app.matrix_col = 2;
     app.on_key(key(KeyCode::Char('f')), t0);
-    assert!(app.message.as_ref().unwrap().0.contains("inf"), "inf cells are not parameters");
+    assert!(
+        app.message.as_ref().unwrap().0.contains("inf"),
+        "inf cells are not parameters"
+    );
     let n = app.matrix.len();
     app.on_key(key(KeyCode::Char('a')), t0);
     assert_eq!(app.matrix.len(), n + 1);
@@ -306,7 +320,14 @@ mod no_panics {
             proptest::char::range(' ', '~').prop_map(KeyCode::Char),
         ];
         (codes, any::<bool>()).prop_map(|(c, ctrl)| {
-            KeyEvent::new(c, if ctrl { KeyModifiers::CONTROL } else { KeyModifiers::NONE })
+            KeyEvent::new(
+                c,
+                if ctrl {
+                    KeyModifiers::CONTROL
+                } else {
+                    KeyModifiers::NONE
+                },
+            )
         })
     }
 

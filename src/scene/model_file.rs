@@ -158,7 +158,10 @@ impl ModelFile {
             name: format!("fitted-{}", matrix.topology().to_lowercase()),
             title: Some(format!("{} fitted to {}", matrix.topology(), scene.name)),
             topology: Some(matrix.topology()),
-            source: Some(format!("prbfit {}, fidelity {fidelity}", env!("CARGO_PKG_VERSION"))),
+            source: Some(format!(
+                "prbfit {}, fidelity {fidelity}",
+                env!("CARGO_PKG_VERSION")
+            )),
             conversion: None,
             prb: matrix.clone(),
             fit: Some(FitRecord {

@@ -358,7 +358,8 @@ impl App {
         if key.kind == KeyEventKind::Release {
             return Vec::new();
         }
-        let ctrl_c = key.code == KeyCode::Char('c') && key.modifiers.contains(KeyModifiers::CONTROL);
+        let ctrl_c =
+            key.code == KeyCode::Char('c') && key.modifiers.contains(KeyModifiers::CONTROL);
         if self.prompt.is_some() {
             return self.prompt_key(key, ctrl_c);
         }
@@ -566,11 +567,7 @@ impl App {
             KeyCode::Backspace => {
                 tb.text.pop();
             }
-            KeyCode::Char(c) => {
-                if tb.text.len() < 64 {
-                    tb.text.push(c);
-                }
-            }
+            KeyCode::Char(c) if tb.text.len() < 64 => tb.text.push(c),
             _ => {}
         }
         Vec::new()
@@ -583,12 +580,15 @@ impl App {
                 let mut scene = self.scene.clone();
                 let b = &mut scene.beam;
                 match field {
-                    BeamField::ShearCoefficient if text.trim() == "auto" => b.shear_coefficient = None,
+                    BeamField::ShearCoefficient if text.trim() == "auto" => {
+                        b.shear_coefficient = None
+                    }
                     BeamField::Effects => {
                         b.effects = match text.trim() {
                             "auto" => EffectsChoice::Auto,
                             other => EffectsChoice::Fixed(
-                                crate::beam::Effects::parse_list(other).map_err(|e| e.to_string())?,
+                                crate::beam::Effects::parse_list(other)
+                                    .map_err(|e| e.to_string())?,
                             ),
                         }
                     }
@@ -607,7 +607,11 @@ impl App {
                 }
                 // The scene file's own validation decides what is acceptable.
                 Scene::from_toml_str(&scene.to_toml(), "edit").map_err(|e| {
-                    format!("{}: {}", e.key.unwrap_or_else(|| field.label().into()), e.message)
+                    format!(
+                        "{}: {}",
+                        e.key.unwrap_or_else(|| field.label().into()),
+                        e.message
+                    )
                 })?;
                 if scene != self.scene {
                     self.scene = scene;
@@ -645,14 +649,18 @@ impl App {
             EditTarget::Cell { row, col } => {
                 let v = match text.trim().to_ascii_lowercase().as_str() {
                     "inf" => f64::INFINITY,
-                    _ => parse_quantity(text, Quantity::Plain).map_err(|e| format!("{col}: {e}"))?,
+                    _ => {
+                        parse_quantity(text, Quantity::Plain).map_err(|e| format!("{col}: {e}"))?
+                    }
                 };
                 // Typing a gamma keeps the gammas summing to 1: the difference goes to another
                 // segment (a free one first).
                 let m = if *col == Column::Gamma && self.matrix.len() > 1 {
                     self.rebalance_gamma(*row, v)?
                 } else {
-                    self.matrix.with_cell(*row, *col, v).map_err(|e| e.to_string())?
+                    self.matrix
+                        .with_cell(*row, *col, v)
+                        .map_err(|e| e.to_string())?
                 };
                 if m != self.matrix {
                     self.matrix = m;
@@ -675,7 +683,8 @@ impl App {
         let mut new_rows = rows.to_vec();
         new_rows[row].gamma = v;
         new_rows[donor].gamma -= delta;
-        PrbMatrix::new(new_rows).map_err(|e| format!("{e} (segment {} would get the rest)", donor + 1))
+        PrbMatrix::new(new_rows)
+            .map_err(|e| format!("{e} (segment {} would get the rest)", donor + 1))
     }
 
     fn prompt_key(&mut self, key: KeyEvent, ctrl_c: bool) -> Vec<Command> {
@@ -696,11 +705,7 @@ impl App {
             KeyCode::Backspace => {
                 tb.text.pop();
             }
-            KeyCode::Char(c) => {
-                if tb.text.len() < 256 {
-                    tb.text.push(c);
-                }
-            }
+            KeyCode::Char(c) if tb.text.len() < 256 => tb.text.push(c),
             KeyCode::Enter => {
                 let text = tb.text.trim().to_string();
                 self.prompt = None;
@@ -726,7 +731,9 @@ impl App {
     /// A topology name or a published model's name.
     fn load_named_matrix(&mut self, name: &str, now: Instant) {
         let m = if PUBLISHED.iter().any(|(n, _)| *n == name) {
-            ModelFile::load(name).map(|m| m.prb).map_err(|e| e.to_string())
+            ModelFile::load(name)
+                .map(|m| m.prb)
+                .map_err(|e| e.to_string())
         } else {
             PrbMatrix::from_topology(name).map_err(|e| e.to_string())
         };
@@ -781,7 +788,11 @@ impl App {
                 let half = r.gamma / 2.0;
                 let mut new_rows = rows.to_vec();
                 new_rows[self.matrix_row].gamma = half;
-                let k = if r.has_revolute() { r.k_theta } else { self.matrix.revolute_count().max(1) as f64 };
+                let k = if r.has_revolute() {
+                    r.k_theta
+                } else {
+                    self.matrix.revolute_count().max(1) as f64
+                };
                 new_rows.insert(
                     self.matrix_row + 1,
                     PrbRow {
@@ -858,5 +869,4 @@ impl App {
         let len = b.paths.get(path).map_or(0, |p| p.steps as usize);
         start..(start + len).min(b.shapes.len())
     }
-
 }

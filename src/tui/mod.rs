@@ -22,12 +22,12 @@ use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 use anyhow::{Context, Result};
+use ratatui::backend::CrosstermBackend;
 use ratatui::crossterm::event::{self, Event};
 use ratatui::crossterm::execute;
 use ratatui::crossterm::terminal::{
     disable_raw_mode, enable_raw_mode, EnterAlternateScreen, LeaveAlternateScreen,
 };
-use ratatui::backend::CrosstermBackend;
 use ratatui::Terminal;
 
 use crate::files::write_atomic;
@@ -63,7 +63,11 @@ pub fn run(scene: Scene, scene_path: Option<PathBuf>) -> Result<()> {
 
 fn restore_terminal() {
     let _ = disable_raw_mode();
-    let _ = execute!(std::io::stdout(), LeaveAlternateScreen, ratatui::crossterm::cursor::Show);
+    let _ = execute!(
+        std::io::stdout(),
+        LeaveAlternateScreen,
+        ratatui::crossterm::cursor::Show
+    );
 }
 
 /// Restores the terminal before a UI-thread panic is reported. The worker catches its own
@@ -93,7 +97,10 @@ impl Trace {
             .append(true)
             .open(path)
             .ok()
-            .map(|file| Trace { file, edit_at: None })
+            .map(|file| Trace {
+                file,
+                edit_at: None,
+            })
     }
 
     fn line(&mut self, text: String) {
@@ -128,7 +135,10 @@ fn event_loop(
             redraw = false;
         }
         let busy = app.has_pending()
-            || matches!(app.activity, app::Activity::Waiting | app::Activity::Fitting(_));
+            || matches!(
+                app.activity,
+                app::Activity::Waiting | app::Activity::Fitting(_)
+            );
         let timeout = if busy {
             Duration::from_millis(5)
         } else {

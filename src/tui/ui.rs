@@ -114,7 +114,10 @@ fn draw_title(frame: &mut Frame, area: Rect, app: &App, pal: &Palette) {
     let mut spans = vec![
         Span::styled(" prbfit ", pal.fg(Color::Black).bg(pal.color(Color::Cyan))),
         Span::raw(" "),
-        Span::styled(app.scene.name.clone(), Style::default().add_modifier(Modifier::BOLD)),
+        Span::styled(
+            app.scene.name.clone(),
+            Style::default().add_modifier(Modifier::BOLD),
+        ),
     ];
     if app.scene_dirty {
         spans.push(Span::raw(" [modified]"));
@@ -136,7 +139,9 @@ fn panel_block<'a>(title: &'a str, focused: bool, pal: &Palette) -> Block<'a> {
 
 fn draw_left(frame: &mut Frame, area: Rect, app: &App, pal: &Palette) {
     let beam_height = BeamField::ALL.len() as u16 + 2;
-    let matrix_height = (app.matrix.len() as u16 + 3).min(area.height.saturating_sub(beam_height + 4)).max(4);
+    let matrix_height = (app.matrix.len() as u16 + 3)
+        .min(area.height.saturating_sub(beam_height + 4))
+        .max(4);
     let parts = Layout::default()
         .direction(Direction::Vertical)
         .constraints([
@@ -198,8 +203,11 @@ fn draw_loads(frame: &mut Frame, area: Rect, app: &App, pal: &Palette) {
                 pal.fg(PATH_COLORS[r % PATH_COLORS.len()]),
             ))];
             for c in 0..LOAD_COLUMNS.len() {
-                let (text, editing) =
-                    shown(app, &EditTarget::Load { row: r, col: c }, app.load_text(r, c));
+                let (text, editing) = shown(
+                    app,
+                    &EditTarget::Load { row: r, col: c },
+                    app.load_text(r, c),
+                );
                 let style = if editing || (focused && app.load_row == r && app.load_col == c) {
                     pal.selected()
                 } else {
@@ -222,7 +230,11 @@ fn draw_loads(frame: &mut Frame, area: Rect, app: &App, pal: &Palette) {
     )
     .header(header)
     .block(block)
-    .row_highlight_style(if focused { Style::default() } else { Style::default().add_modifier(Modifier::BOLD) });
+    .row_highlight_style(if focused {
+        Style::default()
+    } else {
+        Style::default().add_modifier(Modifier::BOLD)
+    });
     let mut state = TableState::default().with_selected(Some(app.load_row));
     frame.render_stateful_widget(table, area, &mut state);
 }
@@ -326,7 +338,10 @@ fn draw_shapes(frame: &mut Frame, area: Rect, app: &App, pal: &Palette) {
             Activity::Failed(m) => format!("no result: {m}"),
             _ => "solving the beam...".to_string(),
         };
-        frame.render_widget(Paragraph::new(msg).wrap(Wrap { trim: true }).block(block), area);
+        frame.render_widget(
+            Paragraph::new(msg).wrap(Wrap { trim: true }).block(block),
+            area,
+        );
         return;
     };
     let mut all: Vec<(f64, f64)> = Vec::new();
@@ -349,7 +364,13 @@ fn draw_shapes(frame: &mut Frame, area: Rect, app: &App, pal: &Palette) {
         .y_bounds(yb)
         .paint(|ctx| {
             // The clamp.
-            ctx.draw(&CanvasLine::new(0.0, yb[0] * 0.3, 0.0, yb[1] * 0.3, beam_color));
+            ctx.draw(&CanvasLine::new(
+                0.0,
+                yb[0] * 0.3,
+                0.0,
+                yb[1] * 0.3,
+                beam_color,
+            ));
             for c in cases.clone() {
                 for w in baseline.shapes[c].windows(2) {
                     ctx.draw(&CanvasLine::new(w[0].0, w[0].1, w[1].0, w[1].1, beam_color));
@@ -358,14 +379,18 @@ fn draw_shapes(frame: &mut Frame, area: Rect, app: &App, pal: &Palette) {
             ctx.layer();
             if let Some(model) = &app.model {
                 for c in cases.clone() {
-                    let Some(link) = model.linkages.get(c) else { continue };
+                    let Some(link) = model.linkages.get(c) else {
+                        continue;
+                    };
                     for w in link.windows(2) {
                         ctx.draw(&CanvasLine::new(w[0].0, w[0].1, w[1].0, w[1].1, prb_color));
                     }
                 }
                 ctx.layer();
                 for c in cases.clone() {
-                    let Some(link) = model.linkages.get(c) else { continue };
+                    let Some(link) = model.linkages.get(c) else {
+                        continue;
+                    };
                     for p in link.iter().skip(1) {
                         ctx.print(p.0, p.1, Span::styled("o", Style::default().fg(prb_color)));
                     }
@@ -524,11 +549,7 @@ fn draw_status(frame: &mut Frame, area: Rect, app: &App, pal: &Palette) {
     let activity = match &app.activity {
         Activity::Idle => "idle".to_string(),
         Activity::Waiting => "working...".to_string(),
-        Activity::Fitting(s) => format!(
-            "fitting it {} · {:.0} ms",
-            s.iteration,
-            s.seconds * 1e3
-        ),
+        Activity::Fitting(s) => format!("fitting it {} · {:.0} ms", s.iteration, s.seconds * 1e3),
         Activity::Done {
             seconds,
             stop,
@@ -556,29 +577,41 @@ fn draw_hints(frame: &mut Frame, area: Rect, app: &App, pal: &Palette) {
     } else {
         match app.focus {
             Panel::Matrix => {
-                " Tab panel · arrows/hjkl move · Enter edit · f free/fixed · a/d row · t topology · m published · r fit · c cancel · space live · v fidelity · e export · s save · o open · ? help · q quit"
+                " ? keys · q quit · Tab panel · Enter edit · f free/fixed · a/d row · t topology · m model · r fit · c cancel · space live · v fidelity · e export"
             }
             Panel::Loads => {
-                " Tab panel · arrows/hjkl move · Enter edit · a/d path · [ ] shown path · r fit · c cancel · space live · v fidelity · s save · o open · ? help · q quit"
+                " ? keys · q quit · Tab panel · Enter edit · a/d path · [ ] shown path · r fit · c cancel · space live · v fidelity · s save · o open"
             }
             Panel::Beam => {
-                " Tab panel · arrows/hjkl move · Enter edit · r fit · c cancel · space live · v fidelity · s save · o open · e export · ? help · q quit"
+                " ? keys · q quit · Tab panel · Enter edit (0.5 mm, 200 GPa) · r fit · c cancel · space live · v fidelity · s save · o open"
             }
         }
     };
-    frame.render_widget(Paragraph::new(Span::styled(text, pal.fg(Color::DarkGray))), area);
+    frame.render_widget(
+        Paragraph::new(Span::styled(text, pal.fg(Color::DarkGray))),
+        area,
+    );
 }
 
 /// Every key, for the help overlay (and the README).
 pub const HELP: &[(&str, &str)] = &[
     ("Tab / Shift-Tab", "next / previous panel"),
     ("arrows, h j k l", "move inside a panel"),
-    ("Enter", "edit the selected field or cell; Enter accepts, Esc cancels"),
+    (
+        "Enter",
+        "edit the selected field or cell; Enter accepts, Esc cancels",
+    ),
     ("f", "matrix: toggle the cell free (fitted) / fixed (!)"),
     ("a / d", "add / delete a matrix row or a load path"),
-    ("t", "matrix from a topology name (L-R-R-R) or a published model"),
+    (
+        "t",
+        "matrix from a topology name (L-R-R-R) or a published model",
+    ),
     ("m", "cycle the published models: Howell 1R, Su 3R, Chen 3R"),
-    ("[ / ]", "show the previous / next load path in the shape chart"),
+    (
+        "[ / ]",
+        "show the previous / next load path in the shape chart",
+    ),
     ("r", "fit now"),
     ("c, Esc", "cancel the running fit"),
     ("space", "pause / resume live refit after every edit"),
@@ -592,7 +625,12 @@ pub const HELP: &[(&str, &str)] = &[
 fn centered(area: Rect, width: u16, height: u16) -> Rect {
     let w = width.min(area.width);
     let h = height.min(area.height);
-    Rect::new(area.x + (area.width - w) / 2, area.y + (area.height - h) / 2, w, h)
+    Rect::new(
+        area.x + (area.width - w) / 2,
+        area.y + (area.height - h) / 2,
+        w,
+        h,
+    )
 }
 
 fn draw_help(frame: &mut Frame, area: Rect, pal: &Palette) {
@@ -608,7 +646,12 @@ fn draw_help(frame: &mut Frame, area: Rect, pal: &Palette) {
         })
         .collect();
     let block = Block::default().borders(Borders::ALL).title(" Keys ");
-    frame.render_widget(Paragraph::new(lines).block(block).wrap(Wrap { trim: false }), rect);
+    frame.render_widget(
+        Paragraph::new(lines)
+            .block(block)
+            .wrap(Wrap { trim: false }),
+        rect,
+    );
 }
 
 fn draw_prompt(frame: &mut Frame, area: Rect, question: &str, text: &str, pal: &Palette) {

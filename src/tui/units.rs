@@ -51,10 +51,14 @@ pub fn parse_quantity(text: &str, q: Quantity) -> Result<f64, String> {
         (Quantity::Pressure, "MPa") => 1e6,
         (Quantity::Pressure, "GPa") => 1e9,
         (Quantity::Length, u) => {
-            return Err(format!("unknown length unit `{u}` (use m, cm, mm, um or nm)"))
+            return Err(format!(
+                "unknown length unit `{u}` (use m, cm, mm, um or nm)"
+            ))
         }
         (Quantity::Pressure, u) => {
-            return Err(format!("unknown pressure unit `{u}` (use Pa, kPa, MPa or GPa)"))
+            return Err(format!(
+                "unknown pressure unit `{u}` (use Pa, kPa, MPa or GPa)"
+            ))
         }
         (Quantity::Plain, u) => return Err(format!("`{u}`: this value takes no unit")),
     };
@@ -118,15 +122,35 @@ mod tests {
     #[test]
     fn engineering_input() {
         let close = |a: f64, b: f64| (a - b).abs() <= 1e-12 * b.abs();
-        assert!(close(parse_quantity("0.5e-3", Quantity::Length).unwrap(), 0.5e-3));
-        assert!(close(parse_quantity("0.5 mm", Quantity::Length).unwrap(), 0.5e-3));
-        assert!(close(parse_quantity("12.5um", Quantity::Length).unwrap(), 12.5e-6));
-        assert!(close(parse_quantity("200 GPa", Quantity::Pressure).unwrap(), 200e9));
-        assert!(close(parse_quantity("200e9", Quantity::Pressure).unwrap(), 200e9));
-        assert!(close(parse_quantity(" 20MPa ", Quantity::Pressure).unwrap(), 20e6));
+        assert!(close(
+            parse_quantity("0.5e-3", Quantity::Length).unwrap(),
+            0.5e-3
+        ));
+        assert!(close(
+            parse_quantity("0.5 mm", Quantity::Length).unwrap(),
+            0.5e-3
+        ));
+        assert!(close(
+            parse_quantity("12.5um", Quantity::Length).unwrap(),
+            12.5e-6
+        ));
+        assert!(close(
+            parse_quantity("200 GPa", Quantity::Pressure).unwrap(),
+            200e9
+        ));
+        assert!(close(
+            parse_quantity("200e9", Quantity::Pressure).unwrap(),
+            200e9
+        ));
+        assert!(close(
+            parse_quantity(" 20MPa ", Quantity::Pressure).unwrap(),
+            20e6
+        ));
         assert_eq!(parse_quantity("0.3", Quantity::Plain).unwrap(), 0.3);
         assert!(parse_quantity("0.3 mm", Quantity::Plain).is_err());
-        assert!(parse_quantity("5 furlongs", Quantity::Length).unwrap_err().contains("furlongs"));
+        assert!(parse_quantity("5 furlongs", Quantity::Length)
+            .unwrap_err()
+            .contains("furlongs"));
         assert!(parse_quantity("abc", Quantity::Length).is_err());
         assert!(parse_quantity("nan", Quantity::Length).is_err());
         assert!(parse_quantity("inf", Quantity::Plain).is_err());

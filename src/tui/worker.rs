@@ -185,8 +185,13 @@ fn worker_loop(jobs: Receiver<Job>, out: Sender<WorkerMsg>) {
 }
 
 /// Judges a matrix on a baseline for the charts.
-pub fn model_view(matrix: &PrbMatrix, baseline: &Baseline, angle_weight: f64) -> Result<ModelView, String> {
-    let e = evaluate(matrix, baseline, angle_weight).map_err(|e| format!("the PRB model fails: {e}"))?;
+pub fn model_view(
+    matrix: &PrbMatrix,
+    baseline: &Baseline,
+    angle_weight: f64,
+) -> Result<ModelView, String> {
+    let e = evaluate(matrix, baseline, angle_weight)
+        .map_err(|e| format!("the PRB model fails: {e}"))?;
     let solver = PrbSolver::new(matrix, baseline.model.axial_compliance());
     let mut linkages = Vec::with_capacity(e.cases.len());
     for path in &baseline.paths {
@@ -301,8 +306,14 @@ fn run_job(
             });
         }
     };
-    let report = fit(&baseline, &job.matrix, &options, &mut on_progress, &job.cancel)
-        .map_err(|e| format!("fit: {e}"))?;
+    let report = fit(
+        &baseline,
+        &job.matrix,
+        &options,
+        &mut on_progress,
+        &job.cancel,
+    )
+    .map_err(|e| format!("fit: {e}"))?;
     let model = model_view(&report.matrix, &baseline, job.angle_weight)?;
     send(WorkerMsg::Done {
         id: job.id,

@@ -1,0 +1,142 @@
+//! Whole screens rendered into ratatui's TestBackend and compared with stored snapshots
+//! (`tests/snapshots/`), at 120x40 and 80x24, plus the overlays, the too-small note and the
+//! colours a text snapshot cannot see.
+
+use std::sync::Arc;
+
+use prbfit::fit::{Fidelity, StopReason};
+use prbfit::scene::Scene;
+use prbfit::tui::app::{Activity, App, EditTarget, Panel, PromptKind, TextBox};
+use prbfit::tui::ui::draw;
+use prbfit::tui::worker::{baseline_view, model_view};
+use ratatui::backend::TestBackend;
+use ratatui::style::Color;
+use ratatui::Terminal;
+
+/// The app as it is after the first job on the built-in scene, with results computed here
+/// (deterministic: the same solver and matrix the worker would use).
+fn judged_app() -> App {
+    let mut app = App::new(Scene::builtin(), None);
+    let baseline = Fidelity::Normal.baseline(&app.scene).unwrap();
+    app.baseline = Some(Arc::new(baseline_view(&baseline)));
+    app.model = Some(model_view(&app.matrix, &baseline, 1.0).unwrap());
+    app.activity = Activity::Done {
+        seconds: 0.0123,
+        stop: Some(StopReason::Converged),
+        iterations: 42,
+        evaluations: 900,
+    };
+    app
+}
+
+fn render(app: &App, w: u16, h: u16) -> Terminal<TestBackend> {
+    let mut terminal = Terminal::new(TestBackend::new(w, h)).unwrap();
+    terminal.draw(|f| draw(f, app)).unwrap();
+    terminal
+}
+
+#[test]
+fn main_screen_120x40() {
+    let app = judged_app();
+    insta::assert_snapshot!("main_120x40", render(&app, 120, 40).backend());
+}
+
+#[test]
+fn main_screen_80x24() {
+    let app = judged_app();
+    insta::assert_snapshot!("main_80x24", render(&app, 80, 24).backend());
+}
+
+#[test]
+fn second_load_path_and_loads_focus() {
+    let mut app = judged_app();
+    app.focus = Panel::Loads;
+    app.load_row = 1;
+    app.load_col = 2;
+    insta::assert_snapshot!("loads_path2_120x40", render(&app, 120, 40).backend());
+}
+
+#[test]
+fn editing_a_cell() {
+    let mut app = judged_app();
+    app.focus = Panel::Matrix;
+    app.editing = Some((
+        EditTarget::Cell {
+            row: 2,
+            col: prbfit::prb::Column::KTheta,
+        },
+        TextBox { text: "3.1".into() },
+    ));
+    insta::assert_snapshot!("editing_80x24", render(&app, 80, 24).backend());
+}
+
+#[test]
+fn help_overlay() {
+    let mut app = judged_app();
+    app.help = true;
+    insta::assert_snapshot!("help_120x40", render(&app, 120, 40).backend());
+}
+
+#[test]
+fn quit_prompt_and_error_message() {
+    let mut app = judged_app();
+    app.prompt = Some((
+        PromptKind::ConfirmQuit,
+        TextBox {
+            text: String::new(),
+        },
+    ));
+    app.set_error("rejected: row 2, column k_theta: a spring constant must be > 0 or inf");
+    insta::assert_snapshot!("prompt_80x24", render(&app, 80, 24).backend());
+}
+
+#[test]
+fn before_any_result() {
+    let app = App::new(Scene::builtin(), None);
+    insta::assert_snapshot!("waiting_80x24", render(&app, 80, 24).backend());
+}
+
+#[test]
+fn too_small_terminal() {
+    let app = judged_app();
+    let t = render(&app, 50, 12);
+    let text = format!("{}", t.backend());
+    assert!(text.contains("too small"), "{text}");
+    insta::assert_snapshot!("too_small_50x12", t.backend());
+    // Even 1x1 draws without panicking.
+    render(&app, 1, 1);
+}
+
+/// Pass/fail is in colour as well as words, and NO_COLOR leaves no colour at all.
+#[test]
+fn colours_and_no_color() {
+    let app = judged_app();
+    let t = render(&app, 120, 40);
+    let buf = t.backend().buffer();
+    let status_row = 38;
+    let line: String = (0..120)
+        .map(|x| buf[(x, status_row)].symbol().to_string())
+        .collect();
+    let fail_x = line
+        .find("FAIL")
+        .expect("the built-in scene's Su 3R fails the position target") as u16;
+    assert_eq!(buf[(fail_x, status_row)].fg, Color::Red);
+    let pass_x = line.find("PASS").expect("and passes the angle target") as u16;
+    assert_eq!(buf[(pass_x, status_row)].fg, Color::Green);
+
+    let mut mono = judged_app();
+    mono.mono = true;
+    let t = render(&mono, 120, 40);
+    let buf = t.backend().buffer();
+    for y in 0..40 {
+        for x in 0..120 {
+            let c = &buf[(x, y)];
+            assert!(
+                matches!(c.fg, Color::Reset) && matches!(c.bg, Color::Reset),
+                "colour at ({x}, {y}): {:?} on {:?}",
+                c.fg,
+                c.bg
+            );
+        }
+    }
+}
