@@ -124,6 +124,8 @@ fn event_loop(
     let first = app.submit(app.live);
     execute_command(app, &worker, first, &mut trace);
     let mut redraw = true;
+    // When the last key arrived, until the frame that answers it is drawn.
+    let mut key_at: Option<Instant> = None;
     loop {
         if redraw {
             let t0 = Instant::now();
@@ -131,6 +133,11 @@ fn event_loop(
             if let Some(t) = &mut trace {
                 let ms = t0.elapsed().as_secs_f64() * 1e3;
                 t.line(format!("frame_ms {ms:.3}"));
+                if let Some(at) = key_at.take() {
+                    let busy = matches!(app.activity, app::Activity::Fitting(_));
+                    let ms = at.elapsed().as_secs_f64() * 1e3;
+                    t.line(format!("key_to_frame_ms {ms:.3} fitting={busy}"));
+                }
             }
             redraw = false;
         }
@@ -148,6 +155,7 @@ fn event_loop(
         if event::poll(timeout)? {
             match event::read()? {
                 Event::Key(key) => {
+                    key_at = Some(Instant::now());
                     commands.extend(app.on_key(key, Instant::now()));
                     redraw = true;
                 }
