@@ -229,6 +229,25 @@ fn valid_edits_apply() {
 }
 
 #[test]
+fn effect_toggles_keep_poisson_with_extension() {
+    let t0 = Instant::now();
+    let mut app = app();
+    app.focus = Panel::Beam;
+    // auto means all on; 2 switches extension off, and poisson with it.
+    app.on_key(key(KeyCode::Char('2')), t0);
+    assert_eq!(app.scene.beam.effects.to_string(), "shear");
+    app.on_key(key(KeyCode::Char('3')), t0);
+    assert_eq!(
+        app.scene.beam.effects.to_string(),
+        "shear,extension,poisson"
+    );
+    app.on_key(key(KeyCode::Char('1')), t0);
+    assert_eq!(app.scene.beam.effects.to_string(), "extension,poisson");
+    assert!(app.scene_dirty);
+    assert!(app.tick(t0 + DEBOUNCE).is_some());
+}
+
+#[test]
 fn free_flags_rows_and_presets() {
     let t0 = Instant::now();
     let mut app = app();
@@ -356,4 +375,54 @@ mod no_panics {
             prop_assert!(again.is_ok(), "{:?}", again);
         }
     }
+}
+
+/// The real worker: a job whose beam cannot be solved comes back as a message, and the
+/// worker goes on to answer the next job.
+#[test]
+fn worker_reports_failures_and_goes_on() {
+    use prbfit::beam::Load;
+    use prbfit::tui::worker::Worker;
+    let worker = Worker::spawn().unwrap();
+    let mut app = app();
+    // An exactly axial push far past Euler's load: the beam has no unique answer.
+    app.scene.loads[0].end = Load::new(-30.0, 0.0, 0.0);
+    let Command::Submit(job) = app.submit(false) else {
+        panic!()
+    };
+    let bad_id = job.id;
+    worker.submit(job);
+    let msg = worker
+        .messages
+        .recv_timeout(Duration::from_secs(30))
+        .unwrap();
+    match &msg {
+        WorkerMsg::Failed { id, message } => {
+            assert_eq!(*id, bad_id);
+            assert!(message.contains("critical point"), "{message}");
+        }
+        other => panic!("expected a failure, got {other:?}"),
+    }
+    app.on_worker(msg);
+    assert!(matches!(app.activity, Activity::Failed(_)));
+    app.scene = Scene::builtin();
+    let Command::Submit(job) = app.submit(true) else {
+        panic!()
+    };
+    let good_id = job.id;
+    worker.submit(job);
+    loop {
+        let msg = worker
+            .messages
+            .recv_timeout(Duration::from_secs(60))
+            .unwrap();
+        assert_eq!(msg.id(), good_id);
+        let done = matches!(msg, WorkerMsg::Done { .. });
+        app.on_worker(msg);
+        if done {
+            break;
+        }
+    }
+    assert!(matches!(app.activity, Activity::Done { stop: Some(_), .. }));
+    assert!(app.report.is_some() && app.baseline.is_some() && app.model.is_some());
 }

@@ -204,7 +204,7 @@ impl BeamModel {
     }
 
     /// The section state for an axial force `n`: strain, `d eps / d N`, shrink factor `p`.
-    #[inline]
+    #[inline(always)]
     pub(crate) fn axial_strain(&self, n: f64) -> Result<(f64, f64, f64), MaterialLimit> {
         if !self.effects.extension {
             return Ok((0.0, 0.0, 1.0));
@@ -250,8 +250,8 @@ impl fmt::Display for MaterialLimit {
 }
 
 /// Solves `eps (1 - nu eps)^2 = r` for the physical root `eps < 1 / (3 nu)`.
-/// Returns `eps` and the slope `d/d eps [eps (1 - nu eps)^2]` there.
-#[inline]
+/// Returns `eps` and `d eps / d r` there.
+#[inline(always)]
 fn solve_poisson(nu: f64, r: f64) -> Option<(f64, f64)> {
     let eps_peak = 1.0 / (3.0 * nu);
     let r_peak = 4.0 / (27.0 * nu);
@@ -259,6 +259,18 @@ fn solve_poisson(nu: f64, r: f64) -> Option<(f64, f64)> {
         return None;
     }
     // For r < 0, (1 - nu eps)^2 > 1 so r <= eps < 0; for r > 0, r <= eps < eps_peak.
+    // Small strains (every slender beam): the Lagrange-inversion series of the root,
+    // eps = r (1 + 2 x + 7 x^2 + 30 x^3 + ...) with x = nu r, to four terms leaves a relative
+    // error below (27 |x| / 4)^4 < 3e-9 for |x| < 1e-3, and one Newton step squares that to
+    // round-off.
+    let x = nu * r;
+    if x.abs() < 1e-3 {
+        let eps = r * (1.0 + x * (2.0 + x * (7.0 + x * 30.0)));
+        let p = 1.0 - nu * eps;
+        let eps = eps - (eps * p * p - r) / (p * (1.0 - 3.0 * nu * eps));
+        let p = 1.0 - nu * eps;
+        return Some((eps, 1.0 / (p * (1.0 - 3.0 * nu * eps))));
+    }
     let (mut lo, mut hi) = if r < 0.0 { (r, 0.0) } else { (r, eps_peak) };
     // Two terms of the series r + 2 nu r^2 + ... start Newton close to the root.
     let mut eps = (r + 2.0 * nu * r * r).clamp(lo, hi);
@@ -287,7 +299,7 @@ fn solve_poisson(nu: f64, r: f64) -> Option<(f64, f64)> {
         }
     }
     let p = 1.0 - nu * eps;
-    Some((eps, p * (1.0 - 3.0 * nu * eps)))
+    Some((eps, 1.0 / (p * (1.0 - 3.0 * nu * eps))))
 }
 
 #[cfg(test)]

@@ -421,6 +421,9 @@ impl App {
             KeyCode::Char('t') => self.open_prompt(PromptKind::Topology, self.matrix.topology()),
             KeyCode::Char('m') => self.next_published_model(now),
             KeyCode::Char('f') if self.focus == Panel::Matrix => self.toggle_free(now),
+            KeyCode::Char(c @ ('1' | '2' | '3')) if self.focus == Panel::Beam => {
+                self.toggle_effect(c, now)
+            }
             KeyCode::Char('a') => self.add_row(now),
             KeyCode::Char('d') => self.delete_row(now),
             KeyCode::Char('[') => self.select_path(-1),
@@ -756,6 +759,27 @@ impl App {
         self.matrix = m;
         self.model_dirty = true;
         self.matrix_row = self.matrix_row.min(self.matrix.len() - 1);
+        self.changed(now);
+    }
+
+    /// 1, 2, 3 switch shear, extension, poisson (poisson needs extension, so they move
+    /// together where they must).
+    fn toggle_effect(&mut self, which: char, now: Instant) {
+        let mut e = self.scene.beam.effects.resolve();
+        match which {
+            '1' => e.shear = !e.shear,
+            '2' => {
+                e.extension = !e.extension;
+                e.poisson &= e.extension;
+            }
+            _ => {
+                e.poisson = !e.poisson;
+                e.extension |= e.poisson;
+            }
+        }
+        self.scene.beam.effects = EffectsChoice::Fixed(e);
+        self.scene_dirty = true;
+        self.set_info(format!("effects: {e}"));
         self.changed(now);
     }
 

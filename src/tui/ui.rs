@@ -583,7 +583,7 @@ fn draw_hints(frame: &mut Frame, area: Rect, app: &App, pal: &Palette) {
                 " ? keys · q quit · Tab panel · Enter edit · a/d path · [ ] shown path · r fit · c cancel · space live · v fidelity · s save · o open"
             }
             Panel::Beam => {
-                " ? keys · q quit · Tab panel · Enter edit (0.5 mm, 200 GPa) · r fit · c cancel · space live · v fidelity · s save · o open"
+                " ? keys · q quit · Tab panel · Enter edit (0.5 mm, 200 GPa) · 1/2/3 shear/extension/poisson · r fit · c cancel · space live · v fidelity"
             }
         }
     };
@@ -602,6 +602,10 @@ pub const HELP: &[(&str, &str)] = &[
         "edit the selected field or cell; Enter accepts, Esc cancels",
     ),
     ("f", "matrix: toggle the cell free (fitted) / fixed (!)"),
+    (
+        "1 / 2 / 3",
+        "beam: switch shear / extension / poisson on or off",
+    ),
     ("a / d", "add / delete a matrix row or a load path"),
     (
         "t",
