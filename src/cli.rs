@@ -17,6 +17,7 @@ use prbfit::files::{write_atomic, WriteError};
 use prbfit::fit::{fit, CancelToken, Fidelity, FitError, FitOptions};
 use prbfit::prb::{PrbMatrix, PrbSolver};
 use prbfit::scene::{ModelFile, ModelFormat, Scene, SceneError};
+use prbfit::select::{resolve_effects, select, EffectsDecision};
 
 #[derive(Parser)]
 #[command(
@@ -38,6 +39,10 @@ enum Command {
     Eval(EvalArgs),
     /// Fit the free cells of a PRB matrix to the beam over the scene's loads.
     Fit(FitArgs),
+    /// Fit the topology ladder and pick the simplest model that meets the scene's targets.
+    Select(SelectArgs),
+    /// Measure the speed/accuracy trade along each knob.
+    Tradeoff(TradeoffArgs),
     /// Open the terminal UI (the default with no command) on a scene file or the built-in one.
     Tui {
         /// Scene file (TOML); default: the built-in scene.
@@ -130,6 +135,24 @@ struct FitArgs {
     force: bool,
 }
 
+#[derive(Args)]
+struct SelectArgs {
+    #[command(flatten)]
+    common: Common,
+    /// draft, normal or precise.
+    #[arg(long, value_name = "LEVEL", default_value = "normal", value_parser = Fidelity::from_str)]
+    fidelity: Fidelity,
+}
+
+#[derive(Args)]
+struct TradeoffArgs {
+    #[command(flatten)]
+    common: Common,
+    /// The topology the sampling and fidelity knobs fit.
+    #[arg(long, value_name = "TOPO", default_value = "L-R-R-R")]
+    topology: String,
+}
+
 /// An error in what the user gave us: exit status 2.
 #[derive(Debug, thiserror::Error)]
 #[error("{0}")]
@@ -163,6 +186,8 @@ pub fn run() -> ExitCode {
         Some(Command::Solve(args)) => solve(args),
         Some(Command::Eval(args)) => eval(args),
         Some(Command::Fit(args)) => fit_command(args),
+        Some(Command::Select(args)) => select_command(args),
+        Some(Command::Tradeoff(args)) => tradeoff_command(args),
         Some(Command::Tui { scene }) => tui(scene),
         None => tui(None),
     };
@@ -194,6 +219,46 @@ fn load_scene(common: &Common) -> Result<Scene> {
     }
 }
 
+/// The scene with `effects = "auto"` decided, and the decision.
+fn resolved_scene(common: &Common) -> Result<(Scene, Option<EffectsDecision>)> {
+    let scene = load_scene(common)?;
+    Ok(resolve_effects(&scene, Resolution::default()).context("deciding the beam effects")?)
+}
+
+fn decision_json(decision: &Option<EffectsDecision>) -> serde_json::Value {
+    match decision {
+        Some(d) => serde_json::to_value(d).expect("finite figures"),
+        None => serde_json::Value::Null,
+    }
+}
+
+/// One line saying what `effects = "auto"` decided.
+fn decision_line(decision: &Option<EffectsDecision>) -> Option<String> {
+    let d = decision.as_ref()?;
+    let part = |kept: bool| {
+        d.impacts
+            .iter()
+            .filter(|i| i.kept == kept)
+            .map(|i| {
+                format!(
+                    "{} ({:.1}% of target)",
+                    i.effect,
+                    i.fraction_of_target * 100.0
+                )
+            })
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let (kept, dropped) = (part(true), part(false));
+    Some(format!(
+        "effects auto: kept [{}]; dropped [{}] (together {:.1}% of target; threshold {:.0}%)",
+        kept,
+        dropped,
+        d.dropped_together_fraction * 100.0,
+        d.threshold * 100.0
+    ))
+}
+
 /// The beam of the scene with the command-line overrides applied; errors name the flag.
 fn beam_model(scene: &Scene, args: &SolveArgs) -> Result<BeamModel> {
     let base = scene.beam.model();
@@ -223,7 +288,11 @@ fn beam_model(scene: &Scene, args: &SolveArgs) -> Result<BeamModel> {
 }
 
 fn solve(args: SolveArgs) -> Result<()> {
-    let scene = load_scene(&args.common)?;
+    let (scene, decision) = if args.effects.is_some() {
+        (load_scene(&args.common)?, None)
+    } else {
+        resolved_scene(&args.common)?
+    };
     let model = beam_model(&scene, &args)?;
     let resolution = Resolution::with_tol(args.tol);
     let solver =
@@ -244,6 +313,7 @@ fn solve(args: SolveArgs) -> Result<()> {
                 "continuation_steps": sol.continuation_steps,
                 "stability": sol.convergence.stability,
                 "beam": beam_json(&model),
+                "effects_decision": decision_json(&decision),
                 "tol": args.tol,
                 "seconds": seconds,
             });
@@ -252,6 +322,9 @@ fn solve(args: SolveArgs) -> Result<()> {
             }
             print_json(&out)?;
         } else {
+            if let Some(line) = decision_line(&decision) {
+                println!("{line}");
+            }
             println!("{}", beam_line(&model));
             println!("load: {load}");
             println!(
@@ -298,12 +371,16 @@ fn solve(args: SolveArgs) -> Result<()> {
         print_json(&json!({
             "scene": scene.name,
             "beam": beam_json(&model),
+            "effects_decision": decision_json(&decision),
             "tol": args.tol,
             "cases": cases,
             "seconds": seconds,
         }))?;
     } else {
         println!("scene: {}", scene.name);
+        if let Some(line) = decision_line(&decision) {
+            println!("{line}");
+        }
         println!("{}", beam_line(&model));
         println!(
             "{:>9} {:>9} {:>9} | {:>12} {:>12} {:>12} | {:>5}",
@@ -378,7 +455,7 @@ fn named_models(args: &EvalArgs) -> Result<Vec<(String, PrbMatrix)>> {
 }
 
 fn eval(args: EvalArgs) -> Result<()> {
-    let scene = load_scene(&args.common)?;
+    let (scene, decision) = resolved_scene(&args.common)?;
     let models = named_models(&args)?;
     let resolution = Resolution::with_tol(args.tol);
     let json = args.common.json;
@@ -464,6 +541,7 @@ fn eval(args: EvalArgs) -> Result<()> {
             .collect();
         let mut out = one_or_many(objs);
         out["scene"] = json!(scene.name);
+        out["effects_decision"] = decision_json(&decision);
         out["baseline_seconds"] = json!(baseline.seconds);
         print_json(&out)?;
     } else {
@@ -512,7 +590,7 @@ fn one_or_many(mut objs: Vec<serde_json::Value>) -> serde_json::Value {
 }
 
 fn fit_command(args: FitArgs) -> Result<()> {
-    let scene = load_scene(&args.common)?;
+    let (scene, decision) = resolved_scene(&args.common)?;
     let start = match (&args.topology, &args.prb) {
         (Some(t), _) => {
             PrbMatrix::from_topology(t).map_err(|e| bad(format!("--topology {t}: {e}")))?
@@ -573,10 +651,14 @@ fn fit_command(args: FitArgs) -> Result<()> {
             "stop_reason": report.stop,
             "fidelity": args.fidelity,
             "cases": baseline.case_count(),
+            "effects_decision": decision_json(&decision),
             "baseline_seconds": baseline.seconds,
             "seconds": seconds,
         }))?;
     } else {
+        if let Some(line) = decision_line(&decision) {
+            println!("{line}");
+        }
         println!(
             "scene: {} ({} load cases at {} fidelity)",
             scene.name,
@@ -619,4 +701,120 @@ fn tui(path: Option<PathBuf>) -> Result<()> {
         None => Scene::builtin(),
     };
     prbfit::tui::run(scene, path).map_err(|e| bad(format!("{e:#}")))
+}
+
+fn select_command(args: SelectArgs) -> Result<()> {
+    let (scene, decision) = resolved_scene(&args.common)?;
+    let t0 = Instant::now();
+    let baseline = args.fidelity.baseline(&scene).context("baseline beam")?;
+    let selection = select(
+        &scene,
+        &baseline,
+        args.fidelity,
+        &CancelToken::new(),
+        &mut |_| {},
+    )?;
+    let seconds = t0.elapsed().as_secs_f64();
+    if args.common.json {
+        let mut v = serde_json::to_value(&selection)?;
+        let row = |i: Option<usize>| match i {
+            Some(i) => serde_json::to_value(&selection.rows[i]).expect("finite"),
+            None => serde_json::Value::Null,
+        };
+        v["chosen"] = row(selection.chosen);
+        v["closest"] = row(Some(selection.closest));
+        v["scene"] = json!(scene.name);
+        v["targets"] = json!(scene.accuracy);
+        v["effects_decision"] = decision_json(&decision);
+        v["seconds"] = json!(seconds);
+        print_json(&v)?;
+        return Ok(());
+    }
+    println!(
+        "scene: {} ({} load cases, {} fidelity)",
+        scene.name,
+        baseline.case_count(),
+        args.fidelity
+    );
+    if let Some(line) = decision_line(&decision) {
+        println!("{line}");
+    }
+    println!(
+        "targets: max position error {} L, max angle error {} rad",
+        scene.accuracy.max_pos_err, scene.accuracy.max_ang_err
+    );
+    println!(
+        "{:<12} {:<11} {:>3} {:>11} {:>10} {:>10} {:>11} {:>9}  targets",
+        "model", "topology", "dof", "J", "max pos", "max ang", "us/case", "fit ms"
+    );
+    for (i, r) in selection.rows.iter().enumerate() {
+        let mark = if Some(i) == selection.chosen {
+            " <- chosen"
+        } else {
+            ""
+        };
+        println!(
+            "{:<12} {:<11} {:>3} {:>11.4e} {:>10.3e} {:>10.3e} {:>11.3} {:>9.1}  {}{}",
+            r.name,
+            r.topology,
+            r.dof,
+            r.figures.objective,
+            r.figures.max_pos_err,
+            r.figures.max_ang_err,
+            r.eval_seconds_per_case * 1e6,
+            r.fit_seconds * 1e3,
+            if r.meets_targets { "met" } else { "not met" },
+            mark
+        );
+    }
+    match selection.chosen {
+        Some(i) => {
+            let r = &selection.rows[i];
+            println!("chosen: {} ({}): {}", r.name, r.topology, r.prb);
+        }
+        None => {
+            let r = &selection.rows[selection.closest];
+            println!(
+                "no model meets the targets; closest: {} ({}), its worst error is {:.2}x its target",
+                r.name, r.topology, r.target_ratio
+            );
+        }
+    }
+    println!("{:.2} s in all", seconds);
+    Ok(())
+}
+
+fn tradeoff_command(args: TradeoffArgs) -> Result<()> {
+    let (scene, decision) = resolved_scene(&args.common)?;
+    let start = PrbMatrix::from_topology(&args.topology)
+        .map_err(|e| bad(format!("--topology {}: {e}", args.topology)))?;
+    let knobs = prbfit::tradeoff::measure(&scene, &start)?;
+    if args.common.json {
+        print_json(&json!({
+            "scene": scene.name,
+            "topology": args.topology,
+            "effects_decision": decision_json(&decision),
+            "knobs": knobs,
+        }))?;
+        return Ok(());
+    }
+    println!(
+        "scene: {}; fitted topology for the fit knobs: {}",
+        scene.name, args.topology
+    );
+    if let Some(line) = decision_line(&decision) {
+        println!("{line}");
+    }
+    for k in &knobs {
+        println!("\n{}: time = {}; error = {}", k.knob, k.time_of, k.error_of);
+        for r in &k.rows {
+            let time = if r.seconds < 1e-3 {
+                format!("{:.2} us", r.seconds * 1e6)
+            } else {
+                format!("{:.1} ms", r.seconds * 1e3)
+            };
+            println!("  {:<28} {:>12} {:>12.3e}", r.setting, time, r.error);
+        }
+    }
+    Ok(())
 }

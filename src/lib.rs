@@ -5,6 +5,9 @@
 //! - [`eval`]: a PRB model judged against the beam over a scene (DESIGN §4),
 //! - [`fit`]: optimal PRB parameters for any topology (DESIGN §4),
 //! - [`prb`]: the PRB matrix, topology names, kinematics and statics (DESIGN §3),
+//! - [`select`]: automatic beam effects and the topology ladder (the simplest model that
+//!   meets the scene's targets),
+//! - [`tradeoff`]: the speed/accuracy trade measured along each knob,
 //! - [`scene`]: scene files — beam, load paths, accuracy targets (DESIGN §5),
 //! - [`tui`]: the terminal UI (the only module that touches the terminal).
 
@@ -15,4 +18,6 @@ pub mod fit;
 pub mod linalg;
 pub mod prb;
 pub mod scene;
+pub mod select;
+pub mod tradeoff;
 pub mod tui;

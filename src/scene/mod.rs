@@ -2,8 +2,9 @@
 //! (DESIGN §5). A scene is read from TOML, validated with errors that name the file, line and
 //! key, and converted from SI to the nondimensional core.
 //!
-//! `effects = "auto"` is accepted and, until automatic effect selection lands, means every
-//! effect on (shear, extension, poisson): the safe superset, never a silently thinner model.
+//! `effects = "auto"` is decided from the beam, the loads and the targets by
+//! [`crate::select::decide_effects`]; code that has not decided it (a scene just read)
+//! treats it as every effect on, the safe superset.
 
 mod model_file;
 

@@ -1,0 +1,287 @@
+//! Modelling only what a scene requires (the paper's "simple procedure that leads the user to
+//! the most effective PRB model for each situation", made automatic and measured):
+//!
+//! - [`decide_effects`]: which of shear, extension and Poisson change the beam's tip by more
+//!   than [`AUTO_FRACTION`] of the scene's accuracy targets; only those are kept.
+//! - [`select`]: fits a ladder of topologies in order of complexity, judges the published
+//!   models as they are, and picks the simplest model that meets the targets.
+
+use std::time::Instant;
+
+use serde::Serialize;
+
+use crate::beam::{BeamSolution, Effects, Resolution};
+use crate::eval::{evaluate, Baseline, BaselineError, ErrorFigures};
+use crate::fit::{fit, CancelToken, Fidelity, FitError, FitOptions};
+use crate::prb::PrbMatrix;
+use crate::scene::{Accuracy, BeamSpec, EffectsChoice, LoadPath, ModelFile, Scene};
+
+/// An effect is kept when dropping it moves the tip by more than this fraction of the
+/// scene's accuracy target (position or angle, whichever is nearer its target).
+pub const AUTO_FRACTION: f64 = 0.1;
+
+/// What dropping one effect does to the tip.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct EffectImpact {
+    pub effect: &'static str,
+    /// Largest tip position change over the scene's cases, units of L.
+    pub pos_change: f64,
+    /// Largest tip angle change, radians.
+    pub ang_change: f64,
+    /// The larger of the two changes as a fraction of its target.
+    pub fraction_of_target: f64,
+    pub kept: bool,
+}
+
+/// The effects chosen for a scene, and why.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct EffectsDecision {
+    pub effects: Effects,
+    pub impacts: Vec<EffectImpact>,
+    /// The tip change of dropping every dropped effect together (checked, not assumed), as a
+    /// fraction of the target.
+    pub dropped_together_fraction: f64,
+    pub threshold: f64,
+}
+
+/// Largest tip change between two solves of the same cases, as (position, angle).
+fn tip_change(a: &[BeamSolution], b: &[BeamSolution]) -> (f64, f64) {
+    a.iter().zip(b).fold((0.0_f64, 0.0_f64), |(p, q), (x, y)| {
+        (
+            p.max((x.tip.a - y.tip.a).hypot(x.tip.b - y.tip.b)),
+            q.max((x.tip.phi - y.tip.phi).abs()),
+        )
+    })
+}
+
+fn fraction(change: (f64, f64), accuracy: &Accuracy) -> f64 {
+    (change.0 / accuracy.max_pos_err).max(change.1 / accuracy.max_ang_err)
+}
+
+/// Decides the effects for a beam under the given loads and targets.
+///
+/// Every effect is judged against the full model (all on): drop it (dropping extension drops
+/// Poisson too), solve every case, and keep the effect if the tip moves by more than
+/// [`AUTO_FRACTION`] of the target. Then all dropped effects are dropped together and checked
+/// once more; should the combination exceed the fraction, the most influential dropped
+/// effect is taken back until it does not.
+pub fn decide_effects(
+    beam: &BeamSpec,
+    loads: &[LoadPath],
+    accuracy: &Accuracy,
+    resolution: Resolution,
+) -> Result<EffectsDecision, BaselineError> {
+    let with = |effects: Effects| -> Result<Vec<BeamSolution>, BaselineError> {
+        let mut b = *beam;
+        b.effects = EffectsChoice::Fixed(effects);
+        Ok(Baseline::for_model(b.model(), loads, resolution)?.solutions)
+    };
+    let full = with(Effects::ALL)?;
+    let mut impacts = Vec::new();
+    for effect in ["shear", "extension", "poisson"] {
+        let mut e = Effects::ALL;
+        match effect {
+            "shear" => e.shear = false,
+            "extension" => {
+                e.extension = false;
+                e.poisson = false;
+            }
+            _ => e.poisson = false,
+        }
+        let change = tip_change(&full, &with(e)?);
+        let frac = fraction(change, accuracy);
+        impacts.push(EffectImpact {
+            effect,
+            pos_change: change.0,
+            ang_change: change.1,
+            fraction_of_target: frac,
+            kept: frac > AUTO_FRACTION,
+        });
+    }
+    // Poisson acts through extension: keeping Poisson keeps extension.
+    if impacts[2].kept {
+        impacts[1].kept = true;
+    }
+    loop {
+        let effects = Effects {
+            shear: impacts[0].kept,
+            extension: impacts[1].kept,
+            poisson: impacts[2].kept,
+        };
+        let together = fraction(tip_change(&full, &with(effects)?), accuracy);
+        if together <= AUTO_FRACTION || impacts.iter().all(|i| i.kept) {
+            return Ok(EffectsDecision {
+                effects,
+                impacts,
+                dropped_together_fraction: together,
+                threshold: AUTO_FRACTION,
+            });
+        }
+        // Take back the dropped effect that matters most.
+        let back = impacts
+            .iter()
+            .enumerate()
+            .filter(|(_, i)| !i.kept)
+            .max_by(|a, b| a.1.fraction_of_target.total_cmp(&b.1.fraction_of_target))
+            .map(|(k, _)| k)
+            .expect("something is dropped");
+        impacts[back].kept = true;
+        if back == 2 {
+            impacts[1].kept = true;
+        }
+    }
+}
+
+/// The scene with `effects = "auto"` replaced by the decided effects (and the decision), or
+/// the scene as it is.
+pub fn resolve_effects(
+    scene: &Scene,
+    resolution: Resolution,
+) -> Result<(Scene, Option<EffectsDecision>), BaselineError> {
+    if scene.beam.effects != EffectsChoice::Auto {
+        return Ok((scene.clone(), None));
+    }
+    let decision = decide_effects(&scene.beam, &scene.loads, &scene.accuracy, resolution)?;
+    let mut resolved = scene.clone();
+    resolved.beam.effects = EffectsChoice::Fixed(decision.effects);
+    Ok((resolved, Some(decision)))
+}
+
+/// The topologies tried, simplest first: revolute chains, and with extension in the scene's
+/// effects, their extension-spring variants.
+pub fn ladder(effects: Effects) -> Vec<&'static str> {
+    let mut out = vec!["L-R", "L-R-R", "L-R-R-R", "L-R-R-R-R"];
+    if effects.extension {
+        out.extend(["L-RP", "L-R-RP", "L-RP-RP-RP"]);
+    }
+    out
+}
+
+/// Joint degrees of freedom of a matrix: one per revolute and per prismatic joint.
+pub fn joint_dof(m: &PrbMatrix) -> usize {
+    m.revolute_count() + m.prismatic_count()
+}
+
+/// One row of the selection table.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Rung {
+    /// The topology, or the published model's name.
+    pub name: String,
+    pub topology: String,
+    pub published: bool,
+    #[serde(serialize_with = "as_text")]
+    pub prb: PrbMatrix,
+    pub dof: usize,
+    pub figures: ErrorFigures,
+    pub meets_targets: bool,
+    /// Worst ratio of an error figure to its target (1 = on target).
+    pub target_ratio: f64,
+    /// Time to solve the PRB model for one load case, seconds.
+    pub eval_seconds_per_case: f64,
+    /// Fit time (0 for a published model), seconds.
+    pub fit_seconds: f64,
+}
+
+fn as_text<S: serde::Serializer>(m: &PrbMatrix, s: S) -> Result<S::Ok, S::Error> {
+    s.serialize_str(&m.to_text())
+}
+
+/// The table and the choice.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Selection {
+    pub rows: Vec<Rung>,
+    /// Index of the simplest row that meets the targets.
+    pub chosen: Option<usize>,
+    /// Index of the row nearest the targets (by `target_ratio`).
+    pub closest: usize,
+    pub fidelity: Fidelity,
+}
+
+/// Median-free cost of judging a matrix: repeated until 5 ms have passed.
+fn eval_cost(m: &PrbMatrix, baseline: &Baseline, weight: f64) -> f64 {
+    let t0 = Instant::now();
+    let mut n = 0u32;
+    while n < 3 || t0.elapsed().as_secs_f64() < 0.005 {
+        let _ = evaluate(m, baseline, weight);
+        n += 1;
+    }
+    t0.elapsed().as_secs_f64() / n as f64 / baseline.case_count().max(1) as f64
+}
+
+/// Fits the ladder and judges the published models on `baseline`; `on_row` sees each row as
+/// it is done. Cancelled, it returns what it has.
+pub fn select(
+    scene: &Scene,
+    baseline: &Baseline,
+    fidelity: Fidelity,
+    cancel: &CancelToken,
+    on_row: &mut dyn FnMut(&Rung),
+) -> Result<Selection, FitError> {
+    let accuracy = scene.accuracy;
+    let weight = scene.fit.angle_weight;
+    let rung = |name: String, m: PrbMatrix, published: bool, figures: ErrorFigures, fit_seconds| {
+        let ratio = (figures.max_pos_err / accuracy.max_pos_err)
+            .max(figures.max_ang_err / accuracy.max_ang_err);
+        Rung {
+            name,
+            topology: m.topology(),
+            published,
+            dof: joint_dof(&m),
+            figures,
+            meets_targets: figures.meets(&accuracy),
+            target_ratio: ratio,
+            eval_seconds_per_case: eval_cost(&m, baseline, weight),
+            fit_seconds,
+            prb: m,
+        }
+    };
+    let mut rows = Vec::new();
+    for topology in ladder(baseline.model.effects) {
+        if cancel.is_cancelled() {
+            break;
+        }
+        let start = PrbMatrix::from_topology(topology).expect("ladder topologies are valid");
+        let options = FitOptions {
+            fidelity,
+            angle_weight: weight,
+            seed: 1,
+        };
+        let t0 = Instant::now();
+        let report = fit(baseline, &start, &options, &mut |_| {}, cancel)?;
+        let row = rung(
+            topology.to_string(),
+            report.matrix,
+            false,
+            report.figures,
+            t0.elapsed().as_secs_f64(),
+        );
+        on_row(&row);
+        rows.push(row);
+    }
+    for model in ModelFile::published() {
+        if let Ok(e) = evaluate(&model.prb, baseline, weight) {
+            let row = rung(model.name.clone(), model.prb, true, e.figures, 0.0);
+            on_row(&row);
+            rows.push(row);
+        }
+    }
+    // Simplest first: joint freedoms, then fitted before published, then J.
+    rows.sort_by(|a, b| {
+        (a.dof, a.published)
+            .cmp(&(b.dof, b.published))
+            .then(a.figures.objective.total_cmp(&b.figures.objective))
+    });
+    let chosen = rows.iter().position(|r| r.meets_targets);
+    let closest = rows
+        .iter()
+        .enumerate()
+        .min_by(|a, b| a.1.target_ratio.total_cmp(&b.1.target_ratio))
+        .map(|(i, _)| i)
+        .unwrap_or(0);
+    Ok(Selection {
+        rows,
+        chosen,
+        closest,
+        fidelity,
+    })
+}

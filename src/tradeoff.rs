@@ -1,0 +1,205 @@
+//! The speed/accuracy trade, measured along each knob (time against error, the error taken
+//! against a converged reference):
+//!
+//! - beam resolution: the integrator tolerance; time per load case and the worst tip error
+//!   against tol = 1e-13;
+//! - load sampling: how many cases along each path the fit sees; fit time and the fitted
+//!   model's J on a dense, precise reference sampling;
+//! - fidelity preset: the same for draft, normal, precise;
+//! - topology: the cost of one PRB load case and the fitted model's J.
+
+use std::time::Instant;
+
+use serde::Serialize;
+
+use crate::beam::Resolution;
+use crate::eval::{evaluate, Baseline, BaselineError};
+use crate::fit::{fit, CancelToken, Fidelity, FitError, FitOptions};
+use crate::prb::PrbMatrix;
+use crate::scene::{LoadPath, Scene};
+use crate::select::ladder;
+
+/// One measured setting of a knob.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct TradeoffRow {
+    pub setting: String,
+    pub seconds: f64,
+    pub error: f64,
+}
+
+/// One knob's measurements.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Knob {
+    pub knob: &'static str,
+    /// What `seconds` measures.
+    pub time_of: &'static str,
+    /// What `error` measures.
+    pub error_of: &'static str,
+    pub rows: Vec<TradeoffRow>,
+}
+
+/// Why a trade-off could not be measured.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum TradeoffError {
+    #[error(transparent)]
+    Baseline(#[from] BaselineError),
+    #[error(transparent)]
+    Fit(#[from] FitError),
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
+}
+
+fn scaled(paths: &[LoadPath], factor: f64) -> Vec<LoadPath> {
+    paths
+        .iter()
+        .map(|p| LoadPath {
+            end: p.end,
+            steps: ((p.steps as f64 * factor).ceil() as u32).max(1),
+        })
+        .collect()
+}
+
+/// Measures every knob on `scene` (effects already resolved). `start` is the model the
+/// sampling and fidelity knobs fit.
+pub fn measure(scene: &Scene, start: &PrbMatrix) -> Result<Vec<Knob>, TradeoffError> {
+    let model = scene.beam.model();
+    let weight = scene.fit.angle_weight;
+    let mut knobs = Vec::new();
+
+    // Beam resolution.
+    let truth = Baseline::for_model(model, &scene.loads, Resolution::with_tol(1e-13))?;
+    let mut rows = Vec::new();
+    for tol in [1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11] {
+        let mut times = Vec::new();
+        let mut last = None;
+        for _ in 0..5 {
+            let b = Baseline::for_model(model, &scene.loads, Resolution::with_tol(tol))?;
+            times.push(b.seconds / b.case_count().max(1) as f64);
+            last = Some(b);
+        }
+        let b = last.expect("five runs");
+        let error = b
+            .solutions
+            .iter()
+            .zip(&truth.solutions)
+            .map(|(x, y)| x.tip.max_diff(&y.tip))
+            .fold(0.0, f64::max);
+        rows.push(TradeoffRow {
+            setting: format!("tol {tol:.0e}"),
+            seconds: median(times),
+            error,
+        });
+    }
+    knobs.push(Knob {
+        knob: "beam resolution",
+        time_of: "one load case (median of 5 scene solves)",
+        error_of: "worst tip error against tol 1e-13 (L, rad)",
+        rows,
+    });
+
+    // The fitted knobs are judged on a dense, precise reference sampling.
+    let reference = Baseline::for_model(
+        model,
+        &scene
+            .loads
+            .iter()
+            .map(|p| LoadPath {
+                end: p.end,
+                steps: p.steps * 4,
+            })
+            .collect::<Vec<_>>(),
+        Resolution::with_tol(1e-10),
+    )?;
+    let fit_on = |paths: &[LoadPath], fidelity: Fidelity| -> Result<(f64, f64), TradeoffError> {
+        let t0 = Instant::now();
+        let baseline = Baseline::for_model(model, paths, fidelity.resolution())?;
+        let options = FitOptions {
+            fidelity,
+            angle_weight: weight,
+            seed: 1,
+        };
+        let report = fit(&baseline, start, &options, &mut |_| {}, &CancelToken::new())?;
+        let seconds = t0.elapsed().as_secs_f64();
+        let j = evaluate(&report.matrix, &reference, weight)
+            .map(|e| e.figures.objective)
+            .unwrap_or(f64::INFINITY);
+        Ok((seconds, j))
+    };
+
+    let mut rows = Vec::new();
+    for factor in [0.25, 0.5, 1.0, 2.0, 4.0] {
+        let paths = scaled(&scene.loads, factor);
+        let cases: u32 = paths.iter().map(|p| p.steps).sum();
+        let (seconds, j) = fit_on(&paths, Fidelity::Normal)?;
+        rows.push(TradeoffRow {
+            setting: format!("{factor}x steps ({cases} cases)"),
+            seconds,
+            error: j,
+        });
+    }
+    knobs.push(Knob {
+        knob: "load sampling",
+        time_of: "baseline + fit, normal fidelity",
+        error_of: "J of the fitted model on the reference (4x steps, tol 1e-10)",
+        rows,
+    });
+
+    let mut rows = Vec::new();
+    for fidelity in Fidelity::ALL {
+        let (seconds, j) = fit_on(&fidelity.sample(&scene.loads), fidelity)?;
+        rows.push(TradeoffRow {
+            setting: fidelity.to_string(),
+            seconds,
+            error: j,
+        });
+    }
+    knobs.push(Knob {
+        knob: "fidelity preset",
+        time_of: "baseline + fit",
+        error_of: "J of the fitted model on the reference (4x steps, tol 1e-10)",
+        rows,
+    });
+
+    let mut rows = Vec::new();
+    let baseline = Fidelity::Normal.baseline(scene)?;
+    for topo in ladder(model.effects) {
+        let start = PrbMatrix::from_topology(topo).expect("ladder topologies are valid");
+        let options = FitOptions {
+            fidelity: Fidelity::Normal,
+            angle_weight: weight,
+            seed: 1,
+        };
+        let report = fit(
+            &baseline,
+            &start,
+            &options,
+            &mut |_| {},
+            &CancelToken::new(),
+        )?;
+        let t0 = Instant::now();
+        let mut n = 0u32;
+        while n < 3 || t0.elapsed().as_secs_f64() < 0.005 {
+            let _ = evaluate(&report.matrix, &baseline, weight);
+            n += 1;
+        }
+        let per_case = t0.elapsed().as_secs_f64() / n as f64 / baseline.case_count() as f64;
+        let j = evaluate(&report.matrix, &reference, weight)
+            .map(|e| e.figures.objective)
+            .unwrap_or(f64::INFINITY);
+        rows.push(TradeoffRow {
+            setting: topo.to_string(),
+            seconds: per_case,
+            error: j,
+        });
+    }
+    knobs.push(Knob {
+        knob: "topology",
+        time_of: "one PRB load case",
+        error_of: "J of the fitted model (normal fidelity) on the reference",
+        rows,
+    });
+    Ok(knobs)
+}

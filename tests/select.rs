@@ -1,0 +1,203 @@
+//! Modelling only what a scene requires: automatic effects (checked, not assumed), the
+//! topology ladder's choice, and the trade-off measurements.
+
+use std::path::Path;
+use std::process::Command;
+
+use prbfit::beam::{Effects, Resolution};
+use prbfit::eval::Baseline;
+use prbfit::fit::{CancelToken, Fidelity};
+use prbfit::prb::PrbMatrix;
+use prbfit::scene::{EffectsChoice, Scene};
+use prbfit::select::{decide_effects, resolve_effects, select, AUTO_FRACTION};
+
+fn scene(name: &str) -> Scene {
+    let p = format!("{}/assets/scenes/{name}.toml", env!("CARGO_MANIFEST_DIR"));
+    Scene::from_file(Path::new(&p)).unwrap()
+}
+
+/// The tip change between every-effect-on and `effects`, as a fraction of the targets,
+/// computed here independently of the decision's own bookkeeping.
+fn change_fraction(scene: &Scene, effects: Effects) -> f64 {
+    let solve = |e: Effects| {
+        let mut b = scene.beam;
+        b.effects = EffectsChoice::Fixed(e);
+        Baseline::for_model(b.model(), &scene.loads, Resolution::default()).unwrap()
+    };
+    let (full, reduced) = (solve(Effects::ALL), solve(effects));
+    full.solutions
+        .iter()
+        .zip(&reduced.solutions)
+        .map(|(x, y)| {
+            let pos = (x.tip.a - y.tip.a).hypot(x.tip.b - y.tip.b);
+            let ang = (x.tip.phi - y.tip.phi).abs();
+            (pos / scene.accuracy.max_pos_err).max(ang / scene.accuracy.max_ang_err)
+        })
+        .fold(0.0, f64::max)
+}
+
+#[test]
+fn slender_steel_needs_no_effects() {
+    let s = scene("steel-flexure");
+    let d = decide_effects(&s.beam, &s.loads, &s.accuracy, Resolution::default()).unwrap();
+    assert_eq!(d.effects, Effects::NONE, "{d:?}");
+    let dropped = change_fraction(&s, d.effects);
+    assert!(
+        dropped < AUTO_FRACTION,
+        "dropping them all moves the tip {dropped} of target"
+    );
+    assert!((dropped - d.dropped_together_fraction).abs() < 1e-9);
+}
+
+#[test]
+fn short_rubber_keeps_what_it_needs() {
+    let s = scene("urethane-joint");
+    let d = decide_effects(&s.beam, &s.loads, &s.accuracy, Resolution::default()).unwrap();
+    assert_eq!(d.effects, Effects::ALL, "{d:?}");
+    // Each kept effect is kept for a reason: dropping it alone exceeds the fraction.
+    for (name, e) in [
+        (
+            "shear",
+            Effects {
+                shear: false,
+                ..Effects::ALL
+            },
+        ),
+        (
+            "extension",
+            Effects {
+                extension: false,
+                poisson: false,
+                ..Effects::ALL
+            },
+        ),
+        (
+            "poisson",
+            Effects {
+                poisson: false,
+                ..Effects::ALL
+            },
+        ),
+    ] {
+        let f = change_fraction(&s, e);
+        assert!(f > AUTO_FRACTION, "{name}: {f}");
+    }
+}
+
+/// On every example scene, whatever auto drops moves the tip less than the stated fraction.
+#[test]
+fn auto_dropped_effects_are_small_on_every_scene() {
+    for name in ["default", "steel-flexure", "urethane-joint"] {
+        let s = scene(name);
+        let (resolved, decision) = resolve_effects(&s, Resolution::default()).unwrap();
+        let d = decision.expect("the example scenes use auto");
+        assert_eq!(resolved.beam.effects, EffectsChoice::Fixed(d.effects));
+        let f = change_fraction(&s, d.effects);
+        assert!(f <= AUTO_FRACTION, "{name}: {f}");
+    }
+}
+
+/// The chosen model meets the targets and every simpler rung does not; where nothing meets
+/// them the closest is named.
+#[test]
+fn the_simplest_sufficient_model_is_chosen() {
+    for name in ["default", "steel-flexure", "urethane-joint"] {
+        let (s, _) = resolve_effects(&scene(name), Resolution::default()).unwrap();
+        let baseline = Fidelity::Normal.baseline(&s).unwrap();
+        let sel = select(
+            &s,
+            &baseline,
+            Fidelity::Normal,
+            &CancelToken::new(),
+            &mut |_| {},
+        )
+        .unwrap();
+        println!("{name}: chosen {:?}", sel.chosen.map(|i| &sel.rows[i].name));
+        match sel.chosen {
+            Some(i) => {
+                let chosen = &sel.rows[i];
+                assert!(chosen.figures.meets(&s.accuracy));
+                for r in &sel.rows {
+                    if r.dof < chosen.dof {
+                        assert!(
+                            !r.meets_targets,
+                            "{} is simpler and meets the targets",
+                            r.name
+                        );
+                    }
+                }
+            }
+            None => {
+                assert!(sel.rows.iter().all(|r| !r.meets_targets));
+                let best = sel
+                    .rows
+                    .iter()
+                    .map(|r| r.target_ratio)
+                    .fold(f64::MAX, f64::min);
+                assert_eq!(sel.rows[sel.closest].target_ratio, best);
+                assert!(best > 1.0);
+            }
+        }
+        // The ladder is fitted, and the published models are judged as they are.
+        assert!(sel.rows.iter().any(|r| r.published && r.name == "su-3r"));
+        assert!(sel.rows.iter().filter(|r| !r.published).count() >= 4);
+    }
+}
+
+#[test]
+fn cli_select_and_tradeoff() {
+    let bin = env!("CARGO_BIN_EXE_prbfit");
+    let path = format!(
+        "{}/assets/scenes/urethane-joint.toml",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let out = Command::new(bin)
+        .args(["select", "--scene", &path, "--json"])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let rows = v["rows"].as_array().unwrap();
+    assert!(rows
+        .iter()
+        .all(|r| r["topology"].is_string() && r["prb"].is_string()));
+    let chosen = &v["chosen"];
+    assert!(chosen["meets_targets"].as_bool().unwrap());
+    PrbMatrix::parse(chosen["prb"].as_str().unwrap()).unwrap();
+    assert_eq!(v["effects_decision"]["effects"]["shear"], true);
+
+    let out = Command::new(bin)
+        .args(["tradeoff", "--topology", "L-R-R", "--json"])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let knobs = v["knobs"].as_array().unwrap();
+    let names: Vec<&str> = knobs.iter().map(|k| k["knob"].as_str().unwrap()).collect();
+    assert_eq!(
+        names,
+        [
+            "beam resolution",
+            "load sampling",
+            "fidelity preset",
+            "topology"
+        ]
+    );
+    // Finer beam resolution is more accurate: the tightest tolerance beats the loosest.
+    let res = knobs[0]["rows"].as_array().unwrap();
+    let err = |r: &serde_json::Value| r["error"].as_f64().unwrap();
+    assert!(err(res.last().unwrap()) < err(&res[0]));
+    for k in knobs {
+        for r in k["rows"].as_array().unwrap() {
+            assert!(r["seconds"].as_f64().unwrap() > 0.0 && err(r).is_finite());
+        }
+    }
+}
