@@ -222,7 +222,7 @@ fn load_scene(common: &Common) -> Result<Scene> {
 /// The scene with `effects = "auto"` decided, and the decision.
 fn resolved_scene(common: &Common) -> Result<(Scene, Option<EffectsDecision>)> {
     let scene = load_scene(common)?;
-    Ok(resolve_effects(&scene, Resolution::default()).context("deciding the beam effects")?)
+    resolve_effects(&scene, Resolution::default()).context("deciding the beam effects")
 }
 
 fn decision_json(decision: &Option<EffectsDecision>) -> serde_json::Value {
