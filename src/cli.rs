@@ -788,7 +788,7 @@ fn tradeoff_command(args: TradeoffArgs) -> Result<()> {
     let (scene, decision) = resolved_scene(&args.common)?;
     let start = PrbMatrix::from_topology(&args.topology)
         .map_err(|e| bad(format!("--topology {}: {e}", args.topology)))?;
-    let knobs = prbfit::tradeoff::measure(&scene, &start)?;
+    let knobs = prbfit::tradeoff::measure(&scene, &start, &CancelToken::new())?;
     if args.common.json {
         print_json(&json!({
             "scene": scene.name,

@@ -63,8 +63,12 @@ fn scaled(paths: &[LoadPath], factor: f64) -> Vec<LoadPath> {
 }
 
 /// Measures every knob on `scene` (effects already resolved). `start` is the model the
-/// sampling and fidelity knobs fit.
-pub fn measure(scene: &Scene, start: &PrbMatrix) -> Result<Vec<Knob>, TradeoffError> {
+/// sampling and fidelity knobs fit. Cancelled, it returns the knobs finished so far.
+pub fn measure(
+    scene: &Scene,
+    start: &PrbMatrix,
+    cancel: &CancelToken,
+) -> Result<Vec<Knob>, TradeoffError> {
     let model = scene.beam.model();
     let weight = scene.fit.angle_weight;
     let mut knobs = Vec::new();
@@ -100,6 +104,9 @@ pub fn measure(scene: &Scene, start: &PrbMatrix) -> Result<Vec<Knob>, TradeoffEr
         rows,
     });
 
+    if cancel.is_cancelled() {
+        return Ok(knobs);
+    }
     // The fitted knobs are judged on a dense, precise reference sampling.
     let reference = Baseline::for_model(
         model,
@@ -129,6 +136,9 @@ pub fn measure(scene: &Scene, start: &PrbMatrix) -> Result<Vec<Knob>, TradeoffEr
         Ok((seconds, j))
     };
 
+    if cancel.is_cancelled() {
+        return Ok(knobs);
+    }
     let mut rows = Vec::new();
     for factor in [0.25, 0.5, 1.0, 2.0, 4.0] {
         let paths = scaled(&scene.loads, factor);
@@ -147,6 +157,9 @@ pub fn measure(scene: &Scene, start: &PrbMatrix) -> Result<Vec<Knob>, TradeoffEr
         rows,
     });
 
+    if cancel.is_cancelled() {
+        return Ok(knobs);
+    }
     let mut rows = Vec::new();
     for fidelity in Fidelity::ALL {
         let (seconds, j) = fit_on(&fidelity.sample(&scene.loads), fidelity)?;
@@ -163,6 +176,9 @@ pub fn measure(scene: &Scene, start: &PrbMatrix) -> Result<Vec<Knob>, TradeoffEr
         rows,
     });
 
+    if cancel.is_cancelled() {
+        return Ok(knobs);
+    }
     let mut rows = Vec::new();
     let baseline = Fidelity::Normal.baseline(scene)?;
     for topo in ladder(model.effects) {

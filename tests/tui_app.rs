@@ -55,7 +55,11 @@ fn an_edit_queues_exactly_one_job() {
     let sent = app.tick(t0 + DEBOUNCE);
     match sent {
         Some(Command::Submit(job)) => {
-            assert!(job.fit, "live refit is on");
+            assert_eq!(
+                job.kind,
+                prbfit::tui::worker::JobKind::Fit,
+                "live refit is on"
+            );
             assert_eq!(job.matrix.rows()[1].k_theta, 4.2);
         }
         other => panic!("expected one job, got {other:?}"),
@@ -98,12 +102,14 @@ fn paused_live_refit_only_judges() {
     app.matrix_col = 1;
     edit(&mut app, "2.5", t0);
     match app.tick(t0 + DEBOUNCE) {
-        Some(Command::Submit(job)) => assert!(!job.fit),
+        Some(Command::Submit(job)) => assert_eq!(job.kind, prbfit::tui::worker::JobKind::Judge),
         other => panic!("{other:?}"),
     }
     // r fits on demand, at once.
     let cmds = app.on_key(key(KeyCode::Char('r')), t0);
-    assert!(matches!(&cmds[..], [Command::Submit(job)] if job.fit));
+    assert!(
+        matches!(&cmds[..], [Command::Submit(job)] if job.kind == prbfit::tui::worker::JobKind::Fit)
+    );
 }
 
 /// A worker message for an older job than the newest is dropped; the newest one is taken.
@@ -137,7 +143,7 @@ fn stale_results_are_dropped() {
     assert_eq!(app.activity, Activity::Waiting);
     let stale_base = WorkerMsg::Baseline {
         id: old.id,
-        view: std::sync::Arc::new(baseline_view(&baseline)),
+        view: std::sync::Arc::new(baseline_view(&baseline, None)),
     };
     assert!(!app.on_worker(stale_base));
     assert!(app.baseline.is_none());
@@ -425,4 +431,63 @@ fn worker_reports_failures_and_goes_on() {
     }
     assert!(matches!(app.activity, Activity::Done { stop: Some(_), .. }));
     assert!(app.report.is_some() && app.baseline.is_some() && app.model.is_some());
+}
+
+/// S opens the selection view and starts a selection job; rows of a stale job are dropped;
+/// Enter loads the selected row's model and closes the view; Esc closes and cancels.
+#[test]
+fn selection_view() {
+    use prbfit::select::select;
+    use prbfit::tui::worker::JobKind;
+    let t0 = Instant::now();
+    let mut app = app();
+    let cmds = app.on_key(key(KeyCode::Char('S')), t0);
+    let Some(Command::Submit(job)) = cmds.into_iter().next() else {
+        panic!("a job")
+    };
+    assert_eq!(job.kind, JobKind::Select);
+    assert!(app.select_view.as_ref().unwrap().running);
+
+    let scene = Scene::builtin();
+    let baseline = Fidelity::Draft.baseline(&scene).unwrap();
+    let sel = select(
+        &scene,
+        &baseline,
+        Fidelity::Draft,
+        &prbfit::fit::CancelToken::new(),
+        &mut |_| {},
+    )
+    .unwrap();
+    // A row for an older job is ignored.
+    assert!(!app.on_worker(WorkerMsg::SelectRow {
+        id: job.id - 1,
+        row: Box::new(sel.rows[0].clone())
+    }));
+    assert!(app.select_view.as_ref().unwrap().rows.is_empty());
+    assert!(app.on_worker(WorkerMsg::SelectDone {
+        id: job.id,
+        selection: Box::new(sel.clone()),
+        knobs: Vec::new(),
+    }));
+    let view = app.select_view.as_ref().unwrap();
+    assert!(!view.running);
+    assert_eq!(view.selected, sel.chosen.unwrap_or(sel.closest));
+    app.on_key(key(KeyCode::Up), t0);
+    let pick = app.select_view.as_ref().unwrap().selected;
+    app.on_key(key(KeyCode::Enter), t0);
+    assert!(app.select_view.is_none());
+    assert_eq!(app.matrix, sel.rows[pick].prb);
+    assert!(
+        app.tick(t0 + DEBOUNCE).is_some(),
+        "the loaded model is judged/fitted"
+    );
+
+    // Esc while running cancels the selection job.
+    let cmds = app.on_key(key(KeyCode::Char('S')), t0);
+    let Some(Command::Submit(job)) = cmds.into_iter().next() else {
+        panic!("a job")
+    };
+    app.on_key(key(KeyCode::Esc), t0);
+    assert!(app.select_view.is_none());
+    assert!(job.cancel.is_cancelled());
 }

@@ -18,7 +18,7 @@ use ratatui::Terminal;
 fn judged_app() -> App {
     let mut app = App::new(Scene::builtin(), None);
     let baseline = Fidelity::Normal.baseline(&app.scene).unwrap();
-    app.baseline = Some(Arc::new(baseline_view(&baseline)));
+    app.baseline = Some(Arc::new(baseline_view(&baseline, None)));
     app.model = Some(model_view(&app.matrix, &baseline, 1.0).unwrap());
     app.activity = Activity::Done {
         seconds: 0.0123,
@@ -139,4 +139,64 @@ fn colours_and_no_color() {
             );
         }
     }
+}
+
+/// The selection view with a finished table and trade-off (timings fixed, so the snapshot
+/// does not depend on the machine's speed).
+#[test]
+fn selection_view_120x40() {
+    use prbfit::fit::CancelToken;
+    use prbfit::select::select;
+    use prbfit::tradeoff::{Knob, TradeoffRow};
+    use prbfit::tui::app::SelectView;
+    let mut app = judged_app();
+    let baseline = Fidelity::Normal.baseline(&app.scene).unwrap();
+    let mut sel = select(
+        &app.scene,
+        &baseline,
+        Fidelity::Normal,
+        &CancelToken::new(),
+        &mut |_| {},
+    )
+    .unwrap();
+    for (i, r) in sel.rows.iter_mut().enumerate() {
+        r.eval_seconds_per_case = 1e-6 * (1.0 + i as f64 / 10.0);
+        r.fit_seconds = if r.published {
+            0.0
+        } else {
+            0.01 * (i + 1) as f64
+        };
+    }
+    let knob = |name: &'static str, pts: &[(f64, f64)]| Knob {
+        knob: name,
+        time_of: "",
+        error_of: "",
+        rows: pts
+            .iter()
+            .map(|&(seconds, error)| TradeoffRow {
+                setting: String::new(),
+                seconds,
+                error,
+            })
+            .collect(),
+    };
+    app.select_view = Some(SelectView {
+        job: 1,
+        chosen: sel.chosen,
+        closest: Some(sel.closest),
+        selected: sel.chosen.unwrap_or(sel.closest),
+        rows: sel.rows,
+        knobs: vec![
+            knob(
+                "beam resolution",
+                &[(1e-5, 1e-6), (2e-5, 1e-8), (4e-5, 1e-10)],
+            ),
+            knob(
+                "fidelity preset",
+                &[(3e-3, 6e-5), (3e-2, 5.5e-5), (1e-1, 5.4e-5)],
+            ),
+        ],
+        running: false,
+    });
+    insta::assert_snapshot!("select_120x40", render(&app, 120, 40).backend());
 }

@@ -12,7 +12,9 @@ use crate::prb::{Column, PrbMatrix, PrbRow};
 use crate::scene::{EffectsChoice, ModelFile, Scene, PUBLISHED};
 
 use super::units::{format_quantity, parse_quantity, trim_number, Quantity};
-use super::worker::{BaselineView, FitStatus, Job, ModelView, WorkerMsg};
+use super::worker::{BaselineView, FitStatus, Job, JobKind, ModelView, WorkerMsg};
+use crate::select::Rung;
+use crate::tradeoff::Knob;
 
 /// Edits closer together than this are sent as one job.
 pub const DEBOUNCE: Duration = Duration::from_millis(30);
@@ -150,6 +152,18 @@ pub enum Activity {
     Cancelled,
 }
 
+/// The selection view: the ladder's table (rows arrive as they are fitted) and the trade-off.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SelectView {
+    pub job: u64,
+    pub rows: Vec<Rung>,
+    pub chosen: Option<usize>,
+    pub closest: Option<usize>,
+    pub knobs: Vec<Knob>,
+    pub selected: usize,
+    pub running: bool,
+}
+
 /// Side effects the run loop carries out.
 #[derive(Debug)]
 pub enum Command {
@@ -197,6 +211,8 @@ pub struct App {
     pub report: Option<FitReport>,
     /// Which published model `m` loads next.
     next_published: usize,
+    /// The selection view, when open.
+    pub select_view: Option<SelectView>,
 }
 
 impl App {
@@ -233,30 +249,37 @@ impl App {
             model: None,
             report: None,
             next_published: 0,
+            select_view: None,
         }
     }
 
-    /// The job for the current state (fit or only judge).
-    fn job(&mut self, fit: bool) -> Job {
+    /// The job for the current state.
+    fn job(&mut self, kind: JobKind) -> Job {
         self.job_counter += 1;
         Job {
             id: self.job_counter,
             beam: self.scene.beam,
             loads: self.scene.loads.clone(),
+            accuracy: self.scene.accuracy,
             angle_weight: self.scene.fit.angle_weight,
             matrix: self.matrix.clone(),
             fidelity: self.fidelity,
-            fit,
+            kind,
             cancel: CancelToken::new(),
         }
     }
 
-    /// Sends a job now, cancelling the one before.
+    /// Sends a fit (or, with `fit` false, a judge) job now, cancelling the one before.
     pub fn submit(&mut self, fit: bool) -> Command {
+        self.submit_kind(if fit { JobKind::Fit } else { JobKind::Judge })
+    }
+
+    /// Sends a job now, cancelling the one before.
+    pub fn submit_kind(&mut self, kind: JobKind) -> Command {
         if let Some((_, token)) = &self.current_job {
             token.cancel();
         }
-        let job = self.job(fit);
+        let job = self.job(kind);
         self.current_job = Some((job.id, job.cancel.clone()));
         self.activity = Activity::Waiting;
         self.edit_accepted_at = self.pending.map(|p| p.0);
@@ -336,9 +359,94 @@ impl App {
             WorkerMsg::Failed { message, .. } => {
                 self.set_error(message.clone());
                 self.activity = Activity::Failed(message);
+                if let Some(v) = &mut self.select_view {
+                    v.running = false;
+                }
+            }
+            WorkerMsg::SelectRow { id, row } => {
+                if let Some(v) = self.select_view.as_mut().filter(|v| v.job == id) {
+                    v.rows.push(*row);
+                }
+            }
+            WorkerMsg::SelectDone {
+                id,
+                selection,
+                knobs,
+            } => {
+                if let Some(v) = self.select_view.as_mut().filter(|v| v.job == id) {
+                    v.rows = selection.rows;
+                    v.chosen = selection.chosen;
+                    v.closest = Some(selection.closest);
+                    v.knobs = knobs;
+                    v.selected = selection.chosen.unwrap_or(selection.closest);
+                    v.running = false;
+                }
+                self.activity = Activity::Idle;
             }
         }
         true
+    }
+
+    /// Opens the selection view and starts the selection job.
+    fn open_selection(&mut self) -> Command {
+        let cmd = self.submit_kind(JobKind::Select);
+        let job = self.current_job.as_ref().map_or(0, |(id, _)| *id);
+        self.select_view = Some(SelectView {
+            job,
+            rows: Vec::new(),
+            chosen: None,
+            closest: None,
+            knobs: Vec::new(),
+            selected: 0,
+            running: true,
+        });
+        cmd
+    }
+
+    /// Keys while the selection view is open.
+    fn select_key(&mut self, key: KeyEvent, now: Instant) -> Vec<Command> {
+        let Some(view) = &mut self.select_view else {
+            return Vec::new();
+        };
+        let n = view.rows.len();
+        match key.code {
+            KeyCode::Up | KeyCode::Char('k') => view.selected = view.selected.saturating_sub(1),
+            KeyCode::Down | KeyCode::Char('j') => {
+                view.selected = (view.selected + 1).min(n.saturating_sub(1))
+            }
+            KeyCode::Char('c') if view.running => {
+                if let Some((_, token)) = &self.current_job {
+                    token.cancel();
+                }
+                view.running = false;
+                self.set_info("selection cancelled");
+            }
+            KeyCode::Enter => {
+                if let Some(row) = view.rows.get(view.selected) {
+                    let (name, m) = (row.name.clone(), row.prb.clone());
+                    self.close_selection();
+                    self.set_info(format!("matrix: {name} from the selection"));
+                    self.replace_matrix(m, now);
+                }
+            }
+            KeyCode::Esc | KeyCode::Char('q') => {
+                self.close_selection();
+                // Back to the matrix being edited: judge or fit it again.
+                self.changed(now);
+            }
+            _ => {}
+        }
+        Vec::new()
+    }
+
+    fn close_selection(&mut self) {
+        if let Some(v) = self.select_view.take() {
+            if v.running {
+                if let Some((_, token)) = &self.current_job {
+                    token.cancel();
+                }
+            }
+        }
     }
 
     pub fn set_error(&mut self, m: impl Into<String>) {
@@ -375,6 +483,14 @@ impl App {
             self.help = false;
             return Vec::new();
         }
+        if self.select_view.is_some() {
+            if ctrl_c {
+                self.close_selection();
+                self.request_quit();
+                return Vec::new();
+            }
+            return self.select_key(key, now);
+        }
         if ctrl_c {
             self.request_quit();
             return Vec::new();
@@ -391,6 +507,7 @@ impl App {
             KeyCode::Right | KeyCode::Char('l') => self.move_cursor(1, 0),
             KeyCode::Enter => self.start_edit(),
             KeyCode::Char('r') => out.push(self.submit(true)),
+            KeyCode::Char('S') => out.push(self.open_selection()),
             KeyCode::Char('c') | KeyCode::Esc => self.cancel_fit(),
             KeyCode::Char(' ') => {
                 self.live = !self.live;
@@ -495,7 +612,12 @@ impl App {
                 None => format!("auto ({})", trim_number(b.kappa(), 4)),
             },
             BeamField::Effects => match b.effects {
-                EffectsChoice::Auto => format!("auto ({})", b.effects.resolve()),
+                EffectsChoice::Auto => {
+                    match self.baseline.as_ref().filter(|v| v.decision.is_some()) {
+                        Some(v) => format!("auto ({})", v.effects),
+                        None => "auto (deciding...)".into(),
+                    }
+                }
                 EffectsChoice::Fixed(e) => e.to_string(),
             },
         }
@@ -765,7 +887,11 @@ impl App {
     /// 1, 2, 3 switch shear, extension, poisson (poisson needs extension, so they move
     /// together where they must).
     fn toggle_effect(&mut self, which: char, now: Instant) {
-        let mut e = self.scene.beam.effects.resolve();
+        // From what the beam uses now (`auto` as decided, when known).
+        let mut e = match (self.scene.beam.effects, &self.baseline) {
+            (EffectsChoice::Auto, Some(v)) => v.effects,
+            (choice, _) => choice.resolve(),
+        };
         match which {
             '1' => e.shear = !e.shear,
             '2' => {

@@ -102,9 +102,14 @@ pub fn trim_number(value: f64, digits: usize) -> String {
     }
     let a = value.abs();
     if !(1e-4..1e6).contains(&a) {
-        return format!("{value:.prec$e}", prec = digits.saturating_sub(1))
-            .replace("0e", "e")
-            .replace(".e", "e");
+        let s = format!("{value:.prec$e}", prec = digits.saturating_sub(1));
+        let (mantissa, exponent) = s.split_once('e').unwrap_or((&s, "0"));
+        let mantissa = if mantissa.contains('.') {
+            mantissa.trim_end_matches('0').trim_end_matches('.')
+        } else {
+            mantissa
+        };
+        return format!("{mantissa}e{exponent}");
     }
     let decimals = (digits as i32 - 1 - a.log10().floor() as i32).max(0) as usize;
     let s = format!("{value:.decimals$}");
@@ -171,6 +176,9 @@ mod tests {
             assert!((back - v).abs() <= 1e-9 * v, "{v} -> {s} -> {back}");
         }
         assert_eq!(format_quantity(0.05, Quantity::Length), "50 mm");
+        assert_eq!(trim_number(1e9, 6), "1e9");
+        assert_eq!(trim_number(-2.5e-7, 6), "-2.5e-7");
+        assert_eq!(trim_number(123456789.0, 6), "1.23457e8");
         assert_eq!(format_quantity(200e9, Quantity::Pressure), "200 GPa");
     }
 }

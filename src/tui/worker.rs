@@ -15,31 +15,49 @@ use std::sync::Arc;
 use std::thread::JoinHandle;
 use std::time::Instant;
 
+use crate::beam::Effects;
 use crate::beam::Load;
 use crate::eval::{evaluate, Baseline, CaseError, ErrorFigures};
 use crate::fit::{fit, CancelToken, Fidelity, FitOptions, FitReport};
 use crate::prb::{PrbMatrix, PrbSolver};
-use crate::scene::{BeamSpec, LoadPath};
+use crate::scene::{Accuracy, BeamSpec, EffectsChoice, LoadPath, Scene};
+use crate::select::{decide_effects, select, EffectsDecision, Rung, Selection};
+use crate::tradeoff::Knob;
 
 /// The thread's name, which the panic hook uses to tell worker panics from UI panics.
 pub const WORKER_THREAD: &str = "prbfit-worker";
 
-/// One request: judge (and, with `fit`, fit) `matrix` on the scene's beam and loads.
+/// What a job does.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum JobKind {
+    /// Judge the matrix.
+    Judge,
+    /// Judge, then fit its free cells.
+    Fit,
+    /// Fit the topology ladder, judge the published models, measure the trade-off.
+    Select,
+}
+
+/// One request on the scene's beam and loads.
 #[derive(Debug, Clone)]
 pub struct Job {
     pub id: u64,
     pub beam: BeamSpec,
     pub loads: Vec<LoadPath>,
+    pub accuracy: Accuracy,
     pub angle_weight: f64,
     pub matrix: PrbMatrix,
     pub fidelity: Fidelity,
-    pub fit: bool,
+    pub kind: JobKind,
     pub cancel: CancelToken,
 }
 
 /// What the beam looks like over the job's load cases (shared, sent once per baseline).
 #[derive(Debug, Clone, PartialEq)]
 pub struct BaselineView {
+    /// The effects the beam was solved with (`auto` decided).
+    pub effects: Effects,
+    pub decision: Option<EffectsDecision>,
     pub paths: Vec<LoadPath>,
     /// Per case, in path order.
     pub loads: Vec<Load>,
@@ -89,6 +107,17 @@ pub enum WorkerMsg {
         id: u64,
         message: String,
     },
+    /// One row of a selection, as soon as it is fitted.
+    SelectRow {
+        id: u64,
+        row: Box<Rung>,
+    },
+    /// The whole selection and the trade-off measurements.
+    SelectDone {
+        id: u64,
+        selection: Box<Selection>,
+        knobs: Vec<Knob>,
+    },
 }
 
 impl WorkerMsg {
@@ -97,7 +126,9 @@ impl WorkerMsg {
             WorkerMsg::Baseline { id, .. }
             | WorkerMsg::Progress { id, .. }
             | WorkerMsg::Done { id, .. }
-            | WorkerMsg::Failed { id, .. } => *id,
+            | WorkerMsg::Failed { id, .. }
+            | WorkerMsg::SelectRow { id, .. }
+            | WorkerMsg::SelectDone { id, .. } => *id,
         }
     }
 }
@@ -143,16 +174,25 @@ impl Drop for Worker {
     }
 }
 
-/// The baseline cache key: everything the beam solves depend on.
+/// The baseline cache key: everything the beam solves depend on (the targets too, through
+/// `effects = "auto"`).
 #[derive(Debug, Clone, PartialEq)]
 struct BaselineKey {
     beam: BeamSpec,
     loads: Vec<LoadPath>,
+    accuracy: Accuracy,
     fidelity: Fidelity,
 }
 
+/// A cached baseline with the effects it was solved with.
+struct Cached {
+    key: BaselineKey,
+    baseline: Arc<Baseline>,
+    beam: BeamSpec,
+}
+
 fn worker_loop(jobs: Receiver<Job>, out: Sender<WorkerMsg>) {
-    let mut cache: Option<(BaselineKey, Arc<Baseline>)> = None;
+    let mut cache: Option<Cached> = None;
     while let Ok(mut job) = jobs.recv() {
         // Only the newest job matters.
         while let Ok(newer) = jobs.try_recv() {
@@ -216,8 +256,10 @@ pub fn model_view(
 }
 
 /// The charts' view of a baseline.
-pub fn baseline_view(baseline: &Baseline) -> BaselineView {
+pub fn baseline_view(baseline: &Baseline, decision: Option<EffectsDecision>) -> BaselineView {
     BaselineView {
+        effects: baseline.model.effects,
+        decision,
         paths: baseline.paths.clone(),
         loads: baseline.solutions.iter().map(|s| s.load).collect(),
         shapes: baseline
@@ -229,11 +271,7 @@ pub fn baseline_view(baseline: &Baseline) -> BaselineView {
     }
 }
 
-fn run_job(
-    job: &Job,
-    cache: &mut Option<(BaselineKey, Arc<Baseline>)>,
-    out: &Sender<WorkerMsg>,
-) -> Result<(), String> {
+fn run_job(job: &Job, cache: &mut Option<Cached>, out: &Sender<WorkerMsg>) -> Result<(), String> {
     let t0 = Instant::now();
     let send = |msg: WorkerMsg| {
         // The UI has gone: nothing left to do.
@@ -242,32 +280,56 @@ fn run_job(
     let key = BaselineKey {
         beam: job.beam,
         loads: job.loads.clone(),
+        accuracy: job.accuracy,
         fidelity: job.fidelity,
     };
-    let baseline = match cache {
-        Some((k, b)) if *k == key => b.clone(),
+    let (baseline, beam) = match cache {
+        Some(c) if c.key == key => (c.baseline.clone(), c.beam),
         _ => {
+            // `auto` effects are decided here, off the UI thread.
+            let (beam, decision) = match job.beam.effects {
+                EffectsChoice::Auto => {
+                    let d = decide_effects(
+                        &job.beam,
+                        &job.loads,
+                        &job.accuracy,
+                        job.fidelity.resolution(),
+                    )
+                    .map_err(|e| format!("the beam cannot be solved: {e}"))?;
+                    let mut b = job.beam;
+                    b.effects = EffectsChoice::Fixed(d.effects);
+                    (b, Some(d))
+                }
+                EffectsChoice::Fixed(_) => (job.beam, None),
+            };
             let b = Baseline::for_model(
-                job.beam.model(),
+                beam.model(),
                 &job.fidelity.sample(&job.loads),
                 job.fidelity.resolution(),
             )
             .map_err(|e| format!("the beam cannot be solved: {e}"))?;
             let b = Arc::new(b);
-            *cache = Some((key, b.clone()));
+            *cache = Some(Cached {
+                key,
+                baseline: b.clone(),
+                beam,
+            });
             send(WorkerMsg::Baseline {
                 id: job.id,
-                view: Arc::new(baseline_view(&b)),
+                view: Arc::new(baseline_view(&b, decision)),
             });
-            b
+            (b, beam)
         }
     };
+    if job.kind == JobKind::Select {
+        return run_selection(job, &baseline, beam, out);
+    }
     if job.cancel.is_cancelled() {
         return Ok(());
     }
     // The edited matrix at once, so the charts answer the edit before any fitting.
     let start_view = model_view(&job.matrix, &baseline, job.angle_weight);
-    if !job.fit {
+    if job.kind == JobKind::Judge {
         let model = start_view?;
         send(WorkerMsg::Done {
             id: job.id,
@@ -320,6 +382,39 @@ fn run_job(
         model: Box::new(model),
         report: Some(Box::new(report)),
         seconds: t0.elapsed().as_secs_f64(),
+    });
+    Ok(())
+}
+
+/// The selection table, row by row, then the trade-off measurements.
+fn run_selection(
+    job: &Job,
+    baseline: &Baseline,
+    beam: BeamSpec,
+    out: &Sender<WorkerMsg>,
+) -> Result<(), String> {
+    let scene = Scene {
+        name: String::new(),
+        beam,
+        loads: job.loads.clone(),
+        accuracy: job.accuracy,
+        fit: crate::scene::FitSettings {
+            angle_weight: job.angle_weight,
+        },
+    };
+    let selection = select(&scene, baseline, job.fidelity, &job.cancel, &mut |row| {
+        let _ = out.send(WorkerMsg::SelectRow {
+            id: job.id,
+            row: Box::new(row.clone()),
+        });
+    })
+    .map_err(|e| format!("selection: {e}"))?;
+    let knobs = crate::tradeoff::measure(&scene, &job.matrix, &job.cancel)
+        .map_err(|e| format!("trade-off: {e}"))?;
+    let _ = out.send(WorkerMsg::SelectDone {
+        id: job.id,
+        selection: Box::new(selection),
+        knobs,
     });
     Ok(())
 }
