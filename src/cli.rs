@@ -13,6 +13,7 @@ use serde_json::json;
 
 use prbfit::beam::{BeamModel, BeamSolution, BeamSolver, Effects, Load, ModelError, Resolution};
 use prbfit::eval::{evaluate, Baseline, CaseError};
+use prbfit::export::{export, ExportError, ExportFormat, ExportInput};
 use prbfit::files::{write_atomic, WriteError};
 use prbfit::fit::{fit, CancelToken, Fidelity, FitError, FitOptions};
 use prbfit::prb::{PrbMatrix, PrbSolver};
@@ -43,6 +44,8 @@ enum Command {
     Select(SelectArgs),
     /// Measure the speed/accuracy trade along each knob.
     Tradeoff(TradeoffArgs),
+    /// Write a model for other tools: prbfit's model file, MuJoCo, URDF, SDF or CSV.
+    Export(ExportArgs),
     /// Open the terminal UI (the default with no command) on a scene file or the built-in one.
     Tui {
         /// Scene file (TOML); default: the built-in scene.
@@ -153,6 +156,39 @@ struct TradeoffArgs {
     topology: String,
 }
 
+#[derive(Args)]
+#[command(group = clap::ArgGroup::new("which").required(true).args(["prb", "model"]))]
+struct ExportArgs {
+    #[command(flatten)]
+    common: Common,
+    /// A PRB matrix in text form.
+    #[arg(long, value_name = "MATRIX")]
+    prb: Option<String>,
+    /// A published model (howell-1r, su-3r, chen-3r) or a model file.
+    #[arg(long, value_name = "NAME_OR_FILE")]
+    model: Option<String>,
+    /// toml, json, mjcf, urdf, sdf or csv.
+    #[arg(long, value_name = "F", value_parser = ExportFormat::from_str)]
+    format: ExportFormat,
+    /// The file to write.
+    #[arg(short = 'o', long = "output", value_name = "FILE")]
+    output: PathBuf,
+    /// Overwrite the file if it exists.
+    #[arg(long)]
+    force: bool,
+    /// Density for the masses, kg/m^3 (only dynamics depend on it).
+    #[arg(
+        long,
+        value_name = "KG_M3",
+        default_value_t = 1000.0,
+        allow_negative_numbers = true
+    )]
+    density: f64,
+    /// Fidelity of the baseline the figures and the CSV come from.
+    #[arg(long, value_name = "LEVEL", default_value = "normal", value_parser = Fidelity::from_str)]
+    fidelity: Fidelity,
+}
+
 /// An error in what the user gave us: exit status 2.
 #[derive(Debug, thiserror::Error)]
 #[error("{0}")]
@@ -171,12 +207,21 @@ pub fn run() -> ExitCode {
                 let _ = e.print();
                 return ExitCode::SUCCESS;
             }
-            // clap's message is several lines; the contract is one line naming the flag.
+            // clap's message is several lines; the contract is one line naming the flag: the
+            // message up to the usage, joined.
             let text = e.to_string();
-            let first = text
+            let joined = text
                 .lines()
-                .find(|l| !l.trim().is_empty())
-                .unwrap_or("invalid arguments");
+                .take_while(|l| !l.starts_with("Usage:") && !l.starts_with("For more information"))
+                .map(str::trim)
+                .filter(|l| !l.is_empty() && !l.starts_with("tip:"))
+                .collect::<Vec<_>>()
+                .join(" ");
+            let first = if joined.is_empty() {
+                "invalid arguments"
+            } else {
+                joined.as_str()
+            };
             let first = first.trim_start_matches("error: ");
             eprintln!("prbfit: {first} (see prbfit --help)");
             return ExitCode::from(2);
@@ -188,6 +233,7 @@ pub fn run() -> ExitCode {
         Some(Command::Fit(args)) => fit_command(args),
         Some(Command::Select(args)) => select_command(args),
         Some(Command::Tradeoff(args)) => tradeoff_command(args),
+        Some(Command::Export(args)) => export_command(args),
         Some(Command::Tui { scene }) => tui(scene),
         None => tui(None),
     };
@@ -419,13 +465,19 @@ fn beam_line(model: &BeamModel) -> String {
     )
 }
 
-/// Prints one JSON object; refuses non-finite numbers rather than writing `null`.
+/// Only these keys may be `null` by design.
+const NULLABLE: [&str; 2] = ["effects_decision", "chosen"];
+
+/// Prints one JSON object; refuses non-finite numbers (which serde_json would write as
+/// `null`) rather than print them.
 fn print_json(value: &serde_json::Value) -> Result<()> {
     fn finite(v: &serde_json::Value) -> bool {
         match v {
             serde_json::Value::Null => false,
             serde_json::Value::Array(a) => a.iter().all(finite),
-            serde_json::Value::Object(o) => o.values().all(finite),
+            serde_json::Value::Object(o) => o
+                .iter()
+                .all(|(k, v)| (v.is_null() && NULLABLE.contains(&k.as_str())) || finite(v)),
             _ => true,
         }
     }
@@ -815,6 +867,49 @@ fn tradeoff_command(args: TradeoffArgs) -> Result<()> {
             };
             println!("  {:<28} {:>12} {:>12.3e}", r.setting, time, r.error);
         }
+    }
+    Ok(())
+}
+
+fn export_command(args: ExportArgs) -> Result<()> {
+    if args.output.exists() && !args.force {
+        return Err(WriteError::Exists(args.output.clone()).into());
+    }
+    let (scene, _) = resolved_scene(&args.common)?;
+    let (name, matrix) = match (&args.model, &args.prb) {
+        (Some(m), _) => {
+            let file = ModelFile::load(m)?;
+            (file.name, file.prb)
+        }
+        (None, Some(text)) => {
+            let m = PrbMatrix::parse(text).map_err(|e| bad(format!("--prb \"{text}\": {e}")))?;
+            (m.topology().to_lowercase(), m)
+        }
+        (None, None) => return Err(bad("give --prb MATRIX or --model NAME_OR_FILE")),
+    };
+    let baseline = args.fidelity.baseline(&scene).context("baseline beam")?;
+    let input = ExportInput {
+        name,
+        matrix: &matrix,
+        scene: &scene,
+        baseline: &baseline,
+        fidelity: args.fidelity.to_string(),
+        density: args.density,
+    };
+    let text = export(&input, args.format).map_err(|e| match e {
+        ExportError::Density(_) => bad(format!("--density: {e}")),
+        other => anyhow::Error::new(other),
+    })?;
+    write_atomic(&args.output, text.as_bytes(), args.force)?;
+    if args.common.json {
+        print_json(&json!({
+            "output": args.output.display().to_string(),
+            "format": format!("{:?}", args.format).to_lowercase(),
+            "prb": matrix.to_text(),
+            "bytes": text.len(),
+        }))?;
+    } else {
+        println!("wrote {} ({} bytes)", args.output.display(), text.len());
     }
     Ok(())
 }

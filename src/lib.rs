@@ -3,6 +3,7 @@
 //! The library is the numerical core (no terminal, no files except through [`scene`]):
 //! - [`beam`]: the large-deflection baseline beam (DESIGN §2),
 //! - [`eval`]: a PRB model judged against the beam over a scene (DESIGN §4),
+//! - [`export`]: model files, MuJoCo, URDF, SDF and CSV,
 //! - [`fit`]: optimal PRB parameters for any topology (DESIGN §4),
 //! - [`prb`]: the PRB matrix, topology names, kinematics and statics (DESIGN §3),
 //! - [`select`]: automatic beam effects and the topology ladder (the simplest model that
@@ -13,6 +14,7 @@
 
 pub mod beam;
 pub mod eval;
+pub mod export;
 pub mod files;
 pub mod fit;
 pub mod linalg;

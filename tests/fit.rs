@@ -272,8 +272,10 @@ fn cli_fit_saves_models_that_reload_exactly() {
         );
         let record = model.fit.as_ref().unwrap();
         assert_eq!(record.objective, fitted["objective"].as_f64().unwrap());
-        // Evaluated again on the same (draft) baseline: the same figures, exactly.
-        let scene = Scene::builtin();
+        // Evaluated again on the same (draft) baseline, effects decided as the CLI decides
+        // them: the same figures, exactly.
+        let (scene, _) =
+            prbfit::select::resolve_effects(&Scene::builtin(), Resolution::default()).unwrap();
         let baseline = Fidelity::Draft.baseline(&scene).unwrap();
         let f = evaluate(&model.prb, &baseline, 1.0).unwrap().figures;
         assert_eq!(f.objective, record.objective);

@@ -318,7 +318,12 @@ fn prompts_produce_file_commands() {
     }
     type_text(&mut app, "out.json", t0);
     let cmds = app.on_key(key(KeyCode::Enter), t0);
-    assert!(matches!(&cmds[..], [Command::ExportModel(p)] if p.to_str() == Some("out.json")));
+    // Exports run in the worker, from its baseline.
+    assert!(matches!(
+        &cmds[..],
+        [Command::Submit(job)]
+            if job.kind == prbfit::tui::worker::JobKind::Export("out.json".into())
+    ));
     app.on_key(key(KeyCode::Char('o')), t0);
     app.on_key(key(KeyCode::Esc), t0);
     assert!(app.prompt.is_none());

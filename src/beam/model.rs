@@ -211,9 +211,9 @@ impl BeamModel {
         }
         let rhs = self.c_e * n;
         let (eps, de_dn, p) = if self.effects.poisson && self.nu > 0.0 {
-            let (eps, slope) =
+            let (eps, deps_dr) =
                 solve_poisson(self.nu, rhs).ok_or(MaterialLimit::Necked { axial_force: n })?;
-            (eps, self.c_e / slope, 1.0 - self.nu * eps)
+            (eps, self.c_e * deps_dr, 1.0 - self.nu * eps)
         } else {
             (rhs, self.c_e, 1.0)
         };

@@ -38,6 +38,12 @@ pub struct ModelFile {
     /// How a fitted model was made, and how well it did.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub fit: Option<FitRecord>,
+    /// The model in SI units for the scene's beam (exports).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub si: Option<crate::export::SiModel>,
+    /// The scene's load range (exports).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub load_range: Option<crate::export::LoadRange>,
 }
 
 /// Provenance and error figures of a fitted model.
@@ -176,6 +182,8 @@ impl ModelFile {
                 prbfit_version: env!("CARGO_PKG_VERSION").to_string(),
                 created: crate::files::utc_timestamp(),
             }),
+            si: Some(crate::export::si_model(matrix, scene)),
+            load_range: Some(crate::export::load_range(scene)),
         }
     }
 

@@ -115,7 +115,7 @@ impl PromptKind {
         match self {
             PromptKind::SaveScene => "save scene to",
             PromptKind::OpenScene => "open scene",
-            PromptKind::ExportModel => "export model to (.toml or .json)",
+            PromptKind::ExportModel => "export model to (.toml .json .xml/.mjcf .urdf .sdf .csv)",
             PromptKind::Topology => "topology (e.g. L-R-R-R, L-RP) or howell-1r, su-3r, chen-3r",
             PromptKind::ConfirmQuit => "unsaved changes: quit anyway? (y/n)",
         }
@@ -170,7 +170,6 @@ pub enum Command {
     Submit(Job),
     SaveScene(PathBuf),
     OpenScene(PathBuf),
-    ExportModel(PathBuf),
 }
 
 /// The whole UI state.
@@ -258,6 +257,7 @@ impl App {
         self.job_counter += 1;
         Job {
             id: self.job_counter,
+            scene_name: self.scene.name.clone(),
             beam: self.scene.beam,
             loads: self.scene.loads.clone(),
             accuracy: self.scene.accuracy,
@@ -362,6 +362,16 @@ impl App {
                 if let Some(v) = &mut self.select_view {
                     v.running = false;
                 }
+            }
+            WorkerMsg::Exported { path, result, .. } => {
+                match result {
+                    Ok(()) => {
+                        self.model_dirty = false;
+                        self.set_info(format!("exported {}", path.display()));
+                    }
+                    Err(e) => self.set_error(format!("not exported: {e}")),
+                }
+                self.activity = Activity::Idle;
             }
             WorkerMsg::SelectRow { id, row } => {
                 if let Some(v) = self.select_view.as_mut().filter(|v| v.job == id) {
@@ -840,7 +850,10 @@ impl App {
                 return match kind {
                     PromptKind::SaveScene => vec![Command::SaveScene(PathBuf::from(text))],
                     PromptKind::OpenScene => vec![Command::OpenScene(PathBuf::from(text))],
-                    PromptKind::ExportModel => vec![Command::ExportModel(PathBuf::from(text))],
+                    PromptKind::ExportModel => {
+                        // Exported by the worker from its baseline: no solve on this thread.
+                        vec![self.submit_kind(JobKind::Export(PathBuf::from(text)))]
+                    }
                     PromptKind::Topology => {
                         self.load_named_matrix(&text, Instant::now());
                         Vec::new()

@@ -31,7 +31,7 @@ use ratatui::crossterm::terminal::{
 use ratatui::Terminal;
 
 use crate::files::write_atomic;
-use crate::scene::{ModelFile, ModelFormat, Scene};
+use crate::scene::Scene;
 
 use app::{App, Command};
 use worker::{Worker, WorkerMsg, WORKER_THREAD};
@@ -225,28 +225,5 @@ fn execute_command(app: &mut App, worker: &Worker, cmd: Command, trace: &mut Opt
             }
             Err(e) => app.set_error(format!("not opened: {e}")),
         },
-        Command::ExportModel(path) => {
-            let result = ModelFormat::from_path(&path).and_then(|format| {
-                let figures = app
-                    .model
-                    .as_ref()
-                    .filter(|m| m.matrix == app.matrix)
-                    .map(|m| m.figures)
-                    .ok_or_else(|| {
-                        "the model has not been judged yet: wait for the status line".to_string()
-                    })?;
-                let model =
-                    ModelFile::fitted(&app.matrix, &app.scene, &app.fidelity.to_string(), &figures);
-                write_atomic(&path, model.to_text(format).as_bytes(), false)
-                    .map_err(|e| e.to_string())
-            });
-            match result {
-                Ok(()) => {
-                    app.model_dirty = false;
-                    app.set_info(format!("exported {}", path.display()));
-                }
-                Err(e) => app.set_error(format!("not exported: {e}")),
-            }
-        }
     }
 }

@@ -28,8 +28,10 @@ use crate::tradeoff::Knob;
 pub const WORKER_THREAD: &str = "prbfit-worker";
 
 /// What a job does.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, PartialEq, Eq)]
 pub enum JobKind {
+    /// Write the matrix to a file, in the format its extension names.
+    Export(std::path::PathBuf),
     /// Judge the matrix.
     Judge,
     /// Judge, then fit its free cells.
@@ -42,6 +44,7 @@ pub enum JobKind {
 #[derive(Debug, Clone)]
 pub struct Job {
     pub id: u64,
+    pub scene_name: String,
     pub beam: BeamSpec,
     pub loads: Vec<LoadPath>,
     pub accuracy: Accuracy,
@@ -112,6 +115,12 @@ pub enum WorkerMsg {
         id: u64,
         row: Box<Rung>,
     },
+    /// An export finished (or failed, saying why).
+    Exported {
+        id: u64,
+        path: std::path::PathBuf,
+        result: Result<(), String>,
+    },
     /// The whole selection and the trade-off measurements.
     SelectDone {
         id: u64,
@@ -128,6 +137,7 @@ impl WorkerMsg {
             | WorkerMsg::Done { id, .. }
             | WorkerMsg::Failed { id, .. }
             | WorkerMsg::SelectRow { id, .. }
+            | WorkerMsg::Exported { id, .. }
             | WorkerMsg::SelectDone { id, .. } => *id,
         }
     }
@@ -321,8 +331,18 @@ fn run_job(job: &Job, cache: &mut Option<Cached>, out: &Sender<WorkerMsg>) -> Re
             (b, beam)
         }
     };
-    if job.kind == JobKind::Select {
-        return run_selection(job, &baseline, beam, out);
+    match &job.kind {
+        JobKind::Select => return run_selection(job, &baseline, beam, out),
+        JobKind::Export(path) => {
+            let result = export_file(job, &baseline, beam, path);
+            send(WorkerMsg::Exported {
+                id: job.id,
+                path: path.clone(),
+                result,
+            });
+            return Ok(());
+        }
+        _ => {}
     }
     if job.cancel.is_cancelled() {
         return Ok(());
@@ -393,15 +413,7 @@ fn run_selection(
     beam: BeamSpec,
     out: &Sender<WorkerMsg>,
 ) -> Result<(), String> {
-    let scene = Scene {
-        name: String::new(),
-        beam,
-        loads: job.loads.clone(),
-        accuracy: job.accuracy,
-        fit: crate::scene::FitSettings {
-            angle_weight: job.angle_weight,
-        },
-    };
+    let scene = job_scene(job, beam);
     let selection = select(&scene, baseline, job.fidelity, &job.cancel, &mut |row| {
         let _ = out.send(WorkerMsg::SelectRow {
             id: job.id,
@@ -417,4 +429,44 @@ fn run_selection(
         knobs,
     });
     Ok(())
+}
+
+/// The scene of a job, with its beam's effects as solved.
+fn job_scene(job: &Job, beam: BeamSpec) -> Scene {
+    Scene {
+        name: job.scene_name.clone(),
+        beam,
+        loads: job.loads.clone(),
+        accuracy: job.accuracy,
+        fit: crate::scene::FitSettings {
+            angle_weight: job.angle_weight,
+        },
+    }
+}
+
+/// Writes the job's matrix in the format the path's extension names, never over a file.
+fn export_file(
+    job: &Job,
+    baseline: &Baseline,
+    beam: BeamSpec,
+    path: &std::path::Path,
+) -> Result<(), String> {
+    use crate::export::{export, ExportFormat, ExportInput};
+    let format = ExportFormat::from_extension(path).ok_or_else(|| {
+        format!(
+            "{}: use .toml, .json, .xml or .mjcf (MuJoCo), .urdf, .sdf or .csv",
+            path.display()
+        )
+    })?;
+    let scene = job_scene(job, beam);
+    let input = ExportInput {
+        name: format!("{}-model", job.matrix.topology().to_lowercase()),
+        matrix: &job.matrix,
+        scene: &scene,
+        baseline,
+        fidelity: job.fidelity.to_string(),
+        density: 1000.0,
+    };
+    let text = export(&input, format).map_err(|e| e.to_string())?;
+    crate::files::write_atomic(path, text.as_bytes(), false).map_err(|e| e.to_string())
 }

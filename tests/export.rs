@@ -1,0 +1,391 @@
+//! Every export format parses back with the SI values as computed; the own format round-trips
+//! exactly; files are never overwritten without --force; a failed write leaves the old file.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+use prbfit::prb::PrbMatrix;
+use prbfit::scene::{ModelFile, Scene};
+
+fn prbfit(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_prbfit"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+struct Dir(PathBuf);
+
+impl Dir {
+    fn new(tag: &str) -> Dir {
+        let p = std::env::temp_dir().join(format!("prbfit-export-{tag}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&p);
+        std::fs::create_dir_all(&p).unwrap();
+        Dir(p)
+    }
+    fn file(&self, name: &str) -> String {
+        self.0.join(name).display().to_string()
+    }
+}
+
+impl Drop for Dir {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+/// A model with every kind of row: rigid, R, RP, P.
+const MATRIX: &str = "0.1,inf,inf; 0.35,3.5,inf; 0.4,2.9,1.7; 0.15,inf,4.2";
+
+fn export(dir: &Dir, format: &str, name: &str) -> String {
+    let path = dir.file(name);
+    let out = prbfit(&["export", "--prb", MATRIX, "--format", format, "-o", &path]);
+    assert!(
+        out.status.success(),
+        "{format}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    std::fs::read_to_string(&path).unwrap()
+}
+
+/// SI values of the built-in beam: (E I0 / L, E A0 / L, L).
+fn units() -> (f64, f64, f64) {
+    let b = Scene::builtin().beam;
+    let l = b.length;
+    (
+        b.youngs_modulus * b.second_moment() / l,
+        b.youngs_modulus * b.area() / l,
+        l,
+    )
+}
+
+fn close(a: f64, b: f64) -> bool {
+    (a - b).abs() <= 1e-12 * b.abs()
+}
+
+fn num(s: &str) -> f64 {
+    s.trim()
+        .parse()
+        .unwrap_or_else(|_| panic!("`{s}` is not a number"))
+}
+
+#[test]
+fn own_format_round_trips_exactly_and_evaluates_the_same() {
+    let dir = Dir::new("own");
+    let m = PrbMatrix::parse(MATRIX).unwrap();
+    let (ei_l, ea_l, l) = units();
+    for (format, name) in [("toml", "m.toml"), ("json", "m.json")] {
+        export(&dir, format, name);
+        let path = dir.file(name);
+        let file = ModelFile::load(&path).unwrap();
+        assert_eq!(
+            file.prb, m,
+            "{format}: the matrix, infinity included, exactly"
+        );
+        assert_eq!(file.topology.as_deref(), Some("L-R-RP-P"));
+        let si = file.si.as_ref().unwrap();
+        assert!(close(si.segments[1].k_theta.unwrap(), 3.5 * ei_l));
+        assert!(close(si.segments[2].k_ex.unwrap(), 1.7 * ea_l));
+        assert!(si.segments[0].k_theta.is_none() && si.segments[3].k_theta.is_none());
+        assert!(close(si.segments[2].length, 0.4 * l));
+        let range = file.load_range.unwrap();
+        assert_eq!(range.alpha_y, [0.0, 5.0]);
+        assert!(close(range.fy[1], 5.0 * ei_l / l));
+        let record = file.fit.as_ref().unwrap();
+        assert_eq!(record.prbfit_version, env!("CARGO_PKG_VERSION"));
+        assert_eq!(record.fidelity, "normal");
+        // prbfit eval reads it back and finds the same figures.
+        let out = prbfit(&["eval", "--model", &path, "--json", "--tol", "1e-8"]);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        assert_eq!(v["prb"].as_str().unwrap(), m.to_text());
+        assert_eq!(v["objective"].as_f64().unwrap(), record.objective);
+        // Serialising what was read gives the same text again.
+        let format = prbfit::scene::ModelFormat::from_path(Path::new(&path)).unwrap();
+        let again =
+            ModelFile::from_toml_str(&file.to_text(prbfit::scene::ModelFormat::Toml), "x").unwrap();
+        assert_eq!(again, file);
+        let _ = format;
+    }
+}
+
+#[test]
+fn mjcf_has_springs_sites_and_no_gravity() {
+    let dir = Dir::new("mjcf");
+    let text = export(&dir, "mjcf", "m.xml");
+    let doc = roxmltree::Document::parse(&text).expect("well-formed XML");
+    let root = doc.root_element();
+    assert_eq!(root.tag_name().name(), "mujoco");
+    let find = |tag: &'static str| root.descendants().filter(move |n| n.has_tag_name(tag));
+    assert_eq!(
+        find("compiler").next().unwrap().attribute("angle"),
+        Some("radian")
+    );
+    assert_eq!(
+        find("option").next().unwrap().attribute("gravity"),
+        Some("0 0 0")
+    );
+    let (ei_l, ea_l, l) = units();
+    let joints: Vec<_> = find("joint").collect();
+    let hinges: Vec<_> = joints
+        .iter()
+        .filter(|j| j.attribute("type") == Some("hinge"))
+        .collect();
+    let slides: Vec<_> = joints
+        .iter()
+        .filter(|j| j.attribute("type") == Some("slide"))
+        .collect();
+    assert_eq!((hinges.len(), slides.len()), (2, 2));
+    assert!(close(
+        num(hinges[0].attribute("stiffness").unwrap()),
+        3.5 * ei_l
+    ));
+    assert!(close(
+        num(hinges[1].attribute("stiffness").unwrap()),
+        2.9 * ei_l
+    ));
+    assert!(close(
+        num(slides[0].attribute("stiffness").unwrap()),
+        1.7 * ea_l
+    ));
+    assert!(close(
+        num(slides[1].attribute("stiffness").unwrap()),
+        4.2 * ea_l
+    ));
+    assert!(joints.iter().all(|j| j.attribute("springref") == Some("0")));
+    assert_eq!(find("body").count(), 4);
+    let tip = find("site")
+        .find(|s| s.attribute("name") == Some("tip"))
+        .expect("a tip site");
+    // The bodies' offsets plus the tip site's add up to the beam's length.
+    let x = |n: roxmltree::Node| num(n.attribute("pos").unwrap().split(' ').next().unwrap());
+    let total: f64 = find("body").map(x).sum::<f64>() + x(tip);
+    assert!(close(total, l));
+}
+
+#[test]
+fn urdf_carries_springs_in_gazebo_elements() {
+    let dir = Dir::new("urdf");
+    let text = export(&dir, "urdf", "m.urdf");
+    let doc = roxmltree::Document::parse(&text).expect("well-formed XML");
+    let root = doc.root_element();
+    assert_eq!(root.tag_name().name(), "robot");
+    assert!(
+        text.contains("URDF has no joint springs"),
+        "a comment says so"
+    );
+    let (ei_l, ea_l, _) = units();
+    let joints: Vec<_> = root
+        .children()
+        .filter(|n| n.has_tag_name("joint"))
+        .collect();
+    for j in &joints {
+        if matches!(j.attribute("type"), Some("revolute" | "prismatic")) {
+            assert!(
+                j.children().any(|c| c.has_tag_name("limit")),
+                "limits on {:?}",
+                j.attribute("name")
+            );
+        }
+    }
+    let stiffness = |joint: &str| -> f64 {
+        let g = root
+            .children()
+            .find(|n| n.has_tag_name("gazebo") && n.attribute("reference") == Some(joint))
+            .unwrap_or_else(|| panic!("gazebo block for {joint}"));
+        let reference = g
+            .children()
+            .find(|c| c.has_tag_name("springReference"))
+            .unwrap();
+        assert_eq!(reference.text(), Some("0"));
+        num(g
+            .children()
+            .find(|c| c.has_tag_name("springStiffness"))
+            .unwrap()
+            .text()
+            .unwrap())
+    };
+    assert!(close(stiffness("theta2"), 3.5 * ei_l));
+    assert!(close(stiffness("theta3"), 2.9 * ei_l));
+    assert!(close(stiffness("delta3"), 1.7 * ea_l));
+    assert!(close(stiffness("delta4"), 4.2 * ea_l));
+    // Every joint names links that exist.
+    let links: Vec<_> = root
+        .children()
+        .filter(|n| n.has_tag_name("link"))
+        .map(|n| n.attribute("name").unwrap().to_string())
+        .collect();
+    for j in &joints {
+        for end in ["parent", "child"] {
+            let name = j
+                .children()
+                .find(|c| c.has_tag_name(end))
+                .unwrap()
+                .attribute("link")
+                .unwrap();
+            assert!(links.iter().any(|l| l == name), "{name}");
+        }
+    }
+}
+
+#[test]
+fn sdf_joints_have_spring_dynamics() {
+    let dir = Dir::new("sdf");
+    let text = export(&dir, "sdf", "m.sdf");
+    let doc = roxmltree::Document::parse(&text).expect("well-formed XML");
+    let root = doc.root_element();
+    assert_eq!(
+        (root.tag_name().name(), root.attribute("version")),
+        ("sdf", Some("1.10"))
+    );
+    let (ei_l, ea_l, _) = units();
+    let spring = |joint: &str| -> (f64, f64) {
+        let j = root
+            .descendants()
+            .find(|n| n.has_tag_name("joint") && n.attribute("name") == Some(joint))
+            .unwrap();
+        let dynamics = j
+            .descendants()
+            .find(|n| n.has_tag_name("dynamics"))
+            .unwrap();
+        let get = |tag: &str| {
+            num(dynamics
+                .children()
+                .find(|c| c.has_tag_name(tag))
+                .unwrap()
+                .text()
+                .unwrap())
+        };
+        (get("spring_stiffness"), get("spring_reference"))
+    };
+    assert_eq!(spring("theta2").1, 0.0);
+    assert!(close(spring("theta2").0, 3.5 * ei_l));
+    assert!(close(spring("theta3").0, 2.9 * ei_l));
+    assert!(close(spring("delta3").0, 1.7 * ea_l));
+    assert!(close(spring("delta4").0, 4.2 * ea_l));
+    assert!(root
+        .descendants()
+        .any(|n| n.has_tag_name("frame") && n.attribute("name") == Some("tip")));
+}
+
+#[test]
+fn csv_has_both_tips_and_shapes_for_every_case() {
+    let dir = Dir::new("csv");
+    let text = export(&dir, "csv", "m.csv");
+    let mut lines = text.lines().filter(|l| !l.starts_with('#'));
+    assert_eq!(
+        lines.next(),
+        Some("case,alpha_x,alpha_y,beta,curve,index,x,y,angle")
+    );
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    let cases = Scene::builtin().cases().len();
+    for curve in ["beam_tip", "prb_tip"] {
+        assert_eq!(rows.iter().filter(|r| r[4] == curve).count(), cases);
+    }
+    assert_eq!(
+        rows.iter().filter(|r| r[4] == "beam_shape").count(),
+        cases * 41
+    );
+    assert_eq!(
+        rows.iter().filter(|r| r[4] == "prb_linkage").count(),
+        cases * 5
+    );
+    // The PRB tip of the last case is what prbfit eval says for that load.
+    let last = rows.iter().rfind(|r| r[4] == "prb_tip").unwrap();
+    let load = format!("{},{},{}", last[1], last[2], last[3]);
+    let out = prbfit(&["eval", "--prb", MATRIX, "--load", &load, "--json"]);
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert!((num(last[6]) - v["a"].as_f64().unwrap()).abs() < 1e-12);
+    assert!((num(last[7]) - v["b"].as_f64().unwrap()).abs() < 1e-12);
+}
+
+#[test]
+fn existing_files_are_kept() {
+    let dir = Dir::new("keep");
+    let path = dir.file("m.xml");
+    std::fs::write(&path, "old").unwrap();
+    let out = prbfit(&[
+        "export", "--model", "su-3r", "--format", "mjcf", "-o", &path,
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--force"));
+    assert_eq!(std::fs::read_to_string(&path).unwrap(), "old");
+    let out = prbfit(&[
+        "export", "--model", "su-3r", "--format", "mjcf", "-o", &path, "--force",
+    ]);
+    assert!(out.status.success());
+    assert!(std::fs::read_to_string(&path)
+        .unwrap()
+        .starts_with("<mujoco"));
+    // A write that fails (the target is a directory) leaves what was there.
+    let target = dir.0.join("taken");
+    std::fs::create_dir(&target).unwrap();
+    std::fs::write(target.join("inside"), "keep me").unwrap();
+    let out = prbfit(&[
+        "export",
+        "--model",
+        "su-3r",
+        "--format",
+        "csv",
+        "-o",
+        target.to_str().unwrap(),
+        "--force",
+    ]);
+    assert_ne!(out.status.code(), Some(0));
+    assert_eq!(
+        std::fs::read_to_string(target.join("inside")).unwrap(),
+        "keep me"
+    );
+    let leftovers = std::fs::read_dir(&dir.0)
+        .unwrap()
+        .filter(|e| {
+            e.as_ref()
+                .unwrap()
+                .file_name()
+                .to_string_lossy()
+                .ends_with(".tmp")
+        })
+        .count();
+    assert_eq!(leftovers, 0, "no temporary files left behind");
+}
+
+#[test]
+fn bad_export_requests_exit_2() {
+    let dir = Dir::new("bad");
+    let p = dir.file("m.x");
+    for (args, needle) in [
+        (
+            vec!["export", "--model", "su-3r", "--format", "step", "-o", &p],
+            "step",
+        ),
+        (
+            vec![
+                "export",
+                "--model",
+                "su-3r",
+                "--format",
+                "mjcf",
+                "-o",
+                &p,
+                "--density",
+                "-1",
+            ],
+            "--density",
+        ),
+        (vec!["export", "--format", "mjcf", "-o", &p], "--prb"),
+        (
+            vec!["export", "--prb", "1,2", "--format", "mjcf", "-o", &p],
+            "--prb",
+        ),
+    ] {
+        let out = prbfit(&args);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
+        assert!(err.contains(needle), "{args:?}: {err}");
+        assert!(!Path::new(&p).exists());
+    }
+}
