@@ -628,7 +628,10 @@ pub const HELP: &[(&str, &str)] = &[
     ("space", "pause / resume live refit after every edit"),
     ("v", "cycle fidelity: draft, normal, precise"),
     ("s / o", "save / open a scene file"),
-    ("e", "export: .toml .json (model file) .xml/.mjcf .urdf .sdf .csv"),
+    (
+        "e",
+        "export: .toml .json (model file) .xml/.mjcf .urdf .sdf .csv",
+    ),
     ("?, F1", "this help (any key closes it)"),
     ("q, Ctrl-C", "quit (asks first if something is unsaved)"),
 ];
