@@ -496,3 +496,38 @@ fn selection_view() {
     assert!(app.select_view.is_none());
     assert!(job.cancel.is_cancelled());
 }
+
+/// Exporting from the UI goes through the worker (no solve on the UI thread) and writes the
+/// file the extension names; an existing file is refused.
+#[test]
+fn worker_exports_and_refuses_to_overwrite() {
+    use prbfit::tui::worker::{JobKind, Worker};
+    let dir = std::env::temp_dir().join(format!("prbfit-ui-export-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let worker = Worker::spawn().unwrap();
+    let mut app = app();
+    let path = dir.join("model.xml");
+    for expect_ok in [true, false] {
+        let Command::Submit(job) = app.submit_kind(JobKind::Export(path.clone())) else {
+            panic!()
+        };
+        worker.submit(job);
+        loop {
+            let msg = worker.messages.recv_timeout(Duration::from_secs(30)).unwrap();
+            let done = matches!(msg, WorkerMsg::Exported { .. });
+            app.on_worker(msg);
+            if done {
+                break;
+            }
+        }
+        let (message, _) = app.message.clone().unwrap();
+        if expect_ok {
+            assert!(message.starts_with("exported"), "{message}");
+            assert!(std::fs::read_to_string(&path).unwrap().starts_with("<mujoco"));
+        } else {
+            assert!(message.contains("exists"), "{message}");
+        }
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
