@@ -514,7 +514,10 @@ fn worker_exports_and_refuses_to_overwrite() {
         };
         worker.submit(job);
         loop {
-            let msg = worker.messages.recv_timeout(Duration::from_secs(30)).unwrap();
+            let msg = worker
+                .messages
+                .recv_timeout(Duration::from_secs(30))
+                .unwrap();
             let done = matches!(msg, WorkerMsg::Exported { .. });
             app.on_worker(msg);
             if done {
@@ -524,7 +527,9 @@ fn worker_exports_and_refuses_to_overwrite() {
         let (message, _) = app.message.clone().unwrap();
         if expect_ok {
             assert!(message.starts_with("exported"), "{message}");
-            assert!(std::fs::read_to_string(&path).unwrap().starts_with("<mujoco"));
+            assert!(std::fs::read_to_string(&path)
+                .unwrap()
+                .starts_with("<mujoco"));
         } else {
             assert!(message.contains("exists"), "{message}");
         }
