@@ -16,7 +16,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::eval::{evaluate, Baseline, ErrorFigures};
 use crate::prb::{PrbMatrix, PrbSolver};
-use crate::scene::{FitRecord, ModelFile, ModelFormat, Scene};
+use crate::scene::{ModelFile, ModelFormat, Scene};
 
 /// The formats `prbfit export` writes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -186,32 +186,15 @@ pub fn export(input: &ExportInput, format: ExportFormat) -> Result<String, Expor
 }
 
 fn own(input: &ExportInput, figures: &ErrorFigures) -> ModelFile {
-    ModelFile {
-        name: input.name.clone(),
-        title: Some(format!(
-            "{} for {}",
-            input.matrix.topology(),
-            input.scene.name
-        )),
-        topology: Some(input.matrix.topology()),
-        source: Some(format!("prbfit {} export", env!("CARGO_PKG_VERSION"))),
-        conversion: None,
-        prb: input.matrix.clone(),
-        fit: Some(FitRecord {
-            scene: input.scene.name.clone(),
-            fidelity: input.fidelity.clone(),
-            angle_weight: input.scene.fit.angle_weight,
-            rms_pos_err: figures.rms_pos_err,
-            max_pos_err: figures.max_pos_err,
-            rms_ang_err: figures.rms_ang_err,
-            max_ang_err: figures.max_ang_err,
-            objective: figures.objective,
-            prbfit_version: env!("CARGO_PKG_VERSION").to_string(),
-            created: crate::files::utc_timestamp(),
-        }),
-        si: Some(si_model(input.matrix, input.scene)),
-        load_range: Some(load_range(input.scene)),
-    }
+    let mut file = ModelFile::fitted(input.matrix, input.scene, &input.fidelity, figures);
+    file.name = input.name.clone();
+    file.title = Some(format!(
+        "{} for {}",
+        input.matrix.topology(),
+        input.scene.name
+    ));
+    file.source = Some(format!("prbfit {} export", env!("CARGO_PKG_VERSION")));
+    file
 }
 
 /// XML-escapes text for attributes and comments.

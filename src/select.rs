@@ -197,8 +197,9 @@ pub struct Selection {
     pub fidelity: Fidelity,
 }
 
-/// Median-free cost of judging a matrix: repeated until 5 ms have passed.
-fn eval_cost(m: &PrbMatrix, baseline: &Baseline, weight: f64) -> f64 {
+/// The cost of one PRB load case: judging the matrix on the baseline, repeated until 5 ms
+/// have passed, divided by the cases.
+pub fn eval_cost(m: &PrbMatrix, baseline: &Baseline, weight: f64) -> f64 {
     let t0 = Instant::now();
     let mut n = 0u32;
     while n < 3 || t0.elapsed().as_secs_f64() < 0.005 {

@@ -17,7 +17,7 @@ use crate::eval::{evaluate, Baseline, BaselineError};
 use crate::fit::{fit, CancelToken, Fidelity, FitError, FitOptions};
 use crate::prb::PrbMatrix;
 use crate::scene::{LoadPath, Scene};
-use crate::select::ladder;
+use crate::select::{eval_cost, ladder};
 
 /// One measured setting of a knob.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -195,13 +195,7 @@ pub fn measure(
             &mut |_| {},
             &CancelToken::new(),
         )?;
-        let t0 = Instant::now();
-        let mut n = 0u32;
-        while n < 3 || t0.elapsed().as_secs_f64() < 0.005 {
-            let _ = evaluate(&report.matrix, &baseline, weight);
-            n += 1;
-        }
-        let per_case = t0.elapsed().as_secs_f64() / n as f64 / baseline.case_count() as f64;
+        let per_case = eval_cost(&report.matrix, &baseline, weight);
         let j = evaluate(&report.matrix, &reference, weight)
             .map(|e| e.figures.objective)
             .unwrap_or(f64::INFINITY);

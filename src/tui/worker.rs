@@ -17,7 +17,7 @@ use std::time::Instant;
 
 use crate::beam::Effects;
 use crate::beam::Load;
-use crate::eval::{evaluate, Baseline, CaseError, ErrorFigures};
+use crate::eval::{Baseline, CaseError, ErrorFigures};
 use crate::fit::{fit, CancelToken, Fidelity, FitOptions, FitReport};
 use crate::prb::{PrbMatrix, PrbSolver};
 use crate::scene::{Accuracy, BeamSpec, EffectsChoice, LoadPath, Scene};
@@ -234,19 +234,22 @@ fn worker_loop(jobs: Receiver<Job>, out: Sender<WorkerMsg>) {
     }
 }
 
-/// Judges a matrix on a baseline for the charts.
+/// Judges a matrix on a baseline for the charts: the errors and the linkage of every case,
+/// from one PRB solve of each load path.
 pub fn model_view(
     matrix: &PrbMatrix,
     baseline: &Baseline,
     angle_weight: f64,
 ) -> Result<ModelView, String> {
-    let e = evaluate(matrix, baseline, angle_weight)
-        .map_err(|e| format!("the PRB model fails: {e}"))?;
     let solver = PrbSolver::new(matrix, baseline.model.axial_compliance());
-    let mut linkages = Vec::with_capacity(e.cases.len());
+    let mut cases = Vec::with_capacity(baseline.case_count());
+    let mut linkages = Vec::with_capacity(baseline.case_count());
+    let mut beam = baseline.solutions.iter();
     for path in &baseline.paths {
         solver
             .solve_path_with(path.end, path.steps, |sol| {
+                let b = beam.next().expect("one beam solution per case");
+                cases.push(CaseError::new(sol.load, b.tip, sol.tip));
                 linkages.push(
                     solver
                         .joint_positions(&sol.q)
@@ -259,8 +262,8 @@ pub fn model_view(
     }
     Ok(ModelView {
         matrix: matrix.clone(),
-        figures: e.figures,
-        cases: e.cases,
+        figures: ErrorFigures::from_cases(&cases, angle_weight),
+        cases,
         linkages,
     })
 }
