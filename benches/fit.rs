@@ -60,6 +60,47 @@ fn main() {
         times.len()
     );
 
+    // Cancellation: a precise fit (several hundred ms) cancelled 30 ms in; the time from the
+    // cancel to the fit's return.
+    let steel = Scene::from_file(Path::new(&format!(
+        "{}/assets/scenes/steel-flexure.toml",
+        env!("CARGO_MANIFEST_DIR")
+    )))
+    .unwrap();
+    let baseline = Fidelity::Precise.baseline(&steel).unwrap();
+    let mut latencies = Vec::new();
+    for _ in 0..10 {
+        let cancel = CancelToken::new();
+        let token = cancel.clone();
+        let start = PrbMatrix::from_topology("L-RP-RP-RP").unwrap();
+        let options = FitOptions {
+            fidelity: Fidelity::Precise,
+            angle_weight: 1.0,
+            seed: 1,
+        };
+        let (tx, rx) = std::sync::mpsc::channel();
+        std::thread::scope(|s| {
+            s.spawn(|| {
+                let r = fit(&baseline, &start, &options, &mut |_| {}, &cancel).unwrap();
+                tx.send((Instant::now(), r.stop)).unwrap();
+            });
+            std::thread::sleep(std::time::Duration::from_millis(30));
+            let at = Instant::now();
+            token.cancel();
+            let (done, stop) = rx.recv().unwrap();
+            latencies.push((done.duration_since(at).as_secs_f64(), stop));
+        });
+    }
+    let ms: Vec<f64> = latencies.iter().map(|l| l.0 * 1e3).collect();
+    println!(
+        "cancel to return, precise L-RP-RP-RP fit on the steel flexure: median {:.3} ms, max {:.3} ms \
+         over {} runs (stop reasons: {:?})\n",
+        median(ms.clone()),
+        ms.iter().cloned().fold(0.0, f64::max),
+        ms.len(),
+        latencies.iter().map(|l| l.1).collect::<Vec<_>>()
+    );
+
     println!("Fidelity presets: time (baseline + fit, median of 5) and J on the precise baseline");
     println!(
         "{:<28} {:<11} {:<8} {:>10} {:>8} {:>12} {:>10}",
