@@ -57,6 +57,19 @@ pub const PENALTY: f64 = 1.0;
 /// it: failing trials stay cheap, and a model this close to failing is useless anyway.
 const FIT_MIN_STEP: f64 = 1e-3;
 
+/// Newton iterations a trial model may spend per load case of a path (a healthy model needs
+/// about three): beyond, it counts as failing that path, so struggling trials stay cheap.
+const FIT_NEWTON_PER_CASE: u32 = 20;
+
+/// Newton iterations per continuation attempt for trial models (quadratic convergence from
+/// a secant predictor needs about five).
+const FIT_NEWTON_LIMIT: u32 = 12;
+
+/// Levenberg-Marquardt iterations every candidate gets before only the best
+/// [`POLISHED_CANDIDATES`] (that have not converged yet) are polished to the end.
+const SCOUT_ITERATIONS: u32 = 12;
+const POLISHED_CANDIDATES: usize = 3;
+
 /// A shared flag that stops a running fit.
 #[derive(Debug, Clone, Default)]
 pub struct CancelToken(Arc<AtomicBool>);
@@ -387,20 +400,41 @@ pub fn fit(
         }
     }
 
-    // Local polish from every candidate; keep the best.
+    // Local polish in two rounds: a short one from every candidate, then the full polish
+    // from the best few only, so hopeless candidates cost little.
     let mut best: Option<lm::LmResult> = None;
-    for candidate in candidates {
-        if cancel.is_cancelled() {
-            break;
-        }
-        let mut residuals = |p: &DVector<f64>, out: &mut Vec<f64>| objective.residuals(p, out);
-        let mut on_iteration = |it: u32, j: f64, p: &DVector<f64>| {
-            tracker.offer("polish", it, j, p, objective.evaluations());
+    let mut scout = fidelity.lm();
+    scout.max_iterations = SCOUT_ITERATIONS;
+    let mut scouted: Vec<lm::LmResult> = Vec::new();
+    for round in 0..2 {
+        let starts: Vec<DVector<f64>> = if round == 0 {
+            std::mem::take(&mut candidates)
+        } else {
+            scouted.sort_by(|a, b| a.objective.total_cmp(&b.objective));
+            scouted
+                .iter()
+                .filter(|r| r.stop == lm::LmStop::IterationLimit)
+                .take(POLISHED_CANDIDATES)
+                .map(|r| r.p.clone())
+                .collect()
         };
-        let run = lm::minimise(candidate, fidelity.lm(), &mut residuals, &mut on_iteration);
-        iterations += run.iterations;
-        if best.as_ref().is_none_or(|b| run.objective < b.objective) {
-            best = Some(run);
+        for candidate in starts {
+            if cancel.is_cancelled() {
+                break;
+            }
+            let mut residuals = |p: &DVector<f64>, out: &mut Vec<f64>| objective.residuals(p, out);
+            let mut on_iteration = |it: u32, j: f64, p: &DVector<f64>| {
+                tracker.offer("polish", it, j, p, objective.evaluations());
+            };
+            let options = if round == 0 { scout } else { fidelity.lm() };
+            let run = lm::minimise(candidate, options, &mut residuals, &mut on_iteration);
+            iterations += run.iterations;
+            if best.as_ref().is_none_or(|b| run.objective < b.objective) {
+                best = Some(run.clone());
+            }
+            if round == 0 {
+                scouted.push(run);
+            }
         }
     }
     tracker.flush("polish", iterations, objective.evaluations());
@@ -499,10 +533,14 @@ impl<'a> Objective<'a> {
         self.evaluations.set(self.evaluations.get() + 1);
         out.clear();
         let solver = PrbSolver::new(matrix, self.baseline.model.axial_compliance())
-            .with_min_step(FIT_MIN_STEP);
+            .with_min_step(FIT_MIN_STEP)
+            .with_newton_limit(FIT_NEWTON_LIMIT);
         let mut beam = self.baseline.solutions.iter();
         for path in &self.baseline.paths {
             let before = out.len();
+            let solver = solver
+                .clone()
+                .with_path_budget(FIT_NEWTON_PER_CASE * path.steps + 100);
             // Residuals are capped at the penalty, so that failing to reach a case is never
             // better than reaching it badly.
             let cap = PENALTY;

@@ -14,6 +14,11 @@ use crate::prb::{Column, PrbMatrix};
 /// further (a spring the fit drives to 1e9 is telling the user the joint is not needed).
 pub const SPRING_LOG_LIMIT: f64 = 20.723_265_836_946_41; // ln(1e9)
 
+/// Gamma logits stay within +-LOGIT_LIMIT: free segments differ in length by at most
+/// e^(2 LOGIT_LIMIT) ~ 5e8, so no segment shrinks to a degenerate 1e-100 L that only slows
+/// the statics down.
+pub const LOGIT_LIMIT: f64 = 10.0;
+
 /// Why a matrix cannot be fitted as marked.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum ParamError {
@@ -106,7 +111,11 @@ impl Parameterisation {
         if !self.free_gammas.is_empty() {
             // Softmax with the first logit at 0, shifted by the largest for stability.
             let logits: Vec<f64> = std::iter::once(0.0)
-                .chain(p.iter().take(n_logits).copied())
+                .chain(
+                    p.iter()
+                        .take(n_logits)
+                        .map(|l| l.clamp(-LOGIT_LIMIT, LOGIT_LIMIT)),
+                )
                 .collect();
             let top = logits.iter().cloned().fold(f64::MIN, f64::max);
             let weights: Vec<f64> = logits.iter().map(|l| (l - top).exp()).collect();

@@ -73,6 +73,10 @@ pub struct PrbSolver {
     dofs: Vec<Dof>,
     /// The smallest continuation step before giving up on a load path.
     min_step: f64,
+    /// Newton iterations one load path may spend, all attempts counted.
+    path_budget: u32,
+    /// Newton iterations one attempt may take before the step is halved.
+    newton_limit: u32,
 }
 
 /// Newton stops when the update is below this (radians, units of L).
@@ -103,7 +107,24 @@ impl PrbSolver {
             k_ex_scaled: rows.iter().map(|r| r.k_ex / axial_compliance).collect(),
             dofs,
             min_step: MIN_STEP,
+            path_budget: u32::MAX,
+            newton_limit: MAX_NEWTON,
         }
+    }
+
+    /// Halves the continuation step after `iterations` Newton iterations without convergence
+    /// (default 40). From a good predictor Newton converges in a handful; a fit's trial models
+    /// use a lower limit, so struggling ones cost little.
+    pub fn with_newton_limit(mut self, iterations: u32) -> PrbSolver {
+        self.newton_limit = iterations;
+        self
+    }
+
+    /// Gives up on a load path after `iterations` Newton iterations in all (a fit's trial
+    /// models that struggle this much are useless, and must stay cheap).
+    pub fn with_path_budget(mut self, iterations: u32) -> PrbSolver {
+        self.path_budget = iterations;
+        self
     }
 
     /// Gives up on a load path once the continuation step falls below `min_step` (default
@@ -302,6 +323,7 @@ impl PrbSolver {
         let steps = steps.max(1);
         let m = self.dofs.len();
         let mut ws = Workspace::new(self.gamma.len(), m);
+        ws.spent = 0;
         // Two last accepted points for the secant predictor.
         let mut prev = (0.0, vec![0.0; m], TipPose::STRAIGHT);
         let mut prev2: Option<(f64, Vec<f64>, TipPose)> = None;
@@ -360,6 +382,13 @@ impl PrbSolver {
                     Err(f) => f,
                 };
                 dlam *= 0.5;
+                if ws.spent > self.path_budget {
+                    return Err(PrbError::NoEquilibrium {
+                        load: end,
+                        fraction: prev.0,
+                        reason: format!("{} Newton iterations without reaching the load", ws.spent),
+                    });
+                }
                 if dlam < self.min_step {
                     return Err(match failure {
                         Failure::NotPositiveDefinite => PrbError::Unstable {
@@ -401,6 +430,8 @@ enum Failure {
 
 /// Scratch space for one path solve, so Newton allocates nothing.
 struct Workspace {
+    /// Newton iterations spent on the current path.
+    spent: u32,
     theta_cum: Vec<f64>,
     length: Vec<f64>,
     axial: Vec<f64>,
@@ -415,6 +446,7 @@ struct Workspace {
 impl Workspace {
     fn new(n: usize, m: usize) -> Workspace {
         Workspace {
+            spent: 0,
             theta_cum: vec![0.0; n],
             length: vec![0.0; n],
             axial: vec![0.0; n],
