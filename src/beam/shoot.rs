@@ -71,18 +71,19 @@ fn rhs<const N: usize>(
     let (eps, de_dn, p) = model.axial_strain(n)?;
     // d/dpsi of N is Q and of Q is -N.
     let eps_psi = de_dn * q;
+    // One division for every power of 1/p below.
+    let inv_p = if model.effects.poisson { 1.0 / p } else { 1.0 };
+    let inv_p2 = inv_p * inv_p;
     let (p_psi, bend_compliance) = if model.effects.poisson {
-        let p2 = p * p;
-        (-model.nu * eps_psi, 1.0 / (p2 * p2))
+        (-model.nu * eps_psi, inv_p2 * inv_p2)
     } else {
         (0.0, 1.0)
     };
     let (gamma, gamma_psi) = if model.effects.shear {
         let c_s = model.shear_compliance();
-        let inv_p2 = 1.0 / (p * p);
         (
             c_s * q * inv_p2,
-            c_s * (-n * inv_p2 - 2.0 * q * p_psi * inv_p2 / p),
+            c_s * (-n * inv_p2 - 2.0 * q * p_psi * inv_p2 * inv_p),
         )
     } else {
         (0.0, 0.0)
@@ -94,7 +95,7 @@ fn rhs<const N: usize>(
     let dm = -stretch * q + gamma * n;
 
     // Variational equations, linearised about this state.
-    let f1_psi = -4.0 * m * p_psi * bend_compliance / p;
+    let f1_psi = -4.0 * m * p_psi * bend_compliance * inv_p;
     let f2_psi = -eps_psi * q + stretch * n + gamma_psi * n + gamma * q;
     let dx_psi = eps_psi * cs - stretch * sn - gamma_psi * sn - gamma * cs;
     let dy_psi = eps_psi * sn + stretch * cs + gamma_psi * cs - gamma * sn;
