@@ -175,6 +175,11 @@ fn joint_positions_draw_the_chain() {
     assert_eq!(pts[0], [0.0, 0.0]);
     assert_eq!(pts[1], [0.1, 0.0]);
     assert!((pts[4][0] - sol.tip.a).abs() < 1e-15 && (pts[4][1] - sol.tip.b).abs() < 1e-15);
+    // The forward kinematics agree with the equilibrium's tip.
+    let tip = solver.tip_pose(&sol.q);
+    assert!(tip.max_diff(&sol.tip) < 1e-15);
+    let turned = solver.tip_pose(&[0.1, 0.2, 0.3]);
+    assert!((turned.phi - 0.6).abs() < 1e-15);
 }
 
 #[test]

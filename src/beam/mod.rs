@@ -715,15 +715,3 @@ fn predict(end: Load, history: &[PathPoint], lambda: f64) -> (Vec<[f64; 2]>, Tip
         [] => unreachable!("history starts with the unloaded beam"),
     }
 }
-
-/// Solves every case of a set of load paths with one solver.
-pub fn solve_paths(
-    solver: &BeamSolver,
-    paths: &[(Load, u32)],
-) -> Result<Vec<BeamSolution>, SolveError> {
-    let mut out = Vec::new();
-    for &(end, steps) in paths {
-        out.extend(solver.solve_path(end, steps)?);
-    }
-    Ok(out)
-}

@@ -169,21 +169,6 @@ impl PrbMatrix {
         Ok(m)
     }
 
-    /// Builds from `[gamma, k_theta, k_ex]` triples, every finite cell free.
-    pub fn from_values(values: &[[f64; 3]]) -> Result<PrbMatrix, MatrixError> {
-        PrbMatrix::new(
-            values
-                .iter()
-                .map(|v| PrbRow {
-                    gamma: v[0],
-                    k_theta: v[1],
-                    k_ex: v[2],
-                    free: [true; 3],
-                })
-                .collect(),
-        )
-    }
-
     pub fn rows(&self) -> &[PrbRow] {
         &self.rows
     }

@@ -192,11 +192,6 @@ impl Scene {
         self.loads.iter().flat_map(|p| p.cases()).collect()
     }
 
-    /// The load paths as `(end, steps)` pairs.
-    pub fn paths(&self) -> Vec<(Load, u32)> {
-        self.loads.iter().map(|p| (p.end, p.steps)).collect()
-    }
-
     /// The scene as TOML, in the schema it was read from.
     pub fn to_toml(&self) -> String {
         let mut out = String::new();
