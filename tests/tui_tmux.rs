@@ -100,3 +100,68 @@ fn edit_a_cell_and_see_the_errors_change() {
         sleep(Duration::from_millis(50));
     }
 }
+
+/// The terminal comes back as it was (stty settings compared before and after) when the UI
+/// quits and when it is killed with SIGTERM.
+#[test]
+fn terminal_is_restored_on_quit_and_on_sigterm() {
+    if tmux(&["-V"]).is_none() {
+        println!("SKIPPED: tmux is not installed, so the terminal-restore test cannot run");
+        return;
+    }
+    let dir = std::env::temp_dir().join(format!("prbfit-restore-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let session = format!("prbfit-restore-{}", std::process::id());
+    tmux(&[
+        "new-session",
+        "-d",
+        "-s",
+        &session,
+        "-x",
+        "120",
+        "-y",
+        "40",
+        "sh",
+    ])
+    .unwrap();
+    let bin = env!("CARGO_BIN_EXE_prbfit");
+    for (round, how) in ["quit", "sigterm"].iter().enumerate() {
+        let before = dir.join(format!("before{round}"));
+        let after = dir.join(format!("after{round}"));
+        // The shell prints the mark only after the UI has exited (the typed command line
+        // shows the arithmetic, not its value).
+        let mark = format!("RESTORE-DONE-{}", 100 + round);
+        let line = format!(
+            "stty -g > {}; {bin}; stty -g > {}; echo RESTORE-DONE-$((100+{round}))",
+            before.display(),
+            after.display()
+        );
+        tmux(&["send-keys", "-t", &session, &line, "Enter"]).unwrap();
+        wait_for(&session, "the UI", |s| {
+            s.contains("PRB matrix") && s.contains("converged")
+        });
+        if *how == "quit" {
+            // The live fit changed the model, which is unsaved work: quitting asks first.
+            tmux(&["send-keys", "-t", &session, "q"]).unwrap();
+            wait_for(&session, "the quit question", |s| s.contains("quit anyway"));
+            tmux(&["send-keys", "-t", &session, "y"]).unwrap();
+        } else {
+            let shell = tmux(&["display", "-p", "-t", &session, "#{pane_pid}"]).unwrap();
+            let out = Command::new("pgrep")
+                .args(["-P", shell.trim()])
+                .output()
+                .unwrap();
+            let pid = String::from_utf8_lossy(&out.stdout).trim().to_string();
+            assert!(!pid.is_empty(), "the UI's pid");
+            let ok = Command::new("kill").args(["-TERM", &pid]).status().unwrap();
+            assert!(ok.success());
+        }
+        wait_for(&session, "the shell after the UI", |s| s.contains(&mark));
+        let b = std::fs::read_to_string(&before).unwrap();
+        let a = std::fs::read_to_string(&after).unwrap();
+        assert_eq!(a, b, "{how}: terminal settings after differ from before");
+    }
+    let _ = tmux(&["kill-session", "-t", &session]);
+    std::fs::remove_dir_all(&dir).unwrap();
+}

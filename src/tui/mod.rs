@@ -6,7 +6,8 @@
 //! - [`worker`]: the background thread that solves and fits;
 //! - this module: the terminal and the event loop.
 //!
-//! The terminal is restored on quit, on error and on a panic of the UI thread (a panic hook);
+//! The terminal is restored on quit, on error, on SIGTERM and SIGHUP, and on a panic of the UI
+//! thread (a panic hook);
 //! a panic inside the worker is caught there and shown as a message, and the UI goes on.
 //! With `PRBFIT_TRACE=FILE` the loop writes timings (edit to redrawn chart, frame draws) and
 //! peak memory to FILE, for measuring.
@@ -19,6 +20,8 @@ pub mod worker;
 use std::fs::OpenOptions;
 use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use anyhow::{Context, Result};
@@ -119,6 +122,13 @@ fn event_loop(
     app: &mut App,
     trace_path: Option<&Path>,
 ) -> Result<()> {
+    // SIGTERM (kill) and SIGHUP (the terminal closed) end the loop like a quit, so the
+    // terminal is restored on the way out instead of being left in raw mode.
+    let stop = Arc::new(AtomicBool::new(false));
+    for signal in [signal_hook::consts::SIGTERM, signal_hook::consts::SIGHUP] {
+        signal_hook::flag::register(signal, stop.clone())
+            .context("cannot install the signal handlers")?;
+    }
     let worker = Worker::spawn().context("cannot start the worker thread")?;
     let mut trace = trace_path.and_then(Trace::open);
     let first = app.submit(app.live);
@@ -188,7 +198,7 @@ fn event_loop(
         for cmd in commands {
             execute_command(app, &worker, cmd, &mut trace);
         }
-        if app.quit {
+        if app.quit || stop.load(Ordering::Relaxed) {
             break;
         }
     }
