@@ -536,3 +536,29 @@ fn worker_exports_and_refuses_to_overwrite() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// The scene's targets and angle weight are edited in the beam panel, validated like the
+/// scene file.
+#[test]
+fn targets_are_editable() {
+    use prbfit::tui::app::BeamField;
+    let t0 = Instant::now();
+    let mut app = app();
+    app.focus = Panel::Beam;
+    let row = |f: BeamField| BeamField::ALL.iter().position(|&g| g == f).unwrap();
+    app.beam_row = row(BeamField::MaxPosErr);
+    edit(&mut app, "0.005", t0);
+    assert_eq!(app.scene.accuracy.max_pos_err, 0.005);
+    app.beam_row = row(BeamField::AngleWeight);
+    edit(&mut app, "0.5", t0);
+    assert_eq!(app.scene.fit.angle_weight, 0.5);
+    assert!(
+        app.tick(t0 + DEBOUNCE).is_some(),
+        "a target change is a change"
+    );
+    let before = app.scene.clone();
+    app.beam_row = row(BeamField::MaxAngErr);
+    edit(&mut app, "-1", t0);
+    assert_eq!(app.scene, before);
+    assert!(app.message.as_ref().unwrap().0.contains("max_ang_err"));
+}

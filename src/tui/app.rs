@@ -55,10 +55,14 @@ pub enum BeamField {
     PoissonRatio,
     ShearCoefficient,
     Effects,
+    /// The scene's targets and the fit's angle weight.
+    MaxPosErr,
+    MaxAngErr,
+    AngleWeight,
 }
 
 impl BeamField {
-    pub const ALL: [BeamField; 7] = [
+    pub const ALL: [BeamField; 10] = [
         BeamField::Length,
         BeamField::Width,
         BeamField::Thickness,
@@ -66,6 +70,9 @@ impl BeamField {
         BeamField::PoissonRatio,
         BeamField::ShearCoefficient,
         BeamField::Effects,
+        BeamField::MaxPosErr,
+        BeamField::MaxAngErr,
+        BeamField::AngleWeight,
     ];
 
     pub fn label(self) -> &'static str {
@@ -77,6 +84,9 @@ impl BeamField {
             BeamField::PoissonRatio => "nu",
             BeamField::ShearCoefficient => "kappa",
             BeamField::Effects => "effects",
+            BeamField::MaxPosErr => "pos target",
+            BeamField::MaxAngErr => "ang target",
+            BeamField::AngleWeight => "ang weight",
         }
     }
 
@@ -630,6 +640,17 @@ impl App {
                 }
                 EffectsChoice::Fixed(e) => e.to_string(),
             },
+            BeamField::MaxPosErr => format!(
+                "{} L ({}%)",
+                trim_number(self.scene.accuracy.max_pos_err, 6),
+                trim_number(self.scene.accuracy.max_pos_err * 100.0, 4)
+            ),
+            BeamField::MaxAngErr => format!(
+                "{} rad ({} deg)",
+                trim_number(self.scene.accuracy.max_ang_err, 6),
+                trim_number(self.scene.accuracy.max_ang_err.to_degrees(), 4)
+            ),
+            BeamField::AngleWeight => trim_number(self.scene.fit.angle_weight, 6),
         }
     }
 
@@ -661,6 +682,8 @@ impl App {
                         "auto".into()
                     }
                     BeamField::Effects => self.scene.beam.effects.to_string(),
+                    BeamField::MaxPosErr => trim_number(self.scene.accuracy.max_pos_err, 6),
+                    BeamField::MaxAngErr => trim_number(self.scene.accuracy.max_ang_err, 6),
                     _ => self.beam_text(f),
                 };
                 (EditTarget::Beam(f), text)
@@ -736,6 +759,9 @@ impl App {
                             BeamField::YoungsModulus => b.youngs_modulus = v,
                             BeamField::PoissonRatio => b.poisson_ratio = v,
                             BeamField::ShearCoefficient => b.shear_coefficient = Some(v),
+                            BeamField::MaxPosErr => scene.accuracy.max_pos_err = v,
+                            BeamField::MaxAngErr => scene.accuracy.max_ang_err = v,
+                            BeamField::AngleWeight => scene.fit.angle_weight = v,
                             BeamField::Effects => unreachable!("handled above"),
                         }
                     }

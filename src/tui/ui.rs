@@ -141,10 +141,12 @@ fn panel_block<'a>(title: &'a str, focused: bool, pal: &Palette) -> Block<'a> {
 }
 
 fn draw_left(frame: &mut Frame, area: Rect, app: &App, pal: &Palette) {
-    let beam_height = BeamField::ALL.len() as u16 + 2;
-    let matrix_height = (app.matrix.len() as u16 + 3)
-        .min(area.height.saturating_sub(beam_height + 4))
-        .max(4);
+    // The matrix first (all its rows if it can), then at least four lines of loads; the beam
+    // panel takes the rest and scrolls to its selected field when short.
+    let matrix_height =
+        (app.matrix.len() as u16 + 3).clamp(4, area.height.saturating_sub(9).max(4));
+    let beam_height =
+        (BeamField::ALL.len() as u16 + 2).min(area.height.saturating_sub(matrix_height + 4).max(3));
     let parts = Layout::default()
         .direction(Direction::Vertical)
         .constraints([
@@ -169,9 +171,12 @@ fn shown(app: &App, target: &EditTarget, text: String) -> (String, bool) {
 fn draw_beam(frame: &mut Frame, area: Rect, app: &App, pal: &Palette) {
     let focused = app.focus == Panel::Beam;
     let b = &app.scene.beam;
-    let title = format!(" Beam  L/t0 = {} ", trim_number(b.slenderness(), 4));
+    let title = format!(
+        " Beam and targets  L/t0 = {} ",
+        trim_number(b.slenderness(), 4)
+    );
     let block = panel_block(&title, focused, pal);
-    let lines: Vec<Line> = BeamField::ALL
+    let rows: Vec<Row> = BeamField::ALL
         .iter()
         .enumerate()
         .map(|(i, &f)| {
@@ -181,13 +186,17 @@ fn draw_beam(frame: &mut Frame, area: Rect, app: &App, pal: &Palette) {
             } else {
                 Style::default()
             };
-            Line::from(vec![
-                Span::raw(format!("{:<10}", f.label())),
-                Span::styled(text, style),
+            Row::new(vec![
+                Cell::from(f.label()),
+                Cell::from(Span::styled(text, style)),
             ])
         })
         .collect();
-    frame.render_widget(Paragraph::new(lines).block(block), area);
+    let table = Table::new(rows, [Constraint::Length(11), Constraint::Min(10)])
+        .column_spacing(0)
+        .block(block);
+    let mut state = TableState::default().with_selected(Some(app.beam_row));
+    frame.render_stateful_widget(table, area, &mut state);
 }
 
 fn draw_loads(frame: &mut Frame, area: Rect, app: &App, pal: &Palette) {
