@@ -562,3 +562,30 @@ fn targets_are_editable() {
     assert_eq!(app.scene, before);
     assert!(app.message.as_ref().unwrap().0.contains("max_ang_err"));
 }
+
+/// `u` shows the matrix in SI for the scene's beam and takes SI input: 1.4625 N m/rad is
+/// k_theta 3.51 for the built-in beam (E I0 / L = 0.41667 N m/rad), 10 mm is gamma 0.2.
+#[test]
+fn si_view_shows_and_takes_si_values() {
+    let t0 = Instant::now();
+    let mut app = app();
+    app.on_key(key(KeyCode::Char('u')), t0);
+    assert!(app.si);
+    let ei_l = app.si_factor(Column::KTheta);
+    assert!((ei_l - 200e9 * 0.01 * 0.0005f64.powi(3) / 12.0 / 0.05).abs() < 1e-12);
+    assert_eq!(
+        app.cell_text(1, Column::KTheta),
+        prbfit::tui::units::trim_number(3.51 * ei_l, 5)
+    );
+    assert_eq!(app.cell_text(1, Column::Gamma), "17.5 mm");
+    app.focus = Panel::Matrix;
+    app.matrix_row = 2;
+    app.matrix_col = 1;
+    edit(&mut app, "1.5", t0);
+    assert!((app.matrix.rows()[2].k_theta - 1.5 / ei_l).abs() < 1e-12);
+    app.matrix_col = 0;
+    edit(&mut app, "10 mm", t0);
+    assert!((app.matrix.rows()[2].gamma - 0.2).abs() < 1e-12);
+    let sum: f64 = app.matrix.rows().iter().map(|r| r.gamma).sum();
+    assert!((sum - 1.0).abs() < 1e-12);
+}

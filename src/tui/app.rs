@@ -222,6 +222,8 @@ pub struct App {
     next_published: usize,
     /// The selection view, when open.
     pub select_view: Option<SelectView>,
+    /// The matrix panel shows (and takes) SI values for the scene's beam.
+    pub si: bool,
 }
 
 impl App {
@@ -259,6 +261,7 @@ impl App {
             report: None,
             next_published: 0,
             select_view: None,
+            si: false,
         }
     }
 
@@ -563,6 +566,14 @@ impl App {
             }
             KeyCode::Char('a') => self.add_row(now),
             KeyCode::Char('d') => self.delete_row(now),
+            KeyCode::Char('u') => {
+                self.si = !self.si;
+                self.set_info(if self.si {
+                    "matrix in SI for this beam: segment lengths, N m/rad, N/m"
+                } else {
+                    "matrix nondimensional: gamma, k_theta (E I0/L), k_ex (E A0/L)"
+                });
+            }
             KeyCode::Char('[') => self.select_path(-1),
             KeyCode::Char(']') => self.select_path(1),
             _ => {}
@@ -668,8 +679,25 @@ impl App {
         let v = self.matrix.rows()[row].get(col);
         if v == f64::INFINITY {
             "inf".into()
+        } else if self.si {
+            let si = v * self.si_factor(col);
+            match col {
+                Column::Gamma => format_quantity(si, Quantity::Length),
+                _ => trim_number(si, 5),
+            }
         } else {
             trim_number(v, 6)
+        }
+    }
+
+    /// SI value per nondimensional unit of a column for the scene's beam: L (m) for gamma,
+    /// E I0 / L (N m/rad) for k_theta, E A0 / L (N/m) for k_ex.
+    pub fn si_factor(&self, col: Column) -> f64 {
+        let b = &self.scene.beam;
+        match col {
+            Column::Gamma => b.length,
+            Column::KTheta => b.youngs_modulus * b.second_moment() / b.length,
+            Column::KEx => b.youngs_modulus * b.area() / b.length,
         }
     }
 
@@ -810,6 +838,16 @@ impl App {
             EditTarget::Cell { row, col } => {
                 let v = match text.trim().to_ascii_lowercase().as_str() {
                     "inf" => f64::INFINITY,
+                    _ if self.si => {
+                        // SI input: a length for gamma, N m/rad or N/m for the springs.
+                        let q = if *col == Column::Gamma {
+                            Quantity::Length
+                        } else {
+                            Quantity::Plain
+                        };
+                        parse_quantity(text, q).map_err(|e| format!("{col}: {e}"))?
+                            / self.si_factor(*col)
+                    }
                     _ => {
                         parse_quantity(text, Quantity::Plain).map_err(|e| format!("{col}: {e}"))?
                     }

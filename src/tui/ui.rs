@@ -255,8 +255,12 @@ fn draw_matrix(frame: &mut Frame, area: Rect, app: &App, pal: &Palette) {
     let focused = app.focus == Panel::Matrix;
     let title = format!(" PRB matrix  {}  (! fixed) ", app.matrix.topology());
     let block = panel_block(&title, focused, pal);
-    let header = Row::new(vec!["#", "gamma", "k_theta", "k_ex"])
-        .style(Style::default().add_modifier(Modifier::BOLD));
+    let header = if app.si {
+        Row::new(vec!["#", "length", "N m/rad", "N/m"])
+    } else {
+        Row::new(vec!["#", "gamma", "k_theta", "k_ex"])
+    }
+    .style(Style::default().add_modifier(Modifier::BOLD));
     let rows: Vec<Row> = app
         .matrix
         .rows()
@@ -589,7 +593,7 @@ fn draw_hints(frame: &mut Frame, area: Rect, app: &App, pal: &Palette) {
     } else {
         match app.focus {
             Panel::Matrix => {
-                " ? keys · q quit · Tab panel · Enter edit · f free/fixed · a/d row · t topology · m model · r fit · c cancel · space live · v fidelity · e export"
+                " ? keys · q quit · Tab panel · Enter edit · f free/fixed · a/d row · t topology · m model · u SI · r fit · c cancel · space live · v fidelity · e export"
             }
             Panel::Loads => {
                 " ? keys · q quit · Tab panel · Enter edit · a/d path · [ ] shown path · r fit · c cancel · space live · v fidelity · s save · o open"
