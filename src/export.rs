@@ -549,7 +549,7 @@ fn csv(input: &ExportInput) -> Result<String, ExportError> {
     for path in &baseline.paths {
         let mut rows = Vec::new();
         solver
-            .solve_path_with(path.end, path.steps, |sol| rows.push(sol))
+            .solve_path_with(path.end, path.steps, |case| rows.push(case.to_solution()))
             .map_err(|e| ExportError::Eval(e.to_string()))?;
         for sol in rows {
             let beam = &baseline.solutions[case];

@@ -71,12 +71,28 @@ pub fn decide_effects(
     accuracy: &Accuracy,
     resolution: Resolution,
 ) -> Result<EffectsDecision, BaselineError> {
-    let with = |effects: Effects| -> Result<Vec<BeamSolution>, BaselineError> {
-        let mut b = *beam;
-        b.effects = EffectsChoice::Fixed(effects);
-        Ok(Baseline::for_model(b.model(), loads, resolution)?.solutions)
+    // Each set of effects is solved once, however often the procedure asks for it.
+    let mut solved: Vec<(Effects, Vec<BeamSolution>)> = Vec::new();
+    let mut tip_moves = |effects: Effects| -> Result<(f64, f64), BaselineError> {
+        for e in [Effects::ALL, effects] {
+            if !solved.iter().any(|(k, _)| *k == e) {
+                let mut b = *beam;
+                b.effects = EffectsChoice::Fixed(e);
+                solved.push((
+                    e,
+                    Baseline::for_model(b.model(), loads, resolution)?.solutions,
+                ));
+            }
+        }
+        let of = |e: Effects| {
+            &solved
+                .iter()
+                .find(|(k, _)| *k == e)
+                .expect("solved above")
+                .1
+        };
+        Ok(tip_change(of(Effects::ALL), of(effects)))
     };
-    let full = with(Effects::ALL)?;
     let mut impacts = Vec::new();
     for effect in ["shear", "extension", "poisson"] {
         let mut e = Effects::ALL;
@@ -88,12 +104,12 @@ pub fn decide_effects(
             }
             _ => e.poisson = false,
         }
-        let change = tip_change(&full, &with(e)?);
-        let frac = fraction(change, accuracy);
+        let moved = tip_moves(e)?;
+        let frac = fraction(moved, accuracy);
         impacts.push(EffectImpact {
             effect,
-            pos_change: change.0,
-            ang_change: change.1,
+            pos_change: moved.0,
+            ang_change: moved.1,
             fraction_of_target: frac,
             kept: frac > AUTO_FRACTION,
         });
@@ -108,7 +124,7 @@ pub fn decide_effects(
             extension: impacts[1].kept,
             poisson: impacts[2].kept,
         };
-        let together = fraction(tip_change(&full, &with(effects)?), accuracy);
+        let together = fraction(tip_moves(effects)?, accuracy);
         if together <= AUTO_FRACTION || impacts.iter().all(|i| i.kept) {
             return Ok(EffectsDecision {
                 effects,

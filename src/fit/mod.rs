@@ -534,13 +534,11 @@ impl<'a> Objective<'a> {
         out.clear();
         let solver = PrbSolver::new(matrix, self.baseline.model.axial_compliance())
             .with_min_step(FIT_MIN_STEP)
-            .with_newton_limit(FIT_NEWTON_LIMIT);
+            .with_newton_limit(FIT_NEWTON_LIMIT)
+            .with_case_budget(FIT_NEWTON_PER_CASE);
         let mut beam = self.baseline.solutions.iter();
         for path in &self.baseline.paths {
             let before = out.len();
-            let solver = solver
-                .clone()
-                .with_path_budget(FIT_NEWTON_PER_CASE * path.steps + 100);
             // Residuals are capped at the penalty, so that failing to reach a case is never
             // better than reaching it badly.
             let cap = PENALTY;

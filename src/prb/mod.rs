@@ -4,4 +4,4 @@ mod matrix;
 mod statics;
 
 pub use matrix::{Column, MatrixError, PrbMatrix, PrbRow, GAMMA_SUM_TOL};
-pub use statics::{PrbError, PrbSolution, PrbSolver};
+pub use statics::{PrbCase, PrbError, PrbSolution, PrbSolver};

@@ -63,6 +63,27 @@ pub struct PrbSolution {
     pub iterations: u32,
 }
 
+/// One equilibrium as handed to a visitor: the configuration is borrowed, so following a load
+/// path allocates nothing per case.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PrbCase<'a> {
+    pub load: Load,
+    pub tip: TipPose,
+    pub q: &'a [f64],
+    pub iterations: u32,
+}
+
+impl PrbCase<'_> {
+    pub fn to_solution(&self) -> PrbSolution {
+        PrbSolution {
+            load: self.load,
+            tip: self.tip,
+            q: self.q.to_vec(),
+            iterations: self.iterations,
+        }
+    }
+}
+
 /// Solves a PRB chain's statics. Cheap to build; holds no scratch between calls.
 #[derive(Debug, Clone)]
 pub struct PrbSolver {
@@ -73,8 +94,8 @@ pub struct PrbSolver {
     dofs: Vec<Dof>,
     /// The smallest continuation step before giving up on a load path.
     min_step: f64,
-    /// Newton iterations one load path may spend, all attempts counted.
-    path_budget: u32,
+    /// Newton iterations one load path may spend per case, all attempts counted.
+    case_budget: u32,
     /// Newton iterations one attempt may take before the step is halved.
     newton_limit: u32,
 }
@@ -107,7 +128,7 @@ impl PrbSolver {
             k_ex_scaled: rows.iter().map(|r| r.k_ex / axial_compliance).collect(),
             dofs,
             min_step: MIN_STEP,
-            path_budget: u32::MAX,
+            case_budget: u32::MAX,
             newton_limit: MAX_NEWTON,
         }
     }
@@ -120,10 +141,11 @@ impl PrbSolver {
         self
     }
 
-    /// Gives up on a load path after `iterations` Newton iterations in all (a fit's trial
-    /// models that struggle this much are useless, and must stay cheap).
-    pub fn with_path_budget(mut self, iterations: u32) -> PrbSolver {
-        self.path_budget = iterations;
+    /// Gives up on a load path of `steps` cases after `per_case * steps + 100` Newton
+    /// iterations in all (a fit's trial models that struggle this much are useless, and must
+    /// stay cheap).
+    pub fn with_case_budget(mut self, per_case: u32) -> PrbSolver {
+        self.case_budget = per_case;
         self
     }
 
@@ -306,7 +328,7 @@ impl PrbSolver {
     /// warm-started from the previous ones.
     pub fn solve_path(&self, end: Load, steps: u32) -> Result<Vec<PrbSolution>, PrbError> {
         let mut out = Vec::with_capacity(steps as usize);
-        self.solve_path_with(end, steps, |sol| out.push(sol))?;
+        self.solve_path_with(end, steps, |case| out.push(case.to_solution()))?;
         Ok(out)
     }
 
@@ -315,7 +337,7 @@ impl PrbSolver {
         &self,
         end: Load,
         steps: u32,
-        mut visit: impl FnMut(PrbSolution),
+        mut visit: impl FnMut(PrbCase<'_>),
     ) -> Result<(), PrbError> {
         if !end.is_finite() {
             return Err(PrbError::NonFiniteLoad(end));
@@ -323,55 +345,60 @@ impl PrbSolver {
         let steps = steps.max(1);
         let m = self.dofs.len();
         let mut ws = Workspace::new(self.gamma.len(), m);
-        ws.spent = 0;
-        // Two last accepted points for the secant predictor.
-        let mut prev = (0.0, vec![0.0; m], TipPose::STRAIGHT);
-        let mut prev2: Option<(f64, Vec<f64>, TipPose)> = None;
+        let budget = self.case_budget.saturating_mul(steps).saturating_add(100);
+        // The last two accepted points, for the secant predictor; their configurations live
+        // in two buffers that swap roles, so accepting a step allocates nothing.
+        let (mut prev_lambda, mut prev_tip) = (0.0, TipPose::STRAIGHT);
+        let mut prev_q = vec![0.0; m];
+        let mut prev2: Option<(f64, TipPose)> = None;
+        let mut prev2_q = vec![0.0; m];
         let mut dlam = 1.0 / steps as f64;
         let mut q = vec![0.0; m];
         for k in 1..=steps {
             let target = k as f64 / steps as f64;
             let mut iterations = 0;
             loop {
-                let lambda = (prev.0 + dlam).min(target);
-                // Predictor: secant through the last two points, or the linear response
-                // (one Newton step from the unloaded chain) at the start.
-                let mut predicted_tip = prev.2;
-                match &prev2 {
-                    Some((l2, q2, t2)) => {
-                        let t = (lambda - prev.0) / (prev.0 - l2);
+                let lambda = (prev_lambda + dlam).min(target);
+                // Predictor: secant through the last two points; from the unloaded chain,
+                // the previous configuration.
+                let mut predicted_tip = prev_tip;
+                match prev2 {
+                    Some((l2, t2)) => {
+                        let t = (lambda - prev_lambda) / (prev_lambda - l2);
                         for i in 0..m {
-                            q[i] = prev.1[i] + t * (prev.1[i] - q2[i]);
+                            q[i] = prev_q[i] + t * (prev_q[i] - prev2_q[i]);
                         }
                         predicted_tip = TipPose {
-                            a: prev.2.a + t * (prev.2.a - t2.a),
-                            b: prev.2.b + t * (prev.2.b - t2.b),
-                            phi: prev.2.phi + t * (prev.2.phi - t2.phi),
+                            a: prev_tip.a + t * (prev_tip.a - t2.a),
+                            b: prev_tip.b + t * (prev_tip.b - t2.b),
+                            phi: prev_tip.phi + t * (prev_tip.phi - t2.phi),
                         };
                     }
-                    None => q.copy_from_slice(&prev.1),
+                    None => q.copy_from_slice(&prev_q),
                 }
                 let load = end.scaled(lambda);
                 let outcome = self.newton(load, &mut q, &mut ws);
                 let failure = match outcome {
                     Ok((tip, its)) => {
                         iterations += its;
-                        let jump = tip.max_diff(&prev.2);
+                        let jump = tip.max_diff(&prev_tip);
                         let off_prediction = tip.max_diff(&predicted_tip);
                         if jump > MAX_TIP_JUMP
                             || (prev2.is_some()
-                                && off_prediction > 0.15 + 0.5 * predicted_tip.max_diff(&prev.2))
+                                && off_prediction > 0.15 + 0.5 * predicted_tip.max_diff(&prev_tip))
                         {
                             Failure::Jumped
                         } else {
-                            let old = std::mem::replace(&mut prev, (lambda, q.clone(), tip));
-                            prev2 = Some(old);
+                            prev2 = Some((prev_lambda, prev_tip));
+                            std::mem::swap(&mut prev_q, &mut prev2_q);
+                            prev_q.copy_from_slice(&q);
+                            (prev_lambda, prev_tip) = (lambda, tip);
                             dlam = (dlam * 2.0).min(1.0);
                             if lambda >= target {
-                                visit(PrbSolution {
+                                visit(PrbCase {
                                     load,
                                     tip,
-                                    q: q.clone(),
+                                    q: &q,
                                     iterations,
                                 });
                                 break;
@@ -382,10 +409,10 @@ impl PrbSolver {
                     Err(f) => f,
                 };
                 dlam *= 0.5;
-                if ws.spent > self.path_budget {
+                if ws.spent > budget {
                     return Err(PrbError::NoEquilibrium {
                         load: end,
-                        fraction: prev.0,
+                        fraction: prev_lambda,
                         reason: format!("{} Newton iterations without reaching the load", ws.spent),
                     });
                 }
@@ -393,16 +420,16 @@ impl PrbSolver {
                     return Err(match failure {
                         Failure::NotPositiveDefinite => PrbError::Unstable {
                             load: end,
-                            fraction: prev.0,
+                            fraction: prev_lambda,
                         },
                         Failure::Diverged => PrbError::NoEquilibrium {
                             load: end,
-                            fraction: prev.0,
+                            fraction: prev_lambda,
                             reason: "Newton did not converge".into(),
                         },
                         Failure::Jumped => PrbError::NoEquilibrium {
                             load: end,
-                            fraction: prev.0,
+                            fraction: prev_lambda,
                             reason: "the equilibrium jumps away from the path".into(),
                         },
                     });

@@ -252,7 +252,7 @@ pub fn model_view(
                 cases.push(CaseError::new(sol.load, b.tip, sol.tip));
                 linkages.push(
                     solver
-                        .joint_positions(&sol.q)
+                        .joint_positions(sol.q)
                         .into_iter()
                         .map(|p| (p[0], p[1]))
                         .collect(),
