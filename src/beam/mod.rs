@@ -586,10 +586,14 @@ impl BeamSolver {
             // when Newton's quadratic convergence (contraction C = measure / last^2) says the
             // error left after applying this update, C measure^2, is well below it; or when
             // the integrator's noise keeps the updates from shrinking any further.
+            // The contraction is only trusted once both updates are small (the asymptotic
+            // regime), and never below 1: after a long damped step it would be estimated far
+            // too small and accept an update that is not yet converged.
             let contracting = measure < 0.5 * last_measure;
-            let left_after = measure * measure * (measure / (last_measure * last_measure));
+            let contraction = (measure / (last_measure * last_measure)).max(1.0);
+            let left_after = measure * measure * contraction;
             let quadratic = contracting
-                && last_measure.is_finite()
+                && last_measure <= 1e-2
                 && measure <= 1e-3
                 && left_after <= 0.1 * tip_tol;
             let stalled = !contracting && measure <= 100.0 * self.resolution.tol;
