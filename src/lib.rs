@@ -13,6 +13,7 @@
 //! - [`tui`]: the terminal UI (the only module that touches the terminal).
 
 pub mod beam;
+pub mod cancel;
 pub mod eval;
 pub mod export;
 pub mod files;

@@ -31,8 +31,6 @@ mod param;
 use std::cell::RefCell;
 use std::fmt;
 use std::str::FromStr;
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::Arc;
 use std::time::Instant;
 
 use argmin::core::{CostFunction, Executor, State};
@@ -46,6 +44,7 @@ use crate::eval::{evaluate, Baseline, BaselineError, ErrorFigures, EvalError};
 use crate::prb::{PrbMatrix, PrbSolver};
 use crate::scene::{LoadPath, ModelFile, Scene};
 
+pub use crate::cancel::CancelToken;
 pub use param::{ParamError, Parameterisation};
 
 /// A residual given to each component of a case the PRB model cannot reach, and the cap on
@@ -69,24 +68,6 @@ const FIT_NEWTON_LIMIT: u32 = 12;
 /// [`POLISHED_CANDIDATES`] (that have not converged yet) are polished to the end.
 const SCOUT_ITERATIONS: u32 = 12;
 const POLISHED_CANDIDATES: usize = 3;
-
-/// A shared flag that stops a running fit.
-#[derive(Debug, Clone, Default)]
-pub struct CancelToken(Arc<AtomicBool>);
-
-impl CancelToken {
-    pub fn new() -> CancelToken {
-        CancelToken::default()
-    }
-
-    pub fn cancel(&self) {
-        self.0.store(true, Ordering::Relaxed);
-    }
-
-    pub fn is_cancelled(&self) -> bool {
-        self.0.load(Ordering::Relaxed)
-    }
-}
 
 /// Speed against accuracy, all knobs together.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
