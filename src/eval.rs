@@ -6,21 +6,26 @@
 //! A scene's baseline (every beam solve) is computed once into a [`Baseline`] and reused for
 //! every model judged on it.
 
+use std::ops::ControlFlow;
 use std::time::Instant;
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::beam::{BeamModel, BeamSolution, BeamSolver, Load, Resolution, SolveError, TipPose};
-use crate::prb::{PrbError, PrbMatrix, PrbSolver};
-use crate::scene::{LoadPath, Scene};
+use crate::fidelity::Fidelity;
+use crate::prb::{PrbCase, PrbError, PrbMatrix, PrbSolver};
+use crate::scene::{Accuracy, LoadPath, Scene};
 
 /// The beam's answer for every load case of a scene.
 #[derive(Debug, Clone)]
 pub struct Baseline {
+    /// The beam that was solved (effects decided).
     pub model: BeamModel,
+    /// The load paths, as sampled.
     pub paths: Vec<LoadPath>,
     /// One per case, path by path.
     pub solutions: Vec<BeamSolution>,
+    /// The solver's resolution.
     pub resolution: Resolution,
     /// Wall-clock time of the solves.
     pub seconds: f64,
@@ -32,6 +37,7 @@ pub struct Baseline {
 pub struct BaselineError {
     /// 1-based.
     pub path: usize,
+    /// Why the beam failed there.
     pub source: SolveError,
 }
 
@@ -69,22 +75,80 @@ impl Baseline {
         })
     }
 
+    /// Load cases in all.
     pub fn case_count(&self) -> usize {
         self.solutions.len()
+    }
+
+    /// Follows every load path with the PRB `solver` (continuation from the unloaded chain,
+    /// as the beam was followed), handing each case to `visit` together with the beam's
+    /// solution for the same load. This is the one loop that pairs PRB cases with beam cases:
+    /// evaluation, the fit's residuals, the UI's charts and the CSV export all go through it.
+    ///
+    /// A path the model cannot follow is handed to `on_failure` with the beam solutions of
+    /// the cases it did not reach: `Continue` goes on with the next path, `Break` stops with
+    /// that path's error.
+    pub fn follow(
+        &self,
+        solver: &PrbSolver,
+        mut visit: impl FnMut(&BeamSolution, &PrbCase<'_>),
+        mut on_failure: impl FnMut(&[BeamSolution]) -> ControlFlow<()>,
+    ) -> Result<(), EvalError> {
+        let mut start = 0;
+        for (i, path) in self.paths.iter().enumerate() {
+            let end = (start + path.steps as usize).min(self.solutions.len());
+            let beam = &self.solutions[start..end];
+            start = end;
+            let mut reached = 0;
+            let outcome = solver.solve_path_with(path.end, path.steps, |case| {
+                if let Some(b) = beam.get(reached) {
+                    visit(b, &case);
+                }
+                reached += 1;
+            });
+            if let Err(source) = outcome {
+                let missed = &beam[reached.min(beam.len())..];
+                if on_failure(missed).is_break() {
+                    return Err(EvalError {
+                        path: i + 1,
+                        source,
+                    });
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+impl Fidelity {
+    /// The baseline a fit at this fidelity runs against: the scene's beam at this
+    /// fidelity's resolution, over its sampling of the scene's loads.
+    pub fn baseline(self, scene: &Scene) -> Result<Baseline, BaselineError> {
+        Baseline::for_model(
+            scene.beam.model(),
+            &self.sample(&scene.loads),
+            self.resolution(),
+        )
     }
 }
 
 /// One load case: both tips and the errors.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct CaseError {
+    /// The load.
     pub load: Load,
+    /// The beam's tip.
     pub beam: TipPose,
+    /// The PRB model's tip.
     pub prb: TipPose,
+    /// `|(a, b)_PRB - (a, b)_beam|`, units of L.
     pub pos_err: f64,
+    /// `phi_PRB - phi_beam`, radians.
     pub ang_err: f64,
 }
 
 impl CaseError {
+    /// The errors of the PRB tip against the beam tip.
     pub fn new(load: Load, beam: TipPose, prb: TipPose) -> CaseError {
         CaseError {
             load,
@@ -97,17 +161,22 @@ impl CaseError {
 }
 
 /// The five error figures of DESIGN §4.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct ErrorFigures {
+    /// RMS of `e_pos`, units of L.
     pub rms_pos_err: f64,
+    /// Largest `e_pos`, units of L.
     pub max_pos_err: f64,
+    /// RMS of `e_ang`, radians.
     pub rms_ang_err: f64,
+    /// Largest `|e_ang|`, radians.
     pub max_ang_err: f64,
     /// `J = mean(e_pos^2 + w e_ang^2)`.
     pub objective: f64,
 }
 
 impl ErrorFigures {
+    /// The figures over `cases`, with `w = angle_weight` in `J`.
     pub fn from_cases(cases: &[CaseError], angle_weight: f64) -> ErrorFigures {
         let n = cases.len().max(1) as f64;
         let (mut sp, mut sa, mut mp, mut ma) = (0.0, 0.0, 0.0_f64, 0.0_f64);
@@ -127,7 +196,7 @@ impl ErrorFigures {
     }
 
     /// Whether the figures meet a scene's targets.
-    pub fn meets(&self, accuracy: &crate::scene::Accuracy) -> bool {
+    pub fn meets(&self, accuracy: &Accuracy) -> bool {
         self.max_pos_err <= accuracy.max_pos_err && self.max_ang_err <= accuracy.max_ang_err
     }
 }
@@ -135,7 +204,9 @@ impl ErrorFigures {
 /// A model judged on a scene.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Evaluation {
+    /// Per case, path by path.
     pub cases: Vec<CaseError>,
+    /// Over all cases.
     pub figures: ErrorFigures,
 }
 
@@ -145,6 +216,7 @@ pub struct Evaluation {
 pub struct EvalError {
     /// 1-based.
     pub path: usize,
+    /// Why the model failed there.
     pub source: PrbError,
 }
 
@@ -156,18 +228,11 @@ pub fn evaluate(
 ) -> Result<Evaluation, EvalError> {
     let solver = PrbSolver::new(matrix, baseline.model.axial_compliance());
     let mut cases = Vec::with_capacity(baseline.case_count());
-    let mut beam = baseline.solutions.iter();
-    for (i, path) in baseline.paths.iter().enumerate() {
-        solver
-            .solve_path_with(path.end, path.steps, |sol| {
-                let b = beam.next().expect("one beam solution per case");
-                cases.push(CaseError::new(sol.load, b.tip, sol.tip));
-            })
-            .map_err(|source| EvalError {
-                path: i + 1,
-                source,
-            })?;
-    }
+    baseline.follow(
+        &solver,
+        |beam, prb| cases.push(CaseError::new(prb.load, beam.tip, prb.tip)),
+        |_| ControlFlow::Break(()),
+    )?;
     let figures = ErrorFigures::from_cases(&cases, angle_weight);
     Ok(Evaluation { cases, figures })
 }

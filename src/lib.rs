@@ -16,11 +16,16 @@ pub mod beam;
 pub mod cancel;
 pub mod eval;
 pub mod export;
-pub mod files;
+pub mod fidelity;
 pub mod fit;
+pub mod format;
+pub mod io;
 pub mod linalg;
 pub mod prb;
 pub mod scene;
 pub mod select;
+pub mod si;
+pub mod text;
 pub mod tradeoff;
+#[cfg(feature = "tui")]
 pub mod tui;

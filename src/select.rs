@@ -13,8 +13,9 @@ use serde::Serialize;
 use crate::beam::{BeamSolution, Effects, Resolution};
 use crate::eval::{evaluate, Baseline, BaselineError, ErrorFigures};
 use crate::fit::{fit, CancelToken, Fidelity, FitError, FitOptions};
+use crate::prb::published;
 use crate::prb::PrbMatrix;
-use crate::scene::{Accuracy, BeamSpec, EffectsChoice, LoadPath, ModelFile, Scene};
+use crate::scene::{Accuracy, BeamSpec, EffectsChoice, LoadPath, Scene};
 
 /// An effect is kept when dropping it moves the tip by more than this fraction of the
 /// scene's accuracy target (position or angle, whichever is nearer its target).
@@ -275,7 +276,7 @@ pub fn select(
         on_row(&row);
         rows.push(row);
     }
-    for model in ModelFile::published() {
+    for model in published::all() {
         if let Ok(e) = evaluate(&model.prb, baseline, weight) {
             let row = rung(model.name.clone(), model.prb, true, e.figures, 0.0);
             on_row(&row);

@@ -5,8 +5,9 @@ use std::process::Command;
 
 use prbfit::beam::{BeamModel, Effects, Load, Resolution};
 use prbfit::eval::{evaluate, Baseline};
+use prbfit::io::ModelFile;
 use prbfit::prb::PrbMatrix;
-use prbfit::scene::{LoadPath, ModelFile, Scene};
+use prbfit::scene::{LoadPath, Scene};
 
 /// One revolute joint at the clamp with k = 1, under a pure moment: the link turns by beta,
 /// so its tip is (cos beta, sin beta); the beam is the arc (sin beta / beta,
@@ -71,7 +72,7 @@ fn published_models_on_the_builtin_scene() {
         "{:<10} {:>10} {:>10} {:>10} {:>10} {:>11}",
         "model", "rms pos", "max pos", "rms ang", "max ang", "J"
     );
-    for model in ModelFile::published() {
+    for model in prbfit::prb::published::all() {
         let f = evaluate(&model.prb, &baseline, scene.fit.angle_weight)
             .unwrap()
             .figures;
@@ -106,7 +107,7 @@ fn example_scenes_are_valid() {
         let scene = Scene::from_file(&path).unwrap();
         let baseline = Baseline::compute(&scene, Resolution::default())
             .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-        for model in ModelFile::published() {
+        for model in prbfit::prb::published::all() {
             evaluate(&model.prb, &baseline, 1.0)
                 .unwrap_or_else(|e| panic!("{} on {}: {e}", model.name, path.display()));
         }

@@ -7,8 +7,9 @@ use std::process::Command;
 use prbfit::beam::{BeamModel, Load, Resolution};
 use prbfit::eval::{evaluate, Baseline};
 use prbfit::fit::{fit, CancelToken, Fidelity, FitOptions, StopReason};
+use prbfit::io::ModelFile;
 use prbfit::prb::PrbMatrix;
-use prbfit::scene::{LoadPath, ModelFile, Scene};
+use prbfit::scene::{LoadPath, Scene};
 
 fn scenes() -> Vec<Scene> {
     ["default", "steel-flexure", "urethane-joint"]
@@ -271,15 +272,18 @@ fn cli_fit_saves_models_that_reload_exactly() {
             "{ext}"
         );
         let record = model.fit.as_ref().unwrap();
-        assert_eq!(record.objective, fitted["objective"].as_f64().unwrap());
+        assert_eq!(
+            record.figures.objective,
+            fitted["objective"].as_f64().unwrap()
+        );
         // Evaluated again on the same (draft) baseline, effects decided as the CLI decides
         // them: the same figures, exactly.
         let (scene, _) =
             prbfit::select::resolve_effects(&Scene::builtin(), Resolution::default()).unwrap();
         let baseline = Fidelity::Draft.baseline(&scene).unwrap();
         let f = evaluate(&model.prb, &baseline, 1.0).unwrap().figures;
-        assert_eq!(f.objective, record.objective);
-        assert_eq!(f.max_pos_err, record.max_pos_err);
+        assert_eq!(f.objective, record.figures.objective);
+        assert_eq!(f.max_pos_err, record.figures.max_pos_err);
         // Refused without --force, the file unchanged.
         let before = std::fs::read(&path).unwrap();
         let out = prbfit(&["fit", "--topology", "L-R", "--fidelity", "draft", "-o", p]);

@@ -25,164 +25,47 @@
 //! The fit checks a [`CancelToken`] at every evaluation of `J` (tens of microseconds apart),
 //! so a cancelled fit returns within milliseconds with the best matrix found so far.
 
-pub mod lm;
-mod param;
+//!
+//! The parts: [`param`] (the reparameterisation), `starts`, `swarm` (the global phase),
+//! [`lm`] (the polish), `objective` (J as residuals), `progress` (best-so-far reports), and
+//! `presets` (what each [`Fidelity`] means for the fit).
 
-use std::cell::RefCell;
+pub mod lm;
+mod objective;
+mod param;
+mod presets;
+mod progress;
+mod starts;
+mod swarm;
+
 use std::fmt;
-use std::str::FromStr;
 use std::time::Instant;
 
-use argmin::core::{CostFunction, Executor, State};
-use argmin::solver::particleswarm::{Particle, ParticleSwarm};
 use nalgebra::DVector;
-use rand::{Rng, SeedableRng};
-use serde::{Deserialize, Serialize};
+use serde::Serialize;
 
-use crate::beam::Resolution;
-use crate::eval::{evaluate, Baseline, BaselineError, ErrorFigures, EvalError};
-use crate::prb::{PrbMatrix, PrbSolver};
-use crate::scene::{LoadPath, ModelFile, Scene};
+use crate::eval::{evaluate, Baseline, ErrorFigures, EvalError};
+use crate::prb::PrbMatrix;
 
 pub use crate::cancel::CancelToken;
+pub use crate::fidelity::Fidelity;
+pub use objective::PENALTY;
 pub use param::{ParamError, Parameterisation};
+pub use progress::{FitProgress, PROGRESS_INTERVAL};
 
-/// A residual given to each component of a case the PRB model cannot reach, and the cap on
-/// every residual. With three components per case it adds 3 to `J` per missed case: far above
-/// any usable model (J below 1e-2), yet finite.
-pub const PENALTY: f64 = 1.0;
-
-/// Trial models give up on a load path once continuation needs steps below this fraction of
-/// it: failing trials stay cheap, and a model this close to failing is useless anyway.
-const FIT_MIN_STEP: f64 = 1e-3;
-
-/// Newton iterations a trial model may spend per load case of a path (a healthy model needs
-/// about three): beyond, it counts as failing that path, so struggling trials stay cheap.
-const FIT_NEWTON_PER_CASE: u32 = 20;
-
-/// Newton iterations per continuation attempt for trial models (quadratic convergence from
-/// a secant predictor needs about five).
-const FIT_NEWTON_LIMIT: u32 = 12;
+use objective::Objective;
+use progress::Tracker;
 
 /// Levenberg-Marquardt iterations every candidate gets before only the best
 /// [`POLISHED_CANDIDATES`] (that have not converged yet) are polished to the end.
 const SCOUT_ITERATIONS: u32 = 12;
+/// How many scouted candidates get the full polish.
 const POLISHED_CANDIDATES: usize = 3;
-
-/// Speed against accuracy, all knobs together.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
-#[serde(rename_all = "lowercase")]
-pub enum Fidelity {
-    /// Coarse baseline, half the load samples, local polish only.
-    Draft,
-    /// The scene's load samples, a small swarm, a tight polish.
-    #[default]
-    Normal,
-    /// Fine baseline, twice the load samples, a large swarm, the tightest polish.
-    Precise,
-}
-
-impl Fidelity {
-    pub const ALL: [Fidelity; 3] = [Fidelity::Draft, Fidelity::Normal, Fidelity::Precise];
-
-    /// Baseline integrator tolerance.
-    pub fn resolution(self) -> Resolution {
-        Resolution::with_tol(match self {
-            Fidelity::Draft => 1e-6,
-            Fidelity::Normal => 1e-8,
-            Fidelity::Precise => 1e-10,
-        })
-    }
-
-    /// The load paths as sampled for the fit.
-    pub fn sample(self, paths: &[LoadPath]) -> Vec<LoadPath> {
-        paths
-            .iter()
-            .map(|p| LoadPath {
-                end: p.end,
-                steps: match self {
-                    Fidelity::Draft => p.steps.div_ceil(2),
-                    Fidelity::Normal => p.steps,
-                    Fidelity::Precise => p.steps * 2,
-                },
-            })
-            .collect()
-    }
-
-    /// The baseline a fit at this fidelity runs against.
-    pub fn baseline(self, scene: &Scene) -> Result<Baseline, BaselineError> {
-        Baseline::for_model(
-            scene.beam.model(),
-            &self.sample(&scene.loads),
-            self.resolution(),
-        )
-    }
-
-    /// `(particles, iterations)` of the swarm, if any.
-    fn swarm(self) -> Option<(usize, u64)> {
-        match self {
-            Fidelity::Draft => None,
-            Fidelity::Normal => Some((12, 15)),
-            Fidelity::Precise => Some((30, 60)),
-        }
-    }
-
-    fn random_starts(self) -> usize {
-        match self {
-            Fidelity::Draft => 0,
-            Fidelity::Normal => 2,
-            Fidelity::Precise => 6,
-        }
-    }
-
-    fn lm(self) -> lm::LmOptions {
-        match self {
-            Fidelity::Draft => lm::LmOptions {
-                ftol: 1e-5,
-                xtol: 1e-6,
-                max_iterations: 40,
-            },
-            Fidelity::Normal => lm::LmOptions {
-                ftol: 1e-9,
-                xtol: 1e-9,
-                max_iterations: 100,
-            },
-            Fidelity::Precise => lm::LmOptions {
-                ftol: 1e-13,
-                xtol: 1e-12,
-                max_iterations: 400,
-            },
-        }
-    }
-}
-
-impl fmt::Display for Fidelity {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(match self {
-            Fidelity::Draft => "draft",
-            Fidelity::Normal => "normal",
-            Fidelity::Precise => "precise",
-        })
-    }
-}
-
-impl FromStr for Fidelity {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, Self::Err> {
-        match s {
-            "draft" => Ok(Fidelity::Draft),
-            "normal" => Ok(Fidelity::Normal),
-            "precise" => Ok(Fidelity::Precise),
-            other => Err(format!(
-                "unknown fidelity `{other}` (expected draft, normal or precise)"
-            )),
-        }
-    }
-}
 
 /// How to fit.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FitOptions {
+    /// How hard to try.
     pub fidelity: Fidelity,
     /// `w` in J.
     pub angle_weight: f64,
@@ -200,21 +83,17 @@ impl Default for FitOptions {
     }
 }
 
-/// A progress report, at most every [`PROGRESS_INTERVAL`] seconds and at the end of each
-/// phase.
-#[derive(Debug, Clone, Copy)]
-pub struct FitProgress<'a> {
-    /// `swarm` or `polish`.
-    pub phase: &'static str,
-    pub iteration: u32,
-    pub evaluations: u64,
-    pub best_objective: f64,
-    pub best: &'a PrbMatrix,
-    pub seconds: f64,
+impl FitOptions {
+    /// Checks the options: the angle weight must be a finite number >= 0 (a NaN weight would
+    /// turn every figure into NaN later, far from its cause).
+    pub fn validate(&self) -> Result<(), FitError> {
+        if self.angle_weight.is_finite() && self.angle_weight >= 0.0 {
+            Ok(())
+        } else {
+            Err(FitError::AngleWeight(self.angle_weight))
+        }
+    }
 }
-
-/// Minimum time between progress reports.
-pub const PROGRESS_INTERVAL: f64 = 0.02;
 
 /// Why a fit stopped.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -248,6 +127,7 @@ impl fmt::Display for StopReason {
 /// What a fit found.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct FitReport {
+    /// The fitted matrix (the start when nothing better was found).
     pub matrix: PrbMatrix,
     /// On the fit's baseline.
     pub figures: ErrorFigures,
@@ -257,16 +137,24 @@ pub struct FitReport {
     pub iterations: u32,
     /// Evaluations of J (each a PRB solve of every load case).
     pub evaluations: u64,
+    /// Wall-clock time of the fit.
     pub seconds: f64,
+    /// Why it stopped.
     pub stop: StopReason,
+    /// The preset it ran at.
     pub fidelity: Fidelity,
 }
 
 /// A fit that cannot start or ends with no usable model.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum FitError {
+    /// The matrix cannot be fitted as given.
     #[error(transparent)]
     Param(#[from] ParamError),
+    /// A bad option.
+    #[error("angle weight must be a finite number >= 0, got {0}")]
+    AngleWeight(f64),
+    /// Even the best parameters found cannot follow the scene's loads.
     #[error("no fitted model follows every load of the scene: {0}")]
     NoFeasibleModel(EvalError),
 }
@@ -280,6 +168,7 @@ pub fn fit(
     cancel: &CancelToken,
 ) -> Result<FitReport, FitError> {
     let t0 = Instant::now();
+    options.validate()?;
     let param = Parameterisation::new(start)?;
     let objective = Objective::new(baseline, &param, options.angle_weight, cancel);
     let p_start = param.encode(start);
@@ -318,67 +207,18 @@ pub fn fit(
         &p_start,
         objective.evaluations(),
     );
-
-    // Starts: the given matrix, the topology's sensible default (in case the given one is
-    // wild), published models of the same topology, random points.
-    let mut starts = vec![p_start.clone()];
-    if let Ok(default) = PrbMatrix::from_topology(&start.topology()) {
-        starts.push(param.encode(&default));
-    }
-    for model in ModelFile::published() {
-        if model.prb.topology() == start.topology() {
-            starts.push(param.encode(&model.prb));
-        }
-    }
-    let (mut lower, mut upper) = param.search_box(&p_start);
-    for s in &starts {
-        let (lo, hi) = param.search_box(s);
-        lower = lower.inf(&lo);
-        upper = upper.sup(&hi);
-    }
-    let mut rng = rand::rngs::StdRng::seed_from_u64(options.seed);
-    for _ in 0..fidelity.random_starts() {
-        starts.push(DVector::from_fn(param.len(), |i, _| {
-            rng.random_range(lower[i]..=upper[i])
-        }));
-    }
+    let mut starts = starts::starts(&param, start, fidelity, options.seed);
     let mut iterations = 0u32;
 
     // Global phase: a particle swarm seeded with the starts.
-    let mut candidates = starts.clone();
-    if let Some((particles, swarm_iterations)) = fidelity.swarm() {
-        let mut population = Vec::with_capacity(particles);
-        for s in starts.iter().take(particles) {
-            let cost = objective.value(s).unwrap_or(f64::INFINITY);
-            population.push(Particle::new(s.clone(), cost, DVector::zeros(param.len())));
+    let mut candidates = starts.points.clone();
+    if let Some(size) = fidelity.swarm() {
+        let (best, swarm_iterations) =
+            swarm::run(&objective, &mut tracker, &mut starts, size, options.seed);
+        if let Some(best) = best {
+            candidates.insert(0, best);
         }
-        while population.len() < particles {
-            let p = DVector::from_fn(param.len(), |i, _| rng.random_range(lower[i]..=upper[i]));
-            let v = DVector::from_fn(param.len(), |i, _| {
-                0.1 * rng.random_range(lower[i] - upper[i]..=upper[i] - lower[i])
-            });
-            let cost = objective.value(&p).unwrap_or(f64::INFINITY);
-            population.push(Particle::new(p, cost, v));
-        }
-        let swarm = ParticleSwarm::new((lower.clone(), upper.clone()), particles)
-            .with_rng_generator(rand::rngs::StdRng::seed_from_u64(options.seed ^ 0x5eed));
-        let cost = SwarmCost {
-            objective: &objective,
-            tracker: RefCell::new(&mut tracker),
-            particles,
-        };
-        let result = Executor::new(cost, swarm)
-            .configure(|state| state.population(population).max_iters(swarm_iterations))
-            .timer(false)
-            .run();
-        // The swarm only reports errors of its own bookkeeping; if it fails the polish still
-        // runs from the starts.
-        if let Ok(result) = result {
-            if let Some(best) = result.state().get_best_param() {
-                candidates.insert(0, best.position.clone());
-            }
-            iterations += result.state().get_iter() as u32;
-        }
+        iterations += swarm_iterations;
     }
 
     // Local polish in two rounds: a short one from every candidate, then the full polish
@@ -457,201 +297,4 @@ pub fn fit(
         (param.decode(&p).unwrap_or_else(|| start.clone()), stop)
     };
     report(matrix, stop, iterations, evaluations)
-}
-
-/// `J` and its residuals for parameter vectors, counting evaluations.
-struct Objective<'a> {
-    baseline: &'a Baseline,
-    param: &'a Parameterisation,
-    angle_scale: f64,
-    case_scale: f64,
-    cancel: &'a CancelToken,
-    evaluations: std::cell::Cell<u64>,
-}
-
-impl<'a> Objective<'a> {
-    fn new(
-        baseline: &'a Baseline,
-        param: &'a Parameterisation,
-        angle_weight: f64,
-        cancel: &'a CancelToken,
-    ) -> Objective<'a> {
-        Objective {
-            baseline,
-            param,
-            angle_scale: angle_weight.sqrt(),
-            case_scale: 1.0 / (baseline.case_count().max(1) as f64).sqrt(),
-            cancel,
-            evaluations: std::cell::Cell::new(0),
-        }
-    }
-
-    fn evaluations(&self) -> u64 {
-        self.evaluations.get()
-    }
-
-    /// Fills `out` with the residuals at `p`; false when cancelled.
-    fn residuals(&self, p: &DVector<f64>, out: &mut Vec<f64>) -> bool {
-        match self.param.decode(p) {
-            Some(matrix) => self.matrix_residuals(&matrix, out),
-            None => {
-                if self.cancel.is_cancelled() {
-                    return false;
-                }
-                self.evaluations.set(self.evaluations.get() + 1);
-                out.clear();
-                out.resize(3 * self.baseline.case_count(), PENALTY);
-                true
-            }
-        }
-    }
-
-    /// Fills `out` with the residuals of `matrix`; false when cancelled.
-    fn matrix_residuals(&self, matrix: &PrbMatrix, out: &mut Vec<f64>) -> bool {
-        if self.cancel.is_cancelled() {
-            return false;
-        }
-        self.evaluations.set(self.evaluations.get() + 1);
-        out.clear();
-        let solver = PrbSolver::new(matrix, self.baseline.model.axial_compliance())
-            .with_min_step(FIT_MIN_STEP)
-            .with_newton_limit(FIT_NEWTON_LIMIT)
-            .with_case_budget(FIT_NEWTON_PER_CASE);
-        let mut beam = self.baseline.solutions.iter();
-        for path in &self.baseline.paths {
-            let before = out.len();
-            // Residuals are capped at the penalty, so that failing to reach a case is never
-            // better than reaching it badly.
-            let cap = PENALTY;
-            let outcome = solver.solve_path_with(path.end, path.steps, |sol| {
-                let b = beam.next().expect("one beam solution per case");
-                out.push(((sol.tip.a - b.tip.a) * self.case_scale).clamp(-cap, cap));
-                out.push(((sol.tip.b - b.tip.b) * self.case_scale).clamp(-cap, cap));
-                let da = (sol.tip.phi - b.tip.phi) * self.angle_scale * self.case_scale;
-                out.push(da.clamp(-cap, cap));
-            });
-            if outcome.is_err() {
-                // The cases this model cannot reach.
-                let reached = (out.len() - before) / 3;
-                for _ in reached..path.steps as usize {
-                    beam.next();
-                    out.extend_from_slice(&[PENALTY; 3]);
-                }
-            }
-        }
-        true
-    }
-
-    /// `J` of `matrix`, or `None` when cancelled.
-    fn matrix_value(&self, matrix: &PrbMatrix) -> Option<f64> {
-        let mut r = Vec::new();
-        self.matrix_residuals(matrix, &mut r)
-            .then(|| r.iter().map(|v| v * v).sum())
-    }
-
-    /// `J` at `p`, or `None` when cancelled.
-    fn value(&self, p: &DVector<f64>) -> Option<f64> {
-        let mut r = Vec::new();
-        self.residuals(p, &mut r)
-            .then(|| r.iter().map(|v| v * v).sum())
-    }
-}
-
-/// Keeps the best point seen and reports progress, throttled.
-struct Tracker<'a, 'b> {
-    param: &'a Parameterisation,
-    t0: Instant,
-    last_report: f64,
-    best_j: f64,
-    best_p: DVector<f64>,
-    best_matrix: Option<PrbMatrix>,
-    unreported: bool,
-    progress: &'b mut dyn FnMut(&FitProgress),
-}
-
-impl<'a, 'b> Tracker<'a, 'b> {
-    fn new(
-        param: &'a Parameterisation,
-        t0: Instant,
-        progress: &'b mut dyn FnMut(&FitProgress),
-    ) -> Self {
-        Tracker {
-            param,
-            t0,
-            last_report: f64::NEG_INFINITY,
-            best_j: f64::INFINITY,
-            best_p: DVector::zeros(param.len()),
-            best_matrix: None,
-            unreported: false,
-            progress,
-        }
-    }
-
-    fn offer(
-        &mut self,
-        phase: &'static str,
-        iteration: u32,
-        j: f64,
-        p: &DVector<f64>,
-        evaluations: u64,
-    ) {
-        if j < self.best_j {
-            if let Some(m) = self.param.decode(p) {
-                self.best_j = j;
-                self.best_p = p.clone();
-                self.best_matrix = Some(m);
-                self.unreported = true;
-            }
-        }
-        let now = self.t0.elapsed().as_secs_f64();
-        if self.unreported && now - self.last_report >= PROGRESS_INTERVAL {
-            self.report(phase, iteration, evaluations, now);
-        }
-    }
-
-    fn flush(&mut self, phase: &'static str, iteration: u32, evaluations: u64) {
-        if self.unreported {
-            let now = self.t0.elapsed().as_secs_f64();
-            self.report(phase, iteration, evaluations, now);
-        }
-    }
-
-    fn report(&mut self, phase: &'static str, iteration: u32, evaluations: u64, now: f64) {
-        if let Some(best) = &self.best_matrix {
-            (self.progress)(&FitProgress {
-                phase,
-                iteration,
-                evaluations,
-                best_objective: self.best_j,
-                best,
-                seconds: now,
-            });
-            self.last_report = now;
-            self.unreported = false;
-        }
-    }
-}
-
-/// The swarm's view of J.
-struct SwarmCost<'a, 'b, 'c> {
-    objective: &'a Objective<'a>,
-    tracker: RefCell<&'b mut Tracker<'c, 'c>>,
-    particles: usize,
-}
-
-impl CostFunction for SwarmCost<'_, '_, '_> {
-    type Param = DVector<f64>;
-    type Output = f64;
-
-    fn cost(&self, p: &Self::Param) -> Result<f64, argmin::core::Error> {
-        // Cancelled: a flat penalty, returned at once, lets the swarm run out its few
-        // remaining iterations in microseconds.
-        let j = self.objective.value(p).unwrap_or(PENALTY * 1e3);
-        let evaluations = self.objective.evaluations();
-        let iteration = (evaluations / self.particles as u64) as u32;
-        self.tracker
-            .borrow_mut()
-            .offer("swarm", iteration, j, p, evaluations);
-        Ok(j)
-    }
 }

@@ -6,13 +6,8 @@
 //! [`crate::select::decide_effects`]; code that has not decided it (a scene just read)
 //! treats it as every effect on, the safe superset.
 
-mod model_file;
-
-pub use model_file::{FitRecord, ModelFile, ModelFormat, PUBLISHED};
-
 use std::fmt;
 use std::ops::Range;
-use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 use toml::Spanned;
@@ -162,18 +157,6 @@ impl Scene {
     pub fn builtin() -> Scene {
         Scene::from_toml_str(DEFAULT_SCENE_TOML, DEFAULT_SCENE_NAME)
             .expect("the built-in scene is valid (checked by a test)")
-    }
-
-    /// Reads and validates a scene file.
-    pub fn from_file(path: &Path) -> Result<Scene, SceneError> {
-        let origin = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|e| SceneError {
-            origin: origin.clone(),
-            line: None,
-            key: None,
-            message: format!("cannot read the scene file: {e}"),
-        })?;
-        Scene::from_toml_str(&text, &origin)
     }
 
     /// Parses and validates a scene; `origin` names it in errors (a file path).

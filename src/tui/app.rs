@@ -8,8 +8,10 @@ use std::time::{Duration, Instant};
 use ratatui::crossterm::event::{KeyCode, KeyEvent, KeyEventKind, KeyModifiers};
 
 use crate::fit::{CancelToken, Fidelity, FitReport, StopReason};
+use crate::io::ModelFile;
+use crate::prb::published::NAMES as PUBLISHED;
 use crate::prb::{Column, PrbMatrix, PrbRow};
-use crate::scene::{EffectsChoice, ModelFile, Scene, PUBLISHED};
+use crate::scene::{EffectsChoice, Scene};
 
 use super::units::{format_quantity, parse_quantity, trim_number, Quantity};
 use super::worker::{BaselineView, FitStatus, Job, JobKind, ModelView, WorkerMsg};
@@ -932,7 +934,7 @@ impl App {
 
     /// A topology name or a published model's name.
     fn load_named_matrix(&mut self, name: &str, now: Instant) {
-        let m = if PUBLISHED.iter().any(|(n, _)| *n == name) {
+        let m = if PUBLISHED.contains(&name) {
             ModelFile::load(name)
                 .map(|m| m.prb)
                 .map_err(|e| e.to_string())
@@ -949,7 +951,7 @@ impl App {
     }
 
     fn next_published_model(&mut self, now: Instant) {
-        let (name, _) = PUBLISHED[self.next_published % PUBLISHED.len()];
+        let name = PUBLISHED[self.next_published % PUBLISHED.len()];
         self.next_published += 1;
         self.load_named_matrix(name, now);
     }

@@ -33,7 +33,7 @@ use ratatui::crossterm::terminal::{
 };
 use ratatui::Terminal;
 
-use crate::files::write_atomic;
+use crate::io::files::write_atomic;
 use crate::scene::Scene;
 
 use app::{App, Command};

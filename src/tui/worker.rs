@@ -454,8 +454,9 @@ fn export_file(
     beam: BeamSpec,
     path: &std::path::Path,
 ) -> Result<(), String> {
-    use crate::export::{export, ExportFormat, ExportInput};
-    let format = ExportFormat::from_extension(path).ok_or_else(|| {
+    use crate::export::{export, ExportInput};
+    use crate::format::Format as ExportFormat;
+    let format = ExportFormat::from_path(path).ok_or_else(|| {
         format!(
             "{}: use .toml, .json, .xml or .mjcf (MuJoCo), .urdf, .sdf or .csv",
             path.display()
@@ -471,5 +472,5 @@ fn export_file(
         density: 1000.0,
     };
     let text = export(&input, format).map_err(|e| e.to_string())?;
-    crate::files::write_atomic(path, text.as_bytes(), false).map_err(|e| e.to_string())
+    crate::io::files::write_atomic(path, text.as_bytes(), false).map_err(|e| e.to_string())
 }

@@ -1,105 +1,85 @@
 //! PRB model files: a matrix plus what it is and where it came from. The published models
-//! (Howell 1R, Su 3R, Chen 3R) ship in `assets/models/` and are compiled in, so `--model
-//! su-3r` works from any directory; any other name is read as a file (TOML, or JSON when it
-//! ends in `.json`).
+//! (Howell 1R, Su 3R, Chen 3R, [`crate::prb::published`]) are compiled in, so `--model su-3r`
+//! works from any directory; any other name is read as a file (TOML, or JSON when it ends in
+//! `.json`).
 
 use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
-use crate::prb::PrbMatrix;
-
-use super::SceneError;
-
-/// The published models: name and file text.
-pub const PUBLISHED: [(&str, &str); 3] = [
-    (
-        "howell-1r",
-        include_str!("../../assets/models/howell-1r.toml"),
-    ),
-    ("su-3r", include_str!("../../assets/models/su-3r.toml")),
-    ("chen-3r", include_str!("../../assets/models/chen-3r.toml")),
-];
+use crate::eval::ErrorFigures;
+use crate::prb::{published, PrbMatrix};
+use crate::scene::{Scene, SceneError};
+use crate::si::{load_range, si_model, LoadRange, SiModel};
 
 /// A PRB model file. Unknown keys are allowed (richer exports carry more), but what is
 /// here is checked.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ModelFile {
+    /// Short name (`su-3r`, `fitted-l-r-r-r`).
     pub name: String,
+    /// Human name.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub title: Option<String>,
+    /// Topology name; checked against the matrix when given.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub topology: Option<String>,
+    /// Where the model comes from.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub source: Option<String>,
+    /// How published values were converted to the matrix convention.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub conversion: Option<String>,
+    /// The matrix.
     pub prb: PrbMatrix,
     /// How a fitted model was made, and how well it did.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub fit: Option<FitRecord>,
     /// The model in SI units for the scene's beam (exports).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub si: Option<crate::export::SiModel>,
+    pub si: Option<SiModel>,
     /// The scene's load range (exports).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub load_range: Option<crate::export::LoadRange>,
+    pub load_range: Option<LoadRange>,
 }
 
 /// Provenance and error figures of a fitted model.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct FitRecord {
+    /// The scene's name.
     pub scene: String,
+    /// The fidelity preset.
     pub fidelity: String,
+    /// `w` in J.
     pub angle_weight: f64,
-    pub rms_pos_err: f64,
-    pub max_pos_err: f64,
-    pub rms_ang_err: f64,
-    pub max_ang_err: f64,
-    pub objective: f64,
+    /// The five figures on the scene.
+    #[serde(flatten)]
+    pub figures: ErrorFigures,
+    /// The prbfit that made the file.
     pub prbfit_version: String,
     /// UTC, `YYYY-MM-DDTHH:MM:SSZ`.
     pub created: String,
 }
 
-/// The format a model file is written in, from its extension.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum ModelFormat {
-    Toml,
-    Json,
-}
-
-impl ModelFormat {
-    /// `.toml` or `.json`; anything else is an error naming the file.
-    pub fn from_path(path: &Path) -> Result<ModelFormat, String> {
-        match path.extension().and_then(|e| e.to_str()) {
-            Some("toml") => Ok(ModelFormat::Toml),
-            Some("json") => Ok(ModelFormat::Json),
-            _ => Err(format!(
-                "{}: a model file must end in .toml or .json",
-                path.display()
-            )),
-        }
-    }
-}
-
 impl ModelFile {
-    /// The model as text in `format`.
-    pub fn to_text(&self, format: ModelFormat) -> String {
-        match format {
-            ModelFormat::Toml => toml::to_string(self).expect("a model serialises to TOML"),
-            ModelFormat::Json => {
-                let mut s = serde_json::to_string_pretty(self).expect("a model serialises to JSON");
-                s.push('\n');
-                s
-            }
-        }
+    /// The model as TOML.
+    pub fn to_toml(&self) -> Result<String, ModelFileError> {
+        toml::to_string(self).map_err(|e| ModelFileError(e.to_string()))
+    }
+
+    /// The model as pretty JSON, ending in a newline. Infinite springs are written as the
+    /// string `"inf"` (the matrix's own encoding), so nothing becomes `null`.
+    pub fn to_json(&self) -> Result<String, ModelFileError> {
+        let mut s =
+            serde_json::to_string_pretty(self).map_err(|e| ModelFileError(e.to_string()))?;
+        s.push('\n');
+        Ok(s)
     }
 
     /// A published model by name, or a file.
     pub fn load(name_or_file: &str) -> Result<ModelFile, SceneError> {
-        if let Some((_, text)) = PUBLISHED.iter().find(|(n, _)| *n == name_or_file) {
-            return ModelFile::from_toml_str(text, &format!("<model {name_or_file}>"));
+        if let Some(p) = published::by_name(name_or_file) {
+            return Ok(ModelFile::from(p));
         }
         let path = Path::new(name_or_file);
         let text = std::fs::read_to_string(path).map_err(|e| SceneError {
@@ -108,7 +88,7 @@ impl ModelFile {
             key: None,
             message: format!(
                 "not a published model ({}) and not a readable file: {e}",
-                PUBLISHED.map(|p| p.0).join(", ")
+                published::NAMES.join(", ")
             ),
         })?;
         if path.extension().is_some_and(|e| e == "json") {
@@ -156,9 +136,9 @@ impl ModelFile {
     /// A fitted (or hand-made) model of `scene`'s beam, with provenance.
     pub fn fitted(
         matrix: &PrbMatrix,
-        scene: &super::Scene,
+        scene: &Scene,
         fidelity: &str,
-        figures: &crate::eval::ErrorFigures,
+        figures: &ErrorFigures,
     ) -> ModelFile {
         ModelFile {
             name: format!("fitted-{}", matrix.topology().to_lowercase()),
@@ -174,51 +154,70 @@ impl ModelFile {
                 scene: scene.name.clone(),
                 fidelity: fidelity.to_string(),
                 angle_weight: scene.fit.angle_weight,
-                rms_pos_err: figures.rms_pos_err,
-                max_pos_err: figures.max_pos_err,
-                rms_ang_err: figures.rms_ang_err,
-                max_ang_err: figures.max_ang_err,
-                objective: figures.objective,
+                figures: *figures,
                 prbfit_version: env!("CARGO_PKG_VERSION").to_string(),
-                created: crate::files::utc_timestamp(),
+                created: super::files::utc_timestamp(),
             }),
-            si: Some(crate::export::si_model(matrix, scene)),
-            load_range: Some(crate::export::load_range(scene)),
+            si: Some(si_model(matrix, &scene.beam)),
+            load_range: Some(load_range(&scene.beam, &scene.loads)),
         }
     }
+}
 
-    /// All published models, parsed.
-    pub fn published() -> Vec<ModelFile> {
-        PUBLISHED
-            .iter()
-            .map(|(n, _)| ModelFile::load(n).expect("published models are valid (tested)"))
-            .collect()
+impl From<published::PublishedModel> for ModelFile {
+    fn from(p: published::PublishedModel) -> ModelFile {
+        ModelFile {
+            name: p.name,
+            title: Some(p.title),
+            topology: Some(p.topology),
+            source: Some(p.source),
+            conversion: Some(p.conversion),
+            prb: p.prb,
+            fit: None,
+            si: None,
+            load_range: None,
+        }
     }
 }
+
+/// A model that could not be turned into text (a value the format cannot hold).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("the model cannot be written: {0}")]
+pub struct ModelFileError(pub String);
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
     #[test]
-    fn published_models_load_and_match_design() {
-        let texts = [
-            ("howell-1r", "0.15,inf,inf; 0.85,2.2525,inf"),
-            (
-                "su-3r",
-                "0.1,inf,inf; 0.35,3.51,inf; 0.4,2.99,inf; 0.15,2.58,inf",
-            ),
-            (
-                "chen-3r",
-                "0.126,inf,inf; 0.35,3.25,inf; 0.388,2.84,inf; 0.136,2.95,inf",
-            ),
-        ];
-        for (name, text) in texts {
+    fn published_names_load_with_their_provenance() {
+        for name in published::NAMES {
             let m = ModelFile::load(name).unwrap();
             assert_eq!(m.name, name);
-            assert_eq!(m.prb, PrbMatrix::parse(text).unwrap());
+            assert_eq!(Some(m.prb), published::by_name(name).map(|p| p.prb));
             assert!(m.source.is_some() && m.conversion.is_some());
         }
+    }
+
+    #[test]
+    fn fit_records_flatten_the_figures() {
+        let scene = Scene::builtin();
+        let m = PrbMatrix::parse("0.15,inf,inf; 0.85,2.2525,inf").unwrap();
+        let figures = ErrorFigures {
+            rms_pos_err: 1.0,
+            max_pos_err: 2.0,
+            rms_ang_err: 3.0,
+            max_ang_err: 4.0,
+            objective: 5.0,
+        };
+        let file = ModelFile::fitted(&m, &scene, "normal", &figures);
+        let text = file.to_toml().unwrap();
+        assert!(text.contains("max_ang_err = 4.0"), "{text}");
+        let back = ModelFile::from_toml_str(&text, "t").unwrap();
+        assert_eq!(back, file);
+        let json = file.to_json().unwrap();
+        let back: ModelFile = serde_json::from_str(&json).unwrap();
+        assert_eq!(back, file);
     }
 
     #[test]

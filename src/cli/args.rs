@@ -1,0 +1,188 @@
+//! The command line's shape (DESIGN §6): subcommands, their flags, and the help text.
+
+use std::path::PathBuf;
+use std::str::FromStr;
+
+use clap::{Args, Parser, Subcommand};
+
+use prbfit::beam::{Load, Resolution};
+use prbfit::fidelity::Fidelity;
+use prbfit::format::Format;
+
+/// The whole command line.
+#[derive(Parser)]
+#[command(
+    name = "prbfit",
+    version,
+    about = "Finds the best pseudo-rigid-body (PRB) model of a compliant cantilever beam",
+    long_about = None
+)]
+pub struct Cli {
+    /// What to do; none opens the terminal UI on the built-in scene.
+    #[command(subcommand)]
+    pub command: Option<Command>,
+}
+
+/// The subcommands.
+#[derive(Subcommand)]
+pub enum Command {
+    /// Solve the large-deflection baseline beam: one load, or every load case of the scene.
+    Solve(SolveArgs),
+    /// Judge PRB models against the beam: one load, or every load case of the scene.
+    Eval(EvalArgs),
+    /// Fit the free cells of a PRB matrix to the beam over the scene's loads.
+    Fit(FitArgs),
+    /// Fit the topology ladder and pick the simplest model that meets the scene's targets.
+    Select(SelectArgs),
+    /// Measure the speed/accuracy trade along each knob.
+    Tradeoff(TradeoffArgs),
+    /// Write a model for other tools: prbfit's model file, MuJoCo, URDF, SDF or CSV.
+    Export(ExportArgs),
+    /// Open the terminal UI (the default with no command) on a scene file or the built-in one.
+    Tui {
+        /// Scene file (TOML); default: the built-in scene.
+        scene: Option<PathBuf>,
+    },
+}
+
+/// Options every subcommand shares.
+#[derive(Args)]
+pub struct Common {
+    /// Scene file (TOML, DESIGN §5); default: the built-in scene.
+    #[arg(long, value_name = "FILE")]
+    pub scene: Option<PathBuf>,
+    /// Print one JSON object on stdout instead of text.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// `prbfit solve`.
+#[derive(Args)]
+pub struct SolveArgs {
+    #[command(flatten)]
+    pub common: Common,
+    /// One tip load, nondimensional: alpha_x, alpha_y, beta.
+    #[arg(long, value_name = "AX,AY,BETA", value_parser = Load::parse, allow_hyphen_values = true)]
+    pub load: Option<Load>,
+    /// Beam effects: a comma-separated list of shear, extension, poisson; or none; or all.
+    #[arg(long, value_name = "LIST|none")]
+    pub effects: Option<String>,
+    /// Slenderness L/t0 (overrides the scene's beam).
+    #[arg(long, value_name = "L_OVER_T", allow_negative_numbers = true)]
+    pub slenderness: Option<f64>,
+    /// Poisson's ratio (overrides the scene's beam).
+    #[arg(long, value_name = "NU", allow_negative_numbers = true)]
+    pub nu: Option<f64>,
+    /// Shear coefficient kappa (default: Cowper's rectangle value for nu).
+    #[arg(long, value_name = "K", allow_negative_numbers = true)]
+    pub kappa: Option<f64>,
+    /// Integrator tolerance: the speed/accuracy knob (tip error about 10x this or better).
+    #[arg(long, value_name = "TOL", allow_negative_numbers = true, default_value_t = Resolution::default().tol)]
+    pub tol: f64,
+    /// Include the deformed shape (points along the beam) in the JSON output.
+    #[arg(long)]
+    pub shape: bool,
+}
+
+/// `prbfit eval`.
+#[derive(Args)]
+pub struct EvalArgs {
+    #[command(flatten)]
+    pub common: Common,
+    /// A PRB matrix in text form, e.g. "0.15,inf,inf; 0.85,2.2525,inf" (repeatable).
+    #[arg(long, value_name = "MATRIX", allow_hyphen_values = true)]
+    pub prb: Vec<String>,
+    /// A published model (howell-1r, su-3r, chen-3r) or a model file (repeatable).
+    #[arg(long, value_name = "NAME_OR_FILE")]
+    pub model: Vec<String>,
+    /// Judge one tip load instead of the scene's cases.
+    #[arg(long, value_name = "AX,AY,BETA", value_parser = Load::parse, allow_hyphen_values = true)]
+    pub load: Option<Load>,
+    /// Baseline integrator tolerance.
+    #[arg(long, value_name = "TOL", allow_negative_numbers = true, default_value_t = Resolution::default().tol)]
+    pub tol: f64,
+}
+
+/// `prbfit fit`.
+#[derive(Args)]
+pub struct FitArgs {
+    #[command(flatten)]
+    pub common: Common,
+    /// Topology to fit, from the root: L, R, P, RP joined by - (e.g. L-R-R-R).
+    #[arg(
+        long,
+        value_name = "TOPO",
+        conflicts_with = "prb",
+        required_unless_present = "prb"
+    )]
+    pub topology: Option<String>,
+    /// Matrix to start from; cells ending in ! stay fixed.
+    #[arg(long, value_name = "MATRIX", allow_hyphen_values = true)]
+    pub prb: Option<String>,
+    /// draft, normal or precise.
+    #[arg(long, value_name = "LEVEL", default_value = "normal", value_parser = Fidelity::from_str)]
+    pub fidelity: Fidelity,
+    /// Seed of the random starts: the same seed gives the same fit.
+    #[arg(long, value_name = "N", default_value_t = 1)]
+    pub seed: u64,
+    /// Save the fitted model (.toml or .json).
+    #[arg(short = 'o', long = "output", value_name = "FILE")]
+    pub output: Option<PathBuf>,
+    /// Overwrite the output file if it exists.
+    #[arg(long)]
+    pub force: bool,
+}
+
+/// `prbfit select`.
+#[derive(Args)]
+pub struct SelectArgs {
+    #[command(flatten)]
+    pub common: Common,
+    /// draft, normal or precise.
+    #[arg(long, value_name = "LEVEL", default_value = "normal", value_parser = Fidelity::from_str)]
+    pub fidelity: Fidelity,
+}
+
+/// `prbfit tradeoff`.
+#[derive(Args)]
+pub struct TradeoffArgs {
+    #[command(flatten)]
+    pub common: Common,
+    /// The topology the sampling and fidelity knobs fit.
+    #[arg(long, value_name = "TOPO", default_value = "L-R-R-R")]
+    pub topology: String,
+}
+
+/// `prbfit export`.
+#[derive(Args)]
+#[command(group = clap::ArgGroup::new("which").required(true).args(["prb", "model"]))]
+pub struct ExportArgs {
+    #[command(flatten)]
+    pub common: Common,
+    /// A PRB matrix in text form.
+    #[arg(long, value_name = "MATRIX", allow_hyphen_values = true)]
+    pub prb: Option<String>,
+    /// A published model (howell-1r, su-3r, chen-3r) or a model file.
+    #[arg(long, value_name = "NAME_OR_FILE")]
+    pub model: Option<String>,
+    /// toml, json, mjcf, urdf, sdf or csv.
+    #[arg(long, value_name = "F", value_parser = Format::from_str)]
+    pub format: Format,
+    /// The file to write.
+    #[arg(short = 'o', long = "output", value_name = "FILE")]
+    pub output: PathBuf,
+    /// Overwrite the file if it exists.
+    #[arg(long)]
+    pub force: bool,
+    /// Density for the masses, kg/m^3 (only dynamics depend on it).
+    #[arg(
+        long,
+        value_name = "KG_M3",
+        default_value_t = 1000.0,
+        allow_negative_numbers = true
+    )]
+    pub density: f64,
+    /// Fidelity of the baseline the figures and the CSV come from.
+    #[arg(long, value_name = "LEVEL", default_value = "normal", value_parser = Fidelity::from_str)]
+    pub fidelity: Fidelity,
+}

@@ -1,0 +1,166 @@
+//! `prbfit fit`: the free cells of a matrix fitted to the beam over the scene's loads.
+
+use std::fmt;
+use std::time::Instant;
+
+use anyhow::{Context, Result};
+use serde::Serialize;
+
+use prbfit::eval::ErrorFigures;
+use prbfit::fidelity::Fidelity;
+use prbfit::fit::{fit, CancelToken, FitError, FitOptions, StopReason};
+use prbfit::format::Format;
+use prbfit::io::files::{write_atomic, WriteError};
+use prbfit::io::ModelFile;
+use prbfit::prb::PrbMatrix;
+use prbfit::scene::Accuracy;
+use prbfit::select::EffectsDecision;
+
+use super::args::FitArgs;
+use super::output::{emit, met, num, safe, DecisionLine};
+use super::{bad, parse_matrix, resolved_scene};
+
+/// What `fit` found.
+#[derive(Debug, Serialize)]
+pub struct FitOutput {
+    prb: String,
+    topology: String,
+    #[serde(flatten)]
+    figures: ErrorFigures,
+    start_objective: f64,
+    meets_targets: bool,
+    iterations: u32,
+    evaluations: u64,
+    stop_reason: StopReason,
+    fidelity: Fidelity,
+    cases: usize,
+    effects_decision: Option<EffectsDecision>,
+    baseline_seconds: f64,
+    seconds: f64,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    saved: Option<String>,
+    #[serde(skip)]
+    scene: String,
+    #[serde(skip)]
+    matrix: PrbMatrix,
+    #[serde(skip)]
+    accuracy: Accuracy,
+}
+
+impl fmt::Display for FitOutput {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let m = &self.figures;
+        write!(f, "{}", DecisionLine(&self.effects_decision))?;
+        writeln!(
+            f,
+            "scene: {} ({} load cases at {} fidelity)",
+            safe(&self.scene),
+            self.cases,
+            self.fidelity
+        )?;
+        writeln!(f, "fitted {}: {}", self.topology, self.matrix)?;
+        writeln!(
+            f,
+            "J = {:.4e} (start {:.4e}); position error rms {:.3e} max {:.3e} L; angle error rms {:.3e} max {:.3e} rad",
+            m.objective, self.start_objective, m.rms_pos_err, m.max_pos_err, m.rms_ang_err, m.max_ang_err
+        )?;
+        writeln!(
+            f,
+            "targets ({} L, {} rad): {}",
+            num(self.accuracy.max_pos_err),
+            num(self.accuracy.max_ang_err),
+            met(self.meets_targets)
+        )?;
+        writeln!(
+            f,
+            "{}; {} iterations, {} evaluations, {:.1} ms (baseline {:.1} ms)",
+            self.stop_reason,
+            self.iterations,
+            self.evaluations,
+            self.seconds * 1e3,
+            self.baseline_seconds * 1e3
+        )?;
+        if let Some(path) = &self.saved {
+            writeln!(f, "saved {}", safe(path))?;
+        }
+        Ok(())
+    }
+}
+
+/// Runs `prbfit fit`.
+pub fn run(args: FitArgs) -> Result<()> {
+    let (scene, decision) = resolved_scene(&args.common)?;
+    let start = match (&args.topology, &args.prb) {
+        (Some(t), _) => {
+            PrbMatrix::from_topology(t).map_err(|e| bad(format!("--topology {t}: {e}")))?
+        }
+        (None, Some(text)) => parse_matrix("--prb", text)?,
+        (None, None) => return Err(bad("give --topology TOPO or --prb MATRIX")),
+    };
+    let format = match &args.output {
+        Some(path) => {
+            let format = Format::from_path(path)
+                .filter(|f| f.is_model_file())
+                .ok_or_else(|| {
+                    bad(format!(
+                        "{}: a model file must end in .toml or .json",
+                        path.display()
+                    ))
+                })?;
+            if path.exists() && !args.force {
+                // Refuse before spending the time on a fit.
+                return Err(WriteError::Exists(path.clone()).into());
+            }
+            Some(format)
+        }
+        None => None,
+    };
+    let t0 = Instant::now();
+    let baseline = args.fidelity.baseline(&scene).context("baseline beam")?;
+    let options = FitOptions {
+        fidelity: args.fidelity,
+        angle_weight: scene.fit.angle_weight,
+        seed: args.seed,
+    };
+    let report = fit(
+        &baseline,
+        &start,
+        &options,
+        &mut |_| {},
+        &CancelToken::new(),
+    )
+    .map_err(|e| match e {
+        FitError::Param(p) => bad(format!("--prb: {p}")),
+        other => anyhow::Error::new(other),
+    })?;
+    let seconds = t0.elapsed().as_secs_f64();
+    let figures = report.figures;
+    if let (Some(path), Some(format)) = (&args.output, format) {
+        let model = ModelFile::fitted(&report.matrix, &scene, &args.fidelity.to_string(), &figures);
+        let text = match format {
+            Format::Json => model.to_json()?,
+            _ => model.to_toml()?,
+        };
+        write_atomic(path, text.as_bytes(), args.force)?;
+    }
+    let out = FitOutput {
+        prb: report.matrix.to_text(),
+        topology: report.matrix.topology(),
+        figures,
+        start_objective: report.start_objective,
+        meets_targets: figures.meets(&scene.accuracy),
+        iterations: report.iterations,
+        evaluations: report.evaluations,
+        stop_reason: report.stop,
+        fidelity: args.fidelity,
+        cases: baseline.case_count(),
+        effects_decision: decision,
+        baseline_seconds: baseline.seconds,
+        seconds,
+        saved: args.output.as_ref().map(|p| p.display().to_string()),
+        scene: scene.name,
+        matrix: report.matrix,
+        accuracy: scene.accuracy,
+    };
+    emit(&out, args.common.json)
+}

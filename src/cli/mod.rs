@@ -1,0 +1,159 @@
+//! The command line (DESIGN §6): one file per command, each building a report that derives
+//! `Serialize` (the `--json` form) and implements `Display` (the text form).
+//!
+//! Exit status: 0 on success; 2 for bad input (a malformed scene file, a bad flag value, a file
+//! that may not be written), with one line on stderr naming the file, line, key or flag; 1 when
+//! the computation itself fails (a load past a critical point, say) or the output cannot be
+//! written. A closed stdout pipe ends the program quietly with status 0.
+
+mod args;
+mod eval;
+mod export;
+mod fit;
+mod output;
+mod select;
+mod solve;
+mod tradeoff;
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use anyhow::{Context, Result};
+use clap::Parser;
+
+use prbfit::beam::Resolution;
+use prbfit::io::files::WriteError;
+use prbfit::prb::PrbMatrix;
+use prbfit::scene::{Scene, SceneError};
+use prbfit::select::{resolve_effects, EffectsDecision};
+
+use args::{Cli, Command, Common};
+
+/// An error in what the user gave us: exit status 2.
+#[derive(Debug, thiserror::Error)]
+#[error("{0}")]
+struct BadInput(String);
+
+/// A bad-input error with this message.
+fn bad(message: impl Into<String>) -> anyhow::Error {
+    BadInput(message.into()).into()
+}
+
+/// Parses the matrix given to `flag`; errors name the flag and the text.
+fn parse_matrix(flag: &str, text: &str) -> Result<PrbMatrix> {
+    PrbMatrix::parse(text).map_err(|e| bad(format!("{flag} \"{text}\": {e}")))
+}
+
+/// Parses the command line and runs the command; the process's exit status.
+pub fn run() -> ExitCode {
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) => return clap_error(e),
+    };
+    let outcome = match cli.command {
+        Some(Command::Solve(args)) => solve::run(args),
+        Some(Command::Eval(args)) => eval::run(args),
+        Some(Command::Fit(args)) => fit::run(args),
+        Some(Command::Select(args)) => select::run(args),
+        Some(Command::Tradeoff(args)) => tradeoff::run(args),
+        Some(Command::Export(args)) => export::run(args),
+        Some(Command::Tui { scene }) => tui(scene),
+        None => tui(None),
+    };
+    match outcome {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) if e.downcast_ref::<output::StdoutClosed>().is_some() => ExitCode::SUCCESS,
+        Err(e) => {
+            let input = e.downcast_ref::<BadInput>().is_some()
+                || e.downcast_ref::<SceneError>().is_some()
+                || e.downcast_ref::<WriteError>().is_some();
+            // stderr may be closed too; there is nowhere left to say so.
+            let _ = std::io::Write::write_all(
+                &mut std::io::stderr(),
+                format!("prbfit: {}\n", one_line(&e)).as_bytes(),
+            );
+            ExitCode::from(if input { 2 } else { 1 })
+        }
+    }
+}
+
+/// clap's message is several lines; the contract is one line naming the flag: the message
+/// up to the usage, joined. Help and version go to stdout with status 0.
+fn clap_error(e: clap::Error) -> ExitCode {
+    use clap::error::ErrorKind;
+    if matches!(e.kind(), ErrorKind::DisplayHelp | ErrorKind::DisplayVersion) {
+        return match output::write_stdout(e.render().to_string().as_bytes()) {
+            Ok(()) => ExitCode::SUCCESS,
+            Err(err) if err.downcast_ref::<output::StdoutClosed>().is_some() => ExitCode::SUCCESS,
+            Err(_) => ExitCode::from(1),
+        };
+    }
+    let text = e.to_string();
+    let joined = text
+        .lines()
+        .take_while(|l| !l.starts_with("Usage:") && !l.starts_with("For more information"))
+        .map(str::trim)
+        .filter(|l| !l.is_empty() && !l.starts_with("tip:"))
+        .collect::<Vec<_>>()
+        .join(" ");
+    let first = if joined.is_empty() {
+        "invalid arguments"
+    } else {
+        joined.as_str()
+    };
+    let first = first.trim_start_matches("error: ");
+    let _ = std::io::Write::write_all(
+        &mut std::io::stderr(),
+        format!("prbfit: {first} (see prbfit --help)\n").as_bytes(),
+    );
+    ExitCode::from(2)
+}
+
+/// The error and its causes on one line. A cause whose text the message before it already
+/// contains (an error that displays its source and also returns it from `source()`) is not
+/// repeated.
+fn one_line(e: &anyhow::Error) -> String {
+    let mut out = String::new();
+    for cause in e.chain() {
+        let text = output::safe(&cause.to_string().replace('\n', " ")).into_owned();
+        if out.contains(&text) {
+            continue;
+        }
+        if !out.is_empty() {
+            out.push_str(": ");
+        }
+        out.push_str(&text);
+    }
+    out
+}
+
+/// The scene named by `--scene`, or the built-in one.
+fn load_scene(common: &Common) -> Result<Scene> {
+    match &common.scene {
+        None => Ok(Scene::builtin()),
+        Some(path) => Ok(Scene::from_file(path)?),
+    }
+}
+
+/// The scene with `effects = "auto"` decided, and the decision.
+fn resolved_scene(common: &Common) -> Result<(Scene, Option<EffectsDecision>)> {
+    let scene = load_scene(common)?;
+    resolve_effects(&scene, Resolution::default()).context("deciding the beam effects")
+}
+
+#[cfg(feature = "tui")]
+fn tui(path: Option<PathBuf>) -> Result<()> {
+    let scene = match &path {
+        Some(p) => Scene::from_file(p)?,
+        None => Scene::builtin(),
+    };
+    prbfit::tui::run(scene, path).map_err(|e| bad(format!("{e:#}")))
+}
+
+#[cfg(not(feature = "tui"))]
+fn tui(_path: Option<PathBuf>) -> Result<()> {
+    Err(bad(
+        "this prbfit was built without the terminal UI (cargo feature `tui`); \
+         use the headless commands: prbfit --help",
+    ))
+}

@@ -1,0 +1,122 @@
+//! Exporting a PRB model where designers use it: prbfit's own model file (TOML, JSON), MuJoCo
+//! (MJCF), URDF, SDF 1.10, and CSV of the load cases.
+//!
+//! The scene supplies the beam, so every format also carries SI values:
+//! segment lengths `gamma L`, torsion springs `K_theta = k_theta E I0 / L` (N m/rad) and
+//! extension springs `K_ex = k_ex E A0 / L` (N/m). Each chain lies along +x from the clamp
+//! (the world origin) in its unloaded pose; revolute joints turn about +z.
+//!
+//! Masses come from the beam's cross-section and a density (default 1000 kg/m^3): they matter
+//! only for dynamics, never for the static equilibrium the model was fitted for.
+//!
+//! One file per format; the simulator formats all write the one link/joint description of
+//! [`chain`].
+
+pub mod chain;
+mod csv;
+mod mjcf;
+mod sdf;
+mod urdf;
+
+use crate::eval::{evaluate, Baseline, ErrorFigures};
+use crate::format::Format;
+use crate::io::files::utc_timestamp;
+use crate::io::{ModelFile, ModelFileError};
+use crate::prb::PrbMatrix;
+use crate::scene::Scene;
+
+use chain::Chain;
+
+/// Everything an export needs.
+pub struct ExportInput<'a> {
+    /// The model's name.
+    pub name: String,
+    /// The model.
+    pub matrix: &'a PrbMatrix,
+    /// The scene it is exported for (its beam sets the SI values).
+    pub scene: &'a Scene,
+    /// The model judged on the scene (for the figures and the CSV).
+    pub baseline: &'a Baseline,
+    /// The fidelity of that baseline, for the provenance.
+    pub fidelity: String,
+    /// kg/m^3, for masses.
+    pub density: f64,
+}
+
+/// Why an export failed.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ExportError {
+    /// The model cannot follow the scene's loads, so it has no figures to record.
+    #[error("the model cannot follow the scene's loads: {0}")]
+    Eval(String),
+    /// A bad density.
+    #[error("density must be a finite number > 0, got {0}")]
+    Density(f64),
+    /// The model file could not be written as text.
+    #[error(transparent)]
+    ModelFile(#[from] ModelFileError),
+}
+
+/// The text of the export in `format`.
+pub fn export(input: &ExportInput, format: Format) -> Result<String, ExportError> {
+    if !(input.density.is_finite() && input.density > 0.0) {
+        return Err(ExportError::Density(input.density));
+    }
+    let weight = input.scene.fit.angle_weight;
+    let evaluation = evaluate(input.matrix, input.baseline, weight)
+        .map_err(|e| ExportError::Eval(e.to_string()))?;
+    let chain = || Chain::new(input.matrix, &input.scene.beam, input.density);
+    Ok(match format {
+        Format::Toml => own(input, &evaluation.figures).to_toml()?,
+        Format::Json => own(input, &evaluation.figures).to_json()?,
+        Format::Mjcf => mjcf::write(&chain(), &header_comment(input)),
+        Format::Urdf => urdf::write(&chain(), &header_comment(input)),
+        Format::Sdf => sdf::write(&chain(), &header_comment(input)),
+        Format::Csv => csv::write(
+            input.matrix,
+            input.baseline,
+            &format!(
+                "model {} ({}) on scene \"{}\"",
+                input.name,
+                input.matrix.to_text(),
+                input.scene.name.replace('"', "'")
+            ),
+        )?,
+    })
+}
+
+fn own(input: &ExportInput, figures: &ErrorFigures) -> ModelFile {
+    let mut file = ModelFile::fitted(input.matrix, input.scene, &input.fidelity, figures);
+    file.name = input.name.clone();
+    file.title = Some(format!(
+        "{} for {}",
+        input.matrix.topology(),
+        input.scene.name
+    ));
+    file.source = Some(format!("prbfit {} export", env!("CARGO_PKG_VERSION")));
+    file
+}
+
+/// XML-escapes text for attributes and comments.
+fn xml_text(s: &str) -> String {
+    s.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+        .replace('"', "&quot;")
+        .replace("--", "- -")
+}
+
+/// The comment every XML export opens with: what the model is, for which scene, the units.
+fn header_comment(input: &ExportInput) -> String {
+    format!(
+        "PRB model {} exported by prbfit {} ({}) for the scene \"{}\".\n     \
+         Matrix (nondimensional): {}\n     \
+         Units: m, kg, N m/rad (torsion springs), N/m (extension springs). The chain lies \
+         along +x from the clamp at the origin; hinges turn about +z.",
+        xml_text(&input.matrix.topology()),
+        env!("CARGO_PKG_VERSION"),
+        utc_timestamp(),
+        xml_text(&input.scene.name),
+        xml_text(&input.matrix.to_text()),
+    )
+}

@@ -1,0 +1,133 @@
+//! The fit's objective (DESIGN §4) as least squares: `J = |r|^2` with three residuals per
+//! load case, `(da, db, sqrt(w) dphi) / sqrt(n)`, each capped at [`PENALTY`] so a trial model
+//! that misses a case (it buckles or snaps where the beam does not) costs a large but finite
+//! amount — never NaN, never infinity (argmin's solvers hang on the one and fail on the other).
+
+use std::cell::RefCell;
+use std::ops::ControlFlow;
+
+use nalgebra::DVector;
+
+use crate::cancel::CancelToken;
+use crate::eval::Baseline;
+use crate::prb::{PrbMatrix, PrbSolver};
+
+use super::Parameterisation;
+
+/// A residual given to each component of a case the PRB model cannot reach, and the cap on
+/// every residual. With three components per case it adds 3 to `J` per missed case: far above
+/// any usable model (J below 1e-2), yet finite.
+pub const PENALTY: f64 = 1.0;
+
+/// Trial models give up on a load path once continuation needs steps below this fraction of
+/// it: failing trials stay cheap, and a model this close to failing is useless anyway.
+const FIT_MIN_STEP: f64 = 1e-3;
+
+/// Newton iterations a trial model may spend per load case of a path (a healthy model needs
+/// about three): beyond, it counts as failing that path, so struggling trials stay cheap.
+const FIT_NEWTON_PER_CASE: u32 = 20;
+
+/// Newton iterations per continuation attempt for trial models (quadratic convergence from
+/// a secant predictor needs about five).
+const FIT_NEWTON_LIMIT: u32 = 12;
+
+/// `J` and its residuals for parameter vectors, counting evaluations.
+pub(super) struct Objective<'a> {
+    baseline: &'a Baseline,
+    param: &'a Parameterisation,
+    angle_scale: f64,
+    case_scale: f64,
+    cancel: &'a CancelToken,
+    evaluations: std::cell::Cell<u64>,
+}
+
+impl<'a> Objective<'a> {
+    pub(super) fn new(
+        baseline: &'a Baseline,
+        param: &'a Parameterisation,
+        angle_weight: f64,
+        cancel: &'a CancelToken,
+    ) -> Objective<'a> {
+        Objective {
+            baseline,
+            param,
+            angle_scale: angle_weight.sqrt(),
+            case_scale: 1.0 / (baseline.case_count().max(1) as f64).sqrt(),
+            cancel,
+            evaluations: std::cell::Cell::new(0),
+        }
+    }
+
+    pub(super) fn evaluations(&self) -> u64 {
+        self.evaluations.get()
+    }
+
+    /// Fills `out` with the residuals at `p`; false when cancelled.
+    pub(super) fn residuals(&self, p: &DVector<f64>, out: &mut Vec<f64>) -> bool {
+        match self.param.decode(p) {
+            Some(matrix) => self.matrix_residuals(&matrix, out),
+            None => {
+                if self.cancel.is_cancelled() {
+                    return false;
+                }
+                self.evaluations.set(self.evaluations.get() + 1);
+                out.clear();
+                out.resize(3 * self.baseline.case_count(), PENALTY);
+                true
+            }
+        }
+    }
+
+    /// Fills `out` with the residuals of `matrix`; false when cancelled.
+    fn matrix_residuals(&self, matrix: &PrbMatrix, out: &mut Vec<f64>) -> bool {
+        if self.cancel.is_cancelled() {
+            return false;
+        }
+        self.evaluations.set(self.evaluations.get() + 1);
+        out.clear();
+        let solver = PrbSolver::new(matrix, self.baseline.model.axial_compliance())
+            .with_min_step(FIT_MIN_STEP)
+            .with_newton_limit(FIT_NEWTON_LIMIT)
+            .with_case_budget(FIT_NEWTON_PER_CASE);
+        // Residuals are capped at the penalty, so that failing to reach a case is never
+        // better than reaching it badly.
+        // The residuals stay in case order whichever cases are missed (the polish compares
+        // residual vectors component by component), so both closures append to one vector.
+        let cap = PENALTY;
+        let out = RefCell::new(out);
+        let _ = self.baseline.follow(
+            &solver,
+            |b, sol| {
+                let da = (sol.tip.phi - b.tip.phi) * self.angle_scale * self.case_scale;
+                out.borrow_mut().extend_from_slice(&[
+                    ((sol.tip.a - b.tip.a) * self.case_scale).clamp(-cap, cap),
+                    ((sol.tip.b - b.tip.b) * self.case_scale).clamp(-cap, cap),
+                    da.clamp(-cap, cap),
+                ]);
+            },
+            |missed| {
+                // The cases this model cannot reach.
+                let mut out = out.borrow_mut();
+                for _ in missed {
+                    out.extend_from_slice(&[PENALTY; 3]);
+                }
+                ControlFlow::Continue(())
+            },
+        );
+        true
+    }
+
+    /// `J` of `matrix`, or `None` when cancelled.
+    pub(super) fn matrix_value(&self, matrix: &PrbMatrix) -> Option<f64> {
+        let mut r = Vec::new();
+        self.matrix_residuals(matrix, &mut r)
+            .then(|| r.iter().map(|v| v * v).sum())
+    }
+
+    /// `J` at `p`, or `None` when cancelled.
+    pub(super) fn value(&self, p: &DVector<f64>) -> Option<f64> {
+        let mut r = Vec::new();
+        self.residuals(p, &mut r)
+            .then(|| r.iter().map(|v| v * v).sum())
+    }
+}
