@@ -31,7 +31,7 @@ use std::fmt;
 use serde::{Deserialize, Serialize};
 
 use crate::linalg::solve_dense;
-pub use model::{cowper_kappa, BeamModel, Effects, ModelError};
+pub use model::{cowper_kappa, BeamModel, Effects, ModelError, MAX_SLENDERNESS};
 use shoot::{shoot, Samples, Segment, Shot, ShotFailure, ShotSettings, TipForce};
 
 /// A tip load in the paper's nondimensional form: `alpha_x = Fx L^2 / (E I0)`,

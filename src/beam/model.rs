@@ -111,7 +111,9 @@ impl fmt::Display for Effects {
 /// Errors in the description of a beam.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum ModelError {
-    #[error("slenderness L/t0 must be a finite number > 0, got {0}")]
+    #[error(
+        "slenderness L/t0 must be from 1 (a beam at least as long as it is thick) to {MAX_SLENDERNESS:e}, got {0}"
+    )]
     Slenderness(f64),
     #[error("Poisson's ratio must be in [0, 0.5), got {0}")]
     PoissonRatio(f64),
@@ -122,6 +124,10 @@ pub enum ModelError {
     #[error("the poisson effect needs extension: add \"extension\" to the effects")]
     PoissonWithoutExtension,
 }
+
+/// The most slender beam described (L/t0): a hair 100 times thinner than the thinnest the
+/// solver is tested on (1e4); beyond it the axial and shear compliances underflow.
+pub const MAX_SLENDERNESS: f64 = 1e6;
 
 /// Cowper's shear coefficient of a rectangular section, `10 (1 + nu) / (12 + 11 nu)`.
 pub fn cowper_kappa(nu: f64) -> f64 {
@@ -152,7 +158,7 @@ impl BeamModel {
         kappa: Option<f64>,
         effects: Effects,
     ) -> Result<BeamModel, ModelError> {
-        if !(slenderness.is_finite() && slenderness > 0.0) {
+        if !(slenderness.is_finite() && (1.0..=MAX_SLENDERNESS).contains(&slenderness)) {
             return Err(ModelError::Slenderness(slenderness));
         }
         if !(nu.is_finite() && (0.0..0.5).contains(&nu)) {

@@ -150,6 +150,17 @@ pub enum MatrixError {
     NoJoint,
     #[error("unknown topology segment `{0}` (expected L, R, P or RP, joined by -)")]
     Topology(String),
+    #[error("row {row}: no such row (the matrix has {rows})")]
+    NoRow { row: usize, rows: usize },
+    #[error("a single segment's gamma is always 1")]
+    SingleSegmentGamma,
+    #[error("{source} (segment {donor} would get the rest)")]
+    Rebalance {
+        /// 1-based: the segment that would have taken the difference.
+        donor: usize,
+        #[source]
+        source: Box<MatrixError>,
+    },
 }
 
 impl PrbMatrix {
@@ -226,6 +237,33 @@ impl PrbMatrix {
         let mut rows = self.rows.clone();
         rows[row].set(column, value);
         PrbMatrix::new(rows)
+    }
+
+    /// Sets segment `row`'s gamma (0-based) to `gamma` and keeps the gammas summing to 1: one
+    /// other segment, the donor, takes the difference. The donor is a segment whose gamma is
+    /// free if there is one (a fixed cell is the user's word), preferring segments after
+    /// `row`, then the one furthest towards the tip. On error (the donor would get a length
+    /// <= 0, say) the matrix is unchanged and the error names the donor.
+    pub fn with_gamma(&self, row: usize, gamma: f64) -> Result<PrbMatrix, MatrixError> {
+        let rows = &self.rows;
+        if row >= rows.len() {
+            return Err(MatrixError::NoRow {
+                row: row + 1,
+                rows: rows.len(),
+            });
+        }
+        let delta = gamma - rows[row].gamma;
+        let donor = (0..rows.len())
+            .filter(|&i| i != row)
+            .max_by_key(|&i| (rows[i].is_free(Column::Gamma), i > row, i))
+            .ok_or(MatrixError::SingleSegmentGamma)?;
+        let mut new_rows = rows.clone();
+        new_rows[row].gamma = gamma;
+        new_rows[donor].gamma -= delta;
+        PrbMatrix::new(new_rows).map_err(|e| MatrixError::Rebalance {
+            donor: donor + 1,
+            source: Box::new(e),
+        })
     }
 
     /// Marks a cell free (the fit may change it) or fixed.
@@ -489,6 +527,29 @@ impl<'de> Deserialize<'de> for PrbMatrix {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn with_gamma_rebalances_one_donor_and_keeps_the_sum() {
+        // Su's 3R with the tip gamma fixed: row 1 grows, the donor is the last free gamma
+        // after it (row 2), not the fixed tip.
+        let m =
+            PrbMatrix::parse("0.1,inf,inf; 0.35,3.51,inf; 0.4,2.99,inf; 0.15!,2.58,inf").unwrap();
+        let n = m.with_gamma(1, 0.45).unwrap();
+        let g: Vec<f64> = n.rows().iter().map(|r| r.gamma).collect();
+        assert_eq!(g, vec![0.1, 0.45, 0.4 - 0.1, 0.15]);
+        assert!((g.iter().sum::<f64>() - 1.0).abs() < 1e-15);
+        // Too much: the donor would go negative, the error names it and nothing changes.
+        let err = m.with_gamma(1, 0.9).unwrap_err().to_string();
+        assert!(err.contains("segment 3 would get the rest"), "{err}");
+        assert!(matches!(
+            PrbMatrix::parse("1,2,inf").unwrap().with_gamma(0, 0.5),
+            Err(MatrixError::SingleSegmentGamma)
+        ));
+        assert!(matches!(
+            m.with_gamma(7, 0.5),
+            Err(MatrixError::NoRow { .. })
+        ));
+    }
 
     #[test]
     fn su_text_parses_and_prints() {

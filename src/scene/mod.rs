@@ -302,6 +302,121 @@ struct RawFit {
 /// The most load steps one path may ask for.
 pub const MAX_STEPS: i64 = 10_000;
 
+/// The rules a scene's values obey. Each is written once and applied twice: by the file
+/// reader (errors name the line) and by [`Scene::validate`] (an edited scene, no file).
+mod rules {
+    use crate::beam::{Load, MAX_SLENDERNESS};
+
+    use super::MAX_STEPS;
+
+    pub fn positive(v: f64) -> Result<(), String> {
+        (v.is_finite() && v > 0.0)
+            .then_some(())
+            .ok_or_else(|| format!("must be a finite number > 0, got {v}"))
+    }
+
+    pub fn poisson_ratio(v: f64) -> Result<(), String> {
+        (v.is_finite() && (0.0..0.5).contains(&v))
+            .then_some(())
+            .ok_or_else(|| format!("must be in [0, 0.5), got {v}"))
+    }
+
+    pub fn non_negative(v: f64) -> Result<(), String> {
+        (v.is_finite() && v >= 0.0)
+            .then_some(())
+            .ok_or_else(|| format!("must be a finite number >= 0, got {v}"))
+    }
+
+    pub fn finite(v: f64) -> Result<(), String> {
+        v.is_finite()
+            .then_some(())
+            .ok_or_else(|| format!("must be a finite number, got {v}"))
+    }
+
+    /// The thickness against the length: `1 <= L/t0 <= MAX_SLENDERNESS`.
+    pub fn slenderness(thickness: f64, length: f64) -> Result<(), String> {
+        if thickness > length {
+            return Err(format!(
+                "a beam must be at least as long as it is thick (slenderness L/t0 >= 1), \
+                 got thickness {thickness} > length {length}"
+            ));
+        }
+        if length / thickness > MAX_SLENDERNESS {
+            return Err(format!(
+                "slenderness L/t0 = {:e} is beyond the {MAX_SLENDERNESS:e} prbfit models",
+                length / thickness
+            ));
+        }
+        Ok(())
+    }
+
+    pub fn steps(v: i64) -> Result<(), String> {
+        (1..=MAX_STEPS)
+            .contains(&v)
+            .then_some(())
+            .ok_or_else(|| format!("must be a whole number from 1 to {MAX_STEPS}, got {v}"))
+    }
+
+    pub fn nonzero(end: &Load) -> Result<(), String> {
+        (end.magnitude() != 0.0)
+            .then_some(())
+            .ok_or_else(|| "the load path is all zero: give alpha_x, alpha_y or beta".into())
+    }
+}
+
+impl Scene {
+    /// Checks an edited scene against the same rules a scene file obeys; the error names the
+    /// key (`beam.thickness`, `loads[2].steps`).
+    pub fn validate(&self) -> Result<(), SceneError> {
+        let fail = |key: String, message: String| SceneError {
+            origin: self.name.clone(),
+            line: None,
+            key: Some(key),
+            message,
+        };
+        let check = |key: &str, r: Result<(), String>| r.map_err(|m| fail(key.into(), m));
+        let b = &self.beam;
+        check("beam.length", rules::positive(b.length))?;
+        check("beam.width", rules::positive(b.width))?;
+        check("beam.thickness", rules::positive(b.thickness))?;
+        check("beam.thickness", rules::slenderness(b.thickness, b.length))?;
+        check("beam.youngs_modulus", rules::positive(b.youngs_modulus))?;
+        check("beam.poisson_ratio", rules::poisson_ratio(b.poisson_ratio))?;
+        if let Some(k) = b.shear_coefficient {
+            check("beam.shear_coefficient", rules::positive(k))?;
+        }
+        if let EffectsChoice::Fixed(e) = b.effects {
+            e.validate()
+                .map_err(|e| fail("beam.effects".into(), e.to_string()))?;
+        }
+        if self.loads.is_empty() {
+            return Err(fail("loads".into(), NO_LOADS.into()));
+        }
+        for (i, p) in self.loads.iter().enumerate() {
+            let key = |field: &str| format!("loads[{}].{field}", i + 1);
+            check(&key("alpha_x"), rules::finite(p.end.alpha_x))?;
+            check(&key("alpha_y"), rules::finite(p.end.alpha_y))?;
+            check(&key("beta"), rules::finite(p.end.beta))?;
+            rules::nonzero(&p.end).map_err(|m| fail(format!("loads[{}]", i + 1), m))?;
+            check(&key("steps"), rules::steps(i64::from(p.steps)))?;
+        }
+        check(
+            "accuracy.max_pos_err",
+            rules::positive(self.accuracy.max_pos_err),
+        )?;
+        check(
+            "accuracy.max_ang_err",
+            rules::positive(self.accuracy.max_ang_err),
+        )?;
+        check(
+            "fit.angle_weight",
+            rules::non_negative(self.fit.angle_weight),
+        )
+    }
+}
+
+const NO_LOADS: &str = "the scene has no load paths: add at least one [[loads]] table";
+
 struct Validator<'a> {
     text: &'a str,
     origin: &'a str,
@@ -317,24 +432,16 @@ impl Validator<'_> {
         }
     }
 
-    /// A finite number satisfying `ok`, described by `rule` in the error.
+    /// The value, if it obeys `rule`; else the error naming its line and key.
     fn number(
         &self,
         value: &Spanned<f64>,
         key: &str,
-        ok: impl Fn(f64) -> bool,
-        rule: &str,
+        rule: fn(f64) -> Result<(), String>,
     ) -> Result<f64, SceneError> {
         let v = *value.get_ref();
-        if v.is_finite() && ok(v) {
-            Ok(v)
-        } else {
-            Err(self.error(value.span(), key, format!("must be {rule}, got {v}")))
-        }
-    }
-
-    fn positive(&self, value: &Spanned<f64>, key: &str) -> Result<f64, SceneError> {
-        self.number(value, key, |v| v > 0.0, "a finite number > 0")
+        rule(v).map_err(|m| self.error(value.span(), key, m))?;
+        Ok(v)
     }
 
     fn scene(&self, raw: RawScene) -> Result<Scene, SceneError> {
@@ -348,29 +455,30 @@ impl Validator<'_> {
                 origin: self.origin.to_string(),
                 line: None,
                 key: Some("loads".into()),
-                message: "the scene has no load paths: add at least one [[loads]] table".into(),
+                message: NO_LOADS.into(),
             });
         }
         let mut loads = Vec::with_capacity(raw.loads.len());
         for (i, load) in raw.loads.iter().enumerate() {
             loads.push(self.load(load, i + 1)?);
         }
-        let accuracy = match &raw.accuracy {
-            None => Accuracy::default(),
-            Some(acc) => {
-                let acc = acc.get_ref();
-                let default = Accuracy::default();
-                Accuracy {
-                    max_pos_err: match &acc.max_pos_err {
-                        Some(v) => self.positive(v, "accuracy.max_pos_err")?,
-                        None => default.max_pos_err,
-                    },
-                    max_ang_err: match &acc.max_ang_err {
-                        Some(v) => self.positive(v, "accuracy.max_ang_err")?,
-                        None => default.max_ang_err,
-                    },
-                }
-            }
+        let default = Accuracy::default();
+        let acc = raw.accuracy.as_ref().map(|a| a.get_ref());
+        let target = |v: Option<&Spanned<f64>>, key: &str, default: f64| match v {
+            Some(v) => self.number(v, key, rules::positive),
+            None => Ok(default),
+        };
+        let accuracy = Accuracy {
+            max_pos_err: target(
+                acc.and_then(|a| a.max_pos_err.as_ref()),
+                "accuracy.max_pos_err",
+                default.max_pos_err,
+            )?,
+            max_ang_err: target(
+                acc.and_then(|a| a.max_ang_err.as_ref()),
+                "accuracy.max_ang_err",
+                default.max_ang_err,
+            )?,
         };
         let fit = match raw
             .fit
@@ -379,12 +487,7 @@ impl Validator<'_> {
         {
             None => FitSettings::default(),
             Some(w) => FitSettings {
-                angle_weight: self.number(
-                    w,
-                    "fit.angle_weight",
-                    |v| v >= 0.0,
-                    "a finite number >= 0",
-                )?,
+                angle_weight: self.number(w, "fit.angle_weight", rules::non_negative)?,
             },
         };
         Ok(Scene {
@@ -397,28 +500,20 @@ impl Validator<'_> {
     }
 
     fn beam(&self, raw: &RawBeam) -> Result<BeamSpec, SceneError> {
-        let length = self.positive(&raw.length, "beam.length")?;
-        let width = self.positive(&raw.width, "beam.width")?;
-        let thickness = self.positive(&raw.thickness, "beam.thickness")?;
-        if thickness > length {
-            return Err(self.error(
-                raw.thickness.span(),
-                "beam.thickness",
-                format!(
-                    "a beam must be at least as long as it is thick (slenderness L/t0 >= 1), \
-                     got thickness {thickness} > length {length}"
-                ),
-            ));
-        }
-        let youngs_modulus = self.positive(&raw.youngs_modulus, "beam.youngs_modulus")?;
+        let length = self.number(&raw.length, "beam.length", rules::positive)?;
+        let width = self.number(&raw.width, "beam.width", rules::positive)?;
+        let thickness = self.number(&raw.thickness, "beam.thickness", rules::positive)?;
+        rules::slenderness(thickness, length)
+            .map_err(|m| self.error(raw.thickness.span(), "beam.thickness", m))?;
+        let youngs_modulus =
+            self.number(&raw.youngs_modulus, "beam.youngs_modulus", rules::positive)?;
         let poisson_ratio = self.number(
             &raw.poisson_ratio,
             "beam.poisson_ratio",
-            |v| (0.0..0.5).contains(&v),
-            "in [0, 0.5)",
+            rules::poisson_ratio,
         )?;
         let shear_coefficient = match &raw.shear_coefficient {
-            Some(k) => Some(self.positive(k, "beam.shear_coefficient")?),
+            Some(k) => Some(self.number(k, "beam.shear_coefficient", rules::positive)?),
             None => None,
         };
         let effects = match &raw.effects {
@@ -462,7 +557,7 @@ impl Validator<'_> {
         let key = |field: &str| format!("loads[{index}].{field}");
         let component = |value: &Option<Spanned<f64>>, field: &str| match value {
             None => Ok(0.0),
-            Some(v) => self.number(v, &key(field), |_| true, "a finite number"),
+            Some(v) => self.number(v, &key(field), rules::finite),
         };
         let r = raw.get_ref();
         let end = Load::new(
@@ -470,24 +565,12 @@ impl Validator<'_> {
             component(&r.alpha_y, "alpha_y")?,
             component(&r.beta, "beta")?,
         );
-        if end.magnitude() == 0.0 {
-            return Err(self.error(
-                raw.span(),
-                &format!("loads[{index}]"),
-                "the load path is all zero: give alpha_x, alpha_y or beta".into(),
-            ));
-        }
+        rules::nonzero(&end).map_err(|m| self.error(raw.span(), &format!("loads[{index}]"), m))?;
         let steps = match &r.steps {
             None => 1,
             Some(s) => {
                 let v = *s.get_ref();
-                if !(1..=MAX_STEPS).contains(&v) {
-                    return Err(self.error(
-                        s.span(),
-                        &key("steps"),
-                        format!("must be a whole number from 1 to {MAX_STEPS}, got {v}"),
-                    ));
-                }
+                rules::steps(v).map_err(|m| self.error(s.span(), &key("steps"), m))?;
                 v as u32
             }
         };
@@ -504,6 +587,42 @@ mod tests {
         let scene = Scene::builtin();
         assert!(!scene.loads.is_empty());
         assert!(scene.cases().len() >= 10);
+    }
+
+    #[test]
+    fn validate_applies_the_file_rules() {
+        let good = Scene::builtin();
+        assert_eq!(good.validate(), Ok(()));
+        let mut s = good.clone();
+        s.beam.thickness = -1.0;
+        assert_eq!(
+            s.validate().unwrap_err().key.as_deref(),
+            Some("beam.thickness")
+        );
+        let mut s = good.clone();
+        s.beam.poisson_ratio = 0.5;
+        let e = s.validate().unwrap_err();
+        assert_eq!(e.key.as_deref(), Some("beam.poisson_ratio"));
+        assert!(e.message.contains("[0, 0.5)"), "{e}");
+        let mut s = good.clone();
+        s.fit.angle_weight = f64::NAN;
+        assert_eq!(
+            s.validate().unwrap_err().key.as_deref(),
+            Some("fit.angle_weight")
+        );
+        let mut s = good.clone();
+        s.beam.thickness = s.beam.length * 2.0;
+        assert!(s
+            .validate()
+            .unwrap_err()
+            .message
+            .contains("at least as long"));
+        let mut s = good;
+        s.loads[1].steps = 0;
+        assert_eq!(
+            s.validate().unwrap_err().key.as_deref(),
+            Some("loads[2].steps")
+        );
     }
 
     #[test]

@@ -796,8 +796,8 @@ impl App {
                         }
                     }
                 }
-                // The scene file's own validation decides what is acceptable.
-                Scene::from_toml_str(&scene.to_toml(), "edit").map_err(|e| {
+                // The scene file's own rules decide what is acceptable.
+                scene.validate().map_err(|e| {
                     format!(
                         "{}: {}",
                         e.key.unwrap_or_else(|| field.label().into()),
@@ -857,7 +857,7 @@ impl App {
                 // Typing a gamma keeps the gammas summing to 1: the difference goes to another
                 // segment (a free one first).
                 let m = if *col == Column::Gamma && self.matrix.len() > 1 {
-                    self.rebalance_gamma(*row, v)?
+                    self.matrix.with_gamma(*row, v).map_err(|e| e.to_string())?
                 } else {
                     self.matrix
                         .with_cell(*row, *col, v)
@@ -874,19 +874,6 @@ impl App {
 
     /// Sets gamma of `row` to `v` and takes the difference from another segment (the next
     /// free one, else any other), so the gammas still sum to 1.
-    fn rebalance_gamma(&self, row: usize, v: f64) -> Result<PrbMatrix, String> {
-        let rows = self.matrix.rows();
-        let delta = v - rows[row].gamma;
-        let donor = (0..rows.len())
-            .filter(|&i| i != row)
-            .max_by_key(|&i| (rows[i].is_free(Column::Gamma), i > row, i))
-            .ok_or("a single segment's gamma is always 1")?;
-        let mut new_rows = rows.to_vec();
-        new_rows[row].gamma = v;
-        new_rows[donor].gamma -= delta;
-        PrbMatrix::new(new_rows)
-            .map_err(|e| format!("{e} (segment {} would get the rest)", donor + 1))
-    }
 
     fn prompt_key(&mut self, key: KeyEvent, ctrl_c: bool) -> Vec<Command> {
         let Some((kind, tb)) = &mut self.prompt else {
