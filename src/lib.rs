@@ -22,5 +22,6 @@ pub mod linalg;
 pub mod prb;
 pub mod scene;
 pub mod select;
+pub mod text;
 pub mod tradeoff;
 pub mod tui;
