@@ -7,7 +7,7 @@ use serde::Serialize;
 
 use prbfit::export::{export, ExportError, ExportInput};
 use prbfit::format::Format;
-use prbfit::io::files::{write_atomic, WriteError};
+use prbfit::io::files::{check_target, write_atomic};
 use prbfit::io::ModelFile;
 
 use super::args::ExportArgs;
@@ -31,9 +31,9 @@ impl fmt::Display for ExportOutput {
 
 /// Runs `prbfit export`.
 pub fn run(args: ExportArgs) -> Result<()> {
-    if args.output.exists() && !args.force {
-        return Err(WriteError::Exists(args.output.clone()).into());
-    }
+    // Refuse before spending the time on a baseline: an existing file without --force, a
+    // device, a dangling link.
+    check_target(&args.output, args.force)?;
     let (scene, _) = resolved_scene(&args.common)?;
     let (name, matrix) = match (&args.model, &args.prb) {
         (Some(m), _) => {

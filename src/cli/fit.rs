@@ -10,7 +10,7 @@ use prbfit::eval::ErrorFigures;
 use prbfit::fidelity::Fidelity;
 use prbfit::fit::{fit, CancelToken, FitError, FitOptions, StopReason};
 use prbfit::format::Format;
-use prbfit::io::files::{write_atomic, WriteError};
+use prbfit::io::files::{check_target, write_atomic};
 use prbfit::io::ModelFile;
 use prbfit::prb::PrbMatrix;
 use prbfit::scene::Accuracy;
@@ -107,10 +107,8 @@ pub fn run(args: FitArgs) -> Result<()> {
                         path.display()
                     ))
                 })?;
-            if path.exists() && !args.force {
-                // Refuse before spending the time on a fit.
-                return Err(WriteError::Exists(path.clone()).into());
-            }
+            // Refuse before spending the time on a fit.
+            check_target(path, args.force)?;
             Some(format)
         }
         None => None,

@@ -22,7 +22,7 @@ use anyhow::{Context, Result};
 use clap::Parser;
 
 use prbfit::beam::Resolution;
-use prbfit::io::files::WriteError;
+use prbfit::io::files::{ReadError, WriteError};
 use prbfit::prb::PrbMatrix;
 use prbfit::scene::{Scene, SceneError};
 use prbfit::select::{resolve_effects, EffectsDecision};
@@ -66,7 +66,8 @@ pub fn run() -> ExitCode {
         Err(e) => {
             let input = e.downcast_ref::<BadInput>().is_some()
                 || e.downcast_ref::<SceneError>().is_some()
-                || e.downcast_ref::<WriteError>().is_some();
+                || e.downcast_ref::<WriteError>().is_some()
+                || e.downcast_ref::<ReadError>().is_some();
             // stderr may be closed too; there is nowhere left to say so.
             let _ = std::io::Write::write_all(
                 &mut std::io::stderr(),

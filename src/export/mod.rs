@@ -24,6 +24,7 @@ use crate::io::files::utc_timestamp;
 use crate::io::{ModelFile, ModelFileError};
 use crate::prb::PrbMatrix;
 use crate::scene::Scene;
+use crate::text::xml_comment_safe;
 
 use chain::Chain;
 
@@ -97,15 +98,6 @@ fn own(input: &ExportInput, figures: &ErrorFigures) -> ModelFile {
     file
 }
 
-/// XML-escapes text for attributes and comments.
-fn xml_text(s: &str) -> String {
-    s.replace('&', "&amp;")
-        .replace('<', "&lt;")
-        .replace('>', "&gt;")
-        .replace('"', "&quot;")
-        .replace("--", "- -")
-}
-
 /// The comment every XML export opens with: what the model is, for which scene, the units.
 fn header_comment(input: &ExportInput) -> String {
     format!(
@@ -113,10 +105,10 @@ fn header_comment(input: &ExportInput) -> String {
          Matrix (nondimensional): {}\n     \
          Units: m, kg, N m/rad (torsion springs), N/m (extension springs). The chain lies \
          along +x from the clamp at the origin; hinges turn about +z.",
-        xml_text(&input.matrix.topology()),
+        xml_comment_safe(&input.matrix.topology()),
         env!("CARGO_PKG_VERSION"),
         utc_timestamp(),
-        xml_text(&input.scene.name),
-        xml_text(&input.matrix.to_text()),
+        xml_comment_safe(&input.scene.name),
+        xml_comment_safe(&input.matrix.to_text()),
     )
 }

@@ -16,14 +16,15 @@ use crate::scene::{Scene, SceneError};
 pub use model_file::{FitRecord, ModelFile, ModelFileError};
 
 impl Scene {
-    /// Reads and validates a scene file.
+    /// Reads and validates a scene file (a regular file of at most
+    /// [`files::MAX_INPUT_BYTES`]; devices, fifos and directories are refused before reading).
     pub fn from_file(path: &Path) -> Result<Scene, SceneError> {
         let origin = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|e| SceneError {
+        let text = files::read_input(path).map_err(|e| SceneError {
             origin: origin.clone(),
             line: None,
             key: None,
-            message: format!("cannot read the scene file: {e}"),
+            message: format!("cannot read the scene file: {}", e.reason()),
         })?;
         Scene::from_toml_str(&text, &origin)
     }

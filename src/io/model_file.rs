@@ -82,13 +82,14 @@ impl ModelFile {
             return Ok(ModelFile::from(p));
         }
         let path = Path::new(name_or_file);
-        let text = std::fs::read_to_string(path).map_err(|e| SceneError {
+        let text = super::files::read_input(path).map_err(|e| SceneError {
             origin: name_or_file.to_string(),
             line: None,
             key: None,
             message: format!(
-                "not a published model ({}) and not a readable file: {e}",
-                published::NAMES.join(", ")
+                "not a published model ({}) and not a readable model file: {}",
+                published::NAMES.join(", "),
+                e.reason()
             ),
         })?;
         if path.extension().is_some_and(|e| e == "json") {
