@@ -80,7 +80,7 @@ pub fn export(input: &ExportInput, format: Format) -> Result<String, ExportError
                 "model {} ({}) on scene \"{}\"",
                 input.name,
                 input.matrix.to_text(),
-                input.scene.name.replace('"', "'")
+                crate::text::sanitize_terminal(&input.scene.name).replace('"', "'")
             ),
         )?,
     })
