@@ -95,8 +95,8 @@ pub fn si_model(matrix: &PrbMatrix, beam: &BeamSpec) -> SiModel {
             .iter()
             .map(|r| SiSegment {
                 length: r.gamma * beam.length,
-                k_theta: r.k_theta.is_finite().then(|| r.k_theta * k_theta),
-                k_ex: r.k_ex.is_finite().then(|| r.k_ex * k_ex),
+                k_theta: r.k_theta.is_finite().then_some(r.k_theta * k_theta),
+                k_ex: r.k_ex.is_finite().then_some(r.k_ex * k_ex),
             })
             .collect(),
     }

@@ -136,8 +136,9 @@ pub fn bounded_prec(x: f64, sig: usize) -> String {
     // Rounded once, here: the digits and the exponent both come from this one rounding, so a
     // value that rounds up to the next power of ten (999999.7 → 1e6) gets the right form.
     let sci = format!("{:.*e}", sig - 1, x.abs());
-    let (mantissa, exp) = sci.split_once('e').expect("`{:e}` always has an exponent");
-    let exp: i32 = exp.parse().expect("`{:e}` exponent is an integer");
+    // `{:e}` of a finite number always has an integer exponent; the fallback is unreachable.
+    let (mantissa, exp) = sci.split_once('e').unwrap_or((sci.as_str(), "0"));
+    let exp: i32 = exp.parse().unwrap_or(0);
     let digits: String = mantissa.chars().filter(char::is_ascii_digit).collect();
     let digits = digits.trim_end_matches('0');
     let digits = if digits.is_empty() { "0" } else { digits };

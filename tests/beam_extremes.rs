@@ -1,5 +1,6 @@
 //! The extremes the baseline beam must survive (issue: baseline beam). Each solution is
 //! checked against the beam equations through its shape, independently of the solver.
+#![allow(clippy::unwrap_used, clippy::expect_used)] // tests: a failure should panic
 
 mod common;
 

@@ -1,4 +1,5 @@
 //! Known answers for the baseline beam (shared/reference/validation.md and closed forms).
+#![allow(clippy::unwrap_used, clippy::expect_used)] // tests: a failure should panic
 
 use std::f64::consts::PI;
 

@@ -1,4 +1,5 @@
 //! Properties of the baseline beam that hold for every load, checked over generated inputs.
+#![allow(clippy::unwrap_used, clippy::expect_used)] // tests: a failure should panic
 
 use prbfit::beam::{BeamModel, BeamSolution, BeamSolver, Effects, Load, Resolution, SolveError};
 use proptest::prelude::*;

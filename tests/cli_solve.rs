@@ -1,73 +1,15 @@
 //! `prbfit solve` end to end: the real binary, its JSON, its errors and exit statuses.
+#![allow(clippy::unwrap_used, clippy::expect_used)] // tests: a failure should panic
 
-use std::io::Write;
-use std::process::{Command, Output};
+mod common;
 
-fn prbfit(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_prbfit"))
-        .args(args)
-        .output()
-        .expect("the binary runs")
-}
+use common::{assert_input_error, json, prbfit, Scratch};
 
-fn json(out: &Output) -> serde_json::Value {
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    serde_json::from_slice(&out.stdout).expect("one JSON object on stdout")
-}
-
-/// A scene file in a temporary directory that lives as long as the returned guard.
-fn scene_file(text: &str) -> (tempdir::Guard, String) {
-    let guard = tempdir::Guard::new();
-    let path = guard.path.join("scene.toml");
-    std::fs::File::create(&path)
-        .unwrap()
-        .write_all(text.as_bytes())
-        .unwrap();
-    let p = path.display().to_string();
-    (guard, p)
-}
-
-mod tempdir {
-    pub struct Guard {
-        pub path: std::path::PathBuf,
-    }
-    impl Guard {
-        pub fn new() -> Guard {
-            use std::sync::atomic::{AtomicU32, Ordering};
-            static N: AtomicU32 = AtomicU32::new(0);
-            let path = std::env::temp_dir().join(format!(
-                "prbfit-test-{}-{}",
-                std::process::id(),
-                N.fetch_add(1, Ordering::SeqCst)
-            ));
-            std::fs::create_dir_all(&path).unwrap();
-            Guard { path }
-        }
-    }
-    impl Drop for Guard {
-        fn drop(&mut self) {
-            let _ = std::fs::remove_dir_all(&self.path);
-        }
-    }
-}
-
-/// One line on stderr, exit status 2, nothing on stdout.
-fn assert_input_error(out: &Output, must_contain: &[&str]) {
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(out.status.code(), Some(2), "stderr: {err}");
-    assert!(
-        out.stdout.is_empty(),
-        "stdout: {}",
-        String::from_utf8_lossy(&out.stdout)
-    );
-    assert_eq!(err.trim_end().lines().count(), 1, "not one line: {err}");
-    for needle in must_contain {
-        assert!(err.contains(needle), "`{needle}` missing from: {err}");
-    }
+/// A scene file in a scratch directory that lives as long as the returned guard.
+fn scene_file(text: &str) -> (Scratch, String) {
+    let dir = Scratch::new("scene");
+    let p = dir.write("scene.toml", text);
+    (dir, p)
 }
 
 #[test]

@@ -1,7 +1,10 @@
 //! Judging PRB models against the beam: a closed-form case, the published models on the
 //! built-in and example scenes, and `prbfit eval` end to end.
+#![allow(clippy::unwrap_used, clippy::expect_used)] // tests: a failure should panic
 
-use std::process::Command;
+mod common;
+
+use common::prbfit;
 
 use prbfit::beam::{BeamModel, Effects, Load, Resolution};
 use prbfit::eval::{evaluate, Baseline};
@@ -137,13 +140,6 @@ fn urethane_joint_needs_its_effects() {
         .map(|(a, b)| (a.tip.a - b.tip.a).hypot(a.tip.b - b.tip.b))
         .fold(0.0, f64::max);
     assert!(gap > scene.accuracy.max_pos_err, "gap {gap}");
-}
-
-fn prbfit(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_prbfit"))
-        .args(args)
-        .output()
-        .unwrap()
 }
 
 #[test]

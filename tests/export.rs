@@ -1,39 +1,18 @@
 //! Every export format parses back with the SI values as computed; the own format round-trips
 //! exactly; files are never overwritten without --force; a failed write leaves the old file.
+#![allow(clippy::unwrap_used, clippy::expect_used)] // tests: a failure should panic
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+mod common;
+
+use common::prbfit;
+
+use std::path::Path;
 
 use prbfit::io::ModelFile;
 use prbfit::prb::PrbMatrix;
 use prbfit::scene::Scene;
 
-fn prbfit(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_prbfit"))
-        .args(args)
-        .output()
-        .unwrap()
-}
-
-struct Dir(PathBuf);
-
-impl Dir {
-    fn new(tag: &str) -> Dir {
-        let p = std::env::temp_dir().join(format!("prbfit-export-{tag}-{}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&p);
-        std::fs::create_dir_all(&p).unwrap();
-        Dir(p)
-    }
-    fn file(&self, name: &str) -> String {
-        self.0.join(name).display().to_string()
-    }
-}
-
-impl Drop for Dir {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
+type Dir = common::Scratch;
 
 /// A model with every kind of row: rigid, R, RP, P.
 const MATRIX: &str = "0.1,inf,inf; 0.35,3.5,inf; 0.4,2.9,1.7; 0.15,inf,4.2";

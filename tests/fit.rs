@@ -1,8 +1,12 @@
 //! The fit: it beats the published models, finds Howell's 1R, never returns NaN or hangs,
 //! reports progress, stops when cancelled, and saves models that reload exactly.
+#![allow(clippy::unwrap_used, clippy::expect_used)] // tests: a failure should panic
+
+mod common;
+
+use common::prbfit;
 
 use std::path::Path;
-use std::process::Command;
 
 use prbfit::beam::{BeamModel, Load, Resolution};
 use prbfit::eval::{evaluate, Baseline};
@@ -230,13 +234,6 @@ fn fits_are_deterministic() {
         .matrix
     };
     assert_eq!(run(), run());
-}
-
-fn prbfit(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_prbfit"))
-        .args(args)
-        .output()
-        .unwrap()
 }
 
 /// `prbfit fit -o` saves TOML or JSON that reloads to the same matrix and evaluates to the

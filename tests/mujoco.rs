@@ -1,33 +1,24 @@
 //! The exported MJCF in a real simulator: MuJoCo (the `mujoco` package from PyPI, installed by
 //! .ci/run) loads it, applies the scene's end loads at the `tip` site, lets the model settle,
 //! and the settled tip must match `prbfit eval` to 1e-3 L (and 1e-3 rad). Without the
-//! package the test says so loudly on stderr and stdout, and passes only that one check.
+//! package the test fails under CI and says SKIPPED loudly elsewhere.
+#![allow(clippy::unwrap_used, clippy::expect_used)] // tests: a failure should panic
+
+mod common;
+
+use common::prbfit;
 
 use std::process::Command;
 
 use prbfit::scene::Scene;
 
-fn prbfit(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_prbfit"))
-        .args(args)
-        .output()
-        .unwrap()
-}
-
-fn mujoco_available() -> bool {
-    Command::new("python3")
-        .args(["-c", "import mujoco"])
-        .output()
-        .is_ok_and(|o| o.status.success())
-}
-
 #[test]
 fn exported_mjcf_settles_where_prbfit_says() {
-    if !mujoco_available() {
-        let msg = "!!! MUJOCO NOT AVAILABLE: `python3 -c 'import mujoco'` failed, so the MJCF \
-                   export was NOT verified in MuJoCo (pip install mujoco) !!!";
-        eprintln!("{msg}");
-        println!("{msg}");
+    if !common::tool_available(
+        "MuJoCo (`python3 -c 'import mujoco'`)",
+        common::command_works("python3", &["-c", "import mujoco"]),
+        "pip install mujoco",
+    ) {
         return;
     }
     let dir = std::env::temp_dir().join(format!("prbfit-mujoco-{}", std::process::id()));

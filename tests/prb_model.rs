@@ -1,4 +1,5 @@
 //! PRB matrix and statics: closed forms, the analytic Jacobian, round trips, bad input.
+#![allow(clippy::unwrap_used, clippy::expect_used)] // tests: a failure should panic
 
 use prbfit::beam::Load;
 use prbfit::prb::{Column, MatrixError, PrbMatrix, PrbRow, PrbSolver};

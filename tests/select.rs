@@ -1,5 +1,6 @@
 //! Modelling only what a scene requires: automatic effects (checked, not assumed), the
 //! topology ladder's choice, and the trade-off measurements.
+#![allow(clippy::unwrap_used, clippy::expect_used)] // tests: a failure should panic
 
 use std::path::Path;
 use std::process::Command;

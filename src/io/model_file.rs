@@ -106,6 +106,7 @@ impl ModelFile {
         }
     }
 
+    /// Parses a model file's TOML; `origin` names it in errors.
     pub fn from_toml_str(text: &str, origin: &str) -> Result<ModelFile, SceneError> {
         let model: ModelFile = toml::from_str(text).map_err(|e| SceneError {
             origin: origin.to_string(),

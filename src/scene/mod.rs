@@ -23,7 +23,9 @@ pub const DEFAULT_SCENE_NAME: &str = "<built-in scene>";
 /// `k / steps`, `k = 1..=steps`.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct LoadPath {
+    /// The end load, nondimensional.
     pub end: Load,
+    /// Cases along the path (1 to [`MAX_STEPS`]).
     pub steps: u32,
 }
 
@@ -39,6 +41,7 @@ impl LoadPath {
 pub enum EffectsChoice {
     /// Decide from the beam and loads (for now: all effects on).
     Auto,
+    /// Exactly these effects.
     Fixed(Effects),
 }
 
@@ -72,13 +75,16 @@ pub struct BeamSpec {
     pub thickness: f64,
     /// Pa
     pub youngs_modulus: f64,
+    /// `nu`, in `[0, 0.5)`.
     pub poisson_ratio: f64,
     /// `None`: Cowper's rectangle value.
     pub shear_coefficient: Option<f64>,
+    /// Which effects of DESIGN §2 the beam models.
     pub effects: EffectsChoice,
 }
 
 impl BeamSpec {
+    /// `L / t0`.
     pub fn slenderness(&self) -> f64 {
         self.length / self.thickness
     }
@@ -100,6 +106,11 @@ impl BeamSpec {
     }
 
     /// The nondimensional beam the solver works on.
+    ///
+    /// # Panics
+    /// On a beam that breaks the scene's rules: every scene is validated where it is made (a
+    /// file by its reader, an edit by [`Scene::validate`]), so that is a bug, never input.
+    #[allow(clippy::expect_used)]
     pub fn model(&self) -> BeamModel {
         BeamModel::new(
             self.slenderness(),
@@ -145,15 +156,21 @@ impl Default for FitSettings {
 /// A validated scene.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Scene {
+    /// What the user calls it.
     pub name: String,
+    /// The beam, SI.
     pub beam: BeamSpec,
+    /// The load paths, each from zero.
     pub loads: Vec<LoadPath>,
+    /// The targets.
     pub accuracy: Accuracy,
+    /// The fit's settings.
     pub fit: FitSettings,
 }
 
 impl Scene {
     /// The built-in scene.
+    #[allow(clippy::expect_used)] // a compiled-in constant, checked by a test
     pub fn builtin() -> Scene {
         Scene::from_toml_str(DEFAULT_SCENE_TOML, DEFAULT_SCENE_NAME)
             .expect("the built-in scene is valid (checked by a test)")
@@ -222,9 +239,11 @@ fn toml_string(s: &str) -> String {
 pub struct SceneError {
     /// The file (or `<built-in scene>`).
     pub origin: String,
+    /// 1-based line in the file, when the error has one.
     pub line: Option<usize>,
     /// Dotted key, such as `beam.thickness` or `loads[2].steps`.
     pub key: Option<String>,
+    /// What is wrong and what is allowed.
     pub message: String,
 }
 
