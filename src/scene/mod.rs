@@ -286,14 +286,9 @@ struct RawBeam {
     youngs_modulus: Spanned<f64>,
     poisson_ratio: Spanned<f64>,
     shear_coefficient: Option<Spanned<f64>>,
-    effects: Option<Spanned<RawEffects>>,
-}
-
-#[derive(Deserialize)]
-#[serde(untagged)]
-enum RawEffects {
-    Word(String),
-    List(Vec<String>),
+    /// Any TOML value: checked by hand, so a wrong type gets a message that says what is
+    /// expected (serde's untagged enums only say "did not match any variant").
+    effects: Option<Spanned<toml::Value>>,
 }
 
 #[derive(Deserialize)]
@@ -320,6 +315,12 @@ struct RawFit {
 
 /// The most load steps one path may ask for.
 pub const MAX_STEPS: i64 = 10_000;
+
+/// The most load cases a scene may have over all its paths. A solve costs tens of
+/// microseconds per case and a fit evaluates every case hundreds of times, so this is already
+/// minutes of fitting; a scene with more is a mistake (a generated file run wild), refused
+/// before any work.
+pub const MAX_CASES: u64 = 100_000;
 
 /// The rules a scene's values obey. Each is written once and applied twice: by the file
 /// reader (errors name the line) and by [`Scene::validate`] (an edited scene, no file).
@@ -376,6 +377,18 @@ mod rules {
             .ok_or_else(|| format!("must be a whole number from 1 to {MAX_STEPS}, got {v}"))
     }
 
+    /// The cases over all paths.
+    pub fn case_count(paths: &[super::LoadPath]) -> Result<(), String> {
+        let n: u64 = paths.iter().map(|p| u64::from(p.steps)).sum();
+        (n <= super::MAX_CASES).then_some(()).ok_or_else(|| {
+            format!(
+                "{n} load cases over {} paths is more than the {} a scene may have",
+                paths.len(),
+                super::MAX_CASES
+            )
+        })
+    }
+
     pub fn nonzero(end: &Load) -> Result<(), String> {
         (end.magnitude() != 0.0)
             .then_some(())
@@ -419,6 +432,7 @@ impl Scene {
             rules::nonzero(&p.end).map_err(|m| fail(format!("loads[{}]", i + 1), m))?;
             check(&key("steps"), rules::steps(i64::from(p.steps)))?;
         }
+        check("loads", rules::case_count(&self.loads))?;
         check(
             "accuracy.max_pos_err",
             rules::positive(self.accuracy.max_pos_err),
@@ -481,6 +495,12 @@ impl Validator<'_> {
         for (i, load) in raw.loads.iter().enumerate() {
             loads.push(self.load(load, i + 1)?);
         }
+        rules::case_count(&loads).map_err(|message| SceneError {
+            origin: self.origin.to_string(),
+            line: None,
+            key: Some("loads".into()),
+            message,
+        })?;
         let default = Accuracy::default();
         let acc = raw.accuracy.as_ref().map(|a| a.get_ref());
         let target = |v: Option<&Spanned<f64>>, key: &str, default: f64| match v {
@@ -550,25 +570,34 @@ impl Validator<'_> {
         })
     }
 
-    fn effects(&self, spanned: &Spanned<RawEffects>) -> Result<EffectsChoice, SceneError> {
+    fn effects(&self, spanned: &Spanned<toml::Value>) -> Result<EffectsChoice, SceneError> {
         let key = "beam.effects";
         let fail = |message: String| self.error(spanned.span(), key, message);
+        let expected = "expected \"auto\", \"none\", \"all\" or a list such as \
+                        [\"shear\", \"extension\"]";
         match spanned.get_ref() {
-            RawEffects::Word(w) if w == "auto" => Ok(EffectsChoice::Auto),
-            RawEffects::Word(w) if w == "none" => Ok(EffectsChoice::Fixed(Effects::NONE)),
-            RawEffects::Word(w) if w == "all" => Ok(EffectsChoice::Fixed(Effects::ALL)),
-            RawEffects::Word(w) => Err(fail(format!(
-                "expected \"auto\", \"none\", \"all\" or a list such as [\"shear\", \"extension\"], \
-                 got \"{w}\""
-            ))),
-            RawEffects::List(list) => {
+            toml::Value::String(w) if w == "auto" => Ok(EffectsChoice::Auto),
+            toml::Value::String(w) if w == "none" => Ok(EffectsChoice::Fixed(Effects::NONE)),
+            toml::Value::String(w) if w == "all" => Ok(EffectsChoice::Fixed(Effects::ALL)),
+            toml::Value::String(w) => Err(fail(format!("{expected}, got \"{w}\""))),
+            toml::Value::Array(list) => {
                 let mut effects = Effects::NONE;
-                for name in list {
+                for item in list {
+                    let name = item.as_str().ok_or_else(|| {
+                        fail(format!(
+                            "{expected}; the list holds {} `{item}`, not a name",
+                            item.type_str()
+                        ))
+                    })?;
                     effects.set(name).map_err(|e| fail(e.to_string()))?;
                 }
                 effects.validate().map_err(|e| fail(e.to_string()))?;
                 Ok(EffectsChoice::Fixed(effects))
             }
+            other => Err(fail(format!(
+                "{expected}, got the {} `{other}`",
+                other.type_str()
+            ))),
         }
     }
 
