@@ -61,11 +61,7 @@ fn a_full_disk_is_one_line_and_exit_1() {
             .write(true)
             .open("/dev/full")
             .unwrap();
-        let out = bin()
-            .args(args)
-            .stdout(Stdio::from(full))
-            .output()
-            .unwrap();
+        let out = bin().args(args).stdout(Stdio::from(full)).output().unwrap();
         let err = String::from_utf8_lossy(&out.stderr);
         assert_eq!(out.status.code(), Some(1), "{args:?}: {err}");
         assert!(!err.contains("panicked"), "{err}");
@@ -102,7 +98,11 @@ fn export_through_a_symlink_writes_the_target_and_keeps_the_link() {
     let out = prbfit(&[
         "export", "--model", "su-3r", "--format", "mjcf", "-o", &link, "--force",
     ]);
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let meta = std::fs::symlink_metadata(&link).unwrap();
     assert!(meta.file_type().is_symlink(), "the link became a file");
     let text = std::fs::read_to_string(&target).unwrap();
@@ -189,7 +189,11 @@ fn control_characters_never_reach_the_terminal_or_break_an_export() {
         vec!["eval", "--scene", &scene, "--model", "su-3r"],
     ] {
         let out = prbfit(&args);
-        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
         let text = String::from_utf8_lossy(&out.stdout);
         assert!(text.contains("RED"), "{text}");
         assert!(
@@ -202,11 +206,18 @@ fn control_characters_never_reach_the_terminal_or_break_an_export() {
         let out = prbfit(&[
             "export", "--scene", &scene, "--model", "chen-3r", "--format", format, "-o", &path,
         ]);
-        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
         let text = std::fs::read_to_string(&path).unwrap();
         roxmltree::Document::parse(&text)
             .unwrap_or_else(|e| panic!("{format} is not well-formed XML: {e}\n{text}"));
-        assert!(!text.contains('\u{1b}'), "{format}: an escape character was written");
+        assert!(
+            !text.contains('\u{1b}'),
+            "{format}: an escape character was written"
+        );
     }
     let csv = dir.file("m.csv");
     let out = prbfit(&[
@@ -236,7 +247,11 @@ fn flags_obey_the_scene_rules_and_numbers_print_bounded() {
     );
     let out = prbfit(&["solve", "--scene", &p]);
     assert_input_error(&out, &["beam.thickness", "slenderness"]);
-    assert!(out.stderr.len() < 300, "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.stderr.len() < 300,
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
 }
 
 #[test]
@@ -282,7 +297,12 @@ fn help_to_a_closed_pipe_is_quiet_too() {
         .unwrap();
     drop(child.stdout.take());
     let mut err = String::new();
-    child.stderr.take().unwrap().read_to_string(&mut err).unwrap();
+    child
+        .stderr
+        .take()
+        .unwrap()
+        .read_to_string(&mut err)
+        .unwrap();
     let status = child.wait().unwrap();
     assert!(!err.contains("panicked"), "{err}");
     assert_eq!(status.code(), Some(0));

@@ -17,7 +17,7 @@ use prbfit::scene::Accuracy;
 use prbfit::select::EffectsDecision;
 
 use super::args::FitArgs;
-use super::output::{emit, met, num, safe, DecisionLine};
+use super::output::{emit, met, num, safe, DecisionLine, Progress};
 use super::{bad, parse_matrix, resolved_scene};
 
 /// What `fit` found.
@@ -120,17 +120,26 @@ pub fn run(args: FitArgs) -> Result<()> {
         angle_weight: scene.fit.angle_weight,
         seed: args.seed,
     };
+    let mut progress = Progress::new("fitting");
     let report = fit(
         &baseline,
         &start,
         &options,
-        &mut |_| {},
+        &mut |p| {
+            progress.update(|| {
+                format!(
+                    "{} iteration {}, {} evaluations, best J {:.4e}",
+                    p.phase, p.iteration, p.evaluations, p.best_objective
+                )
+            })
+        },
         &CancelToken::new(),
     )
     .map_err(|e| match e {
         FitError::Param(p) => bad(format!("--prb: {p}")),
         other => anyhow::Error::new(other),
     })?;
+    progress.finish();
     let seconds = t0.elapsed().as_secs_f64();
     let figures = report.figures;
     if let (Some(path), Some(format)) = (&args.output, format) {

@@ -115,3 +115,134 @@ pub fn met(ok: bool) -> &'static str {
         "NOT met"
     }
 }
+
+/// A progress line on stderr for long runs, shown only when stderr is a terminal and only
+/// once a run has taken longer than [`Progress::DELAY`] (quick commands print nothing extra),
+/// redrawn at most every [`Progress::INTERVAL`], and erased when done, so stdout (text or
+/// JSON) is never touched.
+pub struct Progress {
+    label: &'static str,
+    start: std::time::Instant,
+    last: Option<std::time::Instant>,
+    out: Option<Box<dyn Write>>,
+    delay: std::time::Duration,
+}
+
+impl Progress {
+    /// How long a run goes before its progress shows.
+    pub const DELAY: std::time::Duration = std::time::Duration::from_millis(500);
+    /// Least time between redraws.
+    pub const INTERVAL: std::time::Duration = std::time::Duration::from_millis(100);
+
+    /// Progress of `label` on stderr, when stderr is a terminal.
+    pub fn new(label: &'static str) -> Progress {
+        use std::io::IsTerminal;
+        let out: Option<Box<dyn Write>> = std::io::stderr()
+            .is_terminal()
+            .then(|| Box::new(std::io::stderr()) as Box<dyn Write>);
+        Progress::to(label, out, Self::DELAY)
+    }
+
+    /// Progress written to `out` (tests), shown after `delay`.
+    pub fn to(
+        label: &'static str,
+        out: Option<Box<dyn Write>>,
+        delay: std::time::Duration,
+    ) -> Progress {
+        Progress {
+            label,
+            start: std::time::Instant::now(),
+            last: None,
+            out,
+            delay,
+        }
+    }
+
+    /// Redraws the line with `what` (built only when it will be shown).
+    pub fn update(&mut self, what: impl FnOnce() -> String) {
+        let Some(out) = self.out.as_mut() else { return };
+        let now = std::time::Instant::now();
+        let elapsed = now.duration_since(self.start);
+        let due = self
+            .last
+            .is_none_or(|t| now.duration_since(t) >= Self::INTERVAL);
+        if elapsed < self.delay || !due {
+            return;
+        }
+        self.last = Some(now);
+        // A progress line that cannot be drawn is not worth failing the run for.
+        let _ = write!(
+            out,
+            "\r\x1b[2K{}: {} ({:.1} s)",
+            self.label,
+            what(),
+            elapsed.as_secs_f64()
+        );
+        let _ = out.flush();
+    }
+
+    /// Erases the line, if one was drawn.
+    pub fn finish(&mut self) {
+        if let (Some(out), Some(_)) = (self.out.as_mut(), self.last) {
+            let _ = write!(out, "\r\x1b[2K");
+            let _ = out.flush();
+            self.last = None;
+        }
+    }
+}
+
+impl Drop for Progress {
+    fn drop(&mut self) {
+        self.finish();
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::sync::{Arc, Mutex};
+
+    #[derive(Clone, Default)]
+    struct Sink(Arc<Mutex<Vec<u8>>>);
+
+    impl Write for Sink {
+        fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+            self.0
+                .lock()
+                .map_err(|_| std::io::ErrorKind::Other)?
+                .extend_from_slice(buf);
+            Ok(buf.len())
+        }
+        fn flush(&mut self) -> std::io::Result<()> {
+            Ok(())
+        }
+    }
+
+    #[test]
+    fn progress_shows_only_on_a_terminal_after_the_delay_and_is_erased() {
+        let sink = Sink::default();
+        let mut p = Progress::to("solve", Some(Box::new(sink.clone())), Progress::DELAY);
+        p.update(|| "1/3 paths".into());
+        assert!(sink.0.lock().unwrap().is_empty(), "shown before the delay");
+        drop(p);
+        assert!(
+            sink.0.lock().unwrap().is_empty(),
+            "erased what was never drawn"
+        );
+
+        let mut p = Progress::to("solve", Some(Box::new(sink.clone())), Duration::ZERO);
+        p.update(|| "2/3 paths".into());
+        p.update(|| "3/3 paths".into()); // within the interval: not drawn
+        p.finish();
+        let text = String::from_utf8(sink.0.lock().unwrap().clone()).unwrap();
+        assert!(text.contains("solve: 2/3 paths"), "{text:?}");
+        assert!(!text.contains("3/3"), "{text:?}");
+        assert!(text.ends_with("\r\x1b[2K"), "{text:?}");
+
+        // Not a terminal: nothing at all, and the message is never even built.
+        let mut p = Progress::to("solve", None, Duration::ZERO);
+        p.update(|| unreachable!("no terminal, no text"));
+    }
+
+    use std::time::Duration;
+}

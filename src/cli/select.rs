@@ -12,7 +12,7 @@ use prbfit::scene::Accuracy;
 use prbfit::select::{select, EffectsDecision, Rung, Selection};
 
 use super::args::SelectArgs;
-use super::output::{emit, num, safe, DecisionLine};
+use super::output::{emit, num, safe, DecisionLine, Progress};
 use super::resolved_scene;
 
 /// The table and the choice.
@@ -117,13 +117,19 @@ pub fn run(args: SelectArgs) -> Result<()> {
     let (scene, decision) = resolved_scene(&args.common)?;
     let t0 = Instant::now();
     let baseline = args.fidelity.baseline(&scene).context("baseline beam")?;
+    let mut progress = Progress::new("selecting");
+    let mut done = 0;
     let selection = select(
         &scene,
         &baseline,
         args.fidelity,
         &CancelToken::new(),
-        &mut |_| {},
+        &mut |row| {
+            done += 1;
+            progress.update(|| format!("{done} models judged, last {}", row.name));
+        },
     )?;
+    progress.finish();
     let out = SelectOutput::new(
         selection,
         scene.name,

@@ -12,7 +12,7 @@ use prbfit::scene::Scene;
 use prbfit::select::EffectsDecision;
 
 use super::args::SolveArgs;
-use super::output::{num, safe, DecisionLine};
+use super::output::{num, safe, DecisionLine, Progress};
 use super::{bad, load_scene, resolved_scene};
 
 /// The beam as solved, for the reports.
@@ -208,7 +208,16 @@ pub fn run(args: SolveArgs) -> Result<()> {
     }
     let t0 = Instant::now();
     let mut cases = Vec::new();
+    let mut progress = Progress::new("solving");
+    let n_paths = scene.loads.len();
     for (i, path) in scene.loads.iter().enumerate() {
+        progress.update(|| {
+            format!(
+                "load path {}/{n_paths}, {} cases so far",
+                i + 1,
+                cases.len()
+            )
+        });
         let sols = solver
             .solve_path(path.end, path.steps)
             .with_context(|| format!("load path {} of the scene", i + 1))?;
@@ -219,6 +228,7 @@ pub fn run(args: SolveArgs) -> Result<()> {
             shape: shape(s),
         }));
     }
+    progress.finish();
     let report = SceneCases {
         scene: scene.name,
         beam: BeamInfo::from(&model),
