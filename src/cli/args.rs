@@ -92,7 +92,8 @@ pub struct EvalArgs {
     /// A PRB matrix in text form, e.g. "0.15,inf,inf; 0.85,2.2525,inf" (repeatable).
     #[arg(long, value_name = "MATRIX", allow_hyphen_values = true)]
     pub prb: Vec<String>,
-    /// A published model (howell-1r, su-3r, chen-3r) or a model file (repeatable).
+    /// A published model (howell-1r, su-3r, chen-3r) or a model file (repeatable). Without
+    /// any model: the scene's [prb] matrix.
     #[arg(long, value_name = "NAME_OR_FILE")]
     pub model: Vec<String>,
     /// Judge one tip load instead of the scene's cases.
@@ -108,13 +109,9 @@ pub struct EvalArgs {
 pub struct FitArgs {
     #[command(flatten)]
     pub common: Common,
-    /// Topology to fit, from the root: L, R, P, RP joined by - (e.g. L-R-R-R).
-    #[arg(
-        long,
-        value_name = "TOPO",
-        conflicts_with = "prb",
-        required_unless_present = "prb"
-    )]
+    /// Topology to fit, from the root: L, R, P, RP joined by - (e.g. L-R-R-R), or 1R..4R.
+    /// Without it or --prb: the scene's [prb] matrix.
+    #[arg(long, value_name = "TOPO", conflicts_with = "prb")]
     pub topology: Option<String>,
     /// Matrix to start from; cells ending in ! stay fixed.
     #[arg(long, value_name = "MATRIX", allow_hyphen_values = true)]
@@ -155,19 +152,20 @@ pub struct TradeoffArgs {
 
 /// `prbfit export`.
 #[derive(Args)]
-#[command(group = clap::ArgGroup::new("which").required(true).args(["prb", "model"]))]
+#[command(group = clap::ArgGroup::new("which").args(["prb", "model"]))]
 pub struct ExportArgs {
     #[command(flatten)]
     pub common: Common,
     /// A PRB matrix in text form.
     #[arg(long, value_name = "MATRIX", allow_hyphen_values = true)]
     pub prb: Option<String>,
-    /// A published model (howell-1r, su-3r, chen-3r) or a model file.
+    /// A published model (howell-1r, su-3r, chen-3r) or a model file. Without it or --prb:
+    /// the scene's [prb] matrix.
     #[arg(long, value_name = "NAME_OR_FILE")]
     pub model: Option<String>,
-    /// toml, json, mjcf, urdf, sdf or csv.
+    /// toml, json, mjcf, urdf, sdf or csv; default: from the output file's extension.
     #[arg(long, value_name = "F", value_parser = Format::from_str)]
-    pub format: Format,
+    pub format: Option<Format>,
     /// The file to write.
     #[arg(short = 'o', long = "output", value_name = "FILE")]
     pub output: PathBuf,

@@ -10,12 +10,12 @@ use prbfit::beam::{BeamSolver, Load, Resolution, TipPose};
 use prbfit::eval::{evaluate, Baseline, CaseError, ErrorFigures};
 use prbfit::io::ModelFile;
 use prbfit::prb::{PrbMatrix, PrbSolver};
-use prbfit::scene::Accuracy;
+use prbfit::scene::{Accuracy, Scene};
 use prbfit::select::EffectsDecision;
 
 use super::args::EvalArgs;
 use super::output::{emit, met, num, safe, DecisionLine};
-use super::{bad, parse_matrix, resolved_scene};
+use super::{bad, parse_matrix, resolved_scene, scene_model};
 
 /// One model's row, or several under `models` (DESIGN §6).
 #[derive(Debug, Serialize)]
@@ -191,8 +191,9 @@ impl fmt::Display for SceneReport {
     }
 }
 
-/// The models named on the command line, in order: `--model`s then `--prb`s.
-fn named_models(args: &EvalArgs) -> Result<Vec<(String, PrbMatrix)>> {
+/// The models named on the command line, in order: `--model`s then `--prb`s; with none, the
+/// scene's `[prb] matrix`.
+fn named_models(args: &EvalArgs, scene: &Scene) -> Result<Vec<(String, PrbMatrix)>> {
     let mut out = Vec::new();
     for name in &args.model {
         let m = ModelFile::load(name)?;
@@ -203,7 +204,7 @@ fn named_models(args: &EvalArgs) -> Result<Vec<(String, PrbMatrix)>> {
         out.push((m.topology(), m));
     }
     if out.is_empty() {
-        return Err(bad("give a model: --prb MATRIX or --model NAME_OR_FILE"));
+        out.push(scene_model(scene)?);
     }
     Ok(out)
 }
@@ -211,7 +212,7 @@ fn named_models(args: &EvalArgs) -> Result<Vec<(String, PrbMatrix)>> {
 /// Runs `prbfit eval`.
 pub fn run(args: EvalArgs) -> Result<()> {
     let (scene, decision) = resolved_scene(&args.common)?;
-    let models = named_models(&args)?;
+    let models = named_models(&args, &scene)?;
     let resolution = Resolution::with_tol(args.tol);
     let json = args.common.json;
     let weight = scene.fit.angle_weight;

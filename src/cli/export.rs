@@ -12,7 +12,7 @@ use prbfit::io::ModelFile;
 
 use super::args::ExportArgs;
 use super::output::{emit, safe};
-use super::{bad, parse_matrix, resolved_scene};
+use super::{bad, parse_matrix, resolved_scene, scene_model};
 
 /// What was written.
 #[derive(Debug, Serialize)]
@@ -31,6 +31,16 @@ impl fmt::Display for ExportOutput {
 
 /// Runs `prbfit export`.
 pub fn run(args: ExportArgs) -> Result<()> {
+    let format = match args.format {
+        Some(f) => f,
+        None => Format::from_path(&args.output).ok_or_else(|| {
+            bad(format!(
+                "-o {}: give --format, or a file name ending in one of {}",
+                args.output.display(),
+                Format::extensions_help()
+            ))
+        })?,
+    };
     // Refuse before spending the time on a baseline: an existing file without --force, a
     // device, a dangling link.
     check_target(&args.output, args.force)?;
@@ -44,7 +54,7 @@ pub fn run(args: ExportArgs) -> Result<()> {
             let m = parse_matrix("--prb", text)?;
             (m.topology().to_lowercase(), m)
         }
-        (None, None) => return Err(bad("give --prb MATRIX or --model NAME_OR_FILE")),
+        (None, None) => scene_model(&scene)?,
     };
     let baseline = args.fidelity.baseline(&scene).context("baseline beam")?;
     let input = ExportInput {
@@ -55,14 +65,14 @@ pub fn run(args: ExportArgs) -> Result<()> {
         fidelity: args.fidelity.to_string(),
         density: args.density,
     };
-    let text = export(&input, args.format).map_err(|e| match e {
+    let text = export(&input, format).map_err(|e| match e {
         ExportError::Density(_) => bad(format!("--density: {e}")),
         other => anyhow::Error::new(other),
     })?;
     write_atomic(&args.output, text.as_bytes(), args.force)?;
     let out = ExportOutput {
         output: args.output.display().to_string(),
-        format: args.format,
+        format,
         prb: matrix.to_text(),
         bytes: text.len(),
     };

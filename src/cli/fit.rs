@@ -18,7 +18,7 @@ use prbfit::select::EffectsDecision;
 
 use super::args::FitArgs;
 use super::output::{emit, met, num, safe, DecisionLine, Progress};
-use super::{bad, parse_matrix, resolved_scene};
+use super::{bad, parse_matrix, resolved_scene, scene_model};
 
 /// What `fit` found.
 #[derive(Debug, Serialize)]
@@ -95,7 +95,7 @@ pub fn run(args: FitArgs) -> Result<()> {
             PrbMatrix::from_topology(t).map_err(|e| bad(format!("--topology {t}: {e}")))?
         }
         (None, Some(text)) => parse_matrix("--prb", text)?,
-        (None, None) => return Err(bad("give --topology TOPO or --prb MATRIX")),
+        (None, None) => scene_model(&scene)?.1,
     };
     let format = match &args.output {
         Some(path) => {

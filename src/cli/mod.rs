@@ -128,6 +128,21 @@ fn one_line(e: &anyhow::Error) -> String {
     out
 }
 
+/// The scene's own model (`[prb] matrix`), named "scene", for commands given no model.
+fn scene_model(scene: &Scene) -> Result<(String, PrbMatrix)> {
+    scene
+        .prb
+        .clone()
+        .map(|m| ("scene".to_string(), m))
+        .ok_or_else(|| {
+            bad(format!(
+                "give a model (--prb MATRIX or --model NAME_OR_FILE), or put one in the scene \
+             \"{}\" as [prb] matrix = \"...\"",
+                output::safe(&scene.name)
+            ))
+        })
+}
+
 /// The scene named by `--scene`, or the built-in one.
 fn load_scene(common: &Common) -> Result<Scene> {
     match &common.scene {

@@ -13,6 +13,7 @@ use serde::{Deserialize, Serialize};
 use toml::Spanned;
 
 use crate::beam::{cowper_kappa, BeamModel, Effects, Load};
+use crate::prb::PrbMatrix;
 
 /// The scene compiled into the binary: what `prbfit` runs on with no `--scene`.
 pub const DEFAULT_SCENE_TOML: &str = include_str!("../../assets/scenes/default.toml");
@@ -166,6 +167,11 @@ pub struct Scene {
     pub accuracy: Accuracy,
     /// The fit's settings.
     pub fit: FitSettings,
+    /// The model being worked on (`[prb] matrix`, fixed cells marked `!`), if the scene
+    /// names one: `eval`, `fit` and `export` use it when no model is given, and the UI
+    /// saves and opens it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub prb: Option<PrbMatrix>,
 }
 
 impl Scene {
@@ -226,6 +232,12 @@ impl Scene {
             "\n[fit]\nangle_weight = {:?}\n",
             self.fit.angle_weight
         ));
+        if let Some(m) = &self.prb {
+            out.push_str(&format!(
+                "\n[prb]\nmatrix = {}\n",
+                toml_string(&m.to_text())
+            ));
+        }
         out
     }
 }
@@ -275,6 +287,13 @@ struct RawScene {
     loads: Vec<Spanned<RawLoad>>,
     accuracy: Option<Spanned<RawAccuracy>>,
     fit: Option<Spanned<RawFit>>,
+    prb: Option<Spanned<RawPrb>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawPrb {
+    matrix: Spanned<String>,
 }
 
 #[derive(Deserialize)]
@@ -529,12 +548,23 @@ impl Validator<'_> {
                 angle_weight: self.number(w, "fit.angle_weight", rules::non_negative)?,
             },
         };
+        let prb = match &raw.prb {
+            None => None,
+            Some(p) => {
+                let m = &p.get_ref().matrix;
+                Some(
+                    PrbMatrix::parse(m.get_ref())
+                        .map_err(|e| self.error(m.span(), "prb.matrix", e.to_string()))?,
+                )
+            }
+        };
         Ok(Scene {
             name,
             beam,
             loads,
             accuracy,
             fit,
+            prb,
         })
     }
 
@@ -675,8 +705,28 @@ mod tests {
 
     #[test]
     fn toml_round_trip() {
-        let scene = Scene::builtin();
+        let mut scene = Scene::builtin();
         let again = Scene::from_toml_str(&scene.to_toml(), "round trip").unwrap();
         assert_eq!(scene, again);
+        // With a model, fixed cells and inf included.
+        scene.prb = Some(
+            PrbMatrix::parse("0.1!,inf,inf; 0.35,3.51,inf; 0.4,2.99!,inf; 0.15,2.58,1e3").unwrap(),
+        );
+        let text = scene.to_toml();
+        assert!(text.contains("[prb]\nmatrix = \"0.1!,inf,inf;"), "{text}");
+        let again = Scene::from_toml_str(&text, "round trip").unwrap();
+        assert_eq!(scene, again);
+    }
+
+    #[test]
+    fn a_bad_prb_matrix_names_its_line_and_cell() {
+        let text = format!(
+            "{}\n[prb]\nmatrix = \"0.5,inf,inf; 0.6,2,inf\"\n",
+            DEFAULT_SCENE_TOML
+        );
+        let e = Scene::from_toml_str(&text, "s.toml").unwrap_err();
+        assert_eq!(e.key.as_deref(), Some("prb.matrix"));
+        assert_eq!(e.line, Some(DEFAULT_SCENE_TOML.lines().count() + 3));
+        assert!(e.message.contains("sum to 1"), "{e}");
     }
 }

@@ -444,6 +444,7 @@ fn job_scene(job: &Job, beam: BeamSpec) -> Scene {
         fit: crate::scene::FitSettings {
             angle_weight: job.angle_weight,
         },
+        prb: Some(job.matrix.clone()),
     }
 }
 
