@@ -589,3 +589,84 @@ fn si_view_shows_and_takes_si_values() {
     let sum: f64 = app.matrix.rows().iter().map(|r| r.gamma).sum();
     assert!((sum - 1.0).abs() < 1e-12);
 }
+
+/// Issue 10, the lost baseline: job N solves a new beam, job N+1 (same beam, `r` right after
+/// the edit) is a cache hit, and the UI reads job N's messages only after N+1 was sent. The
+/// model shown after N+1's Done must come with the baseline it was judged on, never with none
+/// and never with the previous beam's.
+#[test]
+fn baseline_survives_a_newer_job_on_the_same_beam() {
+    use prbfit::tui::worker::Worker;
+    let worker = Worker::spawn().unwrap();
+    let mut app = app();
+    app.fidelity = Fidelity::Draft;
+    let recv = |worker: &Worker| {
+        worker
+            .messages
+            .recv_timeout(Duration::from_secs(60))
+            .expect("the worker answers")
+    };
+    // Job 1 on the built-in beam, fully taken by the UI.
+    let Command::Submit(job) = app.submit(false) else {
+        panic!()
+    };
+    let first = job.id;
+    worker.submit(job);
+    loop {
+        let msg = recv(&worker);
+        let done = matches!(msg, WorkerMsg::Done { id, .. } if id == first);
+        app.on_worker(msg);
+        if done {
+            break;
+        }
+    }
+    let old_shapes = app.baseline.as_ref().expect("a baseline").shapes.clone();
+
+    // A beam edit: job N solves the new beam; its messages wait unread.
+    app.scene.beam.thickness *= 1.5;
+    let Command::Submit(job) = app.submit(false) else {
+        panic!()
+    };
+    let n = job.id;
+    worker.submit(job);
+    let mut unread = Vec::new();
+    loop {
+        let msg = recv(&worker);
+        let done = matches!(msg, WorkerMsg::Done { id, .. } if id == n);
+        unread.push(msg);
+        if done {
+            break;
+        }
+    }
+    // `r` on the same beam before the UI took N's messages.
+    let Command::Submit(job) = app.submit(false) else {
+        panic!()
+    };
+    let n1 = job.id;
+    worker.submit(job);
+    for msg in unread {
+        app.on_worker(msg);
+    }
+    loop {
+        let msg = recv(&worker);
+        let done = matches!(msg, WorkerMsg::Done { id, .. } if id == n1);
+        app.on_worker(msg);
+        if done {
+            break;
+        }
+    }
+    let model = app.model.as_ref().expect("a model after N+1's Done");
+    let baseline = app
+        .baseline
+        .as_ref()
+        .expect("a baseline after N+1's Done (issue 10: it was lost)");
+    assert_ne!(baseline.shapes, old_shapes, "not the previous beam's");
+    assert_eq!(baseline.shapes.len(), model.cases.len());
+    for (shape, case) in baseline.shapes.iter().zip(&model.cases) {
+        let tip = shape.last().unwrap();
+        assert!(
+            (tip.0 - case.beam.a).abs() < 1e-12 && (tip.1 - case.beam.b).abs() < 1e-12,
+            "the model was judged on this baseline"
+        );
+    }
+}
