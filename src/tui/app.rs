@@ -270,16 +270,19 @@ impl App {
         self.job_counter += 1;
         Job {
             id: self.job_counter,
-            scene_name: self.scene.name.clone(),
-            beam: self.scene.beam,
-            loads: self.scene.loads.clone(),
-            accuracy: self.scene.accuracy,
-            angle_weight: self.scene.fit.angle_weight,
+            scene: Arc::new(self.scene.clone()),
             matrix: self.matrix.clone(),
             fidelity: self.fidelity,
             kind,
             cancel: CancelToken::new(),
         }
+    }
+
+    /// An export of the current matrix. Unlike the other jobs it is a side effect the user
+    /// asked for: it cancels nothing, a newer job does not cancel it, and its result is shown
+    /// whatever job is current by then.
+    pub fn export(&mut self, path: PathBuf) -> Command {
+        Command::Submit(self.job(JobKind::Export(path)))
     }
 
     /// Sends a fit (or, with `fit` false, a judge) job now, cancelling the one before.
@@ -318,8 +321,20 @@ impl App {
         self.pending.is_some()
     }
 
-    /// A message from the worker; stale ones (not the newest job's) are dropped.
+    /// A message from the worker; stale ones (not the newest job's) are dropped, except an
+    /// export's. A model is always shown with the baseline it was judged on, which comes with
+    /// it.
     pub fn on_worker(&mut self, msg: WorkerMsg) -> bool {
+        if let WorkerMsg::Exported { path, result, .. } = msg {
+            match result {
+                Ok(()) => {
+                    self.model_dirty = false;
+                    self.set_info(format!("exported {}", path.display()));
+                }
+                Err(e) => self.set_error(format!("not exported: {e}")),
+            }
+            return true;
+        }
         let Some((current, _)) = &self.current_job else {
             return false;
         };
@@ -327,12 +342,18 @@ impl App {
             return false;
         }
         match msg {
-            WorkerMsg::Baseline { view, .. } => self.baseline = Some(view),
-            WorkerMsg::Progress { model, status, .. } => {
+            WorkerMsg::Progress {
+                baseline,
+                model,
+                status,
+                ..
+            } => {
+                self.baseline = Some(baseline);
                 self.model = Some(*model);
                 self.activity = Activity::Fitting(status);
             }
             WorkerMsg::Done {
+                baseline,
                 model,
                 report,
                 seconds,
@@ -367,6 +388,7 @@ impl App {
                     };
                 }
                 self.report = report.map(|r| *r);
+                self.baseline = Some(baseline);
                 self.model = Some(*model);
             }
             WorkerMsg::Failed { message, .. } => {
@@ -376,16 +398,8 @@ impl App {
                     v.running = false;
                 }
             }
-            WorkerMsg::Exported { path, result, .. } => {
-                match result {
-                    Ok(()) => {
-                        self.model_dirty = false;
-                        self.set_info(format!("exported {}", path.display()));
-                    }
-                    Err(e) => self.set_error(format!("not exported: {e}")),
-                }
-                self.activity = Activity::Idle;
-            }
+            // Taken above, whatever its job.
+            WorkerMsg::Exported { .. } => {}
             WorkerMsg::SelectRow { id, row } => {
                 if let Some(v) = self.select_view.as_mut().filter(|v| v.job == id) {
                     v.rows.push(*row);
@@ -916,7 +930,7 @@ impl App {
                     PromptKind::OpenScene => vec![Command::OpenScene(PathBuf::from(text))],
                     PromptKind::ExportModel => {
                         // Exported by the worker from its baseline: no solve on this thread.
-                        vec![self.submit_kind(JobKind::Export(PathBuf::from(text)))]
+                        vec![self.export(PathBuf::from(text))]
                     }
                     PromptKind::Topology => {
                         self.load_named_matrix(&text, Instant::now());
