@@ -1,9 +1,11 @@
 //! The terminal UI: edit the beam, the loads and the PRB matrix; the worker refits live; the
 //! charts show the deformed shapes and the tip errors.
 //!
-//! - [`app`]: state and update logic (no terminal), unit-tested;
-//! - [`ui`]: drawing from that state, snapshot-tested;
-//! - [`worker`]: the background thread that solves and fits;
+//! - [`app`]: the shared state and the update logic (no terminal), unit-tested;
+//! - [`state`]: each panel's own state: cursor and edit handling;
+//! - [`keymap`]: every key, read by the key handling, the help and the hint line;
+//! - [`ui`]: drawing, one file per panel, snapshot-tested;
+//! - [`worker`]: the background thread that solves and fits, fed by a [`latest_job`] queue;
 //! - this module: the terminal and the event loop.
 //!
 //! The terminal is restored on quit, on error, on SIGTERM and SIGHUP, and on a panic of the UI
@@ -13,7 +15,9 @@
 //! peak memory to FILE, for measuring.
 
 pub mod app;
+pub mod keymap;
 pub mod latest_job;
+pub mod state;
 pub mod ui;
 pub mod units;
 pub mod worker;
