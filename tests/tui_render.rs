@@ -199,6 +199,16 @@ fn selection_view_120x40() {
         running: false,
     });
     insta::assert_snapshot!("select_120x40", render(&app, 120, 40).backend());
+    // The selection view on its own.
+    use prbfit::tui::ui::select as select_panel;
+    insta::assert_snapshot!(
+        "panel_select",
+        panel(120, 30, |f, a| select_panel::draw(
+            f,
+            a,
+            &select_panel::View::new(&app).unwrap()
+        ))
+    );
 }
 
 /// Renders one panel's `draw` into a `w` x `h` buffer.
