@@ -46,8 +46,8 @@ fn an_edit_queues_exactly_one_job() {
     let mut app = app();
     let t0 = Instant::now();
     app.focus = Panel::Matrix;
-    app.matrix_row = 1;
-    app.matrix_col = 1;
+    app.matrix_state.row = 1;
+    app.matrix_state.col = 1;
     let cmds = edit(&mut app, "4.2", t0);
     assert_eq!(jobs(&cmds), 0, "debounced, not sent at once");
     assert_eq!(app.matrix.rows()[1].k_theta, 4.2);
@@ -72,8 +72,8 @@ fn quick_edits_coalesce_into_one_job() {
     let mut app = app();
     let t0 = Instant::now();
     app.focus = Panel::Matrix;
-    app.matrix_row = 2;
-    app.matrix_col = 1;
+    app.matrix_state.row = 2;
+    app.matrix_state.col = 1;
     edit(&mut app, "3", t0);
     edit(&mut app, "3.5", t0 + DEBOUNCE / 2);
     assert!(
@@ -99,7 +99,7 @@ fn paused_live_refit_only_judges() {
     app.on_key(key(KeyCode::Char(' ')), t0);
     assert!(!app.live);
     app.focus = Panel::Matrix;
-    app.matrix_col = 1;
+    app.matrix_state.col = 1;
     edit(&mut app, "2.5", t0);
     match app.tick(t0 + DEBOUNCE) {
         Some(Command::Submit(job)) => assert_eq!(job.kind, prbfit::tui::worker::JobKind::Judge),
@@ -129,8 +129,10 @@ fn stale_results_are_dropped() {
     );
     assert!(!new.cancel.is_cancelled());
     let view = model_view(&app.matrix, &baseline, 1.0).unwrap();
+    let base = std::sync::Arc::new(baseline_view(&baseline, None));
     let stale = WorkerMsg::Progress {
         id: old.id,
+        baseline: base.clone(),
         model: Box::new(view.clone()),
         status: FitStatus {
             iteration: 3,
@@ -139,16 +141,11 @@ fn stale_results_are_dropped() {
         },
     };
     assert!(!app.on_worker(stale));
-    assert!(app.model.is_none());
+    assert!(app.model.is_none() && app.baseline.is_none());
     assert_eq!(app.activity, Activity::Waiting);
-    let stale_base = WorkerMsg::Baseline {
-        id: old.id,
-        view: std::sync::Arc::new(baseline_view(&baseline, None)),
-    };
-    assert!(!app.on_worker(stale_base));
-    assert!(app.baseline.is_none());
     let fresh = WorkerMsg::Progress {
         id: new.id,
+        baseline: base,
         model: Box::new(view),
         status: FitStatus {
             iteration: 1,
@@ -157,7 +154,7 @@ fn stale_results_are_dropped() {
         },
     };
     assert!(app.on_worker(fresh));
-    assert!(app.model.is_some());
+    assert!(app.model.is_some() && app.baseline.is_some());
     assert!(matches!(app.activity, Activity::Fitting(_)));
 }
 
@@ -184,13 +181,13 @@ fn invalid_edits_change_nothing() {
         app.focus = panel;
         match panel {
             Panel::Matrix => {
-                app.matrix_row = row;
-                app.matrix_col = col;
+                app.matrix_state.row = row;
+                app.matrix_state.col = col;
             }
-            Panel::Beam => app.beam_row = row,
+            Panel::Beam => app.beam_state.row = row,
             Panel::Loads => {
-                app.load_row = row;
-                app.load_col = col;
+                app.loads_state.row = row;
+                app.loads_state.col = col;
             }
         }
         edit(&mut app, text, t0);
@@ -209,27 +206,27 @@ fn valid_edits_apply() {
     let t0 = Instant::now();
     let mut app = app();
     app.focus = Panel::Beam;
-    app.beam_row = 2;
+    app.beam_state.row = 2;
     edit(&mut app, "0.4 mm", t0);
     assert!((app.scene.beam.thickness - 0.4e-3).abs() < 1e-15);
-    app.beam_row = 3;
+    app.beam_state.row = 3;
     edit(&mut app, "190GPa", t0);
     assert_eq!(app.scene.beam.youngs_modulus, 190e9);
-    app.beam_row = 6;
+    app.beam_state.row = 6;
     edit(&mut app, "shear,extension", t0);
     assert_eq!(app.scene.beam.effects.to_string(), "shear,extension");
     assert!(app.scene_dirty);
 
     app.focus = Panel::Matrix;
-    app.matrix_row = 0;
-    app.matrix_col = 0;
+    app.matrix_state.row = 0;
+    app.matrix_state.col = 0;
     edit(&mut app, "0.2", t0);
     let sum: f64 = app.matrix.rows().iter().map(|r| r.gamma).sum();
     assert!((sum - 1.0).abs() < 1e-12);
     assert_eq!(app.matrix.rows()[0].gamma, 0.2);
     // inf turns a joint off.
-    app.matrix_row = 3;
-    app.matrix_col = 1;
+    app.matrix_state.row = 3;
+    app.matrix_state.col = 1;
     edit(&mut app, "inf", t0);
     assert_eq!(app.matrix.topology(), "L-R-R-L");
 }
@@ -258,12 +255,12 @@ fn free_flags_rows_and_presets() {
     let t0 = Instant::now();
     let mut app = app();
     app.focus = Panel::Matrix;
-    app.matrix_row = 1;
-    app.matrix_col = 1;
+    app.matrix_state.row = 1;
+    app.matrix_state.col = 1;
     app.on_key(key(KeyCode::Char('f')), t0);
     assert!(!app.matrix.rows()[1].is_free(Column::KTheta));
     assert!(app.tick(t0 + DEBOUNCE).is_some(), "a flag change refits");
-    app.matrix_col = 2;
+    app.matrix_state.col = 2;
     app.on_key(key(KeyCode::Char('f')), t0);
     assert!(
         app.message.as_ref().unwrap().0.contains("inf"),
@@ -296,7 +293,7 @@ fn quitting_with_unsaved_changes_asks() {
 
     let mut app = self::app();
     app.focus = Panel::Loads;
-    app.load_col = 1;
+    app.loads_state.col = 1;
     edit(&mut app, "4", t0);
     app.on_key(key(KeyCode::Char('q')), t0);
     assert!(!app.quit);
@@ -451,7 +448,7 @@ fn selection_view() {
         panic!("a job")
     };
     assert_eq!(job.kind, JobKind::Select);
-    assert!(app.select_view.as_ref().unwrap().running);
+    assert!(app.select.as_ref().unwrap().running);
 
     let scene = Scene::builtin();
     let baseline = Fidelity::Draft.baseline(&scene).unwrap();
@@ -468,19 +465,19 @@ fn selection_view() {
         id: job.id - 1,
         row: Box::new(sel.rows[0].clone())
     }));
-    assert!(app.select_view.as_ref().unwrap().rows.is_empty());
+    assert!(app.select.as_ref().unwrap().rows.is_empty());
     assert!(app.on_worker(WorkerMsg::SelectDone {
         id: job.id,
         selection: Box::new(sel.clone()),
         knobs: Vec::new(),
     }));
-    let view = app.select_view.as_ref().unwrap();
+    let view = app.select.as_ref().unwrap();
     assert!(!view.running);
     assert_eq!(view.selected, sel.chosen.unwrap_or(sel.closest));
     app.on_key(key(KeyCode::Up), t0);
-    let pick = app.select_view.as_ref().unwrap().selected;
+    let pick = app.select.as_ref().unwrap().selected;
     app.on_key(key(KeyCode::Enter), t0);
-    assert!(app.select_view.is_none());
+    assert!(app.select.is_none());
     assert_eq!(app.matrix, sel.rows[pick].prb);
     assert!(
         app.tick(t0 + DEBOUNCE).is_some(),
@@ -493,7 +490,7 @@ fn selection_view() {
         panic!("a job")
     };
     app.on_key(key(KeyCode::Esc), t0);
-    assert!(app.select_view.is_none());
+    assert!(app.select.is_none());
     assert!(job.cancel.is_cancelled());
 }
 
@@ -501,7 +498,7 @@ fn selection_view() {
 /// file the extension names; an existing file is refused.
 #[test]
 fn worker_exports_and_refuses_to_overwrite() {
-    use prbfit::tui::worker::{JobKind, Worker};
+    use prbfit::tui::worker::Worker;
     let dir = std::env::temp_dir().join(format!("prbfit-ui-export-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
@@ -509,7 +506,7 @@ fn worker_exports_and_refuses_to_overwrite() {
     let mut app = app();
     let path = dir.join("model.xml");
     for expect_ok in [true, false] {
-        let Command::Submit(job) = app.submit_kind(JobKind::Export(path.clone())) else {
+        let Command::Submit(job) = app.export(path.clone()) else {
             panic!()
         };
         worker.submit(job);
@@ -541,15 +538,15 @@ fn worker_exports_and_refuses_to_overwrite() {
 /// scene file.
 #[test]
 fn targets_are_editable() {
-    use prbfit::tui::app::BeamField;
+    use prbfit::tui::state::beam::BeamField;
     let t0 = Instant::now();
     let mut app = app();
     app.focus = Panel::Beam;
     let row = |f: BeamField| BeamField::ALL.iter().position(|&g| g == f).unwrap();
-    app.beam_row = row(BeamField::MaxPosErr);
+    app.beam_state.row = row(BeamField::MaxPosErr);
     edit(&mut app, "0.005", t0);
     assert_eq!(app.scene.accuracy.max_pos_err, 0.005);
-    app.beam_row = row(BeamField::AngleWeight);
+    app.beam_state.row = row(BeamField::AngleWeight);
     edit(&mut app, "0.5", t0);
     assert_eq!(app.scene.fit.angle_weight, 0.5);
     assert!(
@@ -557,7 +554,7 @@ fn targets_are_editable() {
         "a target change is a change"
     );
     let before = app.scene.clone();
-    app.beam_row = row(BeamField::MaxAngErr);
+    app.beam_state.row = row(BeamField::MaxAngErr);
     edit(&mut app, "-1", t0);
     assert_eq!(app.scene, before);
     assert!(app.message.as_ref().unwrap().0.contains("max_ang_err"));
@@ -570,8 +567,8 @@ fn si_view_shows_and_takes_si_values() {
     let t0 = Instant::now();
     let mut app = app();
     app.on_key(key(KeyCode::Char('u')), t0);
-    assert!(app.si);
-    let ei_l = app.si_factor(Column::KTheta);
+    assert!(app.matrix_state.si);
+    let ei_l = prbfit::tui::state::matrix::si_factor(&app.scene.beam, Column::KTheta);
     assert!((ei_l - 200e9 * 0.01 * 0.0005f64.powi(3) / 12.0 / 0.05).abs() < 1e-12);
     assert_eq!(
         app.cell_text(1, Column::KTheta),
@@ -579,13 +576,203 @@ fn si_view_shows_and_takes_si_values() {
     );
     assert_eq!(app.cell_text(1, Column::Gamma), "17.5 mm");
     app.focus = Panel::Matrix;
-    app.matrix_row = 2;
-    app.matrix_col = 1;
+    app.matrix_state.row = 2;
+    app.matrix_state.col = 1;
     edit(&mut app, "1.5", t0);
     assert!((app.matrix.rows()[2].k_theta - 1.5 / ei_l).abs() < 1e-12);
-    app.matrix_col = 0;
+    app.matrix_state.col = 0;
     edit(&mut app, "10 mm", t0);
     assert!((app.matrix.rows()[2].gamma - 0.2).abs() < 1e-12);
     let sum: f64 = app.matrix.rows().iter().map(|r| r.gamma).sum();
     assert!((sum - 1.0).abs() < 1e-12);
+}
+
+/// Issue 10, the lost baseline: job N solves a new beam, job N+1 (same beam, `r` right after
+/// the edit) is a cache hit, and the UI reads job N's messages only after N+1 was sent. The
+/// model shown after N+1's Done must come with the baseline it was judged on, never with none
+/// and never with the previous beam's.
+#[test]
+fn baseline_survives_a_newer_job_on_the_same_beam() {
+    use prbfit::tui::worker::Worker;
+    let worker = Worker::spawn().unwrap();
+    let mut app = app();
+    app.fidelity = Fidelity::Draft;
+    let recv = |worker: &Worker| {
+        worker
+            .messages
+            .recv_timeout(Duration::from_secs(60))
+            .expect("the worker answers")
+    };
+    // Job 1 on the built-in beam, fully taken by the UI.
+    let Command::Submit(job) = app.submit(false) else {
+        panic!()
+    };
+    let first = job.id;
+    worker.submit(job);
+    loop {
+        let msg = recv(&worker);
+        let done = matches!(msg, WorkerMsg::Done { id, .. } if id == first);
+        app.on_worker(msg);
+        if done {
+            break;
+        }
+    }
+    let old_shapes = app.baseline.as_ref().expect("a baseline").shapes.clone();
+
+    // A load edit: job N solves the beam anew; its messages wait unread.
+    app.scene.loads[0].end.alpha_y *= 0.5;
+    let Command::Submit(job) = app.submit(false) else {
+        panic!()
+    };
+    let n = job.id;
+    worker.submit(job);
+    let mut unread = Vec::new();
+    loop {
+        let msg = recv(&worker);
+        let done = matches!(msg, WorkerMsg::Done { id, .. } if id == n);
+        unread.push(msg);
+        if done {
+            break;
+        }
+    }
+    // `r` on the same beam before the UI took N's messages.
+    let Command::Submit(job) = app.submit(false) else {
+        panic!()
+    };
+    let n1 = job.id;
+    worker.submit(job);
+    for msg in unread {
+        app.on_worker(msg);
+    }
+    loop {
+        let msg = recv(&worker);
+        let done = matches!(msg, WorkerMsg::Done { id, .. } if id == n1);
+        app.on_worker(msg);
+        if done {
+            break;
+        }
+    }
+    let model = app.model.as_ref().expect("a model after N+1's Done");
+    let baseline = app
+        .baseline
+        .as_ref()
+        .expect("a baseline after N+1's Done (issue 10: it was lost)");
+    assert!(baseline.shapes != old_shapes, "not the previous beam's");
+    assert_eq!(baseline.shapes.len(), model.cases.len());
+    // Same load cases, and the same beam tips (up to the drawn shape's resolution).
+    assert_eq!(baseline.loads.len(), model.cases.len());
+    for ((shape, load), case) in baseline
+        .shapes
+        .iter()
+        .zip(&baseline.loads)
+        .zip(&model.cases)
+    {
+        assert_eq!(*load, case.load, "the model was judged on this baseline");
+        let tip = shape.last().unwrap();
+        assert!(
+            (tip.0 - case.beam.a).abs() < 1e-4 && (tip.1 - case.beam.b).abs() < 1e-4,
+            "{tip:?} vs {:?}",
+            case.beam
+        );
+    }
+}
+
+/// An export is a side effect the user asked for: an edit that starts a refit right after it
+/// neither cancels it nor makes its result stale; the app shows "exported".
+#[test]
+fn export_survives_a_refit() {
+    use prbfit::tui::worker::Worker;
+    let dir = std::env::temp_dir().join(format!("prbfit-ui-export-refit-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("model.json");
+    let worker = Worker::spawn().unwrap();
+    let mut app = app();
+    app.fidelity = Fidelity::Draft;
+    let t0 = Instant::now();
+    let Command::Submit(export) = app.export(path.clone()) else {
+        panic!()
+    };
+    let export_token = export.cancel.clone();
+    worker.submit(export);
+    // An edit, then the debounced refit goes out before the UI reads anything.
+    app.focus = Panel::Matrix;
+    app.matrix_state.row = 1;
+    app.matrix_state.col = 1;
+    edit(&mut app, "4", t0);
+    let Some(Command::Submit(refit)) = app.tick(t0 + DEBOUNCE) else {
+        panic!("a refit")
+    };
+    assert_eq!(refit.kind, prbfit::tui::worker::JobKind::Fit);
+    let refit_id = refit.id;
+    worker.submit(refit);
+    assert!(!export_token.is_cancelled());
+    let (mut exported, mut fitted) = (false, false);
+    while !(exported && fitted) {
+        let msg = worker
+            .messages
+            .recv_timeout(Duration::from_secs(60))
+            .expect("the worker answers");
+        exported |= matches!(msg, WorkerMsg::Exported { .. });
+        fitted |= matches!(msg, WorkerMsg::Done { id, .. } if id == refit_id);
+        assert!(app.on_worker(msg));
+    }
+    let (message, _) = app.message.clone().unwrap();
+    assert!(message.starts_with("exported"), "{message}");
+    assert!(std::fs::read_to_string(&path).unwrap().contains('{'));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// README.md's key table (section "The terminal UI") is the keymap: every entry with the
+/// same text, in the same order, and nothing else.
+#[test]
+fn readme_key_table_is_the_keymap() {
+    use prbfit::tui::keymap::KEYMAP;
+    let readme = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/README.md"))
+        .expect("README.md");
+    let section = readme
+        .split("\n## The terminal UI")
+        .nth(1)
+        .expect("a section \"The terminal UI\"");
+    let section = section.split("\n## ").next().unwrap_or(section);
+    let mut lines = section.lines().skip_while(|l| l.trim() != "| key | does |");
+    assert!(lines.next().is_some(), "a `| key | does |` table");
+    let rows: Vec<(String, String)> = lines
+        .skip(1) // |---|---|
+        .take_while(|l| l.starts_with('|'))
+        .map(|l| {
+            let cells: Vec<&str> = l.trim().trim_matches('|').split(" | ").collect();
+            assert_eq!(cells.len(), 2, "two cells in {l:?}");
+            (cells[0].trim().to_string(), cells[1].trim().to_string())
+        })
+        .collect();
+    let keymap: Vec<(String, String)> = KEYMAP
+        .iter()
+        .map(|e| (e.keys.to_string(), e.does.to_string()))
+        .collect();
+    for k in &keymap {
+        assert!(rows.contains(k), "README lacks the keymap's row {k:?}");
+    }
+    for r in &rows {
+        assert!(keymap.contains(r), "README row {r:?} is not in the keymap");
+    }
+    assert_eq!(rows, keymap, "same order");
+}
+
+/// The help lists every key of the keymap, `u` and `q` included.
+#[test]
+fn help_lists_every_key() {
+    use prbfit::tui::keymap::KEYMAP;
+    use ratatui::backend::TestBackend;
+    use ratatui::Terminal;
+    let mut app = app();
+    app.help = true;
+    let mut terminal = Terminal::new(TestBackend::new(120, 40)).unwrap();
+    terminal.draw(|f| prbfit::tui::ui::draw(f, &app)).unwrap();
+    let screen = format!("{}", terminal.backend());
+    for e in KEYMAP {
+        assert!(screen.contains(e.keys), "{} missing from the help", e.keys);
+        assert!(screen.contains(e.does), "{} missing from the help", e.does);
+    }
+    assert!(screen.contains(" u ") && screen.contains(" q, Ctrl-C"));
 }

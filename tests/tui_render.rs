@@ -51,8 +51,8 @@ fn main_screen_80x24() {
 fn second_load_path_and_loads_focus() {
     let mut app = judged_app();
     app.focus = Panel::Loads;
-    app.load_row = 1;
-    app.load_col = 2;
+    app.loads_state.row = 1;
+    app.loads_state.col = 2;
     insta::assert_snapshot!("loads_path2_120x40", render(&app, 120, 40).backend());
 }
 
@@ -148,7 +148,7 @@ fn selection_view_120x40() {
     use prbfit::fit::CancelToken;
     use prbfit::select::select;
     use prbfit::tradeoff::{Knob, TradeoffRow};
-    use prbfit::tui::app::SelectView;
+    use prbfit::tui::state::select::SelectState;
     let mut app = judged_app();
     let baseline = Fidelity::Normal.baseline(&app.scene).unwrap();
     let mut sel = select(
@@ -180,7 +180,7 @@ fn selection_view_120x40() {
             })
             .collect(),
     };
-    app.select_view = Some(SelectView {
+    app.select = Some(SelectState {
         job: 1,
         chosen: sel.chosen,
         closest: Some(sel.closest),
@@ -199,4 +199,134 @@ fn selection_view_120x40() {
         running: false,
     });
     insta::assert_snapshot!("select_120x40", render(&app, 120, 40).backend());
+    // The selection view on its own.
+    use prbfit::tui::ui::select as select_panel;
+    insta::assert_snapshot!(
+        "panel_select",
+        panel(120, 30, |f, a| select_panel::draw(
+            f,
+            a,
+            &select_panel::View::new(&app).unwrap()
+        ))
+    );
+}
+
+/// Renders one panel's `draw` into a `w` x `h` buffer.
+fn panel(w: u16, h: u16, draw: impl FnOnce(&mut ratatui::Frame, ratatui::layout::Rect)) -> String {
+    let mut terminal = Terminal::new(TestBackend::new(w, h)).unwrap();
+    terminal
+        .draw(|f| {
+            let area = f.area();
+            draw(f, area)
+        })
+        .unwrap();
+    format!("{}", terminal.backend())
+}
+
+/// Each panel on its own, from its view (the whole screens above show them together).
+#[test]
+fn panels_one_by_one() {
+    use prbfit::tui::ui::{beam, errors, loads, matrix, overlays, shapes, status};
+    let mut app = judged_app();
+    app.focus = Panel::Beam;
+    app.beam_state.row = 3;
+    insta::assert_snapshot!(
+        "panel_beam",
+        panel(46, 12, |f, a| beam::draw(f, a, &beam::View::new(&app)))
+    );
+    app.focus = Panel::Loads;
+    app.loads_state.row = 2;
+    app.loads_state.col = 1;
+    insta::assert_snapshot!(
+        "panel_loads",
+        panel(46, 9, |f, a| loads::draw(f, a, &loads::View::new(&app)))
+    );
+    app.focus = Panel::Matrix;
+    app.on_key(
+        ratatui::crossterm::event::KeyEvent::new(
+            ratatui::crossterm::event::KeyCode::Char('f'),
+            ratatui::crossterm::event::KeyModifiers::NONE,
+        ),
+        std::time::Instant::now(),
+    );
+    insta::assert_snapshot!(
+        "panel_matrix",
+        panel(46, 7, |f, a| matrix::draw(f, a, &matrix::View::new(&app)))
+    );
+    app.matrix_state.si = true;
+    insta::assert_snapshot!(
+        "panel_matrix_si",
+        panel(46, 7, |f, a| matrix::draw(f, a, &matrix::View::new(&app)))
+    );
+    insta::assert_snapshot!(
+        "panel_shapes",
+        panel(74, 20, |f, a| shapes::draw(f, a, &shapes::View::new(&app)))
+    );
+    for (name, kind) in [
+        ("panel_errors_position", errors::ErrorKind::Position),
+        ("panel_errors_angle", errors::ErrorKind::Angle),
+    ] {
+        insta::assert_snapshot!(
+            name,
+            panel(37, 15, |f, a| errors::draw(
+                f,
+                a,
+                &errors::View::new(&app, kind)
+            ))
+        );
+    }
+    insta::assert_snapshot!(
+        "panel_status",
+        panel(120, 3, |f, a| {
+            let row = |y| ratatui::layout::Rect::new(a.x, a.y + y, a.width, 1);
+            status::draw_title(f, row(0), &status::TitleView::new(&app));
+            status::draw(f, row(1), &status::View::new(&app));
+            status::draw_hints(f, row(2), &status::HintsView::new(&app));
+        })
+    );
+    app.help = true;
+    insta::assert_snapshot!(
+        "panel_help",
+        panel(96, 26, |f, a| overlays::draw(
+            f,
+            a,
+            &overlays::View::new(&app)
+        ))
+    );
+    app.help = false;
+    app.prompt = Some((
+        PromptKind::Topology,
+        TextBox {
+            text: "L-RP".into(),
+        },
+    ));
+    insta::assert_snapshot!(
+        "panel_prompt",
+        panel(80, 5, |f, a| overlays::draw(
+            f,
+            a,
+            &overlays::View::new(&app)
+        ))
+    );
+}
+
+/// Text from a file reaches the terminal without its control characters: a scene name and an
+/// error message with escape sequences are drawn with `?` in their place.
+#[test]
+fn control_characters_from_files_are_not_drawn() {
+    let mut app = judged_app();
+    app.scene.name = "\u{1b}[31mRED\u{1b}]0;pwned\u{7}".into();
+    app.set_error("not opened: /tmp/\u{1b}[2Jevil.toml: bad\u{8}\u{8}");
+    let t = render(&app, 80, 24);
+    let buf = t.backend().buffer();
+    for cell in buf.content() {
+        assert!(
+            !cell.symbol().chars().any(char::is_control),
+            "a control character reached the screen: {:?}",
+            cell.symbol()
+        );
+    }
+    let text = format!("{}", t.backend());
+    assert!(text.contains("?[31mRED?]0;pwned?"), "{text}");
+    insta::assert_snapshot!("control_characters_80x24", t.backend());
 }

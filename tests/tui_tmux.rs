@@ -1,10 +1,24 @@
 //! End to end: the real binary in tmux, driven like a user (send-keys, capture-pane). It edits
 //! a matrix cell and sees the error figures change, then quits through the unsaved-changes
-//! question. Skipped, with the reason printed, only where tmux is missing.
+//! question; the terminal is restored on quit and on SIGTERM; and the UI ends when its
+//! terminal goes away, idle or in the middle of a fit. Where tmux is missing the tests say
+//! SKIPPED loudly, and under CI (`CI` set) they fail instead.
 
 use std::process::Command;
 use std::thread::sleep;
 use std::time::{Duration, Instant};
+
+/// Whether tmux is there to run the test; under CI a missing tmux is a failure.
+fn have_tmux(test: &str) -> bool {
+    if tmux(&["-V"]).is_some() {
+        return true;
+    }
+    if std::env::var_os("CI").is_some() {
+        panic!("{test}: tmux is not installed, and CI must run the end-to-end UI tests");
+    }
+    println!("\n*** SKIPPED: tmux not installed, so {test} cannot run ***\n");
+    false
+}
 
 fn tmux(args: &[&str]) -> Option<String> {
     let out = Command::new("tmux").args(args).output().ok()?;
@@ -42,8 +56,7 @@ fn objective(screen: &str) -> Option<String> {
 
 #[test]
 fn edit_a_cell_and_see_the_errors_change() {
-    if tmux(&["-V"]).is_none() {
-        println!("SKIPPED: tmux is not installed, so the end-to-end UI test cannot run");
+    if !have_tmux("edit_a_cell_and_see_the_errors_change") {
         return;
     }
     let session = format!("prbfit-e2e-{}", std::process::id());
@@ -105,8 +118,7 @@ fn edit_a_cell_and_see_the_errors_change() {
 /// quits and when it is killed with SIGTERM.
 #[test]
 fn terminal_is_restored_on_quit_and_on_sigterm() {
-    if tmux(&["-V"]).is_none() {
-        println!("SKIPPED: tmux is not installed, so the terminal-restore test cannot run");
+    if !have_tmux("terminal_is_restored_on_quit_and_on_sigterm") {
         return;
     }
     let dir = std::env::temp_dir().join(format!("prbfit-restore-{}", std::process::id()));
@@ -164,4 +176,132 @@ fn terminal_is_restored_on_quit_and_on_sigterm() {
     }
     let _ = tmux(&["kill-session", "-t", &session]);
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Whether process `pid` is gone (a zombie waiting for its parent counts as gone).
+fn process_gone(pid: u32) -> bool {
+    match std::fs::read_to_string(format!("/proc/{pid}/stat")) {
+        Err(_) => true,
+        // The state follows the parenthesised command name.
+        Ok(stat) => stat
+            .rsplit_once(')')
+            .is_some_and(|(_, rest)| rest.trim_start().starts_with('Z')),
+    }
+}
+
+/// The UI's pid in the session's pane: the pane's process, or its child when a shell runs it.
+fn ui_pid(session: &str) -> u32 {
+    let pane = tmux(&["display", "-p", "-t", session, "#{pane_pid}"]).expect("the pane's pid");
+    let pane: u32 = pane.trim().parse().expect("a pid");
+    let comm = std::fs::read_to_string(format!("/proc/{pane}/comm")).unwrap_or_default();
+    if comm.trim() == "prbfit" {
+        return pane;
+    }
+    let out = Command::new("pgrep")
+        .args(["-P", &pane.to_string(), "prbfit"])
+        .output()
+        .expect("pgrep");
+    String::from_utf8_lossy(&out.stdout)
+        .trim()
+        .parse()
+        .expect("the UI runs under the pane's shell")
+}
+
+/// Kills the session under the UI and waits for the UI process to end.
+fn kill_terminal_and_wait(session: &str, pid: u32, what: &str) {
+    tmux(&["kill-session", "-t", session]).expect("tmux kills the session");
+    let t0 = Instant::now();
+    while !process_gone(pid) {
+        if t0.elapsed() > Duration::from_secs(5) {
+            let _ = Command::new("kill")
+                .args(["-KILL", &pid.to_string()])
+                .status();
+            panic!("{what}: the UI (pid {pid}) still runs 5 s after its terminal was closed");
+        }
+        sleep(Duration::from_millis(50));
+    }
+}
+
+fn start_ui(session: &str, args: &[&str]) {
+    let bin = env!("CARGO_BIN_EXE_prbfit");
+    let mut cmd = vec![
+        "new-session",
+        "-d",
+        "-s",
+        session,
+        "-x",
+        "120",
+        "-y",
+        "40",
+        bin,
+    ];
+    cmd.extend_from_slice(args);
+    tmux(&cmd).expect("tmux starts the UI");
+}
+
+/// Closing the terminal under an idle UI (tmux kill-session, like an ssh drop) ends it.
+#[test]
+fn ui_ends_when_its_terminal_is_killed_while_idle() {
+    if !have_tmux("ui_ends_when_its_terminal_is_killed_while_idle") {
+        return;
+    }
+    let session = format!("prbfit-hangup-idle-{}", std::process::id());
+    start_ui(&session, &[]);
+    wait_for(&session, "the first fit", |s| s.contains("converged"));
+    let pid = ui_pid(&session);
+    kill_terminal_and_wait(&session, pid, "idle");
+}
+
+/// Closing the terminal in the middle of a long precise fit ends the UI too: quitting never
+/// waits on the worker.
+#[test]
+fn ui_ends_when_its_terminal_is_killed_mid_fit() {
+    if !have_tmux("ui_ends_when_its_terminal_is_killed_mid_fit") {
+        return;
+    }
+    let session = format!("prbfit-hangup-fit-{}", std::process::id());
+    let scene = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/assets/scenes/steel-flexure.toml"
+    );
+    start_ui(&session, &["tui", scene]);
+    wait_for(&session, "the UI", |s| s.contains("PRB matrix"));
+    let keys = |k: &[&str]| {
+        let mut args = vec!["send-keys", "-t", &session];
+        args.extend_from_slice(k);
+        tmux(&args).expect("send-keys");
+    };
+    // Live refit off, so nothing fits before the precise fit is asked for.
+    keys(&["Space"]);
+    wait_for(&session, "live refit paused", |s| {
+        s.contains("live refit paused")
+    });
+    keys(&["t"]);
+    wait_for(&session, "the topology prompt", |s| {
+        s.contains("topology (e.g.")
+    });
+    for _ in 0..30 {
+        keys(&["BSpace"]);
+    }
+    keys(&["L-RP-RP-RP", "Enter"]);
+    wait_for(&session, "the new topology", |s| s.contains("L-RP-RP-RP"));
+    keys(&["v", "v"]);
+    // v cycles draft, normal, precise: press until precise, whatever the start.
+    for _ in 0..3 {
+        let s = tmux(&["capture-pane", "-p", "-t", &session]).unwrap_or_default();
+        if s.contains("fidelity precise") {
+            break;
+        }
+        keys(&["v"]);
+        sleep(Duration::from_millis(100));
+    }
+    wait_for(&session, "precise fidelity", |s| {
+        s.contains("fidelity precise")
+    });
+    keys(&["r"]);
+    wait_for(&session, "the precise fit running", |s| {
+        s.contains("fitting it") || s.contains("working...")
+    });
+    let pid = ui_pid(&session);
+    kill_terminal_and_wait(&session, pid, "mid-fit");
 }

@@ -536,7 +536,7 @@ mod tests {
             PrbMatrix::parse("0.1,inf,inf; 0.35,3.51,inf; 0.4,2.99,inf; 0.15!,2.58,inf").unwrap();
         let n = m.with_gamma(1, 0.45).unwrap();
         let g: Vec<f64> = n.rows().iter().map(|r| r.gamma).collect();
-        assert_eq!(g, vec![0.1, 0.45, 0.4 - 0.1, 0.15]);
+        assert_eq!(g, vec![0.1, 0.45, 0.4 - (0.45 - 0.35), 0.15]);
         assert!((g.iter().sum::<f64>() - 1.0).abs() < 1e-15);
         // Too much: the donor would go negative, the error names it and nothing changes.
         let err = m.with_gamma(1, 0.9).unwrap_err().to_string();

@@ -1,9 +1,11 @@
 //! The terminal UI: edit the beam, the loads and the PRB matrix; the worker refits live; the
 //! charts show the deformed shapes and the tip errors.
 //!
-//! - [`app`]: state and update logic (no terminal), unit-tested;
-//! - [`ui`]: drawing from that state, snapshot-tested;
-//! - [`worker`]: the background thread that solves and fits;
+//! - [`app`]: the shared state and the update logic (no terminal), unit-tested;
+//! - [`state`]: each panel's own state: cursor and edit handling;
+//! - [`keymap`]: every key, read by the key handling, the help and the hint line;
+//! - [`ui`]: drawing, one file per panel, snapshot-tested;
+//! - [`worker`]: the background thread that solves and fits, fed by a [`latest_job`] queue;
 //! - this module: the terminal and the event loop.
 //!
 //! The terminal is restored on quit, on error, on SIGTERM and SIGHUP, and on a panic of the UI
@@ -13,6 +15,9 @@
 //! peak memory to FILE, for measuring.
 
 pub mod app;
+pub mod keymap;
+pub mod latest_job;
+pub mod state;
 pub mod ui;
 pub mod units;
 pub mod worker;
@@ -21,7 +26,9 @@ use std::fs::OpenOptions;
 use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc::{channel, Receiver, RecvTimeoutError};
 use std::sync::Arc;
+use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
 use anyhow::{Context, Result};
@@ -117,29 +124,119 @@ fn peak_memory_kib() -> Option<u64> {
     line.split_whitespace().nth(1)?.parse().ok()
 }
 
+/// The thread that reads the terminal's input, so the UI loop never blocks in it: on a dead
+/// terminal (its window closed, an ssh drop) crossterm's read can spin forever on EOF, and the
+/// loop must still see the hang-up and end.
+struct Input {
+    events: Receiver<std::io::Result<Event>>,
+    stop: Arc<AtomicBool>,
+    handle: Option<JoinHandle<()>>,
+}
+
+impl Input {
+    fn spawn() -> std::io::Result<Input> {
+        let (tx, events) = channel();
+        let stop = Arc::new(AtomicBool::new(false));
+        let flag = stop.clone();
+        let handle = std::thread::Builder::new()
+            .name(INPUT_THREAD.into())
+            .spawn(move || {
+                while !flag.load(Ordering::Relaxed) {
+                    let event = match event::poll(INPUT_POLL) {
+                        Ok(false) => continue,
+                        Ok(true) => event::read(),
+                        Err(e) => Err(e),
+                    };
+                    let failed = event.is_err();
+                    if tx.send(event).is_err() || failed {
+                        return;
+                    }
+                }
+            })?;
+        Ok(Input {
+            events,
+            stop,
+            handle: Some(handle),
+        })
+    }
+
+    /// Stops the thread; one stuck on a dead terminal is left behind (the process is ending).
+    fn shutdown(mut self) {
+        self.stop.store(true, Ordering::Relaxed);
+        if let Some(h) = self.handle.take() {
+            let _ = worker::join_within(h, INPUT_POLL * 2);
+        }
+    }
+}
+
+/// The input thread's name.
+const INPUT_THREAD: &str = "prbfit-input";
+/// How often the input thread looks at its stop flag.
+const INPUT_POLL: Duration = Duration::from_millis(50);
+
+/// Whether the terminal is still there: after a hang-up the tty answers every request with an
+/// error, so it no longer reads as a terminal.
+fn terminal_alive() -> bool {
+    std::io::stdin().is_terminal()
+}
+
 fn event_loop(
     terminal: &mut Terminal<CrosstermBackend<std::io::Stdout>>,
     app: &mut App,
     trace_path: Option<&Path>,
 ) -> Result<()> {
     // SIGTERM (kill) and SIGHUP (the terminal closed) end the loop like a quit, so the
-    // terminal is restored on the way out instead of being left in raw mode.
+    // terminal is restored on the way out instead of being left in raw mode. A second one
+    // while the first is being handled ends the process at once.
     let stop = Arc::new(AtomicBool::new(false));
     for signal in [signal_hook::consts::SIGTERM, signal_hook::consts::SIGHUP] {
+        signal_hook::flag::register_conditional_shutdown(signal, 1, stop.clone())
+            .context("cannot install the signal handlers")?;
         signal_hook::flag::register(signal, stop.clone())
             .context("cannot install the signal handlers")?;
     }
     let worker = Worker::spawn().context("cannot start the worker thread")?;
+    let input = Input::spawn().context("cannot start the input thread")?;
+    let result = run_loop(terminal, app, trace_path, &worker, &input, &stop);
+    // Never wait on a fit: its job is cancelled, and a worker that does not notice within the
+    // deadline is left behind as the process ends.
+    worker.shutdown(worker::SHUTDOWN_DEADLINE);
+    input.shutdown();
+    result
+}
+
+fn run_loop(
+    terminal: &mut Terminal<CrosstermBackend<std::io::Stdout>>,
+    app: &mut App,
+    trace_path: Option<&Path>,
+    worker: &Worker,
+    input: &Input,
+    stop: &AtomicBool,
+) -> Result<()> {
     let mut trace = trace_path.and_then(Trace::open);
     let first = app.submit(app.live);
-    execute_command(app, &worker, first, &mut trace);
+    execute_command(app, worker, first, &mut trace);
     let mut redraw = true;
     // When the last key arrived, until the frame that answers it is drawn.
     let mut key_at: Option<Instant> = None;
+    // A failed draw on a terminal that is gone ends the loop quietly; otherwise it is an error.
+    let draw =
+        |terminal: &mut Terminal<CrosstermBackend<std::io::Stdout>>, app: &App| match terminal
+            .draw(|f| ui::draw(f, app))
+        {
+            Ok(_) => Ok(true),
+            Err(_) if !terminal_alive() => Ok(false),
+            Err(e) => Err(e),
+        };
     loop {
+        if stop.load(Ordering::Relaxed) || !terminal_alive() {
+            break;
+        }
         if redraw {
             let t0 = Instant::now();
-            terminal.draw(|f| ui::draw(f, app))?;
+            if !draw(terminal, app)? {
+                break;
+            }
             if let Some(t) = &mut trace {
                 let ms = t0.elapsed().as_secs_f64() * 1e3;
                 t.line(format!("frame_ms {ms:.3}"));
@@ -162,16 +259,22 @@ fn event_loop(
             Duration::from_millis(100)
         };
         let mut commands = Vec::new();
-        if event::poll(timeout)? {
-            match event::read()? {
-                Event::Key(key) => {
-                    key_at = Some(Instant::now());
-                    commands.extend(app.on_key(key, Instant::now()));
-                    redraw = true;
-                }
-                Event::Resize(..) => redraw = true,
-                _ => {}
+        let event = match input.events.recv_timeout(timeout) {
+            Ok(event) => Some(event),
+            Err(RecvTimeoutError::Timeout) => None,
+            // The input thread ended: the terminal cannot be read any more.
+            Err(RecvTimeoutError::Disconnected) => break,
+        };
+        match event {
+            Some(Ok(Event::Key(key))) => {
+                key_at = Some(Instant::now());
+                commands.extend(app.on_key(key, Instant::now()));
+                redraw = true;
             }
+            Some(Ok(Event::Resize(..))) => redraw = true,
+            Some(Ok(_)) | None => {}
+            // EOF or EIO on the terminal: it is gone.
+            Some(Err(_)) => break,
         }
         while let Ok(msg) = worker.messages.try_recv() {
             let shows_model = matches!(msg, WorkerMsg::Progress { .. } | WorkerMsg::Done { .. });
@@ -182,7 +285,9 @@ fn event_loop(
                     if let Some((edit_id, at)) = t.edit_at {
                         if edit_id == id {
                             // Drawn at the top of the next pass: include that frame.
-                            terminal.draw(|f| ui::draw(f, app))?;
+                            if !draw(terminal, app)? {
+                                return Ok(());
+                            }
                             let ms = at.elapsed().as_secs_f64() * 1e3;
                             t.line(format!("edit_to_chart_ms {ms:.3}"));
                             t.edit_at = None;
@@ -196,9 +301,9 @@ fn event_loop(
             redraw = true;
         }
         for cmd in commands {
-            execute_command(app, &worker, cmd, &mut trace);
+            execute_command(app, worker, cmd, &mut trace);
         }
-        if app.quit || stop.load(Ordering::Relaxed) {
+        if app.quit {
             break;
         }
     }

@@ -29,12 +29,11 @@ pub fn parse_quantity(text: &str, q: Quantity) -> Result<f64, String> {
         return Err("empty: type a number".into());
     }
     // The longest prefix that parses as a number; the rest is the unit.
-    let split = (1..=t.len())
+    let (split, value) = (1..=t.len())
         .rev()
         .filter(|&i| t.is_char_boundary(i))
-        .find(|&i| t[..i].trim().parse::<f64>().is_ok())
+        .find_map(|i| t[..i].trim().parse::<f64>().ok().map(|v| (i, v)))
         .ok_or_else(|| format!("`{t}` does not start with a number"))?;
-    let value: f64 = t[..split].trim().parse().expect("checked above");
     if !value.is_finite() {
         return Err(format!("`{t}` is not a finite number"));
     }

@@ -1,31 +1,44 @@
 //! The background worker: baseline solves, evaluations and fits, off the UI thread.
 //!
-//! Shaped like gitui's `AsyncSingleJob`: the UI sends jobs over a channel; the worker always
-//! takes the newest one waiting (older ones are dropped unstarted), the UI cancels the
-//! running job's token when it sends a newer one, and every message carries its job's id so
-//! the UI can drop what a stale job still sends. The baseline of the last scene is cached
-//! and re-solved only when the beam, the loads or the fidelity change.
+//! The UI hands jobs to a [`LatestJob`] queue: the worker always takes the newest one (older
+//! ones waiting are dropped unstarted, the running one is cancelled), and every message
+//! carries its job's id so the UI can drop what a stale job still sends. Exports are side
+//! effects the user asked for: they go through the queue's kept lane, are never cancelled by a
+//! newer job and their result is always delivered.
 //!
-//! A failure in a job — a load the beam cannot reach, even a panic — becomes a `Failed`
+//! Results carry what they were computed from: every `Progress` and `Done` holds the
+//! [`BaselineView`] its model was judged on, so no order of messages can pair a model with
+//! another beam's baseline, or with none. The baseline of the last scene is cached and
+//! re-solved only when the beam, the loads, the targets or the fidelity change.
+//!
+//! A failure in a job (a load the beam cannot reach, even a panic) becomes a `Failed`
 //! message; the worker then waits for the next job.
 
+use std::borrow::Cow;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::sync::mpsc::{channel, Receiver, Sender};
 use std::sync::Arc;
 use std::thread::JoinHandle;
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 use crate::beam::Effects;
 use crate::beam::Load;
+use crate::cancel::CancelToken;
 use crate::eval::{Baseline, CaseError, ErrorFigures};
-use crate::fit::{fit, CancelToken, Fidelity, FitOptions, FitReport};
+use crate::fit::{fit, Fidelity, FitOptions, FitReport};
 use crate::prb::{PrbMatrix, PrbSolver};
 use crate::scene::{Accuracy, BeamSpec, EffectsChoice, LoadPath, Scene};
 use crate::select::{decide_effects, select, EffectsDecision, Rung, Selection};
 use crate::tradeoff::Knob;
 
+use super::latest_job::{Cancellable, LatestJob, Taken};
+
 /// The thread's name, which the panic hook uses to tell worker panics from UI panics.
 pub const WORKER_THREAD: &str = "prbfit-worker";
+
+/// How long quitting waits for the worker to notice its job was cancelled before leaving the
+/// thread behind (the process is about to end).
+pub const SHUTDOWN_DEADLINE: Duration = Duration::from_millis(200);
 
 /// What a job does.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -40,40 +53,54 @@ pub enum JobKind {
     Select,
 }
 
-/// One request on the scene's beam and loads.
+/// One request: the scene as it was when the job was made, and the matrix.
 #[derive(Debug, Clone)]
 pub struct Job {
+    /// Numbers jobs in the order the UI made them; every message names its job.
     pub id: u64,
-    pub scene_name: String,
-    pub beam: BeamSpec,
-    pub loads: Vec<LoadPath>,
-    pub accuracy: Accuracy,
-    pub angle_weight: f64,
+    /// The scene (beam, loads, targets, angle weight) the job works on.
+    pub scene: Arc<Scene>,
+    /// The PRB matrix to judge, fit or export.
     pub matrix: PrbMatrix,
+    /// How finely the beam is solved and the fit sampled.
     pub fidelity: Fidelity,
+    /// What to do.
     pub kind: JobKind,
+    /// Stops the job; cancelled when a newer job is submitted (except for exports).
     pub cancel: CancelToken,
 }
 
-/// What the beam looks like over the job's load cases (shared, sent once per baseline).
+impl Cancellable for Job {
+    fn cancel_token(&self) -> &CancelToken {
+        &self.cancel
+    }
+}
+
+/// What the beam looks like over a job's load cases.
 #[derive(Debug, Clone, PartialEq)]
 pub struct BaselineView {
     /// The effects the beam was solved with (`auto` decided).
     pub effects: Effects,
+    /// How `auto` effects were decided, when they were.
     pub decision: Option<EffectsDecision>,
+    /// The load paths as sampled.
     pub paths: Vec<LoadPath>,
     /// Per case, in path order.
     pub loads: Vec<Load>,
     /// Per case, the deformed centre line.
     pub shapes: Vec<Vec<(f64, f64)>>,
+    /// How long the beam solves took.
     pub seconds: f64,
 }
 
 /// A PRB model judged on the baseline: what the charts draw.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ModelView {
+    /// The matrix judged.
     pub matrix: PrbMatrix,
+    /// Its objective and maximum errors.
     pub figures: ErrorFigures,
+    /// Per case, the tip errors.
     pub cases: Vec<CaseError>,
     /// Per case, the linkage: root, then every segment's end.
     pub linkages: Vec<Vec<(f64, f64)>>,
@@ -82,58 +109,80 @@ pub struct ModelView {
 /// How far a fit has got.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FitStatus {
+    /// Optimiser iterations so far.
     pub iteration: u32,
+    /// Objective evaluations so far.
     pub evaluations: u64,
+    /// Time since the job started.
     pub seconds: f64,
 }
 
 /// Messages to the UI.
 #[derive(Debug, Clone)]
 pub enum WorkerMsg {
-    Baseline {
-        id: u64,
-        view: Arc<BaselineView>,
-    },
     /// The job's starting matrix judged (before any fitting), or the best matrix so far.
     Progress {
+        /// The job.
         id: u64,
+        /// The baseline the model was judged on.
+        baseline: Arc<BaselineView>,
+        /// The model.
         model: Box<ModelView>,
+        /// How far the fit has got.
         status: FitStatus,
     },
+    /// The job's final model.
     Done {
+        /// The job.
         id: u64,
+        /// The baseline the model was judged on.
+        baseline: Arc<BaselineView>,
+        /// The model.
         model: Box<ModelView>,
+        /// The fit's report (none for a judge job).
         report: Option<Box<FitReport>>,
+        /// Time the job took.
         seconds: f64,
     },
+    /// The job failed, saying why.
     Failed {
+        /// The job.
         id: u64,
+        /// Why, for the user.
         message: String,
     },
     /// One row of a selection, as soon as it is fitted.
     SelectRow {
+        /// The job.
         id: u64,
+        /// The row.
         row: Box<Rung>,
     },
-    /// An export finished (or failed, saying why).
+    /// An export finished (or failed, saying why). Never stale: the user asked for it.
     Exported {
+        /// The job.
         id: u64,
+        /// The file.
         path: std::path::PathBuf,
+        /// Written, or why not.
         result: Result<(), String>,
     },
     /// The whole selection and the trade-off measurements.
     SelectDone {
+        /// The job.
         id: u64,
+        /// The ladder and its choice.
         selection: Box<Selection>,
+        /// The trade-off measurements.
         knobs: Vec<Knob>,
     },
 }
 
 impl WorkerMsg {
+    /// The job the message belongs to.
     pub fn id(&self) -> u64 {
         match self {
-            WorkerMsg::Baseline { id, .. }
-            | WorkerMsg::Progress { id, .. }
+            WorkerMsg::Progress { id, .. }
             | WorkerMsg::Done { id, .. }
             | WorkerMsg::Failed { id, .. }
             | WorkerMsg::SelectRow { id, .. }
@@ -143,45 +192,75 @@ impl WorkerMsg {
     }
 }
 
-/// The worker thread and its channels.
+/// The worker thread, its job queue and its messages.
 pub struct Worker {
-    jobs: Option<Sender<Job>>,
+    queue: LatestJob<Job>,
+    /// What the worker sends back.
     pub messages: Receiver<WorkerMsg>,
     handle: Option<JoinHandle<()>>,
 }
 
 impl Worker {
+    /// Starts the worker thread.
     pub fn spawn() -> std::io::Result<Worker> {
-        let (job_tx, job_rx) = channel::<Job>();
+        let queue = LatestJob::new();
         let (msg_tx, msg_rx) = channel::<WorkerMsg>();
+        let jobs = queue.clone();
         let handle = std::thread::Builder::new()
             .name(WORKER_THREAD.into())
-            .spawn(move || worker_loop(job_rx, msg_tx))?;
+            .spawn(move || worker_loop(&jobs, &msg_tx))?;
         Ok(Worker {
-            jobs: Some(job_tx),
+            queue,
             messages: msg_rx,
             handle: Some(handle),
         })
     }
 
-    /// Queues a job (the worker drops any older one not yet started).
+    /// Queues a job. An export is kept until done; any other job replaces the one waiting
+    /// and cancels the one running.
     pub fn submit(&self, job: Job) {
-        if let Some(tx) = &self.jobs {
-            // A send fails only if the worker is gone; the UI then sees no answer and says so
-            // through the job's timeout display, never a panic.
-            let _ = tx.send(job);
+        if matches!(job.kind, JobKind::Export(_)) {
+            self.queue.submit_kept(job);
+        } else {
+            self.queue.submit(job);
         }
+    }
+
+    /// Stops the worker: cancels its job and waits up to `deadline` for the thread to end;
+    /// past that the thread is left to finish on its own. Returns whether it ended.
+    pub fn shutdown(mut self, deadline: Duration) -> bool {
+        self.stop(deadline)
+    }
+
+    fn stop(&mut self, deadline: Duration) -> bool {
+        self.queue.close();
+        let Some(handle) = self.handle.take() else {
+            return true;
+        };
+        if join_within(handle, deadline).is_none() {
+            return false;
+        }
+        true
     }
 }
 
 impl Drop for Worker {
     fn drop(&mut self) {
-        // Closing the channel ends the loop once the current job returns.
-        self.jobs = None;
-        if let Some(h) = self.handle.take() {
-            let _ = h.join();
-        }
+        self.stop(SHUTDOWN_DEADLINE);
     }
+}
+
+/// Joins `handle` if its thread ends within `deadline`; otherwise detaches it and returns
+/// `None`.
+pub fn join_within<T>(handle: JoinHandle<T>, deadline: Duration) -> Option<std::thread::Result<T>> {
+    let t0 = Instant::now();
+    while !handle.is_finished() {
+        if t0.elapsed() >= deadline {
+            return None;
+        }
+        std::thread::sleep(Duration::from_millis(2));
+    }
+    Some(handle.join())
 }
 
 /// The baseline cache key: everything the beam solves depend on (the targets too, through
@@ -194,25 +273,35 @@ struct BaselineKey {
     fidelity: Fidelity,
 }
 
-/// A cached baseline with the effects it was solved with.
-struct Cached {
+impl BaselineKey {
+    fn of(job: &Job) -> BaselineKey {
+        BaselineKey {
+            beam: job.scene.beam,
+            loads: job.scene.loads.clone(),
+            accuracy: job.scene.accuracy,
+            fidelity: job.fidelity,
+        }
+    }
+}
+
+/// A solved baseline: what it was solved from, the solutions, the charts' view of them and
+/// the beam with its effects as solved.
+#[derive(Clone)]
+struct Solved {
     key: BaselineKey,
     baseline: Arc<Baseline>,
+    view: Arc<BaselineView>,
     beam: BeamSpec,
 }
 
-fn worker_loop(jobs: Receiver<Job>, out: Sender<WorkerMsg>) {
-    let mut cache: Option<Cached> = None;
-    while let Ok(mut job) = jobs.recv() {
-        // Only the newest job matters.
-        while let Ok(newer) = jobs.try_recv() {
-            job = newer;
-        }
-        if job.cancel.is_cancelled() {
+fn worker_loop(jobs: &LatestJob<Job>, out: &Sender<WorkerMsg>) {
+    let mut cache: Option<Solved> = None;
+    while let Some(taken) = jobs.take() {
+        if taken.job.cancel.is_cancelled() {
             continue;
         }
-        let id = job.id;
-        let outcome = catch_unwind(AssertUnwindSafe(|| run_job(&job, &mut cache, &out)));
+        let id = taken.job.id;
+        let outcome = catch_unwind(AssertUnwindSafe(|| run_job(&taken, jobs, &mut cache, out)));
         let failure = match outcome {
             Ok(Ok(())) => None,
             Ok(Err(message)) => Some(message),
@@ -248,7 +337,9 @@ pub fn model_view(
     for path in &baseline.paths {
         solver
             .solve_path_with(path.end, path.steps, |sol| {
-                let b = beam.next().expect("one beam solution per case");
+                // The baseline holds one beam solution per case of its paths; a shortfall is
+                // reported below rather than trusted.
+                let Some(b) = beam.next() else { return };
                 cases.push(CaseError::new(sol.load, b.tip, sol.tip));
                 linkages.push(
                     solver
@@ -259,6 +350,13 @@ pub fn model_view(
                 );
             })
             .map_err(|e| format!("the PRB model fails: {e}"))?;
+    }
+    if cases.len() != baseline.case_count() {
+        return Err(format!(
+            "internal error: {} PRB cases for {} beam cases",
+            cases.len(),
+            baseline.case_count()
+        ));
     }
     Ok(ModelView {
         matrix: matrix.clone(),
@@ -284,60 +382,78 @@ pub fn baseline_view(baseline: &Baseline, decision: Option<EffectsDecision>) -> 
     }
 }
 
-fn run_job(job: &Job, cache: &mut Option<Cached>, out: &Sender<WorkerMsg>) -> Result<(), String> {
-    let t0 = Instant::now();
-    let send = |msg: WorkerMsg| {
-        // The UI has gone: nothing left to do.
-        let _ = out.send(msg);
-    };
-    let key = BaselineKey {
-        beam: job.beam,
-        loads: job.loads.clone(),
-        accuracy: job.accuracy,
-        fidelity: job.fidelity,
-    };
-    let (baseline, beam) = match cache {
-        Some(c) if c.key == key => (c.baseline.clone(), c.beam),
-        _ => {
-            // `auto` effects are decided here, off the UI thread.
-            let (beam, decision) = match job.beam.effects {
-                EffectsChoice::Auto => {
-                    let d = decide_effects(
-                        &job.beam,
-                        &job.loads,
-                        &job.accuracy,
-                        job.fidelity.resolution(),
-                    )
-                    .map_err(|e| format!("the beam cannot be solved: {e}"))?;
-                    let mut b = job.beam;
-                    b.effects = EffectsChoice::Fixed(d.effects);
-                    (b, Some(d))
-                }
-                EffectsChoice::Fixed(_) => (job.beam, None),
-            };
-            let b = Baseline::for_model(
-                beam.model(),
-                &job.fidelity.sample(&job.loads),
+/// The baseline for `job`: the cached one when the job's beam, loads, targets and fidelity
+/// are those it was solved from, else solved now (and cached).
+fn solve_baseline(job: &Job, cache: &mut Option<Solved>) -> Result<Solved, String> {
+    let key = BaselineKey::of(job);
+    if let Some(c) = cache.as_ref().filter(|c| c.key == key) {
+        return Ok(c.clone());
+    }
+    let scene = &job.scene;
+    // `auto` effects are decided here, off the UI thread.
+    let (beam, decision) = match scene.beam.effects {
+        EffectsChoice::Auto => {
+            let d = decide_effects(
+                &scene.beam,
+                &scene.loads,
+                &scene.accuracy,
                 job.fidelity.resolution(),
             )
             .map_err(|e| format!("the beam cannot be solved: {e}"))?;
-            let b = Arc::new(b);
-            *cache = Some(Cached {
-                key,
-                baseline: b.clone(),
-                beam,
-            });
-            send(WorkerMsg::Baseline {
-                id: job.id,
-                view: Arc::new(baseline_view(&b, decision)),
-            });
-            (b, beam)
+            let mut b = scene.beam;
+            b.effects = EffectsChoice::Fixed(d.effects);
+            (b, Some(d))
+        }
+        EffectsChoice::Fixed(_) => (scene.beam, None),
+    };
+    let b = Baseline::for_model(
+        beam.model(),
+        &job.fidelity.sample(&scene.loads),
+        job.fidelity.resolution(),
+    )
+    .map_err(|e| format!("the beam cannot be solved: {e}"))?;
+    let solved = Solved {
+        key,
+        view: Arc::new(baseline_view(&b, decision)),
+        baseline: Arc::new(b),
+        beam,
+    };
+    *cache = Some(solved.clone());
+    Ok(solved)
+}
+
+/// The job's scene with its beam's effects as solved (`auto` replaced by the decision).
+fn solved_scene(scene: &Scene, beam: BeamSpec) -> Cow<'_, Scene> {
+    if scene.beam == beam {
+        Cow::Borrowed(scene)
+    } else {
+        let mut s = scene.clone();
+        s.beam = beam;
+        Cow::Owned(s)
+    }
+}
+
+fn run_job(
+    taken: &Taken<Job>,
+    jobs: &LatestJob<Job>,
+    cache: &mut Option<Solved>,
+    out: &Sender<WorkerMsg>,
+) -> Result<(), String> {
+    let job = &taken.job;
+    let t0 = Instant::now();
+    let send = |msg: WorkerMsg| {
+        // A newer job was submitted: the UI would drop this. An export is never stale.
+        if !jobs.is_stale(taken) {
+            // The UI has gone: nothing left to do.
+            let _ = out.send(msg);
         }
     };
+    let solved = solve_baseline(job, cache)?;
+    let baseline = &solved.baseline;
     match &job.kind {
-        JobKind::Select => return run_selection(job, &baseline, beam, out),
+        JobKind::Select => return run_selection(job, &solved, &send),
         JobKind::Export(path) => {
-            let result = export_file(job, &baseline, beam, path);
+            let result = export_file(job, &solved, path);
             send(WorkerMsg::Exported {
                 id: job.id,
                 path: path.clone(),
@@ -350,58 +466,61 @@ fn run_job(job: &Job, cache: &mut Option<Cached>, out: &Sender<WorkerMsg>) -> Re
     if job.cancel.is_cancelled() {
         return Ok(());
     }
+    let angle_weight = job.scene.fit.angle_weight;
+    let progress = |model: ModelView, status: FitStatus| WorkerMsg::Progress {
+        id: job.id,
+        baseline: solved.view.clone(),
+        model: Box::new(model),
+        status,
+    };
     // The edited matrix at once, so the charts answer the edit before any fitting.
-    let start_view = model_view(&job.matrix, &baseline, job.angle_weight);
+    let start_view = model_view(&job.matrix, baseline, angle_weight);
     if job.kind == JobKind::Judge {
         let model = start_view?;
         send(WorkerMsg::Done {
             id: job.id,
+            baseline: solved.view.clone(),
             model: Box::new(model),
             report: None,
             seconds: t0.elapsed().as_secs_f64(),
         });
         return Ok(());
     }
-    if let Ok(model) = &start_view {
-        send(WorkerMsg::Progress {
-            id: job.id,
-            model: Box::new(model.clone()),
-            status: FitStatus {
-                iteration: 0,
-                evaluations: 0,
-                seconds: t0.elapsed().as_secs_f64(),
-            },
-        });
+    if let Ok(model) = start_view {
+        let status = FitStatus {
+            iteration: 0,
+            evaluations: 0,
+            seconds: t0.elapsed().as_secs_f64(),
+        };
+        send(progress(model, status));
     }
     let options = FitOptions {
         fidelity: job.fidelity,
-        angle_weight: job.angle_weight,
+        angle_weight,
         seed: 1,
     };
     let mut on_progress = |p: &crate::fit::FitProgress| {
-        if let Ok(model) = model_view(p.best, &baseline, job.angle_weight) {
-            send(WorkerMsg::Progress {
-                id: job.id,
-                model: Box::new(model),
-                status: FitStatus {
-                    iteration: p.iteration,
-                    evaluations: p.evaluations,
-                    seconds: t0.elapsed().as_secs_f64(),
-                },
-            });
+        if let Ok(model) = model_view(p.best, baseline, angle_weight) {
+            let status = FitStatus {
+                iteration: p.iteration,
+                evaluations: p.evaluations,
+                seconds: t0.elapsed().as_secs_f64(),
+            };
+            send(progress(model, status));
         }
     };
     let report = fit(
-        &baseline,
+        baseline,
         &job.matrix,
         &options,
         &mut on_progress,
         &job.cancel,
     )
     .map_err(|e| format!("fit: {e}"))?;
-    let model = model_view(&report.matrix, &baseline, job.angle_weight)?;
+    let model = model_view(&report.matrix, baseline, angle_weight)?;
     send(WorkerMsg::Done {
         id: job.id,
+        baseline: solved.view.clone(),
         model: Box::new(model),
         report: Some(Box::new(report)),
         seconds: t0.elapsed().as_secs_f64(),
@@ -410,23 +529,24 @@ fn run_job(job: &Job, cache: &mut Option<Cached>, out: &Sender<WorkerMsg>) -> Re
 }
 
 /// The selection table, row by row, then the trade-off measurements.
-fn run_selection(
-    job: &Job,
-    baseline: &Baseline,
-    beam: BeamSpec,
-    out: &Sender<WorkerMsg>,
-) -> Result<(), String> {
-    let scene = job_scene(job, beam);
-    let selection = select(&scene, baseline, job.fidelity, &job.cancel, &mut |row| {
-        let _ = out.send(WorkerMsg::SelectRow {
-            id: job.id,
-            row: Box::new(row.clone()),
-        });
-    })
+fn run_selection(job: &Job, solved: &Solved, send: &dyn Fn(WorkerMsg)) -> Result<(), String> {
+    let scene = solved_scene(&job.scene, solved.beam);
+    let selection = select(
+        &scene,
+        &solved.baseline,
+        job.fidelity,
+        &job.cancel,
+        &mut |row| {
+            send(WorkerMsg::SelectRow {
+                id: job.id,
+                row: Box::new(row.clone()),
+            });
+        },
+    )
     .map_err(|e| format!("selection: {e}"))?;
     let knobs = crate::tradeoff::measure(&scene, &job.matrix, &job.cancel)
         .map_err(|e| format!("trade-off: {e}"))?;
-    let _ = out.send(WorkerMsg::SelectDone {
+    send(WorkerMsg::SelectDone {
         id: job.id,
         selection: Box::new(selection),
         knobs,
@@ -434,41 +554,22 @@ fn run_selection(
     Ok(())
 }
 
-/// The scene of a job, with its beam's effects as solved.
-fn job_scene(job: &Job, beam: BeamSpec) -> Scene {
-    Scene {
-        name: job.scene_name.clone(),
-        beam,
-        loads: job.loads.clone(),
-        accuracy: job.accuracy,
-        fit: crate::scene::FitSettings {
-            angle_weight: job.angle_weight,
-        },
-        prb: Some(job.matrix.clone()),
-    }
-}
-
 /// Writes the job's matrix in the format the path's extension names, never over a file.
-fn export_file(
-    job: &Job,
-    baseline: &Baseline,
-    beam: BeamSpec,
-    path: &std::path::Path,
-) -> Result<(), String> {
+fn export_file(job: &Job, solved: &Solved, path: &std::path::Path) -> Result<(), String> {
     use crate::export::{export, ExportInput};
-    use crate::format::Format as ExportFormat;
-    let format = ExportFormat::from_path(path).ok_or_else(|| {
+    use crate::format::Format;
+    let format = Format::from_path(path).ok_or_else(|| {
         format!(
             "{}: use .toml, .json, .xml or .mjcf (MuJoCo), .urdf, .sdf or .csv",
             path.display()
         )
     })?;
-    let scene = job_scene(job, beam);
+    let scene = solved_scene(&job.scene, solved.beam);
     let input = ExportInput {
         name: format!("{}-model", job.matrix.topology().to_lowercase()),
         matrix: &job.matrix,
         scene: &scene,
-        baseline,
+        baseline: &solved.baseline,
         fidelity: job.fidelity.to_string(),
         density: 1000.0,
     };

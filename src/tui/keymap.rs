@@ -1,0 +1,437 @@
+//! Every key the UI takes, in one table that the key handling, the help overlay (`?`) and
+//! the hint line all read, so they cannot drift apart (gitui's `key_list.rs` with the
+//! `CommandInfo` of each tab). README.md's key table is this table, checked by a test.
+//!
+//! Text entry (a field's editor, a prompt) takes every key as typed, Enter accepts and Esc
+//! cancels; it is not part of this table.
+
+use ratatui::crossterm::event::{KeyCode, KeyEvent, KeyModifiers};
+
+use super::state::Panel;
+
+/// What a key does.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Action {
+    /// Show the help overlay.
+    Help,
+    /// Quit (asking first when something is unsaved).
+    Quit,
+    /// Focus the next panel.
+    NextPanel,
+    /// Focus the previous panel.
+    PrevPanel,
+    /// Cursor up.
+    Up,
+    /// Cursor down.
+    Down,
+    /// Cursor left.
+    Left,
+    /// Cursor right.
+    Right,
+    /// Edit the selected field or cell.
+    Edit,
+    /// Toggle the selected matrix cell free / fixed.
+    ToggleFree,
+    /// Switch shear on or off.
+    ToggleShear,
+    /// Switch extension on or off.
+    ToggleExtension,
+    /// Switch Poisson on or off.
+    TogglePoisson,
+    /// Add a matrix row or a load path.
+    AddRow,
+    /// Delete a matrix row or a load path.
+    DeleteRow,
+    /// Show the previous load path.
+    PrevPath,
+    /// Show the next load path.
+    NextPath,
+    /// Ask for a topology or model name.
+    Topology,
+    /// Load the next published model.
+    NextPublished,
+    /// Switch the matrix between nondimensional and SI.
+    ToggleSi,
+    /// Fit now.
+    Fit,
+    /// Cancel the running fit.
+    Cancel,
+    /// Open the model selection.
+    Selection,
+    /// Selection view: load the selected row's model.
+    SelectLoad,
+    /// Selection view: stop the running selection.
+    SelectStop,
+    /// Selection view: close it.
+    SelectClose,
+    /// Pause or resume live refit.
+    ToggleLive,
+    /// Cycle the fidelity.
+    CycleFidelity,
+    /// Save the scene.
+    Save,
+    /// Open a scene.
+    Open,
+    /// Export the model.
+    Export,
+}
+
+/// A key, with or without Ctrl. A key without Ctrl matches whatever the modifiers (Shift
+/// comes with capitals), as the UI always did.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Key {
+    /// The key.
+    pub code: KeyCode,
+    /// Ctrl must be held.
+    pub ctrl: bool,
+}
+
+impl Key {
+    /// Whether `event` is this key.
+    pub fn matches(&self, event: &KeyEvent) -> bool {
+        event.code == self.code && (!self.ctrl || event.modifiers.contains(KeyModifiers::CONTROL))
+    }
+}
+
+/// Where keys are read: a bit per panel and one for the selection view.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Scope(u8);
+
+impl Scope {
+    /// The beam panel.
+    pub const BEAM: Scope = Scope(1);
+    /// The load panel.
+    pub const LOADS: Scope = Scope(2);
+    /// The matrix panel.
+    pub const MATRIX: Scope = Scope(4);
+    /// Any of the three panels.
+    pub const PANELS: Scope = Scope(7);
+    /// The selection view.
+    pub const SELECT: Scope = Scope(8);
+
+    /// Both scopes.
+    pub const fn or(self, other: Scope) -> Scope {
+        Scope(self.0 | other.0)
+    }
+
+    /// Whether `self` includes all of `other`.
+    pub fn contains(self, other: Scope) -> bool {
+        self.0 & other.0 == other.0
+    }
+
+    /// The scope of a panel.
+    pub fn of(panel: Panel) -> Scope {
+        match panel {
+            Panel::Beam => Scope::BEAM,
+            Panel::Loads => Scope::LOADS,
+            Panel::Matrix => Scope::MATRIX,
+        }
+    }
+}
+
+/// One key and its action.
+#[derive(Debug, Clone, Copy)]
+pub struct Binding {
+    /// The key.
+    pub key: Key,
+    /// What it does.
+    pub action: Action,
+}
+
+/// A short reminder on the hint line, in the panels of `scope`.
+#[derive(Debug, Clone, Copy)]
+pub struct Hint {
+    /// The text, e.g. `f free/fixed`.
+    pub text: &'static str,
+    /// The panels whose hint line shows it.
+    pub scope: Scope,
+}
+
+/// A row of the key table: its keys as written in the help and README, what they do, where
+/// they apply, the bindings, and the hints.
+#[derive(Debug, Clone, Copy)]
+pub struct Entry {
+    /// The keys, as written: `Tab / Shift-Tab`.
+    pub keys: &'static str,
+    /// What they do.
+    pub does: &'static str,
+    /// Where the bindings apply.
+    pub scope: Scope,
+    /// Each key and its action.
+    pub bindings: &'static [Binding],
+    /// The hint-line reminders.
+    pub hints: &'static [Hint],
+}
+
+const fn ch(c: char, action: Action) -> Binding {
+    Binding {
+        key: Key {
+            code: KeyCode::Char(c),
+            ctrl: false,
+        },
+        action,
+    }
+}
+
+const fn code(code: KeyCode, action: Action) -> Binding {
+    Binding {
+        key: Key { code, ctrl: false },
+        action,
+    }
+}
+
+const fn ctrl(c: char, action: Action) -> Binding {
+    Binding {
+        key: Key {
+            code: KeyCode::Char(c),
+            ctrl: true,
+        },
+        action,
+    }
+}
+
+const fn hint(text: &'static str, scope: Scope) -> Hint {
+    Hint { text, scope }
+}
+
+const ALL: Scope = Scope::PANELS;
+
+/// The key table, in the order of the help and the README, which is also the hint line's.
+pub const KEYMAP: &[Entry] = &[
+    Entry {
+        keys: "?, F1",
+        does: "this help (any key closes it)",
+        scope: ALL,
+        bindings: &[ch('?', Action::Help), code(KeyCode::F(1), Action::Help)],
+        hints: &[hint("? keys", ALL)],
+    },
+    Entry {
+        keys: "q, Ctrl-C",
+        does: "quit (asks first when something is unsaved)",
+        scope: ALL,
+        bindings: &[ch('q', Action::Quit), ctrl('c', Action::Quit)],
+        hints: &[hint("q quit", ALL)],
+    },
+    Entry {
+        keys: "Tab / Shift-Tab",
+        does: "next / previous panel",
+        scope: ALL,
+        bindings: &[
+            code(KeyCode::Tab, Action::NextPanel),
+            code(KeyCode::BackTab, Action::PrevPanel),
+        ],
+        hints: &[hint("Tab panel", ALL)],
+    },
+    Entry {
+        keys: "arrows, h j k l",
+        does: "move inside a panel or the selection table",
+        scope: ALL.or(Scope::SELECT),
+        bindings: &[
+            code(KeyCode::Up, Action::Up),
+            ch('k', Action::Up),
+            code(KeyCode::Down, Action::Down),
+            ch('j', Action::Down),
+            code(KeyCode::Left, Action::Left),
+            ch('h', Action::Left),
+            code(KeyCode::Right, Action::Right),
+            ch('l', Action::Right),
+        ],
+        hints: &[],
+    },
+    Entry {
+        keys: "Enter",
+        does: "edit the selected field or cell; Enter accepts, Esc cancels",
+        scope: ALL,
+        bindings: &[code(KeyCode::Enter, Action::Edit)],
+        hints: &[
+            hint("Enter edit (0.5 mm, 200 GPa)", Scope::BEAM),
+            hint("Enter edit", Scope::LOADS.or(Scope::MATRIX)),
+        ],
+    },
+    Entry {
+        keys: "f",
+        does: "matrix: toggle a cell free (fitted) / fixed (shown with !)",
+        scope: Scope::MATRIX,
+        bindings: &[ch('f', Action::ToggleFree)],
+        hints: &[hint("f free/fixed", Scope::MATRIX)],
+    },
+    Entry {
+        keys: "1 / 2 / 3",
+        does: "beam: switch shear / extension / poisson on or off",
+        scope: Scope::BEAM,
+        bindings: &[
+            ch('1', Action::ToggleShear),
+            ch('2', Action::ToggleExtension),
+            ch('3', Action::TogglePoisson),
+        ],
+        hints: &[hint("1/2/3 shear/extension/poisson", Scope::BEAM)],
+    },
+    Entry {
+        keys: "a / d",
+        does: "add / delete a matrix row or a load path",
+        scope: Scope::LOADS.or(Scope::MATRIX),
+        bindings: &[ch('a', Action::AddRow), ch('d', Action::DeleteRow)],
+        hints: &[
+            hint("a/d row", Scope::MATRIX),
+            hint("a/d path", Scope::LOADS),
+        ],
+    },
+    Entry {
+        keys: "[ / ]",
+        does: "previous / next load path in the shape chart",
+        scope: ALL,
+        bindings: &[ch('[', Action::PrevPath), ch(']', Action::NextPath)],
+        hints: &[hint("[ ] shown path", Scope::LOADS)],
+    },
+    Entry {
+        keys: "t",
+        does: "matrix from a topology name (L-R-R-R) or a published model name",
+        scope: ALL,
+        bindings: &[ch('t', Action::Topology)],
+        hints: &[hint("t topology", Scope::MATRIX)],
+    },
+    Entry {
+        keys: "m",
+        does: "cycle the published models: Howell 1R, Su 3R, Chen 3R",
+        scope: ALL,
+        bindings: &[ch('m', Action::NextPublished)],
+        hints: &[hint("m model", Scope::MATRIX)],
+    },
+    Entry {
+        keys: "u",
+        does: "matrix in SI for the beam: lengths, N m/rad, N/m (typed values too)",
+        scope: ALL,
+        bindings: &[ch('u', Action::ToggleSi)],
+        hints: &[hint("u SI", Scope::MATRIX)],
+    },
+    Entry {
+        keys: "r",
+        does: "fit now",
+        scope: ALL,
+        bindings: &[ch('r', Action::Fit)],
+        hints: &[hint("r fit", ALL)],
+    },
+    Entry {
+        keys: "c, Esc",
+        does: "cancel the running fit",
+        scope: ALL,
+        bindings: &[ch('c', Action::Cancel), code(KeyCode::Esc, Action::Cancel)],
+        hints: &[hint("c cancel", ALL)],
+    },
+    Entry {
+        keys: "S",
+        does: "model selection: the topology ladder's table and the trade-off chart",
+        scope: ALL,
+        bindings: &[ch('S', Action::Selection)],
+        hints: &[],
+    },
+    Entry {
+        keys: "Enter (in S)",
+        does: "load the selected row's model and close the selection",
+        scope: Scope::SELECT,
+        bindings: &[code(KeyCode::Enter, Action::SelectLoad)],
+        hints: &[],
+    },
+    Entry {
+        keys: "c (in S)",
+        does: "stop the running selection",
+        scope: Scope::SELECT,
+        bindings: &[ch('c', Action::SelectStop)],
+        hints: &[],
+    },
+    Entry {
+        keys: "Esc, q (in S)",
+        does: "close the selection",
+        scope: Scope::SELECT,
+        bindings: &[
+            code(KeyCode::Esc, Action::SelectClose),
+            ch('q', Action::SelectClose),
+        ],
+        hints: &[],
+    },
+    Entry {
+        keys: "space",
+        does: "pause / resume live refit after every edit",
+        scope: ALL,
+        bindings: &[ch(' ', Action::ToggleLive)],
+        hints: &[hint("space live", ALL)],
+    },
+    Entry {
+        keys: "v",
+        does: "cycle fidelity: draft, normal, precise",
+        scope: ALL,
+        bindings: &[ch('v', Action::CycleFidelity)],
+        hints: &[hint("v fidelity", ALL)],
+    },
+    Entry {
+        keys: "s / o",
+        does: "save / open a scene file",
+        scope: ALL,
+        bindings: &[ch('s', Action::Save), ch('o', Action::Open)],
+        hints: &[hint("s save", Scope::LOADS), hint("o open", Scope::LOADS)],
+    },
+    Entry {
+        keys: "e",
+        does: "export the model: .toml .json .xml/.mjcf .urdf .sdf .csv",
+        scope: ALL,
+        bindings: &[ch('e', Action::Export)],
+        hints: &[hint("e export", Scope::MATRIX)],
+    },
+];
+
+/// The hint line while a field is being edited.
+pub const EDITING_HINT: &str = " type a value (0.5 mm, 200 GPa, inf) · Enter accept · Esc cancel";
+/// The hint line while a prompt asks for text.
+pub const PROMPT_HINT: &str = " type · Enter accept · Esc cancel";
+
+/// What `event` does in `scope` (a panel's, or the selection view's), if anything.
+pub fn action(event: &KeyEvent, scope: Scope) -> Option<Action> {
+    KEYMAP
+        .iter()
+        .filter(|e| e.scope.contains(scope))
+        .flat_map(|e| e.bindings)
+        .find(|b| b.key.matches(event))
+        .map(|b| b.action)
+}
+
+/// The hint line of `panel`: its hints, in table order.
+pub fn hint_line(panel: Panel) -> String {
+    let scope = Scope::of(panel);
+    let hints: Vec<&str> = KEYMAP
+        .iter()
+        .flat_map(|e| e.hints)
+        .filter(|h| h.scope.contains(scope))
+        .map(|h| h.text)
+        .collect();
+    format!(" {}", hints.join(" · "))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// No key means two things in one place.
+    #[test]
+    fn no_key_is_bound_twice_in_a_scope() {
+        for scope in [Scope::BEAM, Scope::LOADS, Scope::MATRIX, Scope::SELECT] {
+            let keys: Vec<Key> = KEYMAP
+                .iter()
+                .filter(|e| e.scope.contains(scope))
+                .flat_map(|e| e.bindings.iter().map(|b| b.key))
+                .collect();
+            for (i, k) in keys.iter().enumerate() {
+                assert!(!keys[i + 1..].contains(k), "{k:?} twice in {scope:?}");
+            }
+        }
+    }
+
+    /// Every entry's hints show only where its keys work.
+    #[test]
+    fn hints_only_where_the_keys_apply() {
+        for e in KEYMAP {
+            for h in e.hints {
+                assert!(e.scope.contains(h.scope), "{}: {}", e.keys, h.text);
+            }
+        }
+    }
+}

@@ -1,0 +1,195 @@
+//! The beam panel: the beam's dimensions, material and effects, and the scene's accuracy
+//! targets and angle weight, one field per row.
+
+use crate::beam::Effects;
+use crate::scene::{EffectsChoice, Scene};
+
+use super::super::units::{format_quantity, parse_quantity, trim_number, Quantity};
+use super::super::worker::BaselineView;
+use super::step;
+
+/// The rows of the beam panel.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum BeamField {
+    /// Beam length (m).
+    Length,
+    /// Cross-section width (m).
+    Width,
+    /// Cross-section thickness (m).
+    Thickness,
+    /// Young's modulus (Pa).
+    YoungsModulus,
+    /// Poisson's ratio.
+    PoissonRatio,
+    /// Timoshenko shear coefficient, or `auto` from the section.
+    ShearCoefficient,
+    /// Which of shear, extension and Poisson the beam solves, or `auto`.
+    Effects,
+    /// The scene's tip position target (fraction of L).
+    MaxPosErr,
+    /// The scene's tip angle target (rad).
+    MaxAngErr,
+    /// The fit's angle weight.
+    AngleWeight,
+}
+
+impl BeamField {
+    /// Every field, in display order.
+    pub const ALL: [BeamField; 10] = [
+        BeamField::Length,
+        BeamField::Width,
+        BeamField::Thickness,
+        BeamField::YoungsModulus,
+        BeamField::PoissonRatio,
+        BeamField::ShearCoefficient,
+        BeamField::Effects,
+        BeamField::MaxPosErr,
+        BeamField::MaxAngErr,
+        BeamField::AngleWeight,
+    ];
+
+    /// The row's label.
+    pub fn label(self) -> &'static str {
+        match self {
+            BeamField::Length => "length",
+            BeamField::Width => "width",
+            BeamField::Thickness => "thickness",
+            BeamField::YoungsModulus => "E",
+            BeamField::PoissonRatio => "nu",
+            BeamField::ShearCoefficient => "kappa",
+            BeamField::Effects => "effects",
+            BeamField::MaxPosErr => "pos target",
+            BeamField::MaxAngErr => "ang target",
+            BeamField::AngleWeight => "ang weight",
+        }
+    }
+
+    fn quantity(self) -> Quantity {
+        match self {
+            BeamField::Length | BeamField::Width | BeamField::Thickness => Quantity::Length,
+            BeamField::YoungsModulus => Quantity::Pressure,
+            _ => Quantity::Plain,
+        }
+    }
+
+    /// The text the field shows. `baseline` tells what `auto` effects were decided as.
+    pub fn text(self, scene: &Scene, baseline: Option<&BaselineView>) -> String {
+        let b = &scene.beam;
+        match self {
+            BeamField::Length => format_quantity(b.length, Quantity::Length),
+            BeamField::Width => format_quantity(b.width, Quantity::Length),
+            BeamField::Thickness => format_quantity(b.thickness, Quantity::Length),
+            BeamField::YoungsModulus => format_quantity(b.youngs_modulus, Quantity::Pressure),
+            BeamField::PoissonRatio => trim_number(b.poisson_ratio, 6),
+            BeamField::ShearCoefficient => match b.shear_coefficient {
+                Some(k) => trim_number(k, 6),
+                None => format!("auto ({})", trim_number(b.kappa(), 4)),
+            },
+            BeamField::Effects => match b.effects {
+                EffectsChoice::Auto => match baseline.filter(|v| v.decision.is_some()) {
+                    Some(v) => format!("auto ({})", v.effects),
+                    None => "auto (deciding...)".into(),
+                },
+                EffectsChoice::Fixed(e) => e.to_string(),
+            },
+            BeamField::MaxPosErr => format!(
+                "{} L ({}%)",
+                trim_number(scene.accuracy.max_pos_err, 6),
+                trim_number(scene.accuracy.max_pos_err * 100.0, 4)
+            ),
+            BeamField::MaxAngErr => format!(
+                "{} rad ({} deg)",
+                trim_number(scene.accuracy.max_ang_err, 6),
+                trim_number(scene.accuracy.max_ang_err.to_degrees(), 4)
+            ),
+            BeamField::AngleWeight => trim_number(scene.fit.angle_weight, 6),
+        }
+    }
+
+    /// The text its editor starts with (what the file would say, without decorations).
+    pub fn edit_text(self, scene: &Scene, baseline: Option<&BaselineView>) -> String {
+        match self {
+            BeamField::ShearCoefficient if scene.beam.shear_coefficient.is_none() => "auto".into(),
+            BeamField::Effects => scene.beam.effects.to_string(),
+            BeamField::MaxPosErr => trim_number(scene.accuracy.max_pos_err, 6),
+            BeamField::MaxAngErr => trim_number(scene.accuracy.max_ang_err, 6),
+            _ => self.text(scene, baseline),
+        }
+    }
+
+    /// `scene` with this field set from `text`, not yet validated as a whole (the app does
+    /// that); an error if the text is not a value of the field's kind.
+    pub fn edited(self, scene: &Scene, text: &str) -> Result<Scene, String> {
+        let mut scene = scene.clone();
+        let b = &mut scene.beam;
+        match self {
+            BeamField::ShearCoefficient if text.trim() == "auto" => b.shear_coefficient = None,
+            BeamField::Effects => {
+                b.effects = match text.trim() {
+                    "auto" => EffectsChoice::Auto,
+                    other => {
+                        EffectsChoice::Fixed(Effects::parse_list(other).map_err(|e| e.to_string())?)
+                    }
+                }
+            }
+            f => {
+                let v = parse_quantity(text, f.quantity())?;
+                match f {
+                    BeamField::Length => b.length = v,
+                    BeamField::Width => b.width = v,
+                    BeamField::Thickness => b.thickness = v,
+                    BeamField::YoungsModulus => b.youngs_modulus = v,
+                    BeamField::PoissonRatio => b.poisson_ratio = v,
+                    BeamField::ShearCoefficient => b.shear_coefficient = Some(v),
+                    BeamField::MaxPosErr => scene.accuracy.max_pos_err = v,
+                    BeamField::MaxAngErr => scene.accuracy.max_ang_err = v,
+                    BeamField::AngleWeight => scene.fit.angle_weight = v,
+                    // Parsed as a list above.
+                    BeamField::Effects => {}
+                }
+            }
+        }
+        Ok(scene)
+    }
+}
+
+/// The beam panel's cursor.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct BeamState {
+    /// The selected row, an index into [`BeamField::ALL`].
+    pub row: usize,
+}
+
+impl BeamState {
+    /// The selected field.
+    pub fn field(&self) -> BeamField {
+        BeamField::ALL[self.row.min(BeamField::ALL.len() - 1)]
+    }
+
+    /// Moves the cursor `dy` rows.
+    pub fn move_by(&mut self, dy: i32) {
+        self.row = step(self.row, dy, BeamField::ALL.len());
+    }
+}
+
+/// The effects after `1`, `2` or `3` switched shear, extension or Poisson, starting from what
+/// the beam uses now (`auto` as decided, when known). Poisson needs extension, so they move
+/// together where they must.
+pub fn toggled_effect(scene: &Scene, baseline: Option<&BaselineView>, which: char) -> Effects {
+    let mut e = match (scene.beam.effects, baseline) {
+        (EffectsChoice::Auto, Some(v)) => v.effects,
+        (choice, _) => choice.resolve(),
+    };
+    match which {
+        '1' => e.shear = !e.shear,
+        '2' => {
+            e.extension = !e.extension;
+            e.poisson &= e.extension;
+        }
+        _ => {
+            e.poisson = !e.poisson;
+            e.extension |= e.poisson;
+        }
+    }
+    e
+}

@@ -1,0 +1,54 @@
+//! The state of each panel, on its own: its cursor and how it turns typed text into a new
+//! value (bottom's per-widget state). A panel never touches another panel's state; the
+//! [`App`](super::app::App) holds what they share (scene, matrix, jobs, messages) and
+//! dispatches keys to the focused one.
+//!
+//! - [`beam`]: the beam's fields and the scene's targets;
+//! - [`loads`]: the load-path table;
+//! - [`matrix`]: the PRB matrix table (nondimensional or SI), gamma rebalancing;
+//! - [`select`]: the model-selection view.
+
+pub mod beam;
+pub mod loads;
+pub mod matrix;
+pub mod select;
+
+/// The panels that take the keyboard.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Panel {
+    /// The beam and the scene's targets.
+    Beam,
+    /// The load paths.
+    Loads,
+    /// The PRB matrix.
+    Matrix,
+}
+
+impl Panel {
+    /// The panel Tab moves to.
+    pub fn next(self) -> Panel {
+        match self {
+            Panel::Beam => Panel::Loads,
+            Panel::Loads => Panel::Matrix,
+            Panel::Matrix => Panel::Beam,
+        }
+    }
+
+    /// The panel Shift-Tab moves to.
+    pub fn prev(self) -> Panel {
+        match self {
+            Panel::Beam => Panel::Matrix,
+            Panel::Loads => Panel::Beam,
+            Panel::Matrix => Panel::Loads,
+        }
+    }
+}
+
+/// Moves a cursor `v` by `d` inside `0..n` (clamped; 0 when empty).
+pub fn step(v: usize, d: i32, n: usize) -> usize {
+    if n == 0 {
+        0
+    } else {
+        (v as i64 + d as i64).clamp(0, n as i64 - 1) as usize
+    }
+}

@@ -1,0 +1,154 @@
+//! The tip error charts: position (%L) or angle (deg) error against the fraction of each
+//! path's end load, one line per path, with the scene's target as red lines.
+
+use ratatui::layout::{Constraint, Rect};
+use ratatui::style::Color;
+use ratatui::symbols::Marker;
+use ratatui::widgets::{Axis, Block, Borders, Chart, Dataset, GraphType, Paragraph};
+use ratatui::Frame;
+
+use crate::scene::Accuracy;
+
+use super::super::app::App;
+use super::super::units::trim_number;
+use super::super::worker::{BaselineView, ModelView};
+use super::{Palette, PATH_COLORS};
+
+/// Which error a chart shows.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ErrorKind {
+    /// Tip position error, in % of L.
+    Position,
+    /// Tip angle error, in degrees.
+    Angle,
+}
+
+/// What an error chart draws.
+#[derive(Debug, Clone)]
+pub struct View<'a> {
+    /// Which error.
+    pub kind: ErrorKind,
+    /// The baseline the model was judged on.
+    pub baseline: Option<&'a BaselineView>,
+    /// The model's errors.
+    pub model: Option<&'a ModelView>,
+    /// The scene's targets.
+    pub accuracy: Accuracy,
+    /// Colours.
+    pub pal: Palette,
+}
+
+impl<'a> View<'a> {
+    /// The `kind` error chart of `app`.
+    pub fn new(app: &'a App, kind: ErrorKind) -> View<'a> {
+        View {
+            kind,
+            baseline: app.baseline.as_deref(),
+            model: app.model.as_ref(),
+            accuracy: app.scene.accuracy,
+            pal: Palette { mono: app.mono },
+        }
+    }
+}
+
+/// Axis bounds from data, with zero included and a little headroom.
+fn bounds(values: impl Iterator<Item = f64>) -> [f64; 2] {
+    let (mut lo, mut hi) = (0.0_f64, 0.0_f64);
+    for v in values.filter(|v| v.is_finite()) {
+        lo = lo.min(v);
+        hi = hi.max(v);
+    }
+    if hi - lo < 1e-12 {
+        hi = lo + 1.0;
+    }
+    let pad = 0.08 * (hi - lo);
+    [if lo < 0.0 { lo - pad } else { lo }, hi + pad]
+}
+
+/// Draws one error chart.
+pub fn draw(frame: &mut Frame, area: Rect, view: &View) {
+    let (kind, pal) = (view.kind, view.pal);
+    let (title, unit) = match kind {
+        ErrorKind::Position => (" Tip position error ", "%L"),
+        ErrorKind::Angle => (" Tip angle error ", "deg"),
+    };
+    let block = Block::default().borders(Borders::ALL).title(title);
+    let (Some(model), Some(baseline)) = (view.model, view.baseline) else {
+        frame.render_widget(Paragraph::new("").block(block), area);
+        return;
+    };
+    // One series per load path: error against the fraction of the path's end load.
+    let mut series: Vec<Vec<(f64, f64)>> = Vec::new();
+    let mut k = 0;
+    for p in &baseline.paths {
+        let mut pts = Vec::with_capacity(p.steps as usize + 1);
+        pts.push((0.0, 0.0));
+        for s in 1..=p.steps {
+            if let Some(case) = model.cases.get(k) {
+                let v = match kind {
+                    ErrorKind::Position => case.pos_err * 100.0,
+                    ErrorKind::Angle => case.ang_err.to_degrees(),
+                };
+                if v.is_finite() {
+                    pts.push((s as f64 / p.steps as f64, v));
+                }
+            }
+            k += 1;
+        }
+        series.push(pts);
+    }
+    let yb = bounds(series.iter().flatten().map(|p| p.1));
+    let target = match kind {
+        ErrorKind::Position => view.accuracy.max_pos_err * 100.0,
+        ErrorKind::Angle => view.accuracy.max_ang_err.to_degrees(),
+    };
+    let target_line = [(0.0, target), (1.0, target)];
+    let neg_target = [(0.0, -target), (1.0, -target)];
+    let mut datasets: Vec<Dataset> = series
+        .iter()
+        .enumerate()
+        .map(|(i, pts)| {
+            Dataset::default()
+                .name(format!("{}", i + 1))
+                .marker(Marker::Braille)
+                .graph_type(GraphType::Line)
+                .style(pal.fg(PATH_COLORS[i % PATH_COLORS.len()]))
+                .data(pts)
+        })
+        .collect();
+    // The scene's target, where it falls inside the plotted range.
+    if target <= yb[1] {
+        datasets.push(
+            Dataset::default()
+                .marker(Marker::Braille)
+                .graph_type(GraphType::Line)
+                .style(pal.fg(Color::Red))
+                .data(&target_line),
+        );
+    }
+    if kind == ErrorKind::Angle && -target >= yb[0] {
+        datasets.push(
+            Dataset::default()
+                .marker(Marker::Braille)
+                .graph_type(GraphType::Line)
+                .style(pal.fg(Color::Red))
+                .data(&neg_target),
+        );
+    }
+    let chart = Chart::new(datasets)
+        .block(block)
+        .x_axis(
+            Axis::default()
+                .title("load")
+                .bounds([0.0, 1.0])
+                .labels(["0", "1"]),
+        )
+        .y_axis(
+            Axis::default()
+                .title(unit)
+                .bounds(yb)
+                .labels([trim_number(yb[0], 2), trim_number(yb[1], 2)]),
+        )
+        .hidden_legend_constraints((Constraint::Ratio(0, 1), Constraint::Ratio(0, 1)));
+    frame.render_widget(chart, area);
+}

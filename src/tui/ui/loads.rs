@@ -1,0 +1,100 @@
+//! The load-path panel: a table of the paths' end loads and step counts.
+
+use ratatui::layout::{Constraint, Rect};
+use ratatui::style::{Modifier, Style};
+use ratatui::text::Span;
+use ratatui::widgets::{Cell, Row, Table, TableState};
+use ratatui::Frame;
+
+use super::super::app::{App, EditTarget, Panel};
+use super::super::state::loads::{load_text, LOAD_COLUMNS};
+use super::{panel_block, shown, Palette, PATH_COLORS};
+
+/// What the load panel draws.
+#[derive(Debug, Clone, PartialEq)]
+pub struct View {
+    /// The panel has the focus.
+    pub focused: bool,
+    /// Per path, per column: the text (or editor) and whether it is being edited.
+    pub cells: Vec<Vec<(String, bool)>>,
+    /// The selected path.
+    pub row: usize,
+    /// The selected column.
+    pub col: usize,
+    /// Colours.
+    pub pal: Palette,
+}
+
+impl View {
+    /// The load panel of `app`.
+    pub fn new(app: &App) -> View {
+        View {
+            focused: app.focus == Panel::Loads,
+            cells: app
+                .scene
+                .loads
+                .iter()
+                .enumerate()
+                .map(|(row, path)| {
+                    (0..LOAD_COLUMNS.len())
+                        .map(|col| shown(app, &EditTarget::Load { row, col }, load_text(path, col)))
+                        .collect()
+                })
+                .collect(),
+            row: app.loads_state.row,
+            col: app.loads_state.col,
+            pal: Palette { mono: app.mono },
+        }
+    }
+}
+
+/// Draws the load panel.
+pub fn draw(frame: &mut Frame, area: Rect, view: &View) {
+    let pal = view.pal;
+    let block = panel_block(" Load paths ", view.focused, pal);
+    let header = Row::new(
+        std::iter::once(Cell::from("#"))
+            .chain(LOAD_COLUMNS.iter().map(|c| Cell::from(*c)))
+            .collect::<Vec<_>>(),
+    )
+    .style(Style::default().add_modifier(Modifier::BOLD));
+    let rows: Vec<Row> = view
+        .cells
+        .iter()
+        .enumerate()
+        .map(|(r, row)| {
+            let mut cells = vec![Cell::from(Span::styled(
+                format!("{}", r + 1),
+                pal.fg(PATH_COLORS[r % PATH_COLORS.len()]),
+            ))];
+            for (c, (text, editing)) in row.iter().enumerate() {
+                let style = if *editing || (view.focused && view.row == r && view.col == c) {
+                    pal.selected()
+                } else {
+                    Style::default()
+                };
+                cells.push(Cell::from(Span::styled(text.clone(), style)));
+            }
+            Row::new(cells)
+        })
+        .collect();
+    let table = Table::new(
+        rows,
+        [
+            Constraint::Length(2),
+            Constraint::Length(9),
+            Constraint::Length(9),
+            Constraint::Length(8),
+            Constraint::Length(5),
+        ],
+    )
+    .header(header)
+    .block(block)
+    .row_highlight_style(if view.focused {
+        Style::default()
+    } else {
+        Style::default().add_modifier(Modifier::BOLD)
+    });
+    let mut state = TableState::default().with_selected(Some(view.row));
+    frame.render_stateful_widget(table, area, &mut state);
+}

@@ -1,0 +1,199 @@
+//! The one-line bars: the title (scene, fidelity, live refit), the status line (J and the
+//! maximum errors against the targets, what the worker is doing, the last message) and the
+//! key hints, read from the keymap.
+
+use ratatui::layout::Rect;
+use ratatui::style::{Color, Modifier, Style};
+use ratatui::text::{Line, Span};
+use ratatui::widgets::Paragraph;
+use ratatui::Frame;
+
+use crate::eval::ErrorFigures;
+use crate::fit::Fidelity;
+use crate::scene::Accuracy;
+
+use super::super::app::{Activity, App, Tone};
+use super::super::keymap;
+use super::super::units::trim_number;
+use super::{sanitize_terminal, Palette};
+
+/// What the title line draws.
+#[derive(Debug, Clone)]
+pub struct TitleView<'a> {
+    /// The scene's name (from its file: sanitized when drawn).
+    pub name: &'a str,
+    /// The scene has unsaved changes.
+    pub dirty: bool,
+    /// The fidelity.
+    pub fidelity: Fidelity,
+    /// Live refit is on.
+    pub live: bool,
+    /// Colours.
+    pub pal: Palette,
+}
+
+impl<'a> TitleView<'a> {
+    /// The title line of `app`.
+    pub fn new(app: &'a App) -> TitleView<'a> {
+        TitleView {
+            name: &app.scene.name,
+            dirty: app.scene_dirty,
+            fidelity: app.fidelity,
+            live: app.live,
+            pal: Palette { mono: app.mono },
+        }
+    }
+}
+
+/// Draws the title line.
+pub fn draw_title(frame: &mut Frame, area: Rect, view: &TitleView) {
+    let pal = view.pal;
+    let mut spans = vec![
+        Span::styled(" prbfit ", pal.fg(Color::Black).bg(pal.color(Color::Cyan))),
+        Span::raw(" "),
+        Span::styled(
+            sanitize_terminal(view.name).into_owned(),
+            Style::default().add_modifier(Modifier::BOLD),
+        ),
+    ];
+    if view.dirty {
+        spans.push(Span::raw(" [modified]"));
+    }
+    spans.push(Span::raw(format!(
+        "  fidelity {}  live refit {}",
+        view.fidelity,
+        if view.live { "on" } else { "paused" }
+    )));
+    frame.render_widget(Paragraph::new(Line::from(spans)), area);
+}
+
+/// What the status line draws.
+#[derive(Debug, Clone)]
+pub struct View<'a> {
+    /// The last message (file paths and errors inside are sanitized when drawn).
+    pub message: Option<(&'a str, Tone)>,
+    /// The shown model's figures.
+    pub figures: Option<&'a ErrorFigures>,
+    /// The scene's targets.
+    pub accuracy: Accuracy,
+    /// What the worker is doing.
+    pub activity: &'a Activity,
+    /// Colours.
+    pub pal: Palette,
+}
+
+impl<'a> View<'a> {
+    /// The status line of `app`.
+    pub fn new(app: &'a App) -> View<'a> {
+        View {
+            message: app.message.as_ref().map(|(m, t)| (m.as_str(), *t)),
+            figures: app.model.as_ref().map(|m| &m.figures),
+            accuracy: app.scene.accuracy,
+            activity: &app.activity,
+            pal: Palette { mono: app.mono },
+        }
+    }
+}
+
+/// Draws the status line: an error message alone, else the figures, the activity and any
+/// information message.
+pub fn draw(frame: &mut Frame, area: Rect, view: &View) {
+    let pal = view.pal;
+    if let Some((m, Tone::Error)) = view.message {
+        let line = Line::from(Span::styled(
+            format!(" {}", sanitize_terminal(m)),
+            pal.fg(Color::Red),
+        ));
+        frame.render_widget(Paragraph::new(line), area);
+        return;
+    }
+    let mut spans = Vec::new();
+    match view.figures {
+        Some(f) => {
+            let acc = &view.accuracy;
+            let pos_ok = f.max_pos_err <= acc.max_pos_err;
+            let ang_ok = f.max_ang_err <= acc.max_ang_err;
+            spans.push(Span::raw(format!(" J {:.3e} | pos ", f.objective)));
+            spans.push(Span::raw(format!(
+                "{}%L ",
+                trim_number(f.max_pos_err * 100.0, 3)
+            )));
+            spans.push(Span::styled(
+                if pos_ok { "PASS" } else { "FAIL" },
+                pal.pass(pos_ok),
+            ));
+            spans.push(Span::raw(format!(
+                "<{} | ang {}deg ",
+                trim_number(acc.max_pos_err * 100.0, 3),
+                trim_number(f.max_ang_err.to_degrees(), 3)
+            )));
+            spans.push(Span::styled(
+                if ang_ok { "PASS" } else { "FAIL" },
+                pal.pass(ang_ok),
+            ));
+            spans.push(Span::raw(format!(
+                "<{} | ",
+                trim_number(acc.max_ang_err.to_degrees(), 3)
+            )));
+        }
+        None => spans.push(Span::raw(" no model judged yet  ")),
+    }
+    let activity = match view.activity {
+        Activity::Idle => "idle".to_string(),
+        Activity::Waiting => "working...".to_string(),
+        Activity::Fitting(s) => format!("fitting it {} · {:.0} ms", s.iteration, s.seconds * 1e3),
+        Activity::Done {
+            seconds,
+            stop,
+            iterations,
+            ..
+        } => match stop {
+            Some(stop) => format!("{stop} · it {iterations} · {:.0} ms", seconds * 1e3),
+            None => format!("judged · {:.0} ms", seconds * 1e3),
+        },
+        Activity::Failed(_) => "failed".to_string(),
+        Activity::Cancelled => "fit cancelled".to_string(),
+    };
+    spans.push(Span::styled(activity, pal.fg(Color::Cyan)));
+    if let Some((m, Tone::Info)) = view.message {
+        spans.push(Span::raw(format!("  | {}", sanitize_terminal(m))));
+    }
+    frame.render_widget(Paragraph::new(Line::from(spans)), area);
+}
+
+/// What the hint line draws.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct HintsView {
+    /// The hints, from the keymap.
+    pub text: String,
+    /// Colours.
+    pub pal: Palette,
+}
+
+impl HintsView {
+    /// The hint line of `app`: text entry's keys, or the focused panel's hints.
+    pub fn new(app: &App) -> HintsView {
+        let text = if app.editing.is_some() {
+            keymap::EDITING_HINT.to_string()
+        } else if app.prompt.is_some() {
+            keymap::PROMPT_HINT.to_string()
+        } else {
+            keymap::hint_line(app.focus)
+        };
+        HintsView {
+            text,
+            pal: Palette { mono: app.mono },
+        }
+    }
+}
+
+/// Draws the hint line.
+pub fn draw_hints(frame: &mut Frame, area: Rect, view: &HintsView) {
+    frame.render_widget(
+        Paragraph::new(Span::styled(
+            view.text.as_str(),
+            view.pal.fg(Color::DarkGray),
+        )),
+        area,
+    );
+}
