@@ -3,6 +3,10 @@
 //!
 //! Run: `cargo bench --bench prb`. Prints a table; asserts nothing.
 
+// A benchmark that cannot load its scene or solve its model should stop loudly, not measure
+// something else: unwraps are the right tool here.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
 use std::f64::consts::PI;
 use std::hint::black_box;
 use std::time::Instant;

@@ -24,6 +24,7 @@ pub const AUTO_FRACTION: f64 = 0.1;
 /// What dropping one effect does to the tip.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct EffectImpact {
+    /// The effect dropped: `shear`, `extension` (which drops Poisson too) or `poisson`.
     pub effect: &'static str,
     /// Largest tip position change over the scene's cases, units of L.
     pub pos_change: f64,
@@ -31,17 +32,23 @@ pub struct EffectImpact {
     pub ang_change: f64,
     /// The larger of the two changes as a fraction of its target.
     pub fraction_of_target: f64,
+    /// Whether the effect stays in the model: its fraction exceeds [`AUTO_FRACTION`], or it
+    /// was taken back so the dropped effects together stay under it (extension is also kept
+    /// whenever Poisson is).
     pub kept: bool,
 }
 
 /// The effects chosen for a scene, and why.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct EffectsDecision {
+    /// The effects the scene's beam is modelled with.
     pub effects: Effects,
+    /// What dropping each effect alone does, in the order shear, extension, poisson.
     pub impacts: Vec<EffectImpact>,
     /// The tip change of dropping every dropped effect together (checked, not assumed), as a
     /// fraction of the target.
     pub dropped_together_fraction: f64,
+    /// The fraction of the target above which an effect is kept ([`AUTO_FRACTION`]).
     pub threshold: f64,
 }
 
@@ -75,24 +82,22 @@ pub fn decide_effects(
     // Each set of effects is solved once, however often the procedure asks for it.
     let mut solved: Vec<(Effects, Vec<BeamSolution>)> = Vec::new();
     let mut tip_moves = |effects: Effects| -> Result<(f64, f64), BaselineError> {
-        for e in [Effects::ALL, effects] {
-            if !solved.iter().any(|(k, _)| *k == e) {
-                let mut b = *beam;
-                b.effects = EffectsChoice::Fixed(e);
-                solved.push((
-                    e,
-                    Baseline::for_model(b.model(), loads, resolution)?.solutions,
-                ));
+        // The index of `e`'s solutions in `solved`, solving them the first time.
+        let mut solve = |e: Effects| -> Result<usize, BaselineError> {
+            if let Some(i) = solved.iter().position(|(k, _)| *k == e) {
+                return Ok(i);
             }
-        }
-        let of = |e: Effects| {
-            &solved
-                .iter()
-                .find(|(k, _)| *k == e)
-                .expect("solved above")
-                .1
+            let mut b = *beam;
+            b.effects = EffectsChoice::Fixed(e);
+            solved.push((
+                e,
+                Baseline::for_model(b.model(), loads, resolution)?.solutions,
+            ));
+            Ok(solved.len() - 1)
         };
-        Ok(tip_change(of(Effects::ALL), of(effects)))
+        let all = solve(Effects::ALL)?;
+        let this = solve(effects)?;
+        Ok(tip_change(&solved[all].1, &solved[this].1))
     };
     let mut impacts = Vec::new();
     for effect in ["shear", "extension", "poisson"] {
@@ -126,25 +131,30 @@ pub fn decide_effects(
             poisson: impacts[2].kept,
         };
         let together = fraction(tip_moves(effects)?, accuracy);
-        if together <= AUTO_FRACTION || impacts.iter().all(|i| i.kept) {
-            return Ok(EffectsDecision {
-                effects,
-                impacts,
-                dropped_together_fraction: together,
-                threshold: AUTO_FRACTION,
-            });
-        }
-        // Take back the dropped effect that matters most.
-        let back = impacts
+        // The dropped effect that matters most; none when every effect is kept.
+        let most_influential_dropped = impacts
             .iter()
             .enumerate()
             .filter(|(_, i)| !i.kept)
             .max_by(|a, b| a.1.fraction_of_target.total_cmp(&b.1.fraction_of_target))
-            .map(|(k, _)| k)
-            .expect("something is dropped");
-        impacts[back].kept = true;
-        if back == 2 {
-            impacts[1].kept = true;
+            .map(|(k, _)| k);
+        match most_influential_dropped {
+            // Take it back and check the rest together again.
+            Some(back) if together > AUTO_FRACTION => {
+                impacts[back].kept = true;
+                if back == 2 {
+                    impacts[1].kept = true;
+                }
+            }
+            // The dropped effects together are below the threshold, or nothing is dropped.
+            _ => {
+                return Ok(EffectsDecision {
+                    effects,
+                    impacts,
+                    dropped_together_fraction: together,
+                    threshold: AUTO_FRACTION,
+                })
+            }
         }
     }
 }
@@ -184,12 +194,18 @@ pub fn joint_dof(m: &PrbMatrix) -> usize {
 pub struct Rung {
     /// The topology, or the published model's name.
     pub name: String,
+    /// The topology name of the matrix (`L-R-R-R`).
     pub topology: String,
+    /// A published model judged as it is, rather than a fitted topology.
     pub published: bool,
+    /// The PRB matrix judged (fitted or published); serialised in its text form.
     #[serde(serialize_with = "as_text")]
     pub prb: PrbMatrix,
+    /// Joint degrees of freedom: revolute plus prismatic joints ([`joint_dof`]).
     pub dof: usize,
+    /// The error figures of the matrix on the selection's baseline (DESIGN §4).
     pub figures: ErrorFigures,
+    /// Whether the largest position and angle errors are within the scene's targets.
     pub meets_targets: bool,
     /// Worst ratio of an error figure to its target (1 = on target).
     pub target_ratio: f64,
@@ -206,11 +222,14 @@ fn as_text<S: serde::Serializer>(m: &PrbMatrix, s: S) -> Result<S::Ok, S::Error>
 /// The table and the choice.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Selection {
+    /// Every row judged, simplest first: joint freedoms, then fitted before published, then
+    /// `J`.
     pub rows: Vec<Rung>,
     /// Index of the simplest row that meets the targets.
     pub chosen: Option<usize>,
     /// Index of the row nearest the targets (by `target_ratio`).
     pub closest: usize,
+    /// The fit preset the ladder was fitted at.
     pub fidelity: Fidelity,
 }
 
@@ -258,6 +277,9 @@ pub fn select(
         if cancel.is_cancelled() {
             break;
         }
+        // `ladder` lists only fixed names made of `L`, `R` and `RP` segments, which
+        // `from_topology` always accepts (`ladder_topologies_are_valid` checks every one).
+        #[allow(clippy::expect_used)]
         let start = PrbMatrix::from_topology(topology).expect("ladder topologies are valid");
         let options = FitOptions {
             fidelity,
@@ -302,4 +324,19 @@ pub fn select(
         closest,
         fidelity,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ladder_topologies_are_valid() {
+        for topology in ladder(Effects::ALL) {
+            assert!(
+                PrbMatrix::from_topology(topology).is_ok(),
+                "{topology} does not parse"
+            );
+        }
+    }
 }

@@ -22,27 +22,36 @@ use crate::select::{eval_cost, ladder};
 /// One measured setting of a knob.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct TradeoffRow {
+    /// The knob's setting, as shown (`tol 1e-6`, `2x steps (40 cases)`, `normal`, `L-R-R`).
     pub setting: String,
+    /// The time measured at this setting, seconds (what it times is the knob's `time_of`).
     pub seconds: f64,
+    /// The error measured at this setting (what it is, and its unit, is the knob's
+    /// `error_of`): a tip error in L and radians, or `J`.
     pub error: f64,
 }
 
 /// One knob's measurements.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Knob {
+    /// The knob's name: `beam resolution`, `load sampling`, `fidelity preset` or `topology`.
     pub knob: &'static str,
     /// What `seconds` measures.
     pub time_of: &'static str,
     /// What `error` measures.
     pub error_of: &'static str,
+    /// One row per setting, in the order measured (cheapest setting first, except for
+    /// topologies, which follow the selection ladder).
     pub rows: Vec<TradeoffRow>,
 }
 
 /// Why a trade-off could not be measured.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum TradeoffError {
+    /// The beam could not be solved for the scene's loads at some resolution.
     #[error(transparent)]
     Baseline(#[from] BaselineError),
+    /// A fit of the starting model or of a ladder topology failed.
     #[error(transparent)]
     Fit(#[from] FitError),
 }
@@ -77,14 +86,14 @@ pub fn measure(
     let truth = Baseline::for_model(model, &scene.loads, Resolution::with_tol(1e-13))?;
     let mut rows = Vec::new();
     for tol in [1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11] {
-        let mut times = Vec::new();
-        let mut last = None;
-        for _ in 0..5 {
-            let b = Baseline::for_model(model, &scene.loads, Resolution::with_tol(tol))?;
-            times.push(b.seconds / b.case_count().max(1) as f64);
-            last = Some(b);
+        // Five solves, timed; the error is that of the last one.
+        let per_case = |b: &Baseline| b.seconds / b.case_count().max(1) as f64;
+        let mut b = Baseline::for_model(model, &scene.loads, Resolution::with_tol(tol))?;
+        let mut times = vec![per_case(&b)];
+        for _ in 1..5 {
+            b = Baseline::for_model(model, &scene.loads, Resolution::with_tol(tol))?;
+            times.push(per_case(&b));
         }
-        let b = last.expect("five runs");
         let error = b
             .solutions
             .iter()
@@ -182,6 +191,10 @@ pub fn measure(
     let mut rows = Vec::new();
     let baseline = Fidelity::Normal.baseline(scene)?;
     for topo in ladder(model.effects) {
+        // `ladder` lists only fixed names made of `L`, `R` and `RP` segments, which
+        // `from_topology` always accepts (`select`'s `ladder_topologies_are_valid` checks
+        // every one).
+        #[allow(clippy::expect_used)]
         let start = PrbMatrix::from_topology(topo).expect("ladder topologies are valid");
         let options = FitOptions {
             fidelity: Fidelity::Normal,

@@ -21,25 +21,36 @@ pub struct LmOptions {
     pub ftol: f64,
     /// Stop when a step moves no parameter by more than this.
     pub xtol: f64,
+    /// Most iterations (accepted steps, each with its Jacobian) before the run gives up with
+    /// [`LmStop::IterationLimit`].
     pub max_iterations: u32,
 }
 
 /// How a run ended.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum LmStop {
+    /// Two accepted steps in a row were small (below `ftol` or `xtol`), or there is no
+    /// parameter to move.
     Converged,
+    /// `max_iterations` ran out before the run converged.
     IterationLimit,
     /// No step direction lowers J any more (the damping ran away).
     Stalled,
+    /// The residual function refused (the fit was cancelled); the result is the last accepted
+    /// point.
     Cancelled,
 }
 
 /// The result of a run.
 #[derive(Debug, Clone)]
 pub struct LmResult {
+    /// The last accepted parameter vector (the start if no step was accepted).
     pub p: DVector<f64>,
+    /// `J = |r(p)|^2` at `p` (infinite if cancelled before the first evaluation).
     pub objective: f64,
+    /// Iterations begun, the last included.
     pub iterations: u32,
+    /// Why the run ended.
     pub stop: LmStop,
 }
 

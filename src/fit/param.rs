@@ -22,6 +22,8 @@ pub const LOGIT_LIMIT: f64 = 10.0;
 /// Why a matrix cannot be fitted as marked.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum ParamError {
+    /// Some gammas are free but the fixed ones already take the whole length (their sum,
+    /// held here as a fraction of L, is 1 or more).
     #[error(
         "the fixed gammas sum to {0}, leaving no length for the free ones: free a gamma or \
          lower a fixed one"
@@ -42,6 +44,9 @@ pub struct Parameterisation {
 }
 
 impl Parameterisation {
+    /// The parameterisation of `template`'s free cells: one logit per free gamma after the
+    /// first, one log spring constant per free finite `k_theta` or `k_ex`. Fails when gammas
+    /// are free but the fixed ones leave them no length.
     pub fn new(template: &PrbMatrix) -> Result<Parameterisation, ParamError> {
         let rows = template.rows();
         let free_gammas: Vec<usize> = (0..rows.len())
@@ -76,10 +81,13 @@ impl Parameterisation {
         self.free_gammas.len().saturating_sub(1) + self.free_springs.len()
     }
 
+    /// Whether there is no parameter, i.e. nothing to fit.
     pub fn is_empty(&self) -> bool {
         self.len() == 0
     }
 
+    /// The matrix this parameterisation was built from: its topology, fixed cells and free
+    /// flags stay; [`Self::decode`] overwrites its free cells from the parameters.
     pub fn template(&self) -> &PrbMatrix {
         &self.template
     }
@@ -125,12 +133,14 @@ impl Parameterisation {
             }
             // The gammas must sum to 1 to round-off: give the residue to the largest free one.
             let sum: f64 = rows.iter().map(|r| r.gamma).sum();
-            let largest = *self
+            // `free_gammas` is not empty here, so there is always a largest.
+            if let Some(&largest) = self
                 .free_gammas
                 .iter()
                 .max_by(|&&a, &&b| rows[a].gamma.total_cmp(&rows[b].gamma))
-                .expect("non-empty");
-            rows[largest].gamma += 1.0 - sum;
+            {
+                rows[largest].gamma += 1.0 - sum;
+            }
         }
         for (&(i, c), u) in self.free_springs.iter().zip(p.iter().skip(n_logits)) {
             rows[i].set(c, u.clamp(-SPRING_LOG_LIMIT, SPRING_LOG_LIMIT).exp());

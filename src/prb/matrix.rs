@@ -29,14 +29,20 @@ pub const GAMMA_SUM_TOL: f64 = 1e-9;
 /// The three columns of a row.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Column {
+    /// `gamma`: the segment's nominal length as a fraction of L.
     Gamma,
+    /// `k_theta`: the torsion spring at the segment's root end, in units of `E I0 / L`.
     KTheta,
+    /// `k_ex`: the extension spring along the segment, in units of `E A0 / L`.
     KEx,
 }
 
 impl Column {
+    /// The three columns in matrix order: gamma, k_theta, k_ex.
     pub const ALL: [Column; 3] = [Column::Gamma, Column::KTheta, Column::KEx];
 
+    /// The column's 0-based position in a row (gamma 0, k_theta 1, k_ex 2), also the index
+    /// into [`PrbRow::free`].
     pub fn index(self) -> usize {
         match self {
             Column::Gamma => 0,
@@ -45,6 +51,8 @@ impl Column {
         }
     }
 
+    /// The column's name as the text form, files and messages spell it (`gamma`,
+    /// `k_theta`, `k_ex`).
     pub fn name(self) -> &'static str {
         match self {
             Column::Gamma => "gamma",
@@ -63,14 +71,22 @@ impl fmt::Display for Column {
 /// One segment of the chain.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PrbRow {
+    /// Nominal length of the segment as a fraction of L (> 0; the gammas of a matrix sum
+    /// to 1).
     pub gamma: f64,
+    /// Torsion spring at the segment's root end, in units of `E I0 / L` (> 0), or `inf` for
+    /// no joint there.
     pub k_theta: f64,
+    /// Extension spring along the segment, in units of `E A0 / L` (> 0), or `inf` for a fixed
+    /// length.
     pub k_ex: f64,
     /// Per cell (gamma, k_theta, k_ex): may the fit change it? `inf` cells never are.
     pub free: [bool; 3],
 }
 
 impl PrbRow {
+    /// The value in `column` (gamma as a fraction of L, k_theta in `E I0 / L`, k_ex in
+    /// `E A0 / L`).
     pub fn get(&self, column: Column) -> f64 {
         match column {
             Column::Gamma => self.gamma,
@@ -79,6 +95,7 @@ impl PrbRow {
         }
     }
 
+    /// Overwrites the value in `column`, unchecked: the owning [`PrbMatrix`] validates.
     pub fn set(&mut self, column: Column, value: f64) {
         match column {
             Column::Gamma => self.gamma = value,
@@ -122,42 +139,79 @@ pub struct PrbMatrix {
 /// What is wrong with a matrix; rows and columns are 1-based, as a user counts them.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum MatrixError {
+    /// The matrix has no rows (an empty list or empty text).
     #[error("the matrix has no rows")]
     Empty,
+    /// A row of the text form does not have exactly three entries.
     #[error("row {row}: expected 3 entries (gamma, k_theta, k_ex), got {got}")]
-    RowLength { row: usize, got: usize },
+    RowLength {
+        /// 1-based row of the text.
+        row: usize,
+        /// How many entries the row had (0 for an empty row).
+        got: usize,
+    },
+    /// An entry of the text form is neither a number nor `inf`.
     #[error("row {row}, column {column}: `{text}` is not a number or inf")]
     NotANumber {
+        /// 1-based row of the text.
         row: usize,
+        /// The column of the bad entry.
         column: Column,
+        /// The entry as typed (with its `!`, if any).
         text: String,
     },
+    /// A segment length is not a finite number > 0.
     #[error(
         "row {row}, column gamma: the segment length must be a finite number > 0, got {value}"
     )]
-    Gamma { row: usize, value: f64 },
+    Gamma {
+        /// 1-based row.
+        row: usize,
+        /// The rejected gamma (fraction of L).
+        value: f64,
+    },
+    /// A spring constant is neither > 0 nor `inf` (zero, negative, NaN or `-inf`).
     #[error(
         "row {row}, column {column}: a spring constant must be > 0 or inf (no spring), got {value}"
     )]
     Spring {
+        /// 1-based row.
         row: usize,
+        /// [`Column::KTheta`] or [`Column::KEx`].
         column: Column,
+        /// The rejected constant (`E I0 / L` or `E A0 / L`).
         value: f64,
     },
+    /// The gammas do not sum to 1 within [`GAMMA_SUM_TOL`].
     #[error("the gammas must sum to 1, they sum to {sum} (off by {:.3e})", sum - 1.0)]
-    GammaSum { sum: f64 },
+    GammaSum {
+        /// The sum of the gammas found.
+        sum: f64,
+    },
+    /// Every `k_theta` and `k_ex` is `inf`: the chain is one rigid body and cannot deflect.
     #[error("the matrix has no joint: give at least one finite k_theta or k_ex")]
     NoJoint,
+    /// A topology name has a segment other than `L`, `R`, `P` or `RP`; holds that segment.
     #[error("unknown topology segment `{0}` (expected L, R, P or RP, joined by -)")]
     Topology(String),
+    /// An edit names a row past the end of the matrix.
     #[error("row {row}: no such row (the matrix has {rows})")]
-    NoRow { row: usize, rows: usize },
+    NoRow {
+        /// 1-based row asked for.
+        row: usize,
+        /// How many rows the matrix has.
+        rows: usize,
+    },
+    /// A gamma edit on a one-segment matrix: there is no other segment to rebalance against.
     #[error("a single segment's gamma is always 1")]
     SingleSegmentGamma,
+    /// A gamma edit, with the donor segment taking the difference, gives an invalid matrix
+    /// (the donor's length would be <= 0, say).
     #[error("{source} (segment {donor} would get the rest)")]
     Rebalance {
         /// 1-based: the segment that would have taken the difference.
         donor: usize,
+        /// What the rebalanced matrix broke.
         #[source]
         source: Box<MatrixError>,
     },
@@ -180,14 +234,17 @@ impl PrbMatrix {
         Ok(m)
     }
 
+    /// The segments, root first.
     pub fn rows(&self) -> &[PrbRow] {
         &self.rows
     }
 
+    /// Number of segments (rows).
     pub fn len(&self) -> usize {
         self.rows.len()
     }
 
+    /// Whether there are no segments; never true for a validated matrix.
     pub fn is_empty(&self) -> bool {
         self.rows.is_empty()
     }

@@ -26,23 +26,36 @@ use super::matrix::PrbMatrix;
 /// Why a PRB equilibrium could not be found.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum PrbError {
+    /// The requested load has a NaN or infinite component; holds that load.
     #[error("load is not finite: {0}")]
     NonFiniteLoad(Load),
+    /// Continuation stalled: Newton diverged, the tip jumped off the followed branch, or the
+    /// iteration budget ran out before the end of the load path.
     #[error(
         "the PRB model has no equilibrium for {load} past {:.4} of the load path ({reason})",
         fraction
     )]
     NoEquilibrium {
+        /// The end of the load path (nondimensional `alpha_x`, `alpha_y`, `beta`).
         load: Load,
+        /// The last load-path fraction (0 to 1) where an equilibrium was accepted.
         fraction: f64,
+        /// What stopped the continuation, in words.
         reason: String,
     },
+    /// The tangent stiffness stopped being positive definite on the load path: the chain
+    /// buckles or snaps through there, and the stable branch ends.
     #[error(
         "the PRB model reaches a critical point (its tangent stiffness turns singular) at {:.4} \
          of the load path to {load}: it buckles or snaps there",
         fraction
     )]
-    Unstable { load: Load, fraction: f64 },
+    Unstable {
+        /// The end of the load path (nondimensional `alpha_x`, `alpha_y`, `beta`).
+        load: Load,
+        /// The last load-path fraction (0 to 1) where a stable equilibrium was accepted.
+        fraction: f64,
+    },
 }
 
 /// One degree of freedom: which row, and whether it is the joint angle or the extension.
@@ -55,9 +68,13 @@ enum Dof {
 /// An equilibrium of the chain.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PrbSolution {
+    /// The load solved for (nondimensional `alpha_x`, `alpha_y`, `beta`).
     pub load: Load,
+    /// The chain's tip: `a`, `b` in units of L, `phi` (the last segment's angle `Theta_N`)
+    /// in radians.
     pub tip: TipPose,
-    /// Joint angles (revolute rows) and extensions (prismatic rows), in row order.
+    /// Joint angles (radians, revolute rows) and extensions (units of L, prismatic rows), in
+    /// row order.
     pub q: Vec<f64>,
     /// Newton iterations spent on this load, continuation sub-steps included.
     pub iterations: u32,
@@ -67,13 +84,19 @@ pub struct PrbSolution {
 /// path allocates nothing per case.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PrbCase<'a> {
+    /// The load solved for (nondimensional `alpha_x`, `alpha_y`, `beta`).
     pub load: Load,
+    /// The chain's tip: `a`, `b` in units of L, `phi` in radians.
     pub tip: TipPose,
+    /// Joint angles (radians, revolute rows) and extensions (units of L, prismatic rows), in
+    /// row order; borrowed from the solver's buffer.
     pub q: &'a [f64],
+    /// Newton iterations spent on this load, continuation sub-steps included.
     pub iterations: u32,
 }
 
 impl PrbCase<'_> {
+    /// An owned copy of this equilibrium.
     pub fn to_solution(&self) -> PrbSolution {
         PrbSolution {
             load: self.load,
@@ -321,7 +344,11 @@ impl PrbSolver {
     /// Solves one load by continuation from the unloaded chain.
     pub fn solve(&self, load: Load) -> Result<PrbSolution, PrbError> {
         let mut v = self.solve_path(load, 1)?;
-        Ok(v.pop().expect("one case"))
+        // `solve_path_with` hands `visit` one case for each of its steps before it returns
+        // `Ok`, so a one-step path that succeeded holds exactly one solution.
+        #[allow(clippy::expect_used)]
+        let last = v.pop().expect("a successful one-step path has one case");
+        Ok(last)
     }
 
     /// Solves the proportional path to `end` at `k / steps`, `k = 1..=steps`, each case
