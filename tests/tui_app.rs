@@ -1,5 +1,6 @@
 //! The UI's state logic, without a terminal: edits queue jobs, stale results are dropped,
 //! invalid edits change nothing, quitting with unsaved work asks, and no key sequence panics.
+#![allow(clippy::unwrap_used, clippy::expect_used)] // tests: a failure should panic
 
 use std::time::{Duration, Instant};
 
@@ -568,7 +569,7 @@ fn si_view_shows_and_takes_si_values() {
     let mut app = app();
     app.on_key(key(KeyCode::Char('u')), t0);
     assert!(app.matrix_state.si);
-    let ei_l = prbfit::tui::state::matrix::si_factor(&app.scene.beam, Column::KTheta);
+    let ei_l = prbfit::si::column_factor(&app.scene.beam, Column::KTheta);
     assert!((ei_l - 200e9 * 0.01 * 0.0005f64.powi(3) / 12.0 / 0.05).abs() < 1e-12);
     assert_eq!(
         app.cell_text(1, Column::KTheta),

@@ -1,6 +1,7 @@
 //! Whole screens rendered into ratatui's TestBackend and compared with stored snapshots
 //! (`tests/snapshots/`), at 120x40 and 80x24, plus the overlays, the too-small note and the
 //! colours a text snapshot cannot see.
+#![allow(clippy::unwrap_used, clippy::expect_used)] // tests: a failure should panic
 
 use std::sync::Arc;
 

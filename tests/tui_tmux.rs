@@ -3,6 +3,7 @@
 //! question; the terminal is restored on quit and on SIGTERM; and the UI ends when its
 //! terminal goes away, idle or in the middle of a fit. Where tmux is missing the tests say
 //! SKIPPED loudly, and under CI (`CI` set) they fail instead.
+#![allow(clippy::unwrap_used, clippy::expect_used)] // tests: a failure should panic
 
 use std::process::Command;
 use std::thread::sleep;

@@ -134,9 +134,9 @@ pub enum Command {
 /// Checks an edited scene by the rules a scene file obeys ([`Scene::validate`]).
 pub fn validate_scene(scene: &Scene) -> Result<(), String> {
     scene.validate().map_err(|e| match e.key {
-            Some(key) => format!("{key}: {}", e.message),
-            None => e.message,
-        })
+        Some(key) => format!("{key}: {}", e.message),
+        None => e.message,
+    })
 }
 
 /// The whole UI state.

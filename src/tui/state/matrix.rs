@@ -79,7 +79,8 @@ impl MatrixState {
                 } else {
                     Quantity::Plain
                 };
-                parse_quantity(text, q).map_err(|e| format!("{col}: {e}"))? / column_factor(beam, col)
+                parse_quantity(text, q).map_err(|e| format!("{col}: {e}"))?
+                    / column_factor(beam, col)
             }
             _ => parse_quantity(text, Quantity::Plain).map_err(|e| format!("{col}: {e}"))?,
         })
