@@ -356,7 +356,13 @@ impl PrbMatrix {
     ///   pure moment is exact from the start;
     /// - every extension spring starts at `k_ex = 1 / gamma`, the axial stiffness of that
     ///   length of beam.
+    ///
+    /// Designers' shorthand is accepted too: `nR` (`1R` .. `9R`, any case) is a rigid root
+    /// segment and `n` revolute ones, `L-R-...-R` (so `1R` is Howell's `L-R`, `3R` Su's
+    /// `L-R-R-R`).
     pub fn from_topology(name: &str) -> Result<PrbMatrix, MatrixError> {
+        let expanded = expand_shorthand(name.trim());
+        let name = expanded.as_deref().unwrap_or(name);
         let kinds: Vec<&str> = name.trim().split('-').map(str::trim).collect();
         for k in &kinds {
             if !matches!(*k, "L" | "R" | "P" | "RP") {
@@ -581,8 +587,39 @@ impl<'de> Deserialize<'de> for PrbMatrix {
     }
 }
 
+/// `nR` → `L-R-...-R` with `n` revolute segments (1 to 9), else `None`.
+fn expand_shorthand(name: &str) -> Option<String> {
+    let (count, r) = name.split_at_checked(name.len().checked_sub(1)?)?;
+    let n: usize = count.parse().ok()?;
+    ((1..=9).contains(&n) && r.eq_ignore_ascii_case("r")).then(|| {
+        std::iter::once("L")
+            .chain(std::iter::repeat_n("R", n))
+            .collect::<Vec<_>>()
+            .join("-")
+    })
+}
+
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn shorthand_names_expand_to_topologies() {
+        for (short, long) in [
+            ("1R", "L-R"),
+            ("2r", "L-R-R"),
+            ("3R", "L-R-R-R"),
+            ("4R", "L-R-R-R-R"),
+        ] {
+            assert_eq!(
+                PrbMatrix::from_topology(short).unwrap(),
+                PrbMatrix::from_topology(long).unwrap(),
+                "{short}"
+            );
+        }
+        for bad in ["0R", "10R", "3P", "x3R"] {
+            assert!(PrbMatrix::from_topology(bad).is_err(), "{bad}");
+        }
+    }
+
     use super::*;
 
     #[test]
