@@ -145,9 +145,26 @@ fn scene_model(scene: &Scene) -> Result<(String, PrbMatrix)> {
 
 /// The scene named by `--scene`, or the built-in one.
 fn load_scene(common: &Common) -> Result<Scene> {
-    match &common.scene {
-        None => Ok(Scene::builtin()),
-        Some(path) => Ok(Scene::from_file(path)?),
+    let scene = match &common.scene {
+        None => Scene::builtin(),
+        Some(path) => Scene::from_file(path)?,
+    };
+    refuse_mechanism(&scene)?;
+    Ok(scene)
+}
+
+/// Mechanism scenes (DESIGN §8) are read and checked, but this version cannot solve them
+/// yet: say so instead of judging a cantilever that is not there.
+fn refuse_mechanism(scene: &Scene) -> Result<()> {
+    match &scene.mechanism {
+        None => Ok(()),
+        Some(m) => Err(bad(format!(
+            "\"{}\" is a mechanism scene ({} flexures, {} drive paths): it is valid, but this \
+             version of prbfit solves only cantilever scenes (DESIGN §5), not mechanisms (§8)",
+            output::safe(&scene.name),
+            m.flexures.len(),
+            m.drives.len()
+        ))),
     }
 }
 
@@ -163,6 +180,7 @@ fn tui(path: Option<PathBuf>) -> Result<()> {
         Some(p) => Scene::from_file(p)?,
         None => Scene::builtin(),
     };
+    refuse_mechanism(&scene)?;
     prbfit::tui::run(scene, path).map_err(|e| bad(format!("{e:#}")))
 }
 

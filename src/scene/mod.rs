@@ -6,6 +6,10 @@
 //! [`crate::select::decide_effects`]; code that has not decided it (a scene just read)
 //! treats it as every effect on, the safe superset.
 
+mod mechanism;
+
+pub use mechanism::{Attach, Coordinate, Drive, Flexure, Mechanism, COORDINATE_KEYS};
+
 use std::fmt;
 use std::ops::Range;
 
@@ -130,6 +134,14 @@ pub struct Accuracy {
     pub max_pos_err: f64,
     /// Radians.
     pub max_ang_err: f64,
+    /// Mechanism scenes: the largest reaction error of a prescribed stage coordinate, as a
+    /// fraction of that coordinate's largest reaction over the scene (DESIGN §8).
+    #[serde(default = "default_force_err")]
+    pub max_force_err: f64,
+}
+
+fn default_force_err() -> f64 {
+    0.05
 }
 
 impl Default for Accuracy {
@@ -137,6 +149,7 @@ impl Default for Accuracy {
         Accuracy {
             max_pos_err: 0.01,
             max_ang_err: 0.02,
+            max_force_err: default_force_err(),
         }
     }
 }
@@ -146,11 +159,21 @@ impl Default for Accuracy {
 pub struct FitSettings {
     /// `w` in `J = mean(e_pos^2 + w e_ang^2)`.
     pub angle_weight: f64,
+    /// Mechanism scenes: `w_f` in `J = mean(e_pos^2 + w e_ang^2 + w_f e_force^2)`.
+    #[serde(default = "default_force_weight")]
+    pub force_weight: f64,
+}
+
+fn default_force_weight() -> f64 {
+    1.0
 }
 
 impl Default for FitSettings {
     fn default() -> Self {
-        FitSettings { angle_weight: 1.0 }
+        FitSettings {
+            angle_weight: 1.0,
+            force_weight: default_force_weight(),
+        }
     }
 }
 
@@ -172,6 +195,10 @@ pub struct Scene {
     /// saves and opens it.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub prb: Option<PrbMatrix>,
+    /// A mechanism scene (DESIGN §8): flexures, stage and drive paths; `loads` is then empty.
+    /// `None`: the plain cantilever of §5.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mechanism: Option<Mechanism>,
 }
 
 impl Scene {
@@ -224,14 +251,26 @@ impl Scene {
                 path.end.alpha_x, path.end.alpha_y, path.end.beta, path.steps
             ));
         }
+        if let Some(m) = &self.mechanism {
+            m.write_toml(&self.beam, &mut out);
+        }
         out.push_str(&format!(
             "\n[accuracy]\nmax_pos_err = {:?}\nmax_ang_err = {:?}\n",
             self.accuracy.max_pos_err, self.accuracy.max_ang_err
         ));
+        if self.mechanism.is_some() {
+            out.push_str(&format!(
+                "max_force_err = {:?}\n",
+                self.accuracy.max_force_err
+            ));
+        }
         out.push_str(&format!(
             "\n[fit]\nangle_weight = {:?}\n",
             self.fit.angle_weight
         ));
+        if self.mechanism.is_some() {
+            out.push_str(&format!("force_weight = {:?}\n", self.fit.force_weight));
+        }
         if let Some(m) = &self.prb {
             out.push_str(&format!(
                 "\n[prb]\nmatrix = {}\n",
@@ -288,6 +327,11 @@ struct RawScene {
     accuracy: Option<Spanned<RawAccuracy>>,
     fit: Option<Spanned<RawFit>>,
     prb: Option<Spanned<RawPrb>>,
+    #[serde(default)]
+    flexures: Vec<Spanned<mechanism::RawFlexure>>,
+    stage: Option<Spanned<mechanism::RawStage>>,
+    #[serde(default)]
+    drives: Vec<Spanned<mechanism::RawDrive>>,
 }
 
 #[derive(Deserialize)]
@@ -324,12 +368,14 @@ struct RawLoad {
 struct RawAccuracy {
     max_pos_err: Option<Spanned<f64>>,
     max_ang_err: Option<Spanned<f64>>,
+    max_force_err: Option<Spanned<f64>>,
 }
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct RawFit {
     angle_weight: Option<Spanned<f64>>,
+    force_weight: Option<Spanned<f64>>,
 }
 
 /// The most load steps one path may ask for.
@@ -440,7 +486,7 @@ impl Scene {
             e.validate()
                 .map_err(|e| fail("beam.effects".into(), e.to_string()))?;
         }
-        if self.loads.is_empty() {
+        if self.loads.is_empty() && self.mechanism.is_none() {
             return Err(fail("loads".into(), NO_LOADS.into()));
         }
         for (i, p) in self.loads.iter().enumerate() {
@@ -461,8 +507,16 @@ impl Scene {
             rules::positive(self.accuracy.max_ang_err),
         )?;
         check(
+            "accuracy.max_force_err",
+            rules::positive(self.accuracy.max_force_err),
+        )?;
+        check(
             "fit.angle_weight",
             rules::non_negative(self.fit.angle_weight),
+        )?;
+        check(
+            "fit.force_weight",
+            rules::non_negative(self.fit.force_weight),
         )
     }
 }
@@ -502,7 +556,35 @@ impl Validator<'_> {
             .map(|n| n.into_inner())
             .unwrap_or_else(|| "unnamed scene".to_string());
         let beam = self.beam(raw.beam.get_ref())?;
-        if raw.loads.is_empty() {
+        let mechanism = if raw.flexures.is_empty() {
+            if let Some(first) = raw
+                .drives
+                .first()
+                .map(|d| d.span())
+                .or(raw.stage.as_ref().map(|s| s.span()))
+            {
+                return Err(self.error(
+                    first,
+                    "flexures",
+                    "[stage] and [[drives]] describe a mechanism: add its [[flexures]] (or \
+                     give [[loads]] for a plain cantilever)"
+                        .into(),
+                ));
+            }
+            None
+        } else {
+            if let Some(first) = raw.loads.first() {
+                return Err(self.error(
+                    first.span(),
+                    "loads",
+                    "a mechanism scene (with [[flexures]]) is driven by [[drives]], not \
+                     [[loads]]"
+                        .into(),
+                ));
+            }
+            Some(self.mechanism(&beam, &raw.flexures, raw.stage.as_ref(), &raw.drives)?)
+        };
+        if raw.loads.is_empty() && mechanism.is_none() {
             return Err(SceneError {
                 origin: self.origin.to_string(),
                 line: None,
@@ -537,16 +619,29 @@ impl Validator<'_> {
                 "accuracy.max_ang_err",
                 default.max_ang_err,
             )?,
+            max_force_err: target(
+                acc.and_then(|a| a.max_force_err.as_ref()),
+                "accuracy.max_force_err",
+                default.max_force_err,
+            )?,
         };
-        let fit = match raw
-            .fit
-            .as_ref()
-            .and_then(|f| f.get_ref().angle_weight.as_ref())
-        {
-            None => FitSettings::default(),
-            Some(w) => FitSettings {
-                angle_weight: self.number(w, "fit.angle_weight", rules::non_negative)?,
-            },
+        let fit_raw = raw.fit.as_ref().map(|f| f.get_ref());
+        let weight = |v: Option<&Spanned<f64>>, key: &str, default: f64| match v {
+            Some(v) => self.number(v, key, rules::non_negative),
+            None => Ok(default),
+        };
+        let defaults = FitSettings::default();
+        let fit = FitSettings {
+            angle_weight: weight(
+                fit_raw.and_then(|f| f.angle_weight.as_ref()),
+                "fit.angle_weight",
+                defaults.angle_weight,
+            )?,
+            force_weight: weight(
+                fit_raw.and_then(|f| f.force_weight.as_ref()),
+                "fit.force_weight",
+                defaults.force_weight,
+            )?,
         };
         let prb = match &raw.prb {
             None => None,
@@ -565,6 +660,7 @@ impl Validator<'_> {
             accuracy,
             fit,
             prb,
+            mechanism,
         })
     }
 
@@ -716,6 +812,100 @@ mod tests {
         assert!(text.contains("[prb]\nmatrix = \"0.1!,inf,inf;"), "{text}");
         let again = Scene::from_toml_str(&text, "round trip").unwrap();
         assert_eq!(scene, again);
+    }
+
+    const SLIDER_CRANK: &str = r#"
+name = "slider-crank"
+[beam]
+length = 0.05
+width = 0.01
+thickness = 0.0005
+youngs_modulus = 200e9
+poisson_ratio = 0.3
+effects = "none"
+[[flexures]]
+root = [0.0, 0.0]
+angle_deg = 0.0
+attach = "link"
+[stage]
+point = [0.07, -0.02]
+[[drives]]
+dx = 0.0
+dy = 0.01
+dphi = 0.0
+steps = 10
+[accuracy]
+max_force_err = 0.03
+"#;
+
+    #[test]
+    fn mechanism_scenes_read_and_round_trip() {
+        let scene = Scene::from_toml_str(SLIDER_CRANK, "sc.toml").unwrap();
+        let m = scene.mechanism.as_ref().unwrap();
+        assert_eq!(m.flexures.len(), 1);
+        assert_eq!(m.flexures[0].attach, Attach::Link { to: [0.07, -0.02] });
+        assert_eq!(m.stage_point, [0.07, -0.02]);
+        assert_eq!(
+            m.drives[0].coordinates,
+            [
+                Coordinate::Prescribed(0.0),
+                Coordinate::Prescribed(0.01),
+                Coordinate::Prescribed(0.0)
+            ]
+        );
+        assert!(scene.loads.is_empty());
+        assert_eq!(scene.accuracy.max_force_err, 0.03);
+        assert_eq!(scene.validate(), Ok(()));
+        let again = Scene::from_toml_str(&scene.to_toml(), "again").unwrap();
+        assert_eq!(again, scene);
+        // dy = 0.01 m is 0.2 L; a drive load of 1 N is alpha = F L^2 / (E I0).
+        let nd = m.nondimensional(&m.drives[0]);
+        assert!((nd[1].value() - 0.2).abs() < 1e-15);
+    }
+
+    #[test]
+    fn bad_mechanisms_name_their_line_and_key() {
+        let cases = [
+            (
+                "dy = 0.01",
+                "dy = 0.01\nfy = 2.0",
+                "drives[1].dy",
+                "not both",
+            ),
+            (
+                "attach = \"link\"",
+                "attach = \"glued\"",
+                "flexures[1].attach",
+                "glued",
+            ),
+            (
+                "point = [0.07, -0.02]",
+                "point = [0.05, 0.0]",
+                "flexures[1].link_to",
+                "zero length",
+            ),
+            ("steps = 10", "steps = 0", "drives[1].steps", "1 to"),
+            (
+                "attach = \"link\"",
+                "attach = \"link\"\n[[flexures]]\nroot = [0.0, 0.0]\nattach = \"clamped\"",
+                "flexures[2]",
+                "overlap",
+            ),
+        ];
+        for (from, to, key, words) in cases {
+            let text = SLIDER_CRANK.replacen(from, to, 1);
+            let e = Scene::from_toml_str(&text, "sc.toml").unwrap_err();
+            assert_eq!(e.key.as_deref(), Some(key), "{e}");
+            assert!(e.line.is_some(), "{e}");
+            assert!(e.to_string().contains(words), "{e}");
+        }
+        // A mechanism with [[loads]], and drives without flexures.
+        let both = format!("{SLIDER_CRANK}\n[[loads]]\nalpha_y = 1.0\n");
+        let e = Scene::from_toml_str(&both, "sc.toml").unwrap_err();
+        assert_eq!(e.key.as_deref(), Some("loads"), "{e}");
+        let orphan = format!("{DEFAULT_SCENE_TOML}\n[[drives]]\ndy = 0.01\n");
+        let e = Scene::from_toml_str(&orphan, "d.toml").unwrap_err();
+        assert_eq!(e.key.as_deref(), Some("flexures"), "{e}");
     }
 
     #[test]
