@@ -5,6 +5,7 @@
 //! - [`eval`]: a PRB model judged against the beam over a scene (DESIGN §4),
 //! - [`export`]: model files, MuJoCo, URDF, SDF and CSV,
 //! - [`fit`]: optimal PRB parameters for any topology (DESIGN §4),
+//! - [`plot`]: charts for reports (deformed shapes, tip errors) as SVG or PNG,
 //! - [`prb`]: the PRB matrix, topology names, kinematics and statics (DESIGN §3),
 //! - [`select`]: automatic beam effects and the topology ladder (the simplest model that
 //!   meets the scene's targets),
@@ -21,6 +22,7 @@ pub mod fit;
 pub mod format;
 pub mod io;
 pub mod linalg;
+pub mod plot;
 pub mod prb;
 pub mod scene;
 pub mod select;

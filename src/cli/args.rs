@@ -8,6 +8,7 @@ use clap::{Args, Parser, Subcommand};
 use prbfit::beam::{Load, Resolution};
 use prbfit::fidelity::Fidelity;
 use prbfit::format::Format;
+use prbfit::plot::ChartKind;
 
 /// The whole command line.
 #[derive(Parser)]
@@ -38,6 +39,8 @@ pub enum Command {
     Tradeoff(TradeoffArgs),
     /// Write a model for other tools: prbfit's model file, MuJoCo, URDF, SDF or CSV.
     Export(ExportArgs),
+    /// Draw the UI's charts for reports: deformed shapes and tip errors, as SVG or PNG.
+    Plot(PlotArgs),
     /// Open the terminal UI (the default with no command) on a scene file or the built-in one.
     Tui {
         /// Scene file (TOML); default: the built-in scene.
@@ -183,4 +186,35 @@ pub struct ExportArgs {
     /// Fidelity of the baseline the figures and the CSV come from.
     #[arg(long, value_name = "LEVEL", default_value = "normal", value_parser = Fidelity::from_str)]
     pub fidelity: Fidelity,
+}
+
+/// `prbfit plot`.
+#[derive(Args)]
+pub struct PlotArgs {
+    #[command(flatten)]
+    pub common: Common,
+    /// A published model (howell-1r, su-3r, chen-3r) or a model file (repeatable). The first
+    /// model given, by --model or --prb, is the model; the others are compared with it.
+    /// Without any: the scene's [prb] matrix.
+    #[arg(long, value_name = "NAME_OR_FILE")]
+    pub model: Vec<String>,
+    /// A PRB matrix in text form (repeatable).
+    #[arg(long, value_name = "MATRIX", allow_hyphen_values = true)]
+    pub prb: Vec<String>,
+    /// The figure to write: .svg or .png.
+    #[arg(short = 'o', long = "output", value_name = "FILE")]
+    pub output: PathBuf,
+    /// Overwrite the file if it exists.
+    #[arg(long)]
+    pub force: bool,
+    /// shapes (deformed shapes of one load path), errors (tip errors of every load path) or
+    /// all (both, side by side).
+    #[arg(long, value_name = "KIND", default_value = "all", value_parser = ChartKind::from_str)]
+    pub kind: ChartKind,
+    /// Fidelity of the baseline beam (and its load sampling).
+    #[arg(long, value_name = "LEVEL", default_value = "normal", value_parser = Fidelity::from_str)]
+    pub fidelity: Fidelity,
+    /// The load path whose deformed shapes are drawn (1-based).
+    #[arg(long, value_name = "N", default_value_t = 1)]
+    pub path: usize,
 }

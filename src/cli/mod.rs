@@ -11,6 +11,7 @@ mod eval;
 mod export;
 mod fit;
 mod output;
+mod plot;
 mod select;
 mod solve;
 mod tradeoff;
@@ -19,7 +20,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use anyhow::{Context, Result};
-use clap::Parser;
+use clap::{CommandFactory, FromArgMatches};
 
 use prbfit::beam::Resolution;
 use prbfit::io::files::{ReadError, WriteError};
@@ -46,9 +47,15 @@ fn parse_matrix(flag: &str, text: &str) -> Result<PrbMatrix> {
 
 /// Parses the command line and runs the command; the process's exit status.
 pub fn run() -> ExitCode {
-    let cli = match Cli::try_parse() {
-        Ok(cli) => cli,
+    // The matches are kept beside the parsed flags: `plot` needs the order in which its
+    // repeatable --model and --prb were given, which the derived struct loses.
+    let matches = match Cli::command().try_get_matches() {
+        Ok(m) => m,
         Err(e) => return clap_error(e),
+    };
+    let cli = match Cli::from_arg_matches(&matches) {
+        Ok(cli) => cli,
+        Err(e) => return clap_error(e.format(&mut Cli::command())),
     };
     let outcome = match cli.command {
         Some(Command::Solve(args)) => solve::run(args),
@@ -57,6 +64,7 @@ pub fn run() -> ExitCode {
         Some(Command::Select(args)) => select::run(args),
         Some(Command::Tradeoff(args)) => tradeoff::run(args),
         Some(Command::Export(args)) => export::run(args),
+        Some(Command::Plot(args)) => plot::run(args, matches.subcommand_matches("plot")),
         Some(Command::Tui { scene }) => tui(scene),
         None => tui(None),
     };

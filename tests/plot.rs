@@ -1,0 +1,394 @@
+//! `prbfit plot` through the binary: every chart kind as SVG (parsed: the beam's and each
+//! model's lines, legend texts, finite coordinates inside the canvas) and as PNG (signature,
+//! size, decoded pixels in the palette's colours), the order of the models, and bad input
+//! (exit 2, one line naming the flag or file, nothing written).
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
+mod common;
+use common::{assert_input_error, json, prbfit, Scratch};
+
+use std::collections::{HashMap, HashSet};
+
+use prbfit::plot::{canvas_size, ChartKind, BEAM_RGB, MODEL_RGB, TARGET_RGB};
+use prbfit::scene::Scene;
+
+const KINDS: [(&str, ChartKind); 3] = [
+    ("shapes", ChartKind::Shapes),
+    ("errors", ChartKind::Errors),
+    ("all", ChartKind::All),
+];
+
+fn hex((r, g, b): (u8, u8, u8)) -> String {
+    format!("#{r:02X}{g:02X}{b:02X}")
+}
+
+/// Load paths of the built-in scene and cases on its first path (the normal fidelity samples
+/// the scene's own steps).
+fn builtin_counts() -> (usize, usize) {
+    let scene = Scene::builtin();
+    (scene.loads.len(), scene.loads[0].steps as usize)
+}
+
+/// Runs `plot` on the built-in scene with Su's 3R as the model and Howell's 1R compared.
+fn plot_two_models(dir: &Scratch, file: &str, kind: &str) -> (String, serde_json::Value) {
+    let out_path = dir.file(file);
+    let out = prbfit(&[
+        "plot",
+        "--model",
+        "su-3r",
+        "--model",
+        "howell-1r",
+        "--kind",
+        kind,
+        "-o",
+        &out_path,
+        "--json",
+    ]);
+    let report = json(&out);
+    (out_path, report)
+}
+
+/// Every number in an SVG attribute that holds coordinates.
+fn coordinates(node: &roxmltree::Node) -> Vec<f64> {
+    let mut v = Vec::new();
+    for attr in [
+        "x", "y", "x1", "y1", "x2", "y2", "cx", "cy", "width", "height",
+    ] {
+        if let Some(t) = node.attribute(attr) {
+            v.push(t.parse::<f64>().unwrap_or(f64::NAN));
+        }
+    }
+    if let Some(points) = node.attribute("points") {
+        for pair in points.split_whitespace() {
+            for n in pair.split(',') {
+                v.push(n.parse::<f64>().unwrap_or(f64::NAN));
+            }
+        }
+    }
+    v
+}
+
+#[test]
+fn svg_has_the_beam_each_model_and_their_legend() {
+    let dir = Scratch::new("plot-svg");
+    let (paths, steps) = builtin_counts();
+    for (kind_name, kind) in KINDS {
+        let (file, report) = plot_two_models(&dir, &format!("{kind_name}.svg"), kind_name);
+        assert_eq!(report["format"], "svg");
+        assert_eq!(report["kind"], kind_name);
+        assert_eq!(report["models"][0]["name"], "su-3r");
+        assert_eq!(report["models"][1]["name"], "howell-1r");
+        assert_eq!(report["unfollowed"].as_array().unwrap().len(), 0);
+        let text = std::fs::read_to_string(&file).unwrap();
+        assert_eq!(report["bytes"].as_u64().unwrap() as usize, text.len());
+        let doc = roxmltree::Document::parse(&text).expect("well-formed SVG");
+        let root = doc.root_element();
+        let (w, h) = canvas_size(kind);
+        assert_eq!(root.attribute("width"), Some(w.to_string().as_str()));
+        assert_eq!(root.attribute("height"), Some(h.to_string().as_str()));
+
+        // Polylines by colour: each line drawn plus one legend sample per series.
+        let mut polylines: HashMap<String, usize> = HashMap::new();
+        for n in doc.descendants().filter(|n| n.has_tag_name("polyline")) {
+            *polylines
+                .entry(n.attribute("stroke").unwrap_or("").to_string())
+                .or_default() += 1;
+        }
+        let count = |rgb| polylines.get(&hex(rgb)).copied().unwrap_or(0);
+        let shapes = kind.has_shapes();
+        let errors = kind.has_errors();
+        // Shapes: one centre line / linkage per case of path 1. Errors: one curve per path
+        // in each of the two panels; the legend sits in the position panel.
+        let per_model = usize::from(shapes) * (steps + 1) + usize::from(errors) * (2 * paths + 1);
+        assert_eq!(count(MODEL_RGB[0]), per_model, "su-3r lines in {kind_name}");
+        assert_eq!(
+            count(MODEL_RGB[1]),
+            per_model,
+            "howell-1r lines in {kind_name}"
+        );
+        assert_eq!(count(MODEL_RGB[2]), 0, "no third model in {kind_name}");
+        assert_eq!(
+            count(BEAM_RGB),
+            if shapes { steps + 1 } else { 0 },
+            "beam lines in {kind_name}"
+        );
+        assert_eq!(count(TARGET_RGB) > 0, errors, "target lines in {kind_name}");
+
+        if shapes {
+            // Joint dots: Su's 3R has three revolute joints, Howell's 1R one; one more dot
+            // each in the legend.
+            let dots = |rgb| {
+                doc.descendants()
+                    .filter(|n| n.has_tag_name("circle") && n.attribute("fill") == Some(&hex(rgb)))
+                    .count()
+            };
+            // Path 1's error markers are dots too (every fourth path's, in both panels).
+            let path_markers = if errors {
+                2 * paths.div_ceil(4) * steps
+            } else {
+                0
+            };
+            assert_eq!(dots(MODEL_RGB[0]), 3 * steps + 1 + path_markers);
+            assert_eq!(dots(MODEL_RGB[1]), steps + 1 + path_markers);
+        }
+
+        let texts: Vec<String> = doc
+            .descendants()
+            .filter(|n| n.has_tag_name("text"))
+            .map(|n| n.text().unwrap_or("").trim().to_string())
+            .collect();
+        for needle in ["su-3r", "howell-1r"] {
+            let legends = texts.iter().filter(|t| *t == needle).count();
+            let panels = usize::from(shapes) + usize::from(errors);
+            assert_eq!(
+                legends, panels,
+                "legend `{needle}` in {kind_name}: {texts:?}"
+            );
+        }
+        assert_eq!(texts.iter().any(|t| t == "beam"), shapes);
+        assert_eq!(texts.iter().any(|t| t == "target"), errors);
+        assert!(texts
+            .iter()
+            .any(|t| t == "spring-steel flexure, mixed loads"));
+
+        for n in doc.descendants().filter(|n| n.is_element()) {
+            for v in coordinates(&n) {
+                assert!(v.is_finite(), "non-finite coordinate in {kind_name}: {n:?}");
+                assert!(
+                    v >= -1.0 && v <= f64::from(w.max(h)) + 1.0,
+                    "coordinate {v} off the canvas in {kind_name}: {n:?}"
+                );
+            }
+        }
+    }
+}
+
+/// The PNG's width and height from its IHDR chunk.
+fn png_size(bytes: &[u8]) -> (u32, u32) {
+    assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n", "PNG signature");
+    assert_eq!(&bytes[12..16], b"IHDR", "IHDR first");
+    let be = |i: usize| u32::from_be_bytes(bytes[i..i + 4].try_into().unwrap());
+    (be(16), be(20))
+}
+
+#[test]
+fn png_is_a_picture_of_the_right_size_in_the_palette() {
+    let dir = Scratch::new("plot-png");
+    for (kind_name, kind) in KINDS {
+        let (file, report) = plot_two_models(&dir, &format!("{kind_name}.png"), kind_name);
+        assert_eq!(report["format"], "png");
+        let bytes = std::fs::read(&file).unwrap();
+        assert_eq!(report["bytes"].as_u64().unwrap() as usize, bytes.len());
+        let (w, h) = png_size(&bytes);
+        assert_eq!((w, h), canvas_size(kind));
+        assert_eq!(
+            (report["width"].as_u64(), report["height"].as_u64()),
+            (Some(u64::from(w)), Some(u64::from(h)))
+        );
+
+        let decoder = png::Decoder::new(std::io::Cursor::new(&bytes));
+        let mut reader = decoder.read_info().expect("a PNG header");
+        let mut pixels = vec![0; reader.output_buffer_size().expect("a buffer size")];
+        let info = reader.next_frame(&mut pixels).expect("decodable pixels");
+        assert_eq!((info.width, info.height), (w, h));
+        assert_eq!(info.color_type, png::ColorType::Rgb);
+        let colours: HashSet<(u8, u8, u8)> = pixels[..info.buffer_size()]
+            .chunks_exact(3)
+            .map(|p| (p[0], p[1], p[2]))
+            .collect();
+        // Anti-aliased text alone gives dozens of shades; a blank image has one.
+        assert!(colours.len() > 20, "{kind_name}: {} colours", colours.len());
+        assert!(
+            colours.contains(&(255, 255, 255)),
+            "{kind_name}: white ground"
+        );
+        // Lines are drawn in their exact colour. (Absence proves nothing: the anti-aliased
+        // edges of black text pass through every grey, the beam's included.)
+        for (what, rgb, drawn) in [
+            ("su-3r", MODEL_RGB[0], true),
+            ("howell-1r", MODEL_RGB[1], true),
+            ("beam", BEAM_RGB, kind.has_shapes()),
+            ("target", TARGET_RGB, kind.has_errors()),
+        ] {
+            assert!(
+                !drawn || colours.contains(&rgb),
+                "{kind_name}: no {what} colour"
+            );
+        }
+    }
+}
+
+#[test]
+fn models_keep_the_command_line_order_and_the_scene_model_is_the_default() {
+    let dir = Scratch::new("plot-order");
+    let out = prbfit(&[
+        "plot",
+        "--prb",
+        "0.2,inf,inf; 0.8,2.5,inf",
+        "--model",
+        "su-3r",
+        "--prb",
+        "0.2,inf,inf; 0.8,2.5,inf",
+        "--kind",
+        "shapes",
+        "-o",
+        &dir.file("order.svg"),
+        "--json",
+    ]);
+    let report = json(&out);
+    let names: Vec<&str> = report["models"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|m| m["name"].as_str().unwrap())
+        .collect();
+    assert_eq!(names, ["l-r", "su-3r", "l-r #2"]);
+
+    let default = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/default.toml"),
+    )
+    .unwrap();
+    let scene = dir.write(
+        "with-model.toml",
+        &format!("{default}\n[prb]\nmatrix = \"0.15,inf,inf; 0.85,2.2525,inf\"\n"),
+    );
+    let out = prbfit(&[
+        "plot",
+        "--scene",
+        &scene,
+        "--kind",
+        "errors",
+        "-o",
+        &dir.file("scene.png"),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        text.starts_with("wrote ") && text.contains("scene"),
+        "{text}"
+    );
+}
+
+#[test]
+fn a_model_that_stops_on_a_path_is_drawn_as_far_as_it_got_and_reported() {
+    // A long rigid root and a very soft joint: no equilibrium under the force-and-moment
+    // path 4 of the built-in scene, from its first case on.
+    let dir = Scratch::new("plot-stop");
+    let file = dir.file("stop.svg");
+    let (paths, steps) = builtin_counts();
+    let out = prbfit(&[
+        "plot",
+        "--model",
+        "su-3r",
+        "--prb",
+        "0.9,inf,inf; 0.1,0.01,inf",
+        "--path",
+        "4",
+        "-o",
+        &file,
+        "--json",
+    ]);
+    let report = json(&out);
+    let unfollowed = report["unfollowed"].as_array().unwrap();
+    assert_eq!(unfollowed.len(), 1, "{report}");
+    assert_eq!(unfollowed[0]["model"], "l-r");
+    assert_eq!(unfollowed[0]["path"], 4);
+    assert_eq!(unfollowed[0]["reached"], 0);
+    assert_eq!(unfollowed[0]["steps"].as_u64(), Some(steps as u64));
+    let text = std::fs::read_to_string(&file).unwrap();
+    let doc = roxmltree::Document::parse(&text).unwrap();
+    let lines = |rgb| {
+        doc.descendants()
+            .filter(|n| n.has_tag_name("polyline") && n.attribute("stroke") == Some(&hex(rgb)))
+            .count()
+    };
+    // No linkage on path 4, but the legend still names it; the error curves stay (path 4's
+    // is the zero-load point alone).
+    assert_eq!(lines(MODEL_RGB[1]), 1 + 2 * paths + 1);
+    assert_eq!(lines(MODEL_RGB[0]), steps + 1 + 2 * paths + 1);
+    let texts = doc
+        .descendants()
+        .filter(|n| n.has_tag_name("text") && n.text().map(str::trim) == Some("l-r"))
+        .count();
+    assert_eq!(texts, 2);
+
+    // The text form says so too.
+    let out = prbfit(&[
+        "plot",
+        "--prb",
+        "0.9,inf,inf; 0.1,0.01,inf",
+        "--kind",
+        "errors",
+        "-o",
+        &dir.file("stop.png"),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("note: l-r reaches only 0 of the"), "{text}");
+}
+
+#[test]
+fn bad_input_exits_2_naming_what_is_wrong_and_writes_nothing() {
+    let dir = Scratch::new("plot-bad");
+    let pdf = dir.file("fig.pdf");
+    assert_input_error(
+        &prbfit(&["plot", "--model", "su-3r", "-o", &pdf]),
+        &["fig.pdf", ".svg", ".png"],
+    );
+    assert!(!std::path::Path::new(&pdf).exists());
+
+    let kept = dir.write("kept.svg", "not a figure");
+    assert_input_error(
+        &prbfit(&["plot", "--model", "su-3r", "-o", &kept]),
+        &["kept.svg", "--force"],
+    );
+    assert_eq!(std::fs::read_to_string(&kept).unwrap(), "not a figure");
+    let out = prbfit(&[
+        "plot", "--model", "su-3r", "--kind", "shapes", "-o", &kept, "--force",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(std::fs::read_to_string(&kept).unwrap().starts_with("<svg"));
+
+    let fresh = dir.file("fresh.svg");
+    let cases: [(&[&str], &[&str]); 6] = [
+        (&["--model", "no-such-model"], &["no-such-model"]),
+        (&["--prb", "0.5,inf"], &["--prb"]),
+        (&[], &["--model", "--prb", "[prb]"]),
+        (&["--model", "su-3r", "--path", "0"], &["--path 0"]),
+        (
+            &["--model", "su-3r", "--path", "9"],
+            &["--path 9", "4 load path"],
+        ),
+        (&["--model", "su-3r", "--kind", "bars"], &["--kind", "bars"]),
+    ];
+    for (flags, needles) in cases {
+        let mut args = vec!["plot"];
+        args.extend_from_slice(flags);
+        args.extend_from_slice(&["-o", &fresh]);
+        assert_input_error(&prbfit(&args), needles);
+        assert!(
+            !std::path::Path::new(&fresh).exists(),
+            "{flags:?} wrote a file"
+        );
+    }
+
+    let many: Vec<&str> = std::iter::repeat_n(["--model", "su-3r"], MODEL_RGB.len() + 1)
+        .flatten()
+        .collect();
+    let mut args = vec!["plot"];
+    args.extend_from_slice(&many);
+    args.extend_from_slice(&["-o", &fresh]);
+    assert_input_error(&prbfit(&args), &["at most"]);
+}
