@@ -221,6 +221,15 @@ pub(super) struct RawDrive {
     steps: Option<Spanned<i64>>,
 }
 
+/// A flexure's optional override of one beam value: the raw value, its key, where it goes,
+/// the rule it obeys.
+type Override<'a> = (
+    &'a Option<Spanned<f64>>,
+    &'static str,
+    &'a mut f64,
+    fn(f64) -> Result<(), String>,
+);
+
 /// Two points closer than this fraction of flexure 1's length are the same point.
 const COINCIDENT: f64 = 1e-9;
 
@@ -351,7 +360,7 @@ impl Validator<'_> {
             None => 0.0,
         };
         let mut b = *beam;
-        let fields: [(&Option<Spanned<f64>>, &str, &mut f64, fn(f64) -> _); 5] = [
+        let fields: [Override<'_>; 5] = [
             (&raw.length, "length", &mut b.length, rules::positive),
             (&raw.width, "width", &mut b.width, rules::positive),
             (
