@@ -316,11 +316,10 @@ fn prompts_produce_file_commands() {
     }
     type_text(&mut app, "out.json", t0);
     let cmds = app.on_key(key(KeyCode::Enter), t0);
-    // Exports run in the worker, from its baseline.
+    // The target is checked, then the worker exports from its baseline.
     assert!(matches!(
         &cmds[..],
-        [Command::Submit(job)]
-            if job.kind == prbfit::tui::worker::JobKind::Export("out.json".into())
+        [Command::Export { path, overwrite: false }] if path.as_os_str() == "out.json"
     ));
     app.on_key(key(KeyCode::Char('o')), t0);
     app.on_key(key(KeyCode::Esc), t0);
@@ -776,4 +775,330 @@ fn help_lists_every_key() {
         assert!(screen.contains(e.does), "{} missing from the help", e.does);
     }
     assert!(screen.contains(" u ") && screen.contains(" q, Ctrl-C"));
+}
+
+/// A fitted model of `matrix`'s topology as a worker's Done for job `id` would bring it.
+fn done_with_fit(app: &App, id: u64, matrix: PrbMatrix) -> WorkerMsg {
+    let baseline = Fidelity::Draft.baseline(&app.scene).unwrap();
+    let view = model_view(&matrix, &baseline, 1.0).unwrap();
+    let report = prbfit::fit::FitReport {
+        matrix,
+        figures: view.figures,
+        start_objective: view.figures.objective,
+        fidelity: Fidelity::Draft,
+        iterations: 3,
+        evaluations: 30,
+        seconds: 0.01,
+        stop: prbfit::fit::StopReason::Converged,
+    };
+    WorkerMsg::Done {
+        id,
+        baseline: std::sync::Arc::new(baseline_view(&baseline, None)),
+        model: Box::new(view),
+        report: Some(Box::new(report)),
+        seconds: 0.01,
+    }
+}
+
+fn job_id(cmd: Command) -> u64 {
+    match cmd {
+        Command::Submit(job) => job.id,
+        other => panic!("a job expected, got {other:?}"),
+    }
+}
+
+/// Issue 15.4: a message is news about the last action. A rejected edit's message goes at
+/// the next action that succeeds (it used to stay through six actions), and a worker's
+/// failure goes with the next good result.
+#[test]
+fn messages_clear_on_the_next_successful_action() {
+    let t0 = Instant::now();
+    let mut app = app();
+    app.on_key(key(KeyCode::Char('t')), t0);
+    for _ in 0..20 {
+        app.on_key(key(KeyCode::Backspace), t0);
+    }
+    type_text(&mut app, "L-2R", t0);
+    app.on_key(key(KeyCode::Enter), t0);
+    assert!(app.message.as_ref().unwrap().0.contains("rejected"));
+    // Any key that does something clears it: a cursor move here.
+    app.on_key(key(KeyCode::Down), t0);
+    assert!(app.message.is_none(), "{:?}", app.message);
+
+    // A rejected beam value, then an accepted one: the rejection is gone.
+    app.focus = Panel::Beam;
+    app.beam_state.row = 4;
+    edit(&mut app, "0.5", t0);
+    assert!(app.message.as_ref().unwrap().0.contains("rejected"));
+    edit(&mut app, "0.49999999", t0);
+    assert_eq!(app.scene.beam.poisson_ratio, 0.49999999);
+    assert!(app.message.is_none(), "{:?}", app.message);
+
+    // A worker failure, then a good result.
+    let id = job_id(app.submit(false));
+    app.on_worker(WorkerMsg::Failed {
+        id,
+        message: "the beam cannot be solved".into(),
+    });
+    assert!(app.message.is_some());
+    let id = job_id(app.submit(false));
+    let m = app.matrix.clone();
+    app.on_worker(done_with_fit(&app, id, m));
+    assert!(app.message.is_none(), "{:?}", app.message);
+}
+
+/// Issue 15.5: the fit the program starts (at start-up, after an open) is not the user's
+/// work: quitting a fresh start asks nothing. A fit the user asked for (`r`) that changes the
+/// model is, and so is any edit; open asks before it throws that away.
+#[test]
+fn only_user_work_is_unsaved() {
+    let t0 = Instant::now();
+    let mut app = app();
+    let id = job_id(app.start());
+    let mut fitted = app.matrix.clone();
+    fitted = fitted.with_cell(1, Column::KTheta, 3.3).unwrap();
+    app.on_worker(done_with_fit(&app, id, fitted.clone()));
+    assert_eq!(app.matrix, fitted, "the fit result is shown");
+    assert!(!app.unsaved(), "the start-up fit is not the user's work");
+    app.on_key(key(KeyCode::Char('o')), t0);
+    assert!(
+        matches!(app.prompt, Some((PromptKind::OpenScene, _))),
+        "nothing to lose: open asks only for the file"
+    );
+    app.on_key(key(KeyCode::Esc), t0);
+    app.on_key(key(KeyCode::Char('q')), t0);
+    assert!(app.quit, "nothing unsaved: quits at once");
+
+    // `r` is the user's: its result is unsaved work.
+    let mut app = self::app();
+    let id = job_id(app.on_key(key(KeyCode::Char('r')), t0).remove(0));
+    let m = app.matrix.with_cell(1, Column::KTheta, 3.2).unwrap();
+    app.on_worker(done_with_fit(&app, id, m));
+    assert!(app.unsaved());
+
+    // An edit is, and open asks before discarding it; n keeps it, y goes on to the file.
+    let mut app = self::app();
+    app.focus = Panel::Matrix;
+    edit(&mut app, "4", t0);
+    assert!(app.unsaved());
+    app.on_key(key(KeyCode::Char('o')), t0);
+    assert!(matches!(app.prompt, Some((PromptKind::ConfirmOpen, _))));
+    app.on_key(key(KeyCode::Char('n')), t0);
+    assert!(app.prompt.is_none());
+    app.on_key(key(KeyCode::Char('o')), t0);
+    app.on_key(key(KeyCode::Char('y')), t0);
+    assert!(matches!(app.prompt, Some((PromptKind::OpenScene, _))));
+}
+
+/// Issue 15.1: the scene is saved with the model being worked on (`[prb] matrix`, fixed
+/// cells with `!`); opening it, or starting on it, brings that model back, judged as saved.
+#[test]
+fn save_keeps_the_model_and_open_brings_it_back() {
+    use prbfit::tui::run_command;
+    use prbfit::tui::worker::JobKind;
+    let dir = std::env::temp_dir().join(format!("prbfit-ui-save-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("saved.toml");
+    let t0 = Instant::now();
+    let mut app = app();
+    app.on_key(key(KeyCode::Char('t')), t0);
+    for _ in 0..20 {
+        app.on_key(key(KeyCode::Backspace), t0);
+    }
+    type_text(&mut app, "L-R-R", t0);
+    app.on_key(key(KeyCode::Enter), t0);
+    app.focus = Panel::Matrix;
+    app.matrix_state.row = 1;
+    app.matrix_state.col = 1;
+    app.on_key(key(KeyCode::Char('f')), t0);
+    let model = app.matrix.clone();
+    assert!(app.unsaved());
+    assert!(run_command(
+        &mut app,
+        Command::SaveScene {
+            path: path.clone(),
+            overwrite: false
+        },
+        t0
+    )
+    .is_none());
+    assert!(!app.unsaved(), "{:?}", app.message);
+    let text = std::fs::read_to_string(&path).unwrap();
+    assert!(text.contains("[prb]"), "{text}");
+    assert_eq!(Scene::from_file(&path).unwrap().prb, Some(model.clone()));
+
+    // Start-up on the saved file: that model, judged (not refitted) first.
+    let mut again = App::new(Scene::from_file(&path).unwrap(), Some(path.clone()));
+    assert_eq!(again.matrix, model);
+    match again.start() {
+        Command::Submit(job) => {
+            assert_eq!(job.kind, JobKind::Judge);
+            assert_eq!(job.matrix, model);
+        }
+        other => panic!("{other:?}"),
+    }
+
+    // Open from another model: the file's model comes back.
+    let mut other = self::app();
+    assert_ne!(other.matrix, model);
+    run_command(&mut other, Command::OpenScene(path.clone()), t0);
+    assert_eq!(other.matrix, model);
+    assert!(!other.unsaved());
+    match other.tick(t0 + DEBOUNCE) {
+        Some(Command::Submit(job)) => assert_eq!(job.kind, JobKind::Judge),
+        o => panic!("{o:?}"),
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Issue 15.6: saving or exporting over an existing file asks "overwrite? (y/n)"; n leaves
+/// the file, y writes it. Saving to the scene's own file just saves.
+#[test]
+fn writing_over_a_file_asks_first() {
+    use prbfit::tui::run_command;
+    use prbfit::tui::worker::JobKind;
+    let dir = std::env::temp_dir().join(format!("prbfit-ui-overwrite-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("there.toml");
+    std::fs::write(&path, "old").unwrap();
+    let t0 = Instant::now();
+    let mut app = app();
+    let save = || Command::SaveScene {
+        path: path.clone(),
+        overwrite: false,
+    };
+    run_command(&mut app, save(), t0);
+    assert!(matches!(
+        app.prompt,
+        Some((PromptKind::ConfirmOverwrite, _))
+    ));
+    assert!(app.on_key(key(KeyCode::Char('n')), t0).is_empty());
+    assert_eq!(std::fs::read_to_string(&path).unwrap(), "old");
+    run_command(&mut app, save(), t0);
+    let cmds = app.on_key(key(KeyCode::Char('y')), t0);
+    for c in cmds {
+        run_command(&mut app, c, t0);
+    }
+    assert!(std::fs::read_to_string(&path).unwrap().contains("[beam]"));
+    assert_eq!(app.scene_path.as_deref(), Some(path.as_path()));
+    // Its own file: no question.
+    run_command(&mut app, save(), t0);
+    assert!(app.prompt.is_none());
+    assert!(app.message.as_ref().unwrap().0.starts_with("saved"));
+
+    // An export over a file: asked, then a job that may overwrite.
+    let out = dir.join("model.json");
+    std::fs::write(&out, "old").unwrap();
+    let export = Command::Export {
+        path: out.clone(),
+        overwrite: false,
+    };
+    assert!(run_command(&mut app, export, t0).is_none());
+    assert!(matches!(
+        app.prompt,
+        Some((PromptKind::ConfirmOverwrite, _))
+    ));
+    let cmds = app.on_key(key(KeyCode::Char('y')), t0);
+    let job = run_command(&mut app, cmds.into_iter().next().unwrap(), t0).unwrap();
+    assert!(matches!(
+        job.kind,
+        JobKind::Export {
+            overwrite: true,
+            ..
+        }
+    ));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Issue 15.6: the robot formats ask for the links' density (kg/m^3), which goes with the
+/// export job; formats without masses do not ask.
+#[test]
+fn export_asks_for_the_density_of_the_robot_formats() {
+    use prbfit::tui::run_command;
+    use prbfit::tui::worker::JobKind;
+    let t0 = Instant::now();
+    let mut app = app();
+    app.on_key(key(KeyCode::Char('e')), t0);
+    type_text(&mut app, "/nonexistent-dir-prbfit/arm.xml", t0);
+    assert!(app.on_key(key(KeyCode::Enter), t0).is_empty());
+    assert!(matches!(app.prompt, Some((PromptKind::ExportDensity, _))));
+    type_text(&mut app, "7850 kg/m^3", t0);
+    let cmds = app.on_key(key(KeyCode::Enter), t0);
+    assert_eq!(app.export_density, 7850.0);
+    let Some(Command::Export { path, overwrite }) = cmds.into_iter().next() else {
+        panic!("an export")
+    };
+    let job = app.export_job(path, overwrite);
+    assert!(matches!(job.kind, JobKind::Export { density, .. } if density == 7850.0));
+    // A bad density is refused, nothing exported.
+    app.on_key(key(KeyCode::Char('e')), t0);
+    type_text(&mut app, "arm.urdf", t0);
+    app.on_key(key(KeyCode::Enter), t0);
+    type_text(&mut app, "heavy", t0);
+    assert!(app.on_key(key(KeyCode::Enter), t0).is_empty());
+    assert!(app.message.as_ref().unwrap().0.contains("density"));
+    let _ = run_command;
+}
+
+/// Issue 15.6: the text box takes the readline keys (they used to insert `u` and `a`), and
+/// the first character typed over a pre-filled value replaces it.
+#[test]
+fn text_boxes_take_the_readline_keys() {
+    let ctrl = |c| KeyEvent::new(KeyCode::Char(c), KeyModifiers::CONTROL);
+    let t0 = Instant::now();
+    let mut app = app();
+    app.focus = Panel::Matrix;
+    app.matrix_state.row = 1;
+    app.matrix_state.col = 1;
+    let text = |app: &App| app.editing.as_ref().unwrap().1.text.clone();
+    // Typing over the shown value replaces it.
+    app.on_key(key(KeyCode::Enter), t0);
+    assert_eq!(text(&app), "3.51");
+    type_text(&mut app, "4", t0);
+    assert_eq!(text(&app), "4");
+    // Ctrl-U clears, Ctrl-A/E and Home/End move, Left/Right, Delete, Ctrl-W.
+    app.on_key(ctrl('u'), t0);
+    assert_eq!(text(&app), "");
+    type_text(&mut app, "2.5", t0);
+    app.on_key(ctrl('a'), t0);
+    type_text(&mut app, "1", t0);
+    assert_eq!(text(&app), "12.5");
+    app.on_key(key(KeyCode::Delete), t0);
+    assert_eq!(text(&app), "1.5");
+    app.on_key(ctrl('e'), t0);
+    app.on_key(key(KeyCode::Left), t0);
+    app.on_key(key(KeyCode::Backspace), t0);
+    assert_eq!(text(&app), "15");
+    app.on_key(key(KeyCode::Home), t0);
+    app.on_key(key(KeyCode::Right), t0);
+    type_text(&mut app, ".", t0);
+    app.on_key(key(KeyCode::End), t0);
+    assert_eq!(text(&app), "1.5");
+    assert_eq!(app.editing.as_ref().unwrap().1.with_cursor(), "1.5_");
+    app.on_key(key(KeyCode::Enter), t0);
+    assert_eq!(app.matrix.rows()[1].k_theta, 1.5);
+    // A cursor key keeps the shown value for editing.
+    app.on_key(key(KeyCode::Enter), t0);
+    app.on_key(key(KeyCode::End), t0);
+    type_text(&mut app, "5", t0);
+    assert_eq!(text(&app), "1.55");
+    app.on_key(key(KeyCode::Esc), t0);
+    assert!(app.editing.is_none());
+    // Ctrl-W in the topology prompt deletes a word; an unused Ctrl key types nothing.
+    app.on_key(key(KeyCode::Char('t')), t0);
+    app.on_key(ctrl('w'), t0);
+    app.on_key(ctrl('x'), t0);
+    assert_eq!(app.prompt.as_ref().unwrap().1.text, "L-R-R-");
+    // A separator goes on its own, then the word before it.
+    app.on_key(ctrl('w'), t0);
+    assert_eq!(app.prompt.as_ref().unwrap().1.text, "L-R-R");
+    app.on_key(ctrl('w'), t0);
+    assert_eq!(app.prompt.as_ref().unwrap().1.text, "L-R-");
+    // Topology shorthand: 4R is L-R-R-R-R.
+    app.on_key(ctrl('u'), t0);
+    type_text(&mut app, "4R", t0);
+    app.on_key(key(KeyCode::Enter), t0);
+    assert_eq!(app.matrix.topology(), "L-R-R-R-R");
 }

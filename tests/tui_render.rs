@@ -66,7 +66,7 @@ fn editing_a_cell() {
             row: 2,
             col: prbfit::prb::Column::KTheta,
         },
-        TextBox { text: "3.1".into() },
+        TextBox::new("3.1"),
     ));
     insta::assert_snapshot!("editing_80x24", render(&app, 80, 24).backend());
 }
@@ -81,12 +81,7 @@ fn help_overlay() {
 #[test]
 fn quit_prompt_and_error_message() {
     let mut app = judged_app();
-    app.prompt = Some((
-        PromptKind::ConfirmQuit,
-        TextBox {
-            text: String::new(),
-        },
-    ));
+    app.prompt = Some((PromptKind::ConfirmQuit, TextBox::new("")));
     app.set_error("rejected: row 2, column k_theta: a spring constant must be > 0 or inf");
     insta::assert_snapshot!("prompt_80x24", render(&app, 80, 24).backend());
 }
@@ -114,7 +109,7 @@ fn colours_and_no_color() {
     let app = judged_app();
     let t = render(&app, 120, 40);
     let buf = t.backend().buffer();
-    let status_row = 38;
+    let status_row = 37;
     let line: String = (0..120)
         .map(|x| buf[(x, status_row)].symbol().to_string())
         .collect();
@@ -278,29 +273,24 @@ fn panels_one_by_one() {
     }
     insta::assert_snapshot!(
         "panel_status",
-        panel(120, 3, |f, a| {
-            let row = |y| ratatui::layout::Rect::new(a.x, a.y + y, a.width, 1);
-            status::draw_title(f, row(0), &status::TitleView::new(&app));
-            status::draw(f, row(1), &status::View::new(&app));
-            status::draw_hints(f, row(2), &status::HintsView::new(&app));
+        panel(120, 4, |f, a| {
+            let row = |y, h| ratatui::layout::Rect::new(a.x, a.y + y, a.width, h);
+            status::draw_title(f, row(0, 1), &status::TitleView::new(&app));
+            status::draw(f, row(1, status::HEIGHT), &status::View::new(&app));
+            status::draw_hints(f, row(3, 1), &status::HintsView::new(&app));
         })
     );
     app.help = true;
     insta::assert_snapshot!(
         "panel_help",
-        panel(96, 26, |f, a| overlays::draw(
+        panel(110, 32, |f, a| overlays::draw(
             f,
             a,
             &overlays::View::new(&app)
         ))
     );
     app.help = false;
-    app.prompt = Some((
-        PromptKind::Topology,
-        TextBox {
-            text: "L-RP".into(),
-        },
-    ));
+    app.prompt = Some((PromptKind::Topology, TextBox::new("L-RP")));
     insta::assert_snapshot!(
         "panel_prompt",
         panel(80, 5, |f, a| overlays::draw(

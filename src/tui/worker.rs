@@ -41,10 +41,17 @@ pub const WORKER_THREAD: &str = "prbfit-worker";
 pub const SHUTDOWN_DEADLINE: Duration = Duration::from_millis(200);
 
 /// What a job does.
-#[derive(Debug, Clone, PartialEq, Eq)]
+#[derive(Debug, Clone, PartialEq)]
 pub enum JobKind {
     /// Write the matrix to a file, in the format its extension names.
-    Export(std::path::PathBuf),
+    Export {
+        /// The file.
+        path: std::path::PathBuf,
+        /// The links' density (kg/m^3), for the masses of the robot formats.
+        density: f64,
+        /// Replace the file if it exists (the user said so).
+        overwrite: bool,
+    },
     /// Judge the matrix.
     Judge,
     /// Judge, then fit its free cells.
@@ -219,7 +226,7 @@ impl Worker {
     /// Queues a job. An export is kept until done; any other job replaces the one waiting
     /// and cancels the one running.
     pub fn submit(&self, job: Job) {
-        if matches!(job.kind, JobKind::Export(_)) {
+        if matches!(job.kind, JobKind::Export { .. }) {
             self.queue.submit_kept(job);
         } else {
             self.queue.submit(job);
@@ -452,8 +459,12 @@ fn run_job(
     let baseline = &solved.baseline;
     match &job.kind {
         JobKind::Select => return run_selection(job, &solved, &send),
-        JobKind::Export(path) => {
-            let result = export_file(job, &solved, path);
+        JobKind::Export {
+            path,
+            density,
+            overwrite,
+        } => {
+            let result = export_file(job, &solved, path, *density, *overwrite);
             send(WorkerMsg::Exported {
                 id: job.id,
                 path: path.clone(),
@@ -554,8 +565,15 @@ fn run_selection(job: &Job, solved: &Solved, send: &dyn Fn(WorkerMsg)) -> Result
     Ok(())
 }
 
-/// Writes the job's matrix in the format the path's extension names, never over a file.
-fn export_file(job: &Job, solved: &Solved, path: &std::path::Path) -> Result<(), String> {
+/// Writes the job's matrix in the format the path's extension names; over an existing file
+/// only when `overwrite` (the UI asked the user).
+fn export_file(
+    job: &Job,
+    solved: &Solved,
+    path: &std::path::Path,
+    density: f64,
+    overwrite: bool,
+) -> Result<(), String> {
     use crate::export::{export, ExportInput};
     use crate::format::Format;
     let format = Format::from_path(path).ok_or_else(|| {
@@ -571,8 +589,17 @@ fn export_file(job: &Job, solved: &Solved, path: &std::path::Path) -> Result<(),
         scene: &scene,
         baseline: &solved.baseline,
         fidelity: job.fidelity.to_string(),
-        density: 1000.0,
+        density,
     };
     let text = export(&input, format).map_err(|e| e.to_string())?;
-    crate::io::files::write_atomic(path, text.as_bytes(), false).map_err(|e| e.to_string())
+    crate::io::files::write_atomic(path, text.as_bytes(), overwrite).map_err(write_error)
+}
+
+/// A write error as the UI says it: an existing file is a question the UI asks (no `--force`
+/// in a terminal UI).
+pub fn write_error(e: crate::io::files::WriteError) -> String {
+    match e {
+        crate::io::files::WriteError::Exists(p) => format!("{}: the file exists", p.display()),
+        e => e.to_string(),
+    }
 }

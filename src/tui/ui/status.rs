@@ -1,5 +1,6 @@
-//! The one-line bars: the title (scene, fidelity, live refit), the status line (J and the
-//! maximum errors against the targets, what the worker is doing, the last message) and the
+//! The one-line bars: the title (scene, fidelity, live refit), the status lines (J and the
+//! maximum errors against the targets with what the worker is doing, always shown; under it
+//! the last message on a line of its own, so no message ever hides J or PASS/FAIL) and the
 //! key hints, read from the keymap.
 
 use ratatui::layout::Rect;
@@ -95,18 +96,12 @@ impl<'a> View<'a> {
     }
 }
 
-/// Draws the status line: an error message alone, else the figures, the activity and any
-/// information message.
+/// How many lines [`draw`] takes.
+pub const HEIGHT: u16 = 2;
+
+/// Draws the status lines: the figures and the activity, then the message (if any).
 pub fn draw(frame: &mut Frame, area: Rect, view: &View) {
     let pal = view.pal;
-    if let Some((m, Tone::Error)) = view.message {
-        let line = Line::from(Span::styled(
-            format!(" {}", sanitize_terminal(m)),
-            pal.fg(Color::Red),
-        ));
-        frame.render_widget(Paragraph::new(line), area);
-        return;
-    }
     let mut spans = Vec::new();
     match view.figures {
         Some(f) => {
@@ -155,10 +150,18 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View) {
         Activity::Cancelled => "fit cancelled".to_string(),
     };
     spans.push(Span::styled(activity, pal.fg(Color::Cyan)));
-    if let Some((m, Tone::Info)) = view.message {
-        spans.push(Span::raw(format!("  | {}", sanitize_terminal(m))));
+    let mut lines = vec![Line::from(spans)];
+    if let Some((m, tone)) = view.message {
+        let style = match tone {
+            Tone::Error => pal.fg(Color::Red),
+            Tone::Info => Style::default(),
+        };
+        lines.push(Line::from(Span::styled(
+            format!(" {}", sanitize_terminal(m)),
+            style,
+        )));
     }
-    frame.render_widget(Paragraph::new(Line::from(spans)), area);
+    frame.render_widget(Paragraph::new(lines), area);
 }
 
 /// What the hint line draws.
@@ -175,8 +178,12 @@ impl HintsView {
     pub fn new(app: &App) -> HintsView {
         let text = if app.editing.is_some() {
             keymap::EDITING_HINT.to_string()
-        } else if app.prompt.is_some() {
-            keymap::PROMPT_HINT.to_string()
+        } else if let Some((kind, _)) = &app.prompt {
+            if kind.is_question() {
+                keymap::QUESTION_HINT.to_string()
+            } else {
+                keymap::PROMPT_HINT.to_string()
+            }
         } else {
             keymap::hint_line(app.focus)
         };
