@@ -1102,3 +1102,71 @@ fn text_boxes_take_the_readline_keys() {
     app.on_key(key(KeyCode::Enter), t0);
     assert_eq!(app.matrix.topology(), "L-R-R-R-R");
 }
+
+/// Issue 15.3: the loads in SI for the beam as it is (`u`: the table, typed values too; the
+/// other units on the panel's border), and `H` choosing what a beam edit holds: alpha (the
+/// force follows: 4x thicker is 64x the force) or the force (the alphas are rescaled, alpha =
+/// F L^2 / (E I0)).
+#[test]
+fn loads_in_si_and_what_a_beam_edit_holds() {
+    use prbfit::si::load_si;
+    use prbfit::tui::state::loads::Hold;
+    let t0 = Instant::now();
+    let thickness_row = 2;
+    // Holding alpha (the default): the force grows with t0^3.
+    let mut app = app();
+    let alpha = app.scene.loads[0].end;
+    let force = load_si(&app.scene.beam, &alpha);
+    app.focus = Panel::Beam;
+    app.beam_state.row = thickness_row;
+    edit(&mut app, "2 mm", t0);
+    assert_eq!(app.scene.loads[0].end, alpha);
+    let grown = load_si(&app.scene.beam, &app.scene.loads[0].end);
+    assert!((grown[1] / force[1] - 64.0).abs() < 1e-9, "{grown:?}");
+
+    // Holding the force: the alphas shrink by 64, Fx, Fy, Mz stay.
+    let mut app = self::app();
+    app.focus = Panel::Loads;
+    app.on_key(key(KeyCode::Char('H')), t0);
+    assert_eq!(app.loads_state.hold, Hold::Force);
+    app.focus = Panel::Beam;
+    app.beam_state.row = thickness_row;
+    edit(&mut app, "2 mm", t0);
+    for (old, new) in Scene::builtin().loads.iter().zip(&app.scene.loads) {
+        let (a, b) = (
+            load_si(&Scene::builtin().beam, &old.end),
+            load_si(&app.scene.beam, &new.end),
+        );
+        for k in 0..3 {
+            assert!(
+                (a[k] - b[k]).abs() <= 1e-9 * a[k].abs().max(1e-12),
+                "{a:?} {b:?}"
+            );
+        }
+    }
+    assert!((app.scene.loads[0].end.alpha_y - 5.0 / 64.0).abs() < 1e-12);
+
+    // The SI view: the table in N, and a force typed in N.
+    let mut app = self::app();
+    app.on_key(key(KeyCode::Char('u')), t0);
+    let (f, _) = prbfit::si::load_factors(&app.scene.beam);
+    app.focus = Panel::Loads;
+    app.loads_state.col = 1;
+    app.on_key(key(KeyCode::Enter), t0);
+    let shown = app.editing.as_ref().unwrap().1.text.clone();
+    assert_eq!(shown, prbfit::tui::units::trim_number(5.0 * f, 5));
+    type_text(&mut app, "1", t0);
+    app.on_key(key(KeyCode::Enter), t0);
+    assert!((app.scene.loads[0].end.alpha_y - 1.0 / f).abs() < 1e-12);
+    // Drawn: the title says what is held, the border shows the other units.
+    use ratatui::backend::TestBackend;
+    use ratatui::Terminal;
+    let mut terminal = Terminal::new(TestBackend::new(120, 40)).unwrap();
+    terminal.draw(|fr| prbfit::tui::ui::draw(fr, &app)).unwrap();
+    let screen = format!("{}", terminal.backend());
+    assert!(
+        screen.contains("hold alpha") && screen.contains("Fy N"),
+        "{screen}"
+    );
+    assert!(screen.contains("alpha_y "), "{screen}");
+}

@@ -21,7 +21,7 @@ use crate::scene::{EffectsChoice, Scene};
 
 use super::keymap::{self, Action, Scope};
 use super::state::beam::{toggled_effect, BeamField, BeamState};
-use super::state::loads::{self, LoadsState};
+use super::state::loads::{self, held_forces, Hold, LoadsState};
 use super::state::matrix::MatrixState;
 use super::state::select::SelectState;
 pub use super::state::Panel;
@@ -758,9 +758,19 @@ impl App {
             Action::ToggleSi => {
                 self.matrix_state.si = !self.matrix_state.si;
                 self.set_info(if self.matrix_state.si {
-                    "matrix in SI for this beam: segment lengths, N m/rad, N/m"
+                    "SI for this beam: segment lengths, N m/rad, N/m; loads in N, N m"
                 } else {
-                    "matrix nondimensional: gamma, k_theta (E I0/L), k_ex (E A0/L)"
+                    "nondimensional: gamma, k_theta (E I0/L), k_ex (E A0/L); alpha, beta"
+                });
+            }
+            Action::ToggleHold => {
+                self.loads_state.hold = match self.loads_state.hold {
+                    Hold::Alpha => Hold::Force,
+                    Hold::Force => Hold::Alpha,
+                };
+                self.set_info(match self.loads_state.hold {
+                    Hold::Alpha => "hold: alpha (a beam edit keeps alpha; the forces follow)",
+                    Hold::Force => "hold: force (a beam edit keeps Fx, Fy, Mz; the alphas follow)",
                 });
             }
             Action::PrevPath => self.loads_state.cycle_path(-1, self.scene.loads.len()),
@@ -814,6 +824,11 @@ impl App {
         }
     }
 
+    /// The beam the SI view (`u`) shows the matrix and the loads for, when it is on.
+    pub fn si_beam(&self) -> Option<&crate::scene::BeamSpec> {
+        self.matrix_state.si.then_some(&self.scene.beam)
+    }
+
     /// The text of a matrix cell as the matrix panel shows it.
     pub fn cell_text(&self, row: usize, col: Column) -> String {
         self.matrix_state
@@ -835,7 +850,7 @@ impl App {
                     .scene
                     .loads
                     .get(row)
-                    .map(|p| loads::load_text(p, col))
+                    .map(|p| loads::load_text(p, col, self.si_beam()))
                     .unwrap_or_default();
                 (EditTarget::Load { row, col }, text)
             }
@@ -877,7 +892,10 @@ impl App {
     pub fn apply_edit(&mut self, target: &EditTarget, text: &str) -> Result<(), String> {
         match target {
             EditTarget::Beam(field) => {
-                let scene = field.edited(&self.scene, text)?;
+                let mut scene = field.edited(&self.scene, text)?;
+                if self.loads_state.hold == Hold::Force {
+                    scene.loads = held_forces(&scene.loads, &self.scene.beam, &scene.beam);
+                }
                 validate_scene(&scene)?;
                 if scene != self.scene {
                     self.scene = scene;
@@ -886,7 +904,7 @@ impl App {
             }
             EditTarget::Load { row, col } => {
                 let old = self.scene.loads.get(*row).ok_or("no such load path")?;
-                let path = loads::edited(old, *col, text)?;
+                let path = loads::edited(old, *col, text, self.si_beam())?;
                 if path != *old {
                     self.scene.loads[*row] = path;
                     self.scene_dirty = true;

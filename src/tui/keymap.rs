@@ -51,8 +51,10 @@ pub enum Action {
     Topology,
     /// Load the next published model.
     NextPublished,
-    /// Switch the matrix between nondimensional and SI.
+    /// Switch the matrix and the loads between nondimensional and SI.
     ToggleSi,
+    /// Switch what a beam edit holds: alpha or the force.
+    ToggleHold,
     /// Fit now.
     Fit,
     /// Cancel the running fit.
@@ -302,6 +304,13 @@ pub const KEYMAP: &[Entry] = &[
         ],
     },
     Entry {
+        keys: "H",
+        does: "loads: a beam edit holds alpha, or the force (N, N m: alphas rescaled)",
+        scope: Scope::LOADS,
+        bindings: &[ch('H', Action::ToggleHold)],
+        hints: &[hint("H hold alpha/force", Scope::LOADS)],
+    },
+    Entry {
         keys: "[ / ]",
         does: "previous / next load path in the shape chart",
         scope: ALL,
@@ -324,10 +333,10 @@ pub const KEYMAP: &[Entry] = &[
     },
     Entry {
         keys: "u",
-        does: "matrix in SI for the beam: lengths, N m/rad, N/m (typed values too)",
+        does: "matrix and loads in SI: lengths, N m/rad, N/m, N, N m (typed values too)",
         scope: ALL,
         bindings: &[ch('u', Action::ToggleSi)],
-        hints: &[hint("u SI", Scope::MATRIX)],
+        hints: &[hint("u SI", Scope::MATRIX.or(Scope::LOADS))],
     },
     Entry {
         keys: "r",
