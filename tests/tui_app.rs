@@ -140,6 +140,7 @@ fn stale_results_are_dropped() {
             evaluations: 10,
             seconds: 0.01,
         },
+        compare: None,
     };
     assert!(!app.on_worker(stale));
     assert!(app.model.is_none() && app.baseline.is_none());
@@ -153,6 +154,7 @@ fn stale_results_are_dropped() {
             evaluations: 5,
             seconds: 0.01,
         },
+        compare: None,
     };
     assert!(app.on_worker(fresh));
     assert!(app.model.is_some() && app.baseline.is_some());
@@ -797,6 +799,7 @@ fn done_with_fit(app: &App, id: u64, matrix: PrbMatrix) -> WorkerMsg {
         model: Box::new(view),
         report: Some(Box::new(report)),
         seconds: 0.01,
+        compare: None,
     }
 }
 
@@ -1169,4 +1172,152 @@ fn loads_in_si_and_what_a_beam_edit_holds() {
         "{screen}"
     );
     assert!(screen.contains("alpha_y "), "{screen}");
+}
+
+/// Issue 15.2: a published model is shown with its own figures first: `m` and `t chen-3r`
+/// load it judged, not fitted, even with live refit on (r fits it).
+#[test]
+fn published_models_are_judged_not_refitted() {
+    use prbfit::tui::worker::JobKind;
+    let t0 = Instant::now();
+    let mut app = app();
+    assert!(app.live);
+    for _ in 0..3 {
+        app.on_key(key(KeyCode::Char('m')), t0);
+    }
+    let chen = prbfit::io::ModelFile::load("chen-3r").unwrap().prb;
+    assert_eq!(app.matrix, chen);
+    assert_eq!(app.cell_text(1, Column::KTheta), "3.25");
+    match app.tick(t0 + DEBOUNCE) {
+        Some(Command::Submit(job)) => {
+            assert_eq!(job.kind, JobKind::Judge, "Chen's own figures first");
+            assert_eq!(job.matrix, chen);
+        }
+        o => panic!("{o:?}"),
+    }
+    // A done judge leaves Chen's values in the cells.
+    let id = app.current_job.as_ref().unwrap().0;
+    let baseline = Fidelity::Draft.baseline(&app.scene).unwrap();
+    app.on_worker(WorkerMsg::Done {
+        id,
+        baseline: std::sync::Arc::new(baseline_view(&baseline, None)),
+        model: Box::new(model_view(&chen, &baseline, 1.0).unwrap()),
+        report: None,
+        seconds: 0.01,
+        compare: None,
+    });
+    assert_eq!(app.matrix, chen);
+    // The next edit refits as usual.
+    app.focus = Panel::Matrix;
+    edit(&mut app, "3.3", t0);
+    match app.tick(t0 + DEBOUNCE * 2) {
+        Some(Command::Submit(job)) => assert_eq!(job.kind, JobKind::Fit),
+        o => panic!("{o:?}"),
+    }
+    // By name at `t` too.
+    let mut app = self::app();
+    app.on_key(key(KeyCode::Char('t')), t0);
+    type_text(&mut app, "howell-1r", t0);
+    app.on_key(key(KeyCode::Enter), t0);
+    assert_eq!(app.matrix.topology(), "L-R");
+    assert!(
+        matches!(app.tick(t0 + DEBOUNCE), Some(Command::Submit(j)) if j.kind == JobKind::Judge)
+    );
+}
+
+/// Issue 15.2: `C` compares with another model without touching the one being worked on: a
+/// kept compare job (the running fit is not cancelled), every later job judges it too on its
+/// own baseline, and it is shown only with the baseline it was judged on.
+#[test]
+fn compare_with_another_model() {
+    use prbfit::tui::worker::{JobKind, Worker};
+    let t0 = Instant::now();
+    let mut app = app();
+    app.fidelity = Fidelity::Draft;
+    let worker = Worker::spawn().unwrap();
+    let recv = |worker: &Worker| {
+        worker
+            .messages
+            .recv_timeout(Duration::from_secs(60))
+            .expect("the worker answers")
+    };
+    let Command::Submit(job) = app.submit(false) else {
+        panic!()
+    };
+    let running = job.cancel.clone();
+    worker.submit(job);
+    let before = app.matrix.clone();
+    // C: Howell's 1R first.
+    let cmds = app.on_key(key(KeyCode::Char('C')), t0);
+    let Some(Command::Submit(cmp)) = cmds.into_iter().next() else {
+        panic!("a compare job")
+    };
+    assert_eq!(cmp.kind, JobKind::Compare);
+    assert_eq!(cmp.matrix.topology(), "L-R");
+    assert!(!running.is_cancelled(), "the main job goes on");
+    assert_eq!(app.matrix, before, "the model being worked on stays");
+    worker.submit(cmp);
+    let (mut done, mut compared) = (false, false);
+    while !(done && compared) {
+        let msg = recv(&worker);
+        done |= matches!(msg, WorkerMsg::Done { .. });
+        compared |= matches!(msg, WorkerMsg::Compared { .. });
+        app.on_worker(msg);
+    }
+    let (name, view) = app.shown_compare().expect("the compared model shown");
+    assert_eq!(name, "howell-1r");
+    assert_eq!(view.cases.len(), app.model.as_ref().unwrap().cases.len());
+    assert!(view.figures.objective != app.model.as_ref().unwrap().figures.objective);
+    // Drawn: its row in the status lines.
+    use ratatui::backend::TestBackend;
+    use ratatui::Terminal;
+    let mut terminal = Terminal::new(TestBackend::new(120, 40)).unwrap();
+    terminal.draw(|f| prbfit::tui::ui::draw(f, &app)).unwrap();
+    let screen = format!("{}", terminal.backend());
+    assert!(screen.contains("compared with howell-1r"), "{screen}");
+
+    // A load edit: the compared view of the old loads is not shown with the new baseline;
+    // the new job judges the compared model on its own baseline.
+    app.focus = Panel::Loads;
+    app.loads_state.col = 1;
+    edit(&mut app, "3", t0);
+    let Some(Command::Submit(job)) = app.tick(t0 + DEBOUNCE) else {
+        panic!()
+    };
+    assert_eq!(
+        job.compare.as_ref().map(|m| m.topology()),
+        Some("L-R".into())
+    );
+    let id = job.id;
+    worker.submit(job);
+    let mut first = true;
+    loop {
+        let msg = recv(&worker);
+        if let (WorkerMsg::Progress { baseline, .. } | WorkerMsg::Done { baseline, .. }, true) =
+            (&msg, first)
+        {
+            first = false;
+            // Before the UI takes it, the old compared view is not drawn with a new baseline.
+            let mut probe = App::new(Scene::builtin(), None);
+            probe.compare = app.compare.clone();
+            probe.compare_view = app.compare_view.clone();
+            probe.baseline = Some(baseline.clone());
+            assert!(
+                probe.shown_compare().is_none(),
+                "another beam's compare is hidden"
+            );
+        }
+        let end = matches!(msg, WorkerMsg::Done { id: i, .. } if i == id);
+        app.on_worker(msg);
+        if end {
+            break;
+        }
+    }
+    let (_, view) = app.shown_compare().expect("judged again on the new beam");
+    assert_eq!(view.cases.len(), app.model.as_ref().unwrap().cases.len());
+    // C cycles on to none.
+    for _ in 0..3 {
+        app.on_key(key(KeyCode::Char('C')), t0);
+    }
+    assert!(app.compare.is_none() && app.shown_compare().is_none());
 }

@@ -42,6 +42,24 @@ fn main_screen_120x40() {
     insta::assert_snapshot!("main_120x40", render(&app, 120, 40).backend());
 }
 
+/// Comparing with Chen's 3R (`C`): its errors as grey dots under the model's lines, and its
+/// figures on a status row of their own.
+#[test]
+fn comparing_with_chen_120x40() {
+    let mut app = judged_app();
+    let baseline = Fidelity::Normal.baseline(&app.scene).unwrap();
+    let chen = prbfit::io::ModelFile::load("chen-3r").unwrap().prb;
+    app.compare = Some(("chen-3r".into(), chen.clone()));
+    app.compare_view = Some((
+        app.baseline.clone().unwrap(),
+        model_view(&chen, &baseline, 1.0).unwrap(),
+    ));
+    let t = render(&app, 120, 40);
+    let text = format!("{}", t.backend());
+    assert!(text.contains("compared with chen-3r"), "{text}");
+    insta::assert_snapshot!("compare_120x40", t.backend());
+}
+
 #[test]
 fn main_screen_80x24() {
     let app = judged_app();
@@ -276,7 +294,7 @@ fn panels_one_by_one() {
         panel(120, 4, |f, a| {
             let row = |y, h| ratatui::layout::Rect::new(a.x, a.y + y, a.width, h);
             status::draw_title(f, row(0, 1), &status::TitleView::new(&app));
-            status::draw(f, row(1, status::HEIGHT), &status::View::new(&app));
+            status::draw(f, row(1, 2), &status::View::new(&app));
             status::draw_hints(f, row(3, 1), &status::HintsView::new(&app));
         })
     );

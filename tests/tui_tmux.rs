@@ -448,3 +448,44 @@ fn a_saved_scene_reopens_with_its_model() {
     wait_exit(&session, "quit the reopened scene");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Issue 15.2: `m` to Chen's 3R shows Chen's own figures (0.126, 3.25: judged, not refitted
+/// under live refit), and `C` compares with Su's 3R on a status row of its own while the
+/// matrix stays Chen's.
+#[test]
+fn a_published_model_is_shown_as_published_and_compared() {
+    if !have_tmux("a_published_model_is_shown_as_published_and_compared") {
+        return;
+    }
+    let session = format!("prbfit-compare-{}", std::process::id());
+    start_ui(&session, &[]);
+    wait_for(&session, "the first fit", |s| s.contains("converged"));
+    // m: Howell, Su, Chen.
+    keys(&session, &["m", "m", "m"]);
+    let screen = wait_for(&session, "Chen's 3R judged", |s| {
+        s.contains("chen-3r") && s.contains("judged") && objective(s).is_some()
+    });
+    let rows = matrix_rows(&screen);
+    assert!(rows[0].contains("0.126"), "{screen}");
+    assert!(rows[1].contains("3.25"), "{screen}");
+    // C: Howell, then Su.
+    keys(&session, &["C", "C"]);
+    let screen = wait_for(&session, "the comparison with Su", |s| {
+        s.contains("compared with su-3r")
+    });
+    let rows = matrix_rows(&screen);
+    assert!(rows[1].contains("3.25"), "still Chen's:\n{screen}");
+    let j_lines = screen
+        .lines()
+        .filter(|l| l.trim_start().starts_with("J "))
+        .count();
+    assert_eq!(
+        j_lines, 2,
+        "one J for the model, one for the compared:\n{screen}"
+    );
+    keys(&session, &["q"]);
+    // Loading a published model is the user's choice: quitting asks.
+    wait_for(&session, "the quit question", |s| s.contains("quit anyway"));
+    keys(&session, &["y"]);
+    wait_exit(&session, "quit after comparing");
+}

@@ -3,7 +3,7 @@
 //!
 //! The app holds what the panels share (the scene, the matrix, the jobs, the messages); each
 //! panel's cursor and edit handling is in [`state`](super::state), and every key goes through
-//! the [`keymap`](super::keymap).
+//! the [`keymap`].
 
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -295,6 +295,12 @@ pub struct App {
     export_path: Option<PathBuf>,
     /// The write waiting for "overwrite? (y/n)".
     overwrite: Option<Command>,
+    /// The model compared against (`C`): its name and matrix.
+    pub compare: Option<(String, PrbMatrix)>,
+    /// The compared model as judged, with the baseline it was judged on.
+    pub compare_view: Option<(Arc<BaselineView>, ModelView)>,
+    /// The last selection's model (its choice, else the closest row), which `C` offers.
+    pub selection_model: Option<(String, PrbMatrix)>,
 }
 
 impl App {
@@ -347,6 +353,47 @@ impl App {
             export_density: DEFAULT_DENSITY,
             export_path: None,
             overwrite: None,
+            compare: None,
+            compare_view: None,
+            selection_model: None,
+        }
+    }
+
+    /// The compared model to draw: its name and view, when it was judged for the compared
+    /// matrix on the baseline the main model is shown with (never another beam's).
+    pub fn shown_compare(&self) -> Option<(&str, &ModelView)> {
+        let (name, matrix) = self.compare.as_ref()?;
+        let (baseline, view) = self.compare_view.as_ref()?;
+        let shown = self.baseline.as_ref()?;
+        let same = Arc::ptr_eq(baseline, shown) || **baseline == **shown;
+        (same && view.matrix == *matrix).then_some((name.as_str(), view))
+    }
+
+    /// `C`: the next model to compare against: none, the published ones, the selection's.
+    fn cycle_compare(&mut self) -> Option<Command> {
+        let mut choices: Vec<(String, PrbMatrix)> = PUBLISHED
+            .iter()
+            .filter_map(|n| ModelFile::load(n).ok().map(|m| (n.to_string(), m.prb)))
+            .collect();
+        choices.extend(self.selection_model.clone());
+        let now = self.compare.as_ref().map(|(n, _)| n.clone());
+        let next = match now.and_then(|n| choices.iter().position(|(c, _)| *c == n)) {
+            None => choices.into_iter().next(),
+            Some(i) => choices.into_iter().nth(i + 1),
+        };
+        self.compare = next;
+        match self.compare.clone() {
+            None => {
+                self.compare_view = None;
+                self.set_info("compare: none");
+                None
+            }
+            Some((name, matrix)) => {
+                self.set_info(format!("compare with {name} (C: next)"));
+                let mut job = self.job(JobKind::Compare);
+                job.matrix = matrix;
+                Some(Command::Submit(job))
+            }
         }
     }
 
@@ -379,6 +426,7 @@ impl App {
             id: self.job_counter,
             scene: Arc::new(self.scene.clone()),
             matrix: self.matrix.clone(),
+            compare: self.compare.as_ref().map(|(_, m)| m.clone()),
             fidelity: self.fidelity,
             kind,
             cancel: CancelToken::new(),
@@ -473,6 +521,21 @@ impl App {
     /// export's. A model is always shown with the baseline it was judged on, which comes with
     /// it.
     pub fn on_worker(&mut self, msg: WorkerMsg) -> bool {
+        if let WorkerMsg::Compared {
+            baseline, model, ..
+        } = msg
+        {
+            // Kept like an export, and shown only while it is the compared matrix and the
+            // baseline is the shown one (see shown_compare).
+            let wanted = self
+                .compare
+                .as_ref()
+                .is_some_and(|(_, m)| *m == model.matrix);
+            if wanted {
+                self.compare_view = Some((baseline, *model));
+            }
+            return wanted;
+        }
         if let WorkerMsg::Exported { path, result, .. } = msg {
             match result {
                 Ok(()) => {
@@ -494,8 +557,10 @@ impl App {
                 baseline,
                 model,
                 status,
+                compare,
                 ..
             } => {
+                self.take_compare(&baseline, compare);
                 self.baseline = Some(baseline);
                 self.model = Some(*model);
                 self.activity = Activity::Fitting(status);
@@ -506,8 +571,10 @@ impl App {
                 model,
                 report,
                 seconds,
+                compare,
                 ..
             } => {
+                self.take_compare(&baseline, compare);
                 let (stop, iterations, evaluations) = match &report {
                     Some(r) => (Some(r.stop), r.iterations, r.evaluations),
                     None => (None, 0, 0),
@@ -553,7 +620,7 @@ impl App {
                 }
             }
             // Taken above, whatever its job.
-            WorkerMsg::Exported { .. } => {}
+            WorkerMsg::Exported { .. } | WorkerMsg::Compared { .. } => {}
             WorkerMsg::SelectRow { id, row } => {
                 if let Some(v) = &mut self.select {
                     v.on_row(id, *row);
@@ -564,6 +631,10 @@ impl App {
                 selection,
                 knobs,
             } => {
+                let pick = selection.chosen.unwrap_or(selection.closest);
+                if let Some(row) = selection.rows.get(pick) {
+                    self.selection_model = Some((format!("{} (S)", row.name), row.prb.clone()));
+                }
                 if let Some(v) = &mut self.select {
                     v.on_done(id, *selection, knobs);
                 }
@@ -600,8 +671,10 @@ impl App {
                 if let Some(row) = view.selected_row() {
                     let (name, m) = (row.name.clone(), row.prb.clone());
                     self.close_selection();
-                    self.set_info(format!("matrix: {name} from the selection"));
+                    self.set_info(format!("matrix: {name} from the selection (r fits it)"));
                     self.replace_matrix(m, now);
+                    // As the table showed it.
+                    self.judge_only();
                 }
             }
             Some(Action::SelectClose) => {
@@ -643,6 +716,13 @@ impl App {
         self.message_from_worker = false;
     }
 
+    /// The compared model a result brought, judged on `baseline`.
+    fn take_compare(&mut self, baseline: &Arc<BaselineView>, compare: Option<Box<ModelView>>) {
+        if let Some(view) = compare {
+            self.compare_view = Some((baseline.clone(), *view));
+        }
+    }
+
     /// A good result answers the failure before it.
     fn clear_worker_error(&mut self) {
         if self.message_from_worker {
@@ -667,7 +747,7 @@ impl App {
         let ctrl_c =
             key.code == KeyCode::Char('c') && key.modifiers.contains(KeyModifiers::CONTROL);
         if self.prompt.is_some() {
-            return self.prompt_key(key, ctrl_c);
+            return self.prompt_key(key, ctrl_c, now);
         }
         if self.editing.is_some() {
             if ctrl_c {
@@ -749,6 +829,7 @@ impl App {
             Action::Export => self.open_prompt(PromptKind::ExportModel, "model.toml".into()),
             Action::Topology => self.open_prompt(PromptKind::Topology, self.matrix.topology()),
             Action::NextPublished => self.next_published_model(now),
+            Action::CycleCompare => out.extend(self.cycle_compare()),
             Action::ToggleFree => self.toggle_free(now),
             Action::ToggleShear => self.toggle_effect('1', now),
             Action::ToggleExtension => self.toggle_effect('2', now),
@@ -923,7 +1004,7 @@ impl App {
         Ok(())
     }
 
-    fn prompt_key(&mut self, key: KeyEvent, ctrl_c: bool) -> Vec<Command> {
+    fn prompt_key(&mut self, key: KeyEvent, ctrl_c: bool, now: Instant) -> Vec<Command> {
         let Some((kind, tb)) = &mut self.prompt else {
             return Vec::new();
         };
@@ -1012,7 +1093,7 @@ impl App {
                         }
                     },
                     PromptKind::Topology => {
-                        self.load_named_matrix(&text, Instant::now());
+                        self.load_named_matrix(&text, now);
                         Vec::new()
                     }
                     // Answered above, before any text is typed.
@@ -1040,11 +1121,27 @@ impl App {
             PrbMatrix::from_topology(name).map_err(|e| e.to_string())
         };
         match m {
+            Ok(m) if PUBLISHED.contains(&name) => {
+                // A published model is a comparison: its own figures first, judged, not
+                // fitted (live refit resumes with the next edit; r fits it now).
+                self.set_info(format!(
+                    "matrix: {name}, the published values (r fits them)"
+                ));
+                self.replace_matrix(m, now);
+                self.judge_only();
+            }
             Ok(m) => {
                 self.set_info(format!("matrix: {name}"));
                 self.replace_matrix(m, now);
             }
             Err(e) => self.set_error(format!("rejected: {e}")),
+        }
+    }
+
+    /// The change waiting is judged, not fitted, even with live refit on.
+    fn judge_only(&mut self) {
+        if let Some(p) = &mut self.pending {
+            p.fit = false;
         }
     }
 

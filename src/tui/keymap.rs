@@ -51,6 +51,8 @@ pub enum Action {
     Topology,
     /// Load the next published model.
     NextPublished,
+    /// Compare with the next model: none, the published ones, the selection's.
+    CycleCompare,
     /// Switch the matrix and the loads between nondimensional and SI.
     ToggleSi,
     /// Switch what a beam edit holds: alpha or the force.
@@ -319,17 +321,24 @@ pub const KEYMAP: &[Entry] = &[
     },
     Entry {
         keys: "t",
-        does: "matrix from a topology name (L-R-R-R) or a published model name",
+        does: "matrix from a topology (L-R-R-R, 3R) or a published model's name",
         scope: ALL,
         bindings: &[ch('t', Action::Topology)],
         hints: &[hint("t topology", Scope::MATRIX)],
     },
     Entry {
         keys: "m",
-        does: "cycle the published models: Howell 1R, Su 3R, Chen 3R",
+        does: "cycle the published models: Howell 1R, Su 3R, Chen 3R (judged, not fitted)",
         scope: ALL,
         bindings: &[ch('m', Action::NextPublished)],
         hints: &[hint("m model", Scope::MATRIX)],
+    },
+    Entry {
+        keys: "C",
+        does: "compare with: none, Howell, Su, Chen, the selection's model (charts, status)",
+        scope: ALL,
+        bindings: &[ch('C', Action::CycleCompare)],
+        hints: &[hint("C compare", ALL)],
     },
     Entry {
         keys: "u",

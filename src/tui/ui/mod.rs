@@ -91,12 +91,13 @@ pub fn draw(frame: &mut Frame, app: &App) {
         overlays::draw_too_small(frame, area);
         return;
     }
+    let status_view = status::View::new(app);
     let rows = Layout::default()
         .direction(Direction::Vertical)
         .constraints([
             Constraint::Length(1),
             Constraint::Min(10),
-            Constraint::Length(status::HEIGHT),
+            Constraint::Length(status::height(&status_view)),
             Constraint::Length(1),
         ])
         .split(area);
@@ -108,7 +109,7 @@ pub fn draw(frame: &mut Frame, app: &App) {
         .split(rows[1]);
     draw_left(frame, cols[0], app);
     draw_right(frame, cols[1], app);
-    status::draw(frame, rows[2], &status::View::new(app));
+    status::draw(frame, rows[2], &status_view);
     status::draw_hints(frame, rows[3], &status::HintsView::new(app));
     if let Some(view) = select::View::new(app) {
         select::draw(frame, rows[1], &view);

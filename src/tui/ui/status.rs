@@ -75,6 +75,8 @@ pub struct View<'a> {
     pub message: Option<(&'a str, Tone)>,
     /// The shown model's figures.
     pub figures: Option<&'a ErrorFigures>,
+    /// The model compared against: its name and figures on the same baseline.
+    pub compare: Option<(&'a str, &'a ErrorFigures)>,
     /// The scene's targets.
     pub accuracy: Accuracy,
     /// What the worker is doing.
@@ -89,6 +91,7 @@ impl<'a> View<'a> {
         View {
             message: app.message.as_ref().map(|(m, t)| (m.as_str(), *t)),
             figures: app.model.as_ref().map(|m| &m.figures),
+            compare: app.shown_compare().map(|(n, v)| (n, &v.figures)),
             accuracy: app.scene.accuracy,
             activity: &app.activity,
             pal: Palette { mono: app.mono },
@@ -96,43 +99,42 @@ impl<'a> View<'a> {
     }
 }
 
-/// How many lines [`draw`] takes.
-pub const HEIGHT: u16 = 2;
+/// How many lines [`draw`] takes: the figures, the compared model's (when comparing), the
+/// message.
+pub fn height(view: &View) -> u16 {
+    2 + u16::from(view.compare.is_some())
+}
 
-/// Draws the status lines: the figures and the activity, then the message (if any).
+/// `J | pos ..% PASS<.. | ang ..deg PASS<.. | ` for figures `f` against `acc`.
+fn figure_spans(f: &ErrorFigures, acc: &Accuracy, pal: Palette) -> Vec<Span<'static>> {
+    let pos_ok = f.max_pos_err <= acc.max_pos_err;
+    let ang_ok = f.max_ang_err <= acc.max_ang_err;
+    let verdict = |ok: bool| Span::styled(if ok { "PASS" } else { "FAIL" }, pal.pass(ok));
+    vec![
+        Span::raw(format!(" J {:.3e} | pos ", f.objective)),
+        Span::raw(format!("{}%L ", trim_number(f.max_pos_err * 100.0, 3))),
+        verdict(pos_ok),
+        Span::raw(format!(
+            "<{} | ang {}deg ",
+            trim_number(acc.max_pos_err * 100.0, 3),
+            trim_number(f.max_ang_err.to_degrees(), 3)
+        )),
+        verdict(ang_ok),
+        Span::raw(format!(
+            "<{} | ",
+            trim_number(acc.max_ang_err.to_degrees(), 3)
+        )),
+    ]
+}
+
+/// Draws the status lines: the figures and the activity, the compared model's figures (when
+/// comparing), then the message (if any).
 pub fn draw(frame: &mut Frame, area: Rect, view: &View) {
     let pal = view.pal;
-    let mut spans = Vec::new();
-    match view.figures {
-        Some(f) => {
-            let acc = &view.accuracy;
-            let pos_ok = f.max_pos_err <= acc.max_pos_err;
-            let ang_ok = f.max_ang_err <= acc.max_ang_err;
-            spans.push(Span::raw(format!(" J {:.3e} | pos ", f.objective)));
-            spans.push(Span::raw(format!(
-                "{}%L ",
-                trim_number(f.max_pos_err * 100.0, 3)
-            )));
-            spans.push(Span::styled(
-                if pos_ok { "PASS" } else { "FAIL" },
-                pal.pass(pos_ok),
-            ));
-            spans.push(Span::raw(format!(
-                "<{} | ang {}deg ",
-                trim_number(acc.max_pos_err * 100.0, 3),
-                trim_number(f.max_ang_err.to_degrees(), 3)
-            )));
-            spans.push(Span::styled(
-                if ang_ok { "PASS" } else { "FAIL" },
-                pal.pass(ang_ok),
-            ));
-            spans.push(Span::raw(format!(
-                "<{} | ",
-                trim_number(acc.max_ang_err.to_degrees(), 3)
-            )));
-        }
-        None => spans.push(Span::raw(" no model judged yet  ")),
-    }
+    let mut spans = match view.figures {
+        Some(f) => figure_spans(f, &view.accuracy, pal),
+        None => vec![Span::raw(" no model judged yet  ")],
+    };
     let activity = match view.activity {
         Activity::Idle => "idle".to_string(),
         Activity::Waiting => "working...".to_string(),
@@ -151,6 +153,14 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View) {
     };
     spans.push(Span::styled(activity, pal.fg(Color::Cyan)));
     let mut lines = vec![Line::from(spans)];
+    if let Some((name, f)) = view.compare {
+        let mut spans = figure_spans(f, &view.accuracy, pal);
+        spans.push(Span::styled(
+            format!("compared with {} (C)", sanitize_terminal(name)),
+            pal.fg(Color::DarkGray),
+        ));
+        lines.push(Line::from(spans));
+    }
     if let Some((m, tone)) = view.message {
         let style = match tone {
             Tone::Error => pal.fg(Color::Red),
