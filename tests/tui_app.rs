@@ -140,6 +140,7 @@ fn stale_results_are_dropped() {
             evaluations: 10,
             seconds: 0.01,
         },
+        compare: None,
     };
     assert!(!app.on_worker(stale));
     assert!(app.model.is_none() && app.baseline.is_none());
@@ -153,6 +154,7 @@ fn stale_results_are_dropped() {
             evaluations: 5,
             seconds: 0.01,
         },
+        compare: None,
     };
     assert!(app.on_worker(fresh));
     assert!(app.model.is_some() && app.baseline.is_some());
@@ -316,11 +318,10 @@ fn prompts_produce_file_commands() {
     }
     type_text(&mut app, "out.json", t0);
     let cmds = app.on_key(key(KeyCode::Enter), t0);
-    // Exports run in the worker, from its baseline.
+    // The target is checked, then the worker exports from its baseline.
     assert!(matches!(
         &cmds[..],
-        [Command::Submit(job)]
-            if job.kind == prbfit::tui::worker::JobKind::Export("out.json".into())
+        [Command::Export { path, overwrite: false }] if path.as_os_str() == "out.json"
     ));
     app.on_key(key(KeyCode::Char('o')), t0);
     app.on_key(key(KeyCode::Esc), t0);
@@ -776,4 +777,547 @@ fn help_lists_every_key() {
         assert!(screen.contains(e.does), "{} missing from the help", e.does);
     }
     assert!(screen.contains(" u ") && screen.contains(" q, Ctrl-C"));
+}
+
+/// A fitted model of `matrix`'s topology as a worker's Done for job `id` would bring it.
+fn done_with_fit(app: &App, id: u64, matrix: PrbMatrix) -> WorkerMsg {
+    let baseline = Fidelity::Draft.baseline(&app.scene).unwrap();
+    let view = model_view(&matrix, &baseline, 1.0).unwrap();
+    let report = prbfit::fit::FitReport {
+        matrix,
+        figures: view.figures,
+        start_objective: view.figures.objective,
+        fidelity: Fidelity::Draft,
+        iterations: 3,
+        evaluations: 30,
+        seconds: 0.01,
+        stop: prbfit::fit::StopReason::Converged,
+    };
+    WorkerMsg::Done {
+        id,
+        baseline: std::sync::Arc::new(baseline_view(&baseline, None)),
+        model: Box::new(view),
+        report: Some(Box::new(report)),
+        seconds: 0.01,
+        compare: None,
+    }
+}
+
+fn job_id(cmd: Command) -> u64 {
+    match cmd {
+        Command::Submit(job) => job.id,
+        other => panic!("a job expected, got {other:?}"),
+    }
+}
+
+/// Issue 15.4: a message is news about the last action. A rejected edit's message goes at
+/// the next action that succeeds (it used to stay through six actions), and a worker's
+/// failure goes with the next good result.
+#[test]
+fn messages_clear_on_the_next_successful_action() {
+    let t0 = Instant::now();
+    let mut app = app();
+    app.on_key(key(KeyCode::Char('t')), t0);
+    for _ in 0..20 {
+        app.on_key(key(KeyCode::Backspace), t0);
+    }
+    type_text(&mut app, "L-2R", t0);
+    app.on_key(key(KeyCode::Enter), t0);
+    assert!(app.message.as_ref().unwrap().0.contains("rejected"));
+    // Any key that does something clears it: a cursor move here.
+    app.on_key(key(KeyCode::Down), t0);
+    assert!(app.message.is_none(), "{:?}", app.message);
+
+    // A rejected beam value, then an accepted one: the rejection is gone.
+    app.focus = Panel::Beam;
+    app.beam_state.row = 4;
+    edit(&mut app, "0.5", t0);
+    assert!(app.message.as_ref().unwrap().0.contains("rejected"));
+    edit(&mut app, "0.49999999", t0);
+    assert_eq!(app.scene.beam.poisson_ratio, 0.49999999);
+    assert!(app.message.is_none(), "{:?}", app.message);
+
+    // A worker failure, then a good result.
+    let id = job_id(app.submit(false));
+    app.on_worker(WorkerMsg::Failed {
+        id,
+        message: "the beam cannot be solved".into(),
+    });
+    assert!(app.message.is_some());
+    let id = job_id(app.submit(false));
+    let m = app.matrix.clone();
+    app.on_worker(done_with_fit(&app, id, m));
+    assert!(app.message.is_none(), "{:?}", app.message);
+}
+
+/// Issue 15.5: the fit the program starts (at start-up, after an open) is not the user's
+/// work: quitting a fresh start asks nothing. A fit the user asked for (`r`) that changes the
+/// model is, and so is any edit; open asks before it throws that away.
+#[test]
+fn only_user_work_is_unsaved() {
+    let t0 = Instant::now();
+    let mut app = app();
+    let id = job_id(app.start());
+    let mut fitted = app.matrix.clone();
+    fitted = fitted.with_cell(1, Column::KTheta, 3.3).unwrap();
+    app.on_worker(done_with_fit(&app, id, fitted.clone()));
+    assert_eq!(app.matrix, fitted, "the fit result is shown");
+    assert!(!app.unsaved(), "the start-up fit is not the user's work");
+    app.on_key(key(KeyCode::Char('o')), t0);
+    assert!(
+        matches!(app.prompt, Some((PromptKind::OpenScene, _))),
+        "nothing to lose: open asks only for the file"
+    );
+    app.on_key(key(KeyCode::Esc), t0);
+    app.on_key(key(KeyCode::Char('q')), t0);
+    assert!(app.quit, "nothing unsaved: quits at once");
+
+    // `r` is the user's: its result is unsaved work.
+    let mut app = self::app();
+    let id = job_id(app.on_key(key(KeyCode::Char('r')), t0).remove(0));
+    let m = app.matrix.with_cell(1, Column::KTheta, 3.2).unwrap();
+    app.on_worker(done_with_fit(&app, id, m));
+    assert!(app.unsaved());
+
+    // An edit is, and open asks before discarding it; n keeps it, y goes on to the file.
+    let mut app = self::app();
+    app.focus = Panel::Matrix;
+    edit(&mut app, "4", t0);
+    assert!(app.unsaved());
+    app.on_key(key(KeyCode::Char('o')), t0);
+    assert!(matches!(app.prompt, Some((PromptKind::ConfirmOpen, _))));
+    app.on_key(key(KeyCode::Char('n')), t0);
+    assert!(app.prompt.is_none());
+    app.on_key(key(KeyCode::Char('o')), t0);
+    app.on_key(key(KeyCode::Char('y')), t0);
+    assert!(matches!(app.prompt, Some((PromptKind::OpenScene, _))));
+}
+
+/// Issue 15.1: the scene is saved with the model being worked on (`[prb] matrix`, fixed
+/// cells with `!`); opening it, or starting on it, brings that model back, judged as saved.
+#[test]
+fn save_keeps_the_model_and_open_brings_it_back() {
+    use prbfit::tui::run_command;
+    use prbfit::tui::worker::JobKind;
+    let dir = std::env::temp_dir().join(format!("prbfit-ui-save-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("saved.toml");
+    let t0 = Instant::now();
+    let mut app = app();
+    app.on_key(key(KeyCode::Char('t')), t0);
+    for _ in 0..20 {
+        app.on_key(key(KeyCode::Backspace), t0);
+    }
+    type_text(&mut app, "L-R-R", t0);
+    app.on_key(key(KeyCode::Enter), t0);
+    app.focus = Panel::Matrix;
+    app.matrix_state.row = 1;
+    app.matrix_state.col = 1;
+    app.on_key(key(KeyCode::Char('f')), t0);
+    let model = app.matrix.clone();
+    assert!(app.unsaved());
+    assert!(run_command(
+        &mut app,
+        Command::SaveScene {
+            path: path.clone(),
+            overwrite: false
+        },
+        t0
+    )
+    .is_none());
+    assert!(!app.unsaved(), "{:?}", app.message);
+    let text = std::fs::read_to_string(&path).unwrap();
+    assert!(text.contains("[prb]"), "{text}");
+    assert_eq!(Scene::from_file(&path).unwrap().prb, Some(model.clone()));
+
+    // Start-up on the saved file: that model, judged (not refitted) first.
+    let mut again = App::new(Scene::from_file(&path).unwrap(), Some(path.clone()));
+    assert_eq!(again.matrix, model);
+    match again.start() {
+        Command::Submit(job) => {
+            assert_eq!(job.kind, JobKind::Judge);
+            assert_eq!(job.matrix, model);
+        }
+        other => panic!("{other:?}"),
+    }
+
+    // Open from another model: the file's model comes back.
+    let mut other = self::app();
+    assert_ne!(other.matrix, model);
+    run_command(&mut other, Command::OpenScene(path.clone()), t0);
+    assert_eq!(other.matrix, model);
+    assert!(!other.unsaved());
+    match other.tick(t0 + DEBOUNCE) {
+        Some(Command::Submit(job)) => assert_eq!(job.kind, JobKind::Judge),
+        o => panic!("{o:?}"),
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Issue 15.6: saving or exporting over an existing file asks "overwrite? (y/n)"; n leaves
+/// the file, y writes it. Saving to the scene's own file just saves.
+#[test]
+fn writing_over_a_file_asks_first() {
+    use prbfit::tui::run_command;
+    use prbfit::tui::worker::JobKind;
+    let dir = std::env::temp_dir().join(format!("prbfit-ui-overwrite-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("there.toml");
+    std::fs::write(&path, "old").unwrap();
+    let t0 = Instant::now();
+    let mut app = app();
+    let save = || Command::SaveScene {
+        path: path.clone(),
+        overwrite: false,
+    };
+    run_command(&mut app, save(), t0);
+    assert!(matches!(
+        app.prompt,
+        Some((PromptKind::ConfirmOverwrite, _))
+    ));
+    assert!(app.on_key(key(KeyCode::Char('n')), t0).is_empty());
+    assert_eq!(std::fs::read_to_string(&path).unwrap(), "old");
+    run_command(&mut app, save(), t0);
+    let cmds = app.on_key(key(KeyCode::Char('y')), t0);
+    for c in cmds {
+        run_command(&mut app, c, t0);
+    }
+    assert!(std::fs::read_to_string(&path).unwrap().contains("[beam]"));
+    assert_eq!(app.scene_path.as_deref(), Some(path.as_path()));
+    // Its own file: no question.
+    run_command(&mut app, save(), t0);
+    assert!(app.prompt.is_none());
+    assert!(app.message.as_ref().unwrap().0.starts_with("saved"));
+
+    // An export over a file: asked, then a job that may overwrite.
+    let out = dir.join("model.json");
+    std::fs::write(&out, "old").unwrap();
+    let export = Command::Export {
+        path: out.clone(),
+        overwrite: false,
+    };
+    assert!(run_command(&mut app, export, t0).is_none());
+    assert!(matches!(
+        app.prompt,
+        Some((PromptKind::ConfirmOverwrite, _))
+    ));
+    let cmds = app.on_key(key(KeyCode::Char('y')), t0);
+    let job = run_command(&mut app, cmds.into_iter().next().unwrap(), t0).unwrap();
+    assert!(matches!(
+        job.kind,
+        JobKind::Export {
+            overwrite: true,
+            ..
+        }
+    ));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Issue 15.6: the robot formats ask for the links' density (kg/m^3), which goes with the
+/// export job; formats without masses do not ask.
+#[test]
+fn export_asks_for_the_density_of_the_robot_formats() {
+    use prbfit::tui::run_command;
+    use prbfit::tui::worker::JobKind;
+    let t0 = Instant::now();
+    let mut app = app();
+    app.on_key(key(KeyCode::Char('e')), t0);
+    type_text(&mut app, "/nonexistent-dir-prbfit/arm.xml", t0);
+    assert!(app.on_key(key(KeyCode::Enter), t0).is_empty());
+    assert!(matches!(app.prompt, Some((PromptKind::ExportDensity, _))));
+    type_text(&mut app, "7850 kg/m^3", t0);
+    let cmds = app.on_key(key(KeyCode::Enter), t0);
+    assert_eq!(app.export_density, 7850.0);
+    let Some(Command::Export { path, overwrite }) = cmds.into_iter().next() else {
+        panic!("an export")
+    };
+    let job = app.export_job(path, overwrite);
+    assert!(matches!(job.kind, JobKind::Export { density, .. } if density == 7850.0));
+    // A bad density is refused, nothing exported.
+    app.on_key(key(KeyCode::Char('e')), t0);
+    type_text(&mut app, "arm.urdf", t0);
+    app.on_key(key(KeyCode::Enter), t0);
+    type_text(&mut app, "heavy", t0);
+    assert!(app.on_key(key(KeyCode::Enter), t0).is_empty());
+    assert!(app.message.as_ref().unwrap().0.contains("density"));
+    let _ = run_command;
+}
+
+/// Issue 15.6: the text box takes the readline keys (they used to insert `u` and `a`), and
+/// the first character typed over a pre-filled value replaces it.
+#[test]
+fn text_boxes_take_the_readline_keys() {
+    let ctrl = |c| KeyEvent::new(KeyCode::Char(c), KeyModifiers::CONTROL);
+    let t0 = Instant::now();
+    let mut app = app();
+    app.focus = Panel::Matrix;
+    app.matrix_state.row = 1;
+    app.matrix_state.col = 1;
+    let text = |app: &App| app.editing.as_ref().unwrap().1.text.clone();
+    // Typing over the shown value replaces it.
+    app.on_key(key(KeyCode::Enter), t0);
+    assert_eq!(text(&app), "3.51");
+    type_text(&mut app, "4", t0);
+    assert_eq!(text(&app), "4");
+    // Ctrl-U clears, Ctrl-A/E and Home/End move, Left/Right, Delete, Ctrl-W.
+    app.on_key(ctrl('u'), t0);
+    assert_eq!(text(&app), "");
+    type_text(&mut app, "2.5", t0);
+    app.on_key(ctrl('a'), t0);
+    type_text(&mut app, "1", t0);
+    assert_eq!(text(&app), "12.5");
+    app.on_key(key(KeyCode::Delete), t0);
+    assert_eq!(text(&app), "1.5");
+    app.on_key(ctrl('e'), t0);
+    app.on_key(key(KeyCode::Left), t0);
+    app.on_key(key(KeyCode::Backspace), t0);
+    assert_eq!(text(&app), "15");
+    app.on_key(key(KeyCode::Home), t0);
+    app.on_key(key(KeyCode::Right), t0);
+    type_text(&mut app, ".", t0);
+    app.on_key(key(KeyCode::End), t0);
+    assert_eq!(text(&app), "1.5");
+    assert_eq!(app.editing.as_ref().unwrap().1.with_cursor(), "1.5_");
+    app.on_key(key(KeyCode::Enter), t0);
+    assert_eq!(app.matrix.rows()[1].k_theta, 1.5);
+    // A cursor key keeps the shown value for editing.
+    app.on_key(key(KeyCode::Enter), t0);
+    app.on_key(key(KeyCode::End), t0);
+    type_text(&mut app, "5", t0);
+    assert_eq!(text(&app), "1.55");
+    app.on_key(key(KeyCode::Esc), t0);
+    assert!(app.editing.is_none());
+    // Ctrl-W in the topology prompt deletes a word; an unused Ctrl key types nothing.
+    app.on_key(key(KeyCode::Char('t')), t0);
+    app.on_key(ctrl('w'), t0);
+    app.on_key(ctrl('x'), t0);
+    assert_eq!(app.prompt.as_ref().unwrap().1.text, "L-R-R-");
+    // A separator goes on its own, then the word before it.
+    app.on_key(ctrl('w'), t0);
+    assert_eq!(app.prompt.as_ref().unwrap().1.text, "L-R-R");
+    app.on_key(ctrl('w'), t0);
+    assert_eq!(app.prompt.as_ref().unwrap().1.text, "L-R-");
+    // Topology shorthand: 4R is L-R-R-R-R.
+    app.on_key(ctrl('u'), t0);
+    type_text(&mut app, "4R", t0);
+    app.on_key(key(KeyCode::Enter), t0);
+    assert_eq!(app.matrix.topology(), "L-R-R-R-R");
+}
+
+/// Issue 15.3: the loads in SI for the beam as it is (`u`: the table, typed values too; the
+/// other units on the panel's border), and `H` choosing what a beam edit holds: alpha (the
+/// force follows: 4x thicker is 64x the force) or the force (the alphas are rescaled, alpha =
+/// F L^2 / (E I0)).
+#[test]
+fn loads_in_si_and_what_a_beam_edit_holds() {
+    use prbfit::si::load_si;
+    use prbfit::tui::state::loads::Hold;
+    let t0 = Instant::now();
+    let thickness_row = 2;
+    // Holding alpha (the default): the force grows with t0^3.
+    let mut app = app();
+    let alpha = app.scene.loads[0].end;
+    let force = load_si(&app.scene.beam, &alpha);
+    app.focus = Panel::Beam;
+    app.beam_state.row = thickness_row;
+    edit(&mut app, "2 mm", t0);
+    assert_eq!(app.scene.loads[0].end, alpha);
+    let grown = load_si(&app.scene.beam, &app.scene.loads[0].end);
+    assert!((grown[1] / force[1] - 64.0).abs() < 1e-9, "{grown:?}");
+
+    // Holding the force: the alphas shrink by 64, Fx, Fy, Mz stay.
+    let mut app = self::app();
+    app.focus = Panel::Loads;
+    app.on_key(key(KeyCode::Char('H')), t0);
+    assert_eq!(app.loads_state.hold, Hold::Force);
+    app.focus = Panel::Beam;
+    app.beam_state.row = thickness_row;
+    edit(&mut app, "2 mm", t0);
+    for (old, new) in Scene::builtin().loads.iter().zip(&app.scene.loads) {
+        let (a, b) = (
+            load_si(&Scene::builtin().beam, &old.end),
+            load_si(&app.scene.beam, &new.end),
+        );
+        for k in 0..3 {
+            assert!(
+                (a[k] - b[k]).abs() <= 1e-9 * a[k].abs().max(1e-12),
+                "{a:?} {b:?}"
+            );
+        }
+    }
+    assert!((app.scene.loads[0].end.alpha_y - 5.0 / 64.0).abs() < 1e-12);
+
+    // The SI view: the table in N, and a force typed in N.
+    let mut app = self::app();
+    app.on_key(key(KeyCode::Char('u')), t0);
+    let (f, _) = prbfit::si::load_factors(&app.scene.beam);
+    app.focus = Panel::Loads;
+    app.loads_state.col = 1;
+    app.on_key(key(KeyCode::Enter), t0);
+    let shown = app.editing.as_ref().unwrap().1.text.clone();
+    assert_eq!(shown, prbfit::tui::units::trim_number(5.0 * f, 5));
+    type_text(&mut app, "1", t0);
+    app.on_key(key(KeyCode::Enter), t0);
+    assert!((app.scene.loads[0].end.alpha_y - 1.0 / f).abs() < 1e-12);
+    // Drawn: the title says what is held, the border shows the other units.
+    use ratatui::backend::TestBackend;
+    use ratatui::Terminal;
+    let mut terminal = Terminal::new(TestBackend::new(120, 40)).unwrap();
+    terminal.draw(|fr| prbfit::tui::ui::draw(fr, &app)).unwrap();
+    let screen = format!("{}", terminal.backend());
+    assert!(
+        screen.contains("hold alpha") && screen.contains("Fy N"),
+        "{screen}"
+    );
+    assert!(screen.contains("alpha_y "), "{screen}");
+}
+
+/// Issue 15.2: a published model is shown with its own figures first: `m` and `t chen-3r`
+/// load it judged, not fitted, even with live refit on (r fits it).
+#[test]
+fn published_models_are_judged_not_refitted() {
+    use prbfit::tui::worker::JobKind;
+    let t0 = Instant::now();
+    let mut app = app();
+    assert!(app.live);
+    for _ in 0..3 {
+        app.on_key(key(KeyCode::Char('m')), t0);
+    }
+    let chen = prbfit::io::ModelFile::load("chen-3r").unwrap().prb;
+    assert_eq!(app.matrix, chen);
+    assert_eq!(app.cell_text(1, Column::KTheta), "3.25");
+    match app.tick(t0 + DEBOUNCE) {
+        Some(Command::Submit(job)) => {
+            assert_eq!(job.kind, JobKind::Judge, "Chen's own figures first");
+            assert_eq!(job.matrix, chen);
+        }
+        o => panic!("{o:?}"),
+    }
+    // A done judge leaves Chen's values in the cells.
+    let id = app.current_job.as_ref().unwrap().0;
+    let baseline = Fidelity::Draft.baseline(&app.scene).unwrap();
+    app.on_worker(WorkerMsg::Done {
+        id,
+        baseline: std::sync::Arc::new(baseline_view(&baseline, None)),
+        model: Box::new(model_view(&chen, &baseline, 1.0).unwrap()),
+        report: None,
+        seconds: 0.01,
+        compare: None,
+    });
+    assert_eq!(app.matrix, chen);
+    // The next edit refits as usual.
+    app.focus = Panel::Matrix;
+    edit(&mut app, "3.3", t0);
+    match app.tick(t0 + DEBOUNCE * 2) {
+        Some(Command::Submit(job)) => assert_eq!(job.kind, JobKind::Fit),
+        o => panic!("{o:?}"),
+    }
+    // By name at `t` too.
+    let mut app = self::app();
+    app.on_key(key(KeyCode::Char('t')), t0);
+    type_text(&mut app, "howell-1r", t0);
+    app.on_key(key(KeyCode::Enter), t0);
+    assert_eq!(app.matrix.topology(), "L-R");
+    assert!(
+        matches!(app.tick(t0 + DEBOUNCE), Some(Command::Submit(j)) if j.kind == JobKind::Judge)
+    );
+}
+
+/// Issue 15.2: `C` compares with another model without touching the one being worked on: a
+/// kept compare job (the running fit is not cancelled), every later job judges it too on its
+/// own baseline, and it is shown only with the baseline it was judged on.
+#[test]
+fn compare_with_another_model() {
+    use prbfit::tui::worker::{JobKind, Worker};
+    let t0 = Instant::now();
+    let mut app = app();
+    app.fidelity = Fidelity::Draft;
+    let worker = Worker::spawn().unwrap();
+    let recv = |worker: &Worker| {
+        worker
+            .messages
+            .recv_timeout(Duration::from_secs(60))
+            .expect("the worker answers")
+    };
+    let Command::Submit(job) = app.submit(false) else {
+        panic!()
+    };
+    let running = job.cancel.clone();
+    worker.submit(job);
+    let before = app.matrix.clone();
+    // C: Howell's 1R first.
+    let cmds = app.on_key(key(KeyCode::Char('C')), t0);
+    let Some(Command::Submit(cmp)) = cmds.into_iter().next() else {
+        panic!("a compare job")
+    };
+    assert_eq!(cmp.kind, JobKind::Compare);
+    assert_eq!(cmp.matrix.topology(), "L-R");
+    assert!(!running.is_cancelled(), "the main job goes on");
+    assert_eq!(app.matrix, before, "the model being worked on stays");
+    worker.submit(cmp);
+    let (mut done, mut compared) = (false, false);
+    while !(done && compared) {
+        let msg = recv(&worker);
+        done |= matches!(msg, WorkerMsg::Done { .. });
+        compared |= matches!(msg, WorkerMsg::Compared { .. });
+        app.on_worker(msg);
+    }
+    let (name, view) = app.shown_compare().expect("the compared model shown");
+    assert_eq!(name, "howell-1r");
+    assert_eq!(view.cases.len(), app.model.as_ref().unwrap().cases.len());
+    assert!(view.figures.objective != app.model.as_ref().unwrap().figures.objective);
+    // Drawn: its row in the status lines.
+    use ratatui::backend::TestBackend;
+    use ratatui::Terminal;
+    let mut terminal = Terminal::new(TestBackend::new(120, 40)).unwrap();
+    terminal.draw(|f| prbfit::tui::ui::draw(f, &app)).unwrap();
+    let screen = format!("{}", terminal.backend());
+    assert!(screen.contains("compared with howell-1r"), "{screen}");
+
+    // A load edit: the compared view of the old loads is not shown with the new baseline;
+    // the new job judges the compared model on its own baseline.
+    app.focus = Panel::Loads;
+    app.loads_state.col = 1;
+    edit(&mut app, "3", t0);
+    let Some(Command::Submit(job)) = app.tick(t0 + DEBOUNCE) else {
+        panic!()
+    };
+    assert_eq!(
+        job.compare.as_ref().map(|m| m.topology()),
+        Some("L-R".into())
+    );
+    let id = job.id;
+    worker.submit(job);
+    let mut first = true;
+    loop {
+        let msg = recv(&worker);
+        if let (WorkerMsg::Progress { baseline, .. } | WorkerMsg::Done { baseline, .. }, true) =
+            (&msg, first)
+        {
+            first = false;
+            // Before the UI takes it, the old compared view is not drawn with a new baseline.
+            let mut probe = App::new(Scene::builtin(), None);
+            probe.compare = app.compare.clone();
+            probe.compare_view = app.compare_view.clone();
+            probe.baseline = Some(baseline.clone());
+            assert!(
+                probe.shown_compare().is_none(),
+                "another beam's compare is hidden"
+            );
+        }
+        let end = matches!(msg, WorkerMsg::Done { id: i, .. } if i == id);
+        app.on_worker(msg);
+        if end {
+            break;
+        }
+    }
+    let (_, view) = app.shown_compare().expect("judged again on the new beam");
+    assert_eq!(view.cases.len(), app.model.as_ref().unwrap().cases.len());
+    // C cycles on to none.
+    for _ in 0..3 {
+        app.on_key(key(KeyCode::Char('C')), t0);
+    }
+    assert!(app.compare.is_none() && app.shown_compare().is_none());
 }

@@ -42,6 +42,24 @@ fn main_screen_120x40() {
     insta::assert_snapshot!("main_120x40", render(&app, 120, 40).backend());
 }
 
+/// Comparing with Chen's 3R (`C`): its errors as grey dots under the model's lines, and its
+/// figures on a status row of their own.
+#[test]
+fn comparing_with_chen_120x40() {
+    let mut app = judged_app();
+    let baseline = Fidelity::Normal.baseline(&app.scene).unwrap();
+    let chen = prbfit::io::ModelFile::load("chen-3r").unwrap().prb;
+    app.compare = Some(("chen-3r".into(), chen.clone()));
+    app.compare_view = Some((
+        app.baseline.clone().unwrap(),
+        model_view(&chen, &baseline, 1.0).unwrap(),
+    ));
+    let t = render(&app, 120, 40);
+    let text = format!("{}", t.backend());
+    assert!(text.contains("compared with chen-3r"), "{text}");
+    insta::assert_snapshot!("compare_120x40", t.backend());
+}
+
 #[test]
 fn main_screen_80x24() {
     let app = judged_app();
@@ -66,7 +84,7 @@ fn editing_a_cell() {
             row: 2,
             col: prbfit::prb::Column::KTheta,
         },
-        TextBox { text: "3.1".into() },
+        TextBox::new("3.1"),
     ));
     insta::assert_snapshot!("editing_80x24", render(&app, 80, 24).backend());
 }
@@ -81,12 +99,7 @@ fn help_overlay() {
 #[test]
 fn quit_prompt_and_error_message() {
     let mut app = judged_app();
-    app.prompt = Some((
-        PromptKind::ConfirmQuit,
-        TextBox {
-            text: String::new(),
-        },
-    ));
+    app.prompt = Some((PromptKind::ConfirmQuit, TextBox::new("")));
     app.set_error("rejected: row 2, column k_theta: a spring constant must be > 0 or inf");
     insta::assert_snapshot!("prompt_80x24", render(&app, 80, 24).backend());
 }
@@ -114,7 +127,7 @@ fn colours_and_no_color() {
     let app = judged_app();
     let t = render(&app, 120, 40);
     let buf = t.backend().buffer();
-    let status_row = 38;
+    let status_row = 37;
     let line: String = (0..120)
         .map(|x| buf[(x, status_row)].symbol().to_string())
         .collect();
@@ -278,29 +291,24 @@ fn panels_one_by_one() {
     }
     insta::assert_snapshot!(
         "panel_status",
-        panel(120, 3, |f, a| {
-            let row = |y| ratatui::layout::Rect::new(a.x, a.y + y, a.width, 1);
-            status::draw_title(f, row(0), &status::TitleView::new(&app));
-            status::draw(f, row(1), &status::View::new(&app));
-            status::draw_hints(f, row(2), &status::HintsView::new(&app));
+        panel(120, 4, |f, a| {
+            let row = |y, h| ratatui::layout::Rect::new(a.x, a.y + y, a.width, h);
+            status::draw_title(f, row(0, 1), &status::TitleView::new(&app));
+            status::draw(f, row(1, 2), &status::View::new(&app));
+            status::draw_hints(f, row(3, 1), &status::HintsView::new(&app));
         })
     );
     app.help = true;
     insta::assert_snapshot!(
         "panel_help",
-        panel(96, 26, |f, a| overlays::draw(
+        panel(110, 32, |f, a| overlays::draw(
             f,
             a,
             &overlays::View::new(&app)
         ))
     );
     app.help = false;
-    app.prompt = Some((
-        PromptKind::Topology,
-        TextBox {
-            text: "L-RP".into(),
-        },
-    ));
+    app.prompt = Some((PromptKind::Topology, TextBox::new("L-RP")));
     insta::assert_snapshot!(
         "panel_prompt",
         panel(80, 5, |f, a| overlays::draw(

@@ -155,10 +155,8 @@ fn terminal_is_restored_on_quit_and_on_sigterm() {
             s.contains("PRB matrix") && s.contains("converged")
         });
         if *how == "quit" {
-            // The live fit changed the model, which is unsaved work: quitting asks first.
+            // Nothing edited: the start-up fit is not the user's work, so q quits at once.
             tmux(&["send-keys", "-t", &session, "q"]).unwrap();
-            wait_for(&session, "the quit question", |s| s.contains("quit anyway"));
-            tmux(&["send-keys", "-t", &session, "y"]).unwrap();
         } else {
             let shell = tmux(&["display", "-p", "-t", &session, "#{pane_pid}"]).unwrap();
             let out = Command::new("pgrep")
@@ -305,4 +303,189 @@ fn ui_ends_when_its_terminal_is_killed_mid_fit() {
     });
     let pid = ui_pid(&session);
     kill_terminal_and_wait(&session, pid, "mid-fit");
+}
+
+/// Sends keys to the session's pane.
+fn keys(session: &str, k: &[&str]) {
+    let mut args = vec!["send-keys", "-t", session];
+    args.extend_from_slice(k);
+    tmux(&args).expect("send-keys");
+}
+
+/// Waits for the session (the UI in it) to end.
+fn wait_exit(session: &str, what: &str) {
+    let t0 = Instant::now();
+    while tmux(&["has-session", "-t", session]).is_some() {
+        if t0.elapsed() > Duration::from_secs(10) {
+            let screen = tmux(&["capture-pane", "-p", "-t", session]).unwrap_or_default();
+            let _ = tmux(&["kill-session", "-t", session]);
+            panic!("{what}: the UI did not exit; screen:\n{screen}");
+        }
+        sleep(Duration::from_millis(50));
+    }
+}
+
+/// The matrix panel's rows as drawn (the left column only).
+fn matrix_rows(screen: &str) -> Vec<String> {
+    screen
+        .lines()
+        .skip_while(|l| !l.contains("#  gamma"))
+        .skip(1)
+        .take_while(|l| !l.starts_with('└'))
+        .map(|l| l.split("││").next().unwrap_or(l).trim_end().to_string())
+        .collect()
+}
+
+/// Issue 15.4: a rejection is shown on its own line with J still visible, and the next
+/// action that succeeds clears it.
+#[test]
+fn a_rejection_never_hides_j_and_goes_at_the_next_action() {
+    if !have_tmux("a_rejection_never_hides_j_and_goes_at_the_next_action") {
+        return;
+    }
+    let session = format!("prbfit-msg-{}", std::process::id());
+    start_ui(&session, &[]);
+    wait_for(&session, "the first fit", |s| {
+        s.contains("converged") && objective(s).is_some()
+    });
+    keys(&session, &["t"]);
+    wait_for(&session, "the topology prompt", |s| {
+        s.contains("topology (e.g.")
+    });
+    keys(&session, &["L-X-R", "Enter"]);
+    let screen = wait_for(&session, "the rejection", |s| s.contains("rejected"));
+    assert!(objective(&screen).is_some(), "J stays visible:\n{screen}");
+    assert!(
+        screen.contains("PASS") || screen.contains("FAIL"),
+        "{screen}"
+    );
+    // Tab (next panel) succeeds: the old rejection goes.
+    keys(&session, &["Tab"]);
+    let screen = wait_for(&session, "the message cleared", |s| !s.contains("rejected"));
+    assert!(objective(&screen).is_some(), "{screen}");
+    keys(&session, &["q"]);
+    wait_exit(&session, "quit after a rejected topology");
+}
+
+/// Issue 15.5: a fresh start quits at once (the start-up fit is not the user's work); after
+/// an edit, `o` asks before it would throw the edit away.
+#[test]
+fn unsaved_means_the_user_changed_something() {
+    if !have_tmux("unsaved_means_the_user_changed_something") {
+        return;
+    }
+    let session = format!("prbfit-dirty-{}", std::process::id());
+    start_ui(&session, &[]);
+    wait_for(&session, "the first fit", |s| s.contains("converged"));
+    keys(&session, &["q"]);
+    wait_exit(&session, "q on a fresh start");
+
+    start_ui(&session, &[]);
+    wait_for(&session, "the first fit", |s| s.contains("converged"));
+    // k_theta of segment 2 (the matrix panel has the focus): typing replaces the value.
+    keys(&session, &["Enter", "4", "Enter"]);
+    wait_for(&session, "the edit accepted", |s| {
+        matrix_rows(s).iter().any(|r| r.starts_with("│2 ")) && s.contains("converged")
+    });
+    keys(&session, &["o"]);
+    wait_for(&session, "the open question", |s| {
+        s.contains("open another scene anyway")
+    });
+    keys(&session, &["n"]);
+    wait_for(&session, "the question gone", |s| {
+        !s.contains("open another scene anyway")
+    });
+    keys(&session, &["q"]);
+    wait_for(&session, "the quit question", |s| s.contains("quit anyway"));
+    keys(&session, &["y"]);
+    wait_exit(&session, "quit after an edit");
+}
+
+/// Issue 15.1: `s` saves the model with the scene; `prbfit tui saved.toml` comes back with
+/// that model, figures and all, not with Su's 3R.
+#[test]
+fn a_saved_scene_reopens_with_its_model() {
+    if !have_tmux("a_saved_scene_reopens_with_its_model") {
+        return;
+    }
+    let dir = std::env::temp_dir().join(format!("prbfit-e2e-save-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("saved.toml");
+    let path_text = path.display().to_string();
+    let session = format!("prbfit-save-{}", std::process::id());
+    start_ui(&session, &[]);
+    wait_for(&session, "the first fit", |s| s.contains("converged"));
+    keys(&session, &["t"]);
+    wait_for(&session, "the topology prompt", |s| {
+        s.contains("topology (e.g.")
+    });
+    keys(&session, &["2R", "Enter"]);
+    // Fitted: converged, and segment 2's k_theta no longer the topology's start value 2.
+    let screen = wait_for(&session, "the 2R fitted", |s| {
+        let rows = matrix_rows(s);
+        s.contains("PRB matrix  L-R-R ")
+            && s.contains("converged")
+            && rows.len() == 3
+            && rows[1].split_whitespace().nth(2) != Some("2")
+    });
+    let before = matrix_rows(&screen);
+    assert_eq!(before.len(), 3, "{screen}");
+    keys(&session, &["s"]);
+    wait_for(&session, "the save prompt", |s| s.contains("save scene to"));
+    keys(&session, &[&path_text, "Enter"]);
+    wait_for(&session, "saved", |s| s.contains("saved "));
+    keys(&session, &["q"]);
+    wait_exit(&session, "quit after saving");
+
+    start_ui(&session, &["tui", &path_text]);
+    let screen = wait_for(&session, "the saved scene judged", |s| {
+        s.contains("judged") && objective(s).is_some()
+    });
+    assert!(screen.contains("PRB matrix  L-R-R "), "{screen}");
+    assert_eq!(matrix_rows(&screen), before, "the same model:\n{screen}");
+    keys(&session, &["q"]);
+    wait_exit(&session, "quit the reopened scene");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Issue 15.2: `m` to Chen's 3R shows Chen's own figures (0.126, 3.25: judged, not refitted
+/// under live refit), and `C` compares with Su's 3R on a status row of its own while the
+/// matrix stays Chen's.
+#[test]
+fn a_published_model_is_shown_as_published_and_compared() {
+    if !have_tmux("a_published_model_is_shown_as_published_and_compared") {
+        return;
+    }
+    let session = format!("prbfit-compare-{}", std::process::id());
+    start_ui(&session, &[]);
+    wait_for(&session, "the first fit", |s| s.contains("converged"));
+    // m: Howell, Su, Chen.
+    keys(&session, &["m", "m", "m"]);
+    let screen = wait_for(&session, "Chen's 3R judged", |s| {
+        s.contains("chen-3r") && s.contains("judged") && objective(s).is_some()
+    });
+    let rows = matrix_rows(&screen);
+    assert!(rows[0].contains("0.126"), "{screen}");
+    assert!(rows[1].contains("3.25"), "{screen}");
+    // C: Howell, then Su.
+    keys(&session, &["C", "C"]);
+    let screen = wait_for(&session, "the comparison with Su", |s| {
+        s.contains("compared with su-3r")
+    });
+    let rows = matrix_rows(&screen);
+    assert!(rows[1].contains("3.25"), "still Chen's:\n{screen}");
+    let j_lines = screen
+        .lines()
+        .filter(|l| l.trim_start().starts_with("J "))
+        .count();
+    assert_eq!(
+        j_lines, 2,
+        "one J for the model, one for the compared:\n{screen}"
+    );
+    keys(&session, &["q"]);
+    // Loading a published model is the user's choice: quitting asks.
+    wait_for(&session, "the quit question", |s| s.contains("quit anyway"));
+    keys(&session, &["y"]);
+    wait_exit(&session, "quit after comparing");
 }

@@ -3,7 +3,7 @@
 //!
 //! The app holds what the panels share (the scene, the matrix, the jobs, the messages); each
 //! panel's cursor and edit handling is in [`state`](super::state), and every key goes through
-//! the [`keymap`](super::keymap).
+//! the [`keymap`].
 
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -13,6 +13,7 @@ use ratatui::crossterm::event::{KeyCode, KeyEvent, KeyEventKind, KeyModifiers};
 
 use crate::cancel::CancelToken;
 use crate::fit::{Fidelity, FitReport, StopReason};
+use crate::format::Format;
 use crate::io::ModelFile;
 use crate::prb::published::NAMES as PUBLISHED;
 use crate::prb::{Column, PrbMatrix};
@@ -20,10 +21,11 @@ use crate::scene::{EffectsChoice, Scene};
 
 use super::keymap::{self, Action, Scope};
 use super::state::beam::{toggled_effect, BeamField, BeamState};
-use super::state::loads::{self, LoadsState};
+use super::state::loads::{self, held_forces, Hold, LoadsState};
 use super::state::matrix::MatrixState;
 use super::state::select::SelectState;
 pub use super::state::Panel;
+use super::units::trim_number;
 use super::worker::{BaselineView, FitStatus, Job, JobKind, ModelView, WorkerMsg};
 
 /// Edits closer together than this are sent as one job.
@@ -63,9 +65,23 @@ pub enum PromptKind {
     Topology,
     /// Whether to quit with unsaved work.
     ConfirmQuit,
+    /// Whether to open another scene over unsaved work.
+    ConfirmOpen,
+    /// Whether to write over an existing file.
+    ConfirmOverwrite,
+    /// The density of the exported links (kg/m^3), for their masses.
+    ExportDensity,
 }
 
 impl PromptKind {
+    /// Whether it is a yes/no question, answered by one key (no text).
+    pub fn is_question(self) -> bool {
+        matches!(
+            self,
+            PromptKind::ConfirmQuit | PromptKind::ConfirmOpen | PromptKind::ConfirmOverwrite
+        )
+    }
+
     /// The prompt's question.
     pub fn question(self) -> &'static str {
         match self {
@@ -74,16 +90,14 @@ impl PromptKind {
             PromptKind::ExportModel => "export model to (.toml .json .xml/.mjcf .urdf .sdf .csv)",
             PromptKind::Topology => "topology (e.g. L-R-R-R, L-RP) or howell-1r, su-3r, chen-3r",
             PromptKind::ConfirmQuit => "unsaved changes: quit anyway? (y/n)",
+            PromptKind::ConfirmOpen => "unsaved changes: open another scene anyway? (y/n)",
+            PromptKind::ConfirmOverwrite => "the file exists: overwrite? (y/n)",
+            PromptKind::ExportDensity => "density of the links, for their masses (kg/m^3)",
         }
     }
 }
 
-/// A line of text being typed.
-#[derive(Debug, Clone, PartialEq)]
-pub struct TextBox {
-    /// The text so far.
-    pub text: String,
-}
+pub use super::state::text::TextBox;
 
 /// How a message should look.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -125,10 +139,72 @@ pub enum Activity {
 pub enum Command {
     /// Hand a job to the worker.
     Submit(Job),
-    /// Write the scene to a file.
-    SaveScene(PathBuf),
+    /// Write the scene, with the model being worked on as its `[prb] matrix`, to a file.
+    SaveScene {
+        /// The file.
+        path: PathBuf,
+        /// Replace it if it exists (the user said so).
+        overwrite: bool,
+    },
     /// Read a scene from a file.
     OpenScene(PathBuf),
+    /// Export the model to a file (checked here, written by the worker).
+    Export {
+        /// The file.
+        path: PathBuf,
+        /// Replace it if it exists (the user said so).
+        overwrite: bool,
+    },
+}
+
+/// The density the exported links get unless the user types another (water's, kg/m^3).
+pub const DEFAULT_DENSITY: f64 = 1000.0;
+
+/// What a key does in a text box.
+enum TextKey {
+    /// A row of the keymap's text scope.
+    Action(Action),
+    /// A character to type.
+    Char(char),
+    /// Nothing (Ctrl with a key the text box does not use, a function key).
+    None,
+}
+
+fn text_action(key: &KeyEvent) -> TextKey {
+    if let Some(a) = keymap::action(key, Scope::TEXT) {
+        return TextKey::Action(a);
+    }
+    match key.code {
+        KeyCode::Char(c)
+            if !key
+                .modifiers
+                .intersects(KeyModifiers::CONTROL | KeyModifiers::ALT) =>
+        {
+            TextKey::Char(c)
+        }
+        _ => TextKey::None,
+    }
+}
+
+/// Whether an export in `format` has link masses (the robot formats).
+fn has_masses(format: Format) -> bool {
+    matches!(format, Format::Mjcf | Format::Urdf | Format::Sdf)
+}
+
+/// A density typed as a number of kg/m^3, with or without the unit.
+pub fn parse_density(text: &str) -> Result<f64, String> {
+    let t = text.trim();
+    let number = ["kg/m^3", "kg/m3", "kg/m³"]
+        .iter()
+        .find_map(|u| t.strip_suffix(u))
+        .unwrap_or(t)
+        .trim();
+    match number.parse::<f64>() {
+        Ok(d) if d.is_finite() && d > 0.0 => Ok(d),
+        _ => Err(format!(
+            "density: `{t}` is not a number of kg/m^3 > 0 (steel 7850, aluminium 2700)"
+        )),
+    }
 }
 
 /// Checks an edited scene by the rules a scene file obeys ([`Scene::validate`]).
@@ -137,6 +213,17 @@ pub fn validate_scene(scene: &Scene) -> Result<(), String> {
         Some(key) => format!("{key}: {}", e.message),
         None => e.message,
     })
+}
+
+/// A job waiting out the debounce.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct Pending {
+    /// When the change behind it was accepted.
+    at: Instant,
+    /// Fit (else judge).
+    fit: bool,
+    /// The user asked for it (an edit), not the program (start-up, open).
+    by_user: bool,
 }
 
 /// The whole UI state.
@@ -180,7 +267,12 @@ pub struct App {
     pub current_job: Option<(u64, CancelToken)>,
     job_counter: u64,
     /// An accepted edit waiting out the debounce.
-    pending: Option<(Instant, bool)>,
+    pending: Option<Pending>,
+    /// The newest job was asked for by the user (an edit, `r`), so the model it fits is the
+    /// user's work (see [`App::unsaved`]).
+    current_job_by_user: bool,
+    /// The message shown is a worker's failure, cleared by the next good result.
+    message_from_worker: bool,
     /// When the edit behind the newest job was accepted (for timing the UI's response).
     pub edit_accepted_at: Option<Instant>,
     /// Where the worker is.
@@ -195,16 +287,37 @@ pub struct App {
     next_published: usize,
     /// The selection view, when open.
     pub select: Option<SelectState>,
+    /// The matrix came from the scene's `[prb] matrix`: the first job judges it as saved.
+    model_from_scene: bool,
+    /// The density the exported links get (kg/m^3).
+    pub export_density: f64,
+    /// The export file waiting for its density.
+    export_path: Option<PathBuf>,
+    /// The write waiting for "overwrite? (y/n)".
+    overwrite: Option<Command>,
+    /// The model compared against (`C`): its name and matrix.
+    pub compare: Option<(String, PrbMatrix)>,
+    /// The compared model as judged, with the baseline it was judged on.
+    pub compare_view: Option<(Arc<BaselineView>, ModelView)>,
+    /// The last selection's model (its choice, else the closest row), which `C` offers.
+    pub selection_model: Option<(String, PrbMatrix)>,
 }
 
 impl App {
-    /// The app on `scene`, with Su's 3R model (or an L-R-R-R matrix) to start from.
-    pub fn new(scene: Scene, scene_path: Option<PathBuf>) -> App {
+    /// The app on `scene`, starting from the scene's own model (`[prb] matrix`) if it has
+    /// one, else from Su's 3R model (or an L-R-R-R matrix). The model lives in
+    /// [`App::matrix`]; the scene's copy goes back in when it is saved
+    /// ([`App::scene_to_save`]).
+    pub fn new(mut scene: Scene, scene_path: Option<PathBuf>) -> App {
+        let from_scene = scene.prb.take();
+        let model_from_scene = from_scene.is_some();
         #[allow(clippy::expect_used)]
-        let matrix = ModelFile::load("su-3r").map(|m| m.prb).unwrap_or_else(|_| {
-            // "L-R-R-R" is a constant the topology parser accepts (a test builds every
-            // topology of the ladder), so this cannot fail.
-            PrbMatrix::from_topology("L-R-R-R").expect("valid topology")
+        let matrix = from_scene.unwrap_or_else(|| {
+            ModelFile::load("su-3r").map(|m| m.prb).unwrap_or_else(|_| {
+                // "L-R-R-R" is a constant the topology parser accepts (a test builds every
+                // topology of the ladder), so this cannot fail.
+                PrbMatrix::from_topology("L-R-R-R").expect("valid topology")
+            })
         });
         App {
             scene,
@@ -227,6 +340,8 @@ impl App {
             current_job: None,
             job_counter: 0,
             pending: None,
+            current_job_by_user: false,
+            message_from_worker: false,
             edit_accepted_at: None,
             activity: Activity::Idle,
             baseline: None,
@@ -234,7 +349,74 @@ impl App {
             report: None,
             next_published: 0,
             select: None,
+            model_from_scene,
+            export_density: DEFAULT_DENSITY,
+            export_path: None,
+            overwrite: None,
+            compare: None,
+            compare_view: None,
+            selection_model: None,
         }
+    }
+
+    /// The compared model to draw: its name and view, when it was judged for the compared
+    /// matrix on the baseline the main model is shown with (never another beam's).
+    pub fn shown_compare(&self) -> Option<(&str, &ModelView)> {
+        let (name, matrix) = self.compare.as_ref()?;
+        let (baseline, view) = self.compare_view.as_ref()?;
+        let shown = self.baseline.as_ref()?;
+        let same = Arc::ptr_eq(baseline, shown) || **baseline == **shown;
+        (same && view.matrix == *matrix).then_some((name.as_str(), view))
+    }
+
+    /// `C`: the next model to compare against: none, the published ones, the selection's.
+    fn cycle_compare(&mut self) -> Option<Command> {
+        let mut choices: Vec<(String, PrbMatrix)> = PUBLISHED
+            .iter()
+            .filter_map(|n| ModelFile::load(n).ok().map(|m| (n.to_string(), m.prb)))
+            .collect();
+        choices.extend(self.selection_model.clone());
+        let now = self.compare.as_ref().map(|(n, _)| n.clone());
+        let next = match now.and_then(|n| choices.iter().position(|(c, _)| *c == n)) {
+            None => choices.into_iter().next(),
+            Some(i) => choices.into_iter().nth(i + 1),
+        };
+        self.compare = next;
+        match self.compare.clone() {
+            None => {
+                self.compare_view = None;
+                self.set_info("compare: none");
+                None
+            }
+            Some((name, matrix)) => {
+                self.set_info(format!("compare with {name} (C: next)"));
+                let mut job = self.job(JobKind::Compare);
+                job.matrix = matrix;
+                Some(Command::Submit(job))
+            }
+        }
+    }
+
+    /// The scene as a file stores it: the model being worked on goes in as `[prb] matrix`.
+    pub fn scene_to_save(&self) -> Scene {
+        let mut scene = self.scene.clone();
+        scene.prb = Some(self.matrix.clone());
+        scene
+    }
+
+    /// The scene was written to `path`: nothing is unsaved any more.
+    pub fn saved(&mut self, path: PathBuf) {
+        self.set_info(format!("saved {} (with the model)", path.display()));
+        self.scene_path = Some(path);
+        self.scene_dirty = false;
+        self.model_dirty = false;
+    }
+
+    /// A write would replace `cmd`'s existing file: ask first; `y` sends `cmd` again with
+    /// `overwrite` set.
+    pub fn ask_overwrite(&mut self, cmd: Command) {
+        self.overwrite = Some(cmd);
+        self.open_prompt(PromptKind::ConfirmOverwrite, String::new());
     }
 
     /// The job for the current state.
@@ -244,22 +426,46 @@ impl App {
             id: self.job_counter,
             scene: Arc::new(self.scene.clone()),
             matrix: self.matrix.clone(),
+            compare: self.compare.as_ref().map(|(_, m)| m.clone()),
             fidelity: self.fidelity,
             kind,
             cancel: CancelToken::new(),
         }
     }
 
-    /// An export of the current matrix. Unlike the other jobs it is a side effect the user
-    /// asked for: it cancels nothing, a newer job does not cancel it, and its result is shown
-    /// whatever job is current by then.
+    /// An export of the current matrix, never over an existing file. Unlike the other jobs
+    /// it is a side effect the user asked for: it cancels nothing, a newer job does not
+    /// cancel it, and its result is shown whatever job is current by then.
     pub fn export(&mut self, path: PathBuf) -> Command {
-        Command::Submit(self.job(JobKind::Export(path)))
+        Command::Submit(self.export_job(path, false))
     }
 
-    /// Sends a fit (or, with `fit` false, a judge) job now, cancelling the one before.
+    /// The export job for `path` (replacing the file when `overwrite`), with the links'
+    /// density.
+    pub fn export_job(&mut self, path: PathBuf, overwrite: bool) -> Job {
+        let density = self.export_density;
+        self.job(JobKind::Export {
+            path,
+            density,
+            overwrite,
+        })
+    }
+
+    /// Sends a fit (or, with `fit` false, a judge) job now, cancelling the one before: the
+    /// user asked for it (`r`), so a fit that changes the model is unsaved work.
     pub fn submit(&mut self, fit: bool) -> Command {
+        self.current_job_by_user = true;
         self.submit_kind(if fit { JobKind::Fit } else { JobKind::Judge })
+    }
+
+    /// The first job, at start-up: a fit with live refit on, or only a judge when the scene
+    /// brought its own model (`[prb] matrix`: shown as saved; `r` fits it). Not the user's
+    /// work: the model it fits does not make the scene "unsaved".
+    pub fn start(&mut self) -> Command {
+        let fit = self.live && !self.model_from_scene;
+        let cmd = self.submit_kind(if fit { JobKind::Fit } else { JobKind::Judge });
+        self.current_job_by_user = false;
+        cmd
     }
 
     /// Sends a job now, cancelling the one before.
@@ -270,20 +476,38 @@ impl App {
         let job = self.job(kind);
         self.current_job = Some((job.id, job.cancel.clone()));
         self.activity = Activity::Waiting;
-        self.edit_accepted_at = self.pending.map(|p| p.0);
+        self.edit_accepted_at = self.pending.map(|p| p.at);
         self.pending = None;
         Command::Submit(job)
     }
 
     /// An edit was accepted: (re)start the debounce.
     fn changed(&mut self, now: Instant) {
-        self.pending = Some((now, self.live));
+        self.pending = Some(Pending {
+            at: now,
+            fit: self.live,
+            by_user: true,
+        });
+    }
+
+    /// The program (not the user) wants the model judged or fitted again: after an open, or
+    /// back from the selection view.
+    fn refresh(&mut self, now: Instant, fit: bool) {
+        self.pending = Some(Pending {
+            at: now,
+            fit,
+            by_user: false,
+        });
     }
 
     /// Time passes: sends a debounced job when due.
     pub fn tick(&mut self, now: Instant) -> Option<Command> {
         match self.pending {
-            Some((at, fit)) if now.duration_since(at) >= DEBOUNCE => Some(self.submit(fit)),
+            Some(p) if now.duration_since(p.at) >= DEBOUNCE => {
+                let cmd = self.submit_kind(if p.fit { JobKind::Fit } else { JobKind::Judge });
+                self.current_job_by_user = p.by_user;
+                Some(cmd)
+            }
             _ => None,
         }
     }
@@ -297,6 +521,21 @@ impl App {
     /// export's. A model is always shown with the baseline it was judged on, which comes with
     /// it.
     pub fn on_worker(&mut self, msg: WorkerMsg) -> bool {
+        if let WorkerMsg::Compared {
+            baseline, model, ..
+        } = msg
+        {
+            // Kept like an export, and shown only while it is the compared matrix and the
+            // baseline is the shown one (see shown_compare).
+            let wanted = self
+                .compare
+                .as_ref()
+                .is_some_and(|(_, m)| *m == model.matrix);
+            if wanted {
+                self.compare_view = Some((baseline, *model));
+            }
+            return wanted;
+        }
         if let WorkerMsg::Exported { path, result, .. } = msg {
             match result {
                 Ok(()) => {
@@ -318,28 +557,36 @@ impl App {
                 baseline,
                 model,
                 status,
+                compare,
                 ..
             } => {
+                self.take_compare(&baseline, compare);
                 self.baseline = Some(baseline);
                 self.model = Some(*model);
                 self.activity = Activity::Fitting(status);
+                self.clear_worker_error();
             }
             WorkerMsg::Done {
                 baseline,
                 model,
                 report,
                 seconds,
+                compare,
                 ..
             } => {
+                self.take_compare(&baseline, compare);
                 let (stop, iterations, evaluations) = match &report {
                     Some(r) => (Some(r.stop), r.iterations, r.evaluations),
                     None => (None, 0, 0),
                 };
                 if let Some(r) = &report {
-                    // The fitted values replace the free cells (not a user edit: no refit).
+                    // The fitted values replace the free cells (not an edit: no refit). They
+                    // are the user's work when the user asked for this fit (`r`, or the live
+                    // refit of an edit); the fit the program started (start-up, open) changes
+                    // nothing the user would lose.
                     if r.matrix != self.matrix {
                         self.matrix = r.matrix.clone();
-                        self.model_dirty = true;
+                        self.model_dirty |= self.current_job_by_user;
                     }
                     self.activity = if r.stop == StopReason::Cancelled {
                         Activity::Cancelled
@@ -362,16 +609,18 @@ impl App {
                 self.report = report.map(|r| *r);
                 self.baseline = Some(baseline);
                 self.model = Some(*model);
+                self.clear_worker_error();
             }
             WorkerMsg::Failed { message, .. } => {
                 self.set_error(message.clone());
+                self.message_from_worker = true;
                 self.activity = Activity::Failed(message);
                 if let Some(v) = &mut self.select {
                     v.running = false;
                 }
             }
             // Taken above, whatever its job.
-            WorkerMsg::Exported { .. } => {}
+            WorkerMsg::Exported { .. } | WorkerMsg::Compared { .. } => {}
             WorkerMsg::SelectRow { id, row } => {
                 if let Some(v) = &mut self.select {
                     v.on_row(id, *row);
@@ -382,6 +631,10 @@ impl App {
                 selection,
                 knobs,
             } => {
+                let pick = selection.chosen.unwrap_or(selection.closest);
+                if let Some(row) = selection.rows.get(pick) {
+                    self.selection_model = Some((format!("{} (S)", row.name), row.prb.clone()));
+                }
                 if let Some(v) = &mut self.select {
                     v.on_done(id, *selection, knobs);
                 }
@@ -418,14 +671,16 @@ impl App {
                 if let Some(row) = view.selected_row() {
                     let (name, m) = (row.name.clone(), row.prb.clone());
                     self.close_selection();
-                    self.set_info(format!("matrix: {name} from the selection"));
+                    self.set_info(format!("matrix: {name} from the selection (r fits it)"));
                     self.replace_matrix(m, now);
+                    // As the table showed it.
+                    self.judge_only();
                 }
             }
             Some(Action::SelectClose) => {
                 self.close_selection();
                 // Back to the matrix being edited: judge or fit it again.
-                self.changed(now);
+                self.refresh(now, self.live);
             }
             _ => {}
         }
@@ -445,14 +700,41 @@ impl App {
     /// Shows an error message.
     pub fn set_error(&mut self, m: impl Into<String>) {
         self.message = Some((m.into(), Tone::Error));
+        self.message_from_worker = false;
     }
 
     /// Shows an information message.
     pub fn set_info(&mut self, m: impl Into<String>) {
         self.message = Some((m.into(), Tone::Info));
+        self.message_from_worker = false;
     }
 
-    /// Whether the scene or the model has changes not written anywhere.
+    /// A message is news about the last action only: the next action that succeeds clears
+    /// it (and sets its own, if it has one).
+    fn clear_message(&mut self) {
+        self.message = None;
+        self.message_from_worker = false;
+    }
+
+    /// The compared model a result brought, judged on `baseline`.
+    fn take_compare(&mut self, baseline: &Arc<BaselineView>, compare: Option<Box<ModelView>>) {
+        if let Some(view) = compare {
+            self.compare_view = Some((baseline.clone(), *view));
+        }
+    }
+
+    /// A good result answers the failure before it.
+    fn clear_worker_error(&mut self) {
+        if self.message_from_worker {
+            self.clear_message();
+        }
+    }
+
+    /// Whether the user has work that is not in any file: an edit of the scene or of the
+    /// model since the last save or open (an export writes the model, so it clears the
+    /// model's part). What the fits do counts as the user's work only when the user asked
+    /// for the fit: `r`, or the live refit of an edit, changes the model they would lose; the
+    /// fit the program runs at start-up or after an open does not.
     pub fn unsaved(&self) -> bool {
         self.scene_dirty || self.model_dirty
     }
@@ -465,7 +747,7 @@ impl App {
         let ctrl_c =
             key.code == KeyCode::Char('c') && key.modifiers.contains(KeyModifiers::CONTROL);
         if self.prompt.is_some() {
-            return self.prompt_key(key, ctrl_c);
+            return self.prompt_key(key, ctrl_c, now);
         }
         if self.editing.is_some() {
             if ctrl_c {
@@ -488,7 +770,11 @@ impl App {
             return self.select_key(key, now);
         }
         match keymap::action(&key, Scope::of(self.focus)) {
-            Some(action) => self.act(action, now),
+            Some(action) => {
+                // The last message was about the last action.
+                self.clear_message();
+                self.act(action, now)
+            }
             None => Vec::new(),
         }
     }
@@ -533,10 +819,17 @@ impl App {
                     .map(|p| p.display().to_string())
                     .unwrap_or_else(|| "scene.toml".into()),
             ),
-            Action::Open => self.open_prompt(PromptKind::OpenScene, String::new()),
+            Action::Open => {
+                if self.unsaved() {
+                    self.open_prompt(PromptKind::ConfirmOpen, String::new());
+                } else {
+                    self.open_prompt(PromptKind::OpenScene, String::new());
+                }
+            }
             Action::Export => self.open_prompt(PromptKind::ExportModel, "model.toml".into()),
             Action::Topology => self.open_prompt(PromptKind::Topology, self.matrix.topology()),
             Action::NextPublished => self.next_published_model(now),
+            Action::CycleCompare => out.extend(self.cycle_compare()),
             Action::ToggleFree => self.toggle_free(now),
             Action::ToggleShear => self.toggle_effect('1', now),
             Action::ToggleExtension => self.toggle_effect('2', now),
@@ -546,15 +839,38 @@ impl App {
             Action::ToggleSi => {
                 self.matrix_state.si = !self.matrix_state.si;
                 self.set_info(if self.matrix_state.si {
-                    "matrix in SI for this beam: segment lengths, N m/rad, N/m"
+                    "SI for this beam: segment lengths, N m/rad, N/m; loads in N, N m"
                 } else {
-                    "matrix nondimensional: gamma, k_theta (E I0/L), k_ex (E A0/L)"
+                    "nondimensional: gamma, k_theta (E I0/L), k_ex (E A0/L); alpha, beta"
+                });
+            }
+            Action::ToggleHold => {
+                self.loads_state.hold = match self.loads_state.hold {
+                    Hold::Alpha => Hold::Force,
+                    Hold::Force => Hold::Alpha,
+                };
+                self.set_info(match self.loads_state.hold {
+                    Hold::Alpha => "hold: alpha (a beam edit keeps alpha; the forces follow)",
+                    Hold::Force => "hold: force (a beam edit keeps Fx, Fy, Mz; the alphas follow)",
                 });
             }
             Action::PrevPath => self.loads_state.cycle_path(-1, self.scene.loads.len()),
             Action::NextPath => self.loads_state.cycle_path(1, self.scene.loads.len()),
-            // The selection view's own keys never reach here.
-            Action::SelectLoad | Action::SelectStop | Action::SelectClose => {}
+            // The selection view's and the text boxes' own keys never reach here.
+            Action::SelectLoad
+            | Action::SelectStop
+            | Action::SelectClose
+            | Action::TextAccept
+            | Action::TextCancel
+            | Action::TextLeft
+            | Action::TextRight
+            | Action::TextStart
+            | Action::TextEnd
+            | Action::TextBackspace
+            | Action::TextDelete
+            | Action::TextClearStart
+            | Action::TextClearEnd
+            | Action::TextDeleteWord => {}
         }
         out
     }
@@ -578,7 +894,7 @@ impl App {
     }
 
     fn open_prompt(&mut self, kind: PromptKind, text: String) {
-        self.prompt = Some((kind, TextBox { text }));
+        self.prompt = Some((kind, TextBox::new(text)));
     }
 
     fn move_cursor(&mut self, dx: i32, dy: i32) {
@@ -587,6 +903,11 @@ impl App {
             Panel::Loads => self.loads_state.move_by(dx, dy, self.scene.loads.len()),
             Panel::Matrix => self.matrix_state.move_by(dx, dy, self.matrix.len()),
         }
+    }
+
+    /// The beam the SI view (`u`) shows the matrix and the loads for, when it is on.
+    pub fn si_beam(&self) -> Option<&crate::scene::BeamSpec> {
+        self.matrix_state.si.then_some(&self.scene.beam)
     }
 
     /// The text of a matrix cell as the matrix panel shows it.
@@ -610,7 +931,7 @@ impl App {
                     .scene
                     .loads
                     .get(row)
-                    .map(|p| loads::load_text(p, col))
+                    .map(|p| loads::load_text(p, col, self.si_beam()))
                     .unwrap_or_default();
                 (EditTarget::Load { row, col }, text)
             }
@@ -619,28 +940,31 @@ impl App {
                 (EditTarget::Cell { row, col }, self.cell_text(row, col))
             }
         };
-        self.editing = Some((target, TextBox { text }));
+        self.editing = Some((target, TextBox::new(text)));
     }
 
     fn edit_key(&mut self, key: KeyEvent, now: Instant) -> Vec<Command> {
         let Some((_, tb)) = &mut self.editing else {
             return Vec::new();
         };
-        match key.code {
-            KeyCode::Esc => self.editing = None,
-            KeyCode::Enter => {
+        match text_action(&key) {
+            TextKey::Action(Action::TextCancel) => self.editing = None,
+            TextKey::Action(Action::TextAccept) => {
                 if let Some((target, tb)) = self.editing.take() {
                     match self.apply_edit(&target, &tb.text) {
-                        Ok(()) => self.changed(now),
+                        Ok(()) => {
+                            self.clear_message();
+                            self.changed(now);
+                        }
                         Err(e) => self.set_error(format!("rejected: {e} (the old value is kept)")),
                     }
                 }
             }
-            KeyCode::Backspace => {
-                tb.text.pop();
+            TextKey::Action(a) => {
+                tb.apply(a);
             }
-            KeyCode::Char(c) if tb.text.len() < 64 => tb.text.push(c),
-            _ => {}
+            TextKey::Char(c) => tb.insert(c),
+            TextKey::None => {}
         }
         Vec::new()
     }
@@ -649,7 +973,10 @@ impl App {
     pub fn apply_edit(&mut self, target: &EditTarget, text: &str) -> Result<(), String> {
         match target {
             EditTarget::Beam(field) => {
-                let scene = field.edited(&self.scene, text)?;
+                let mut scene = field.edited(&self.scene, text)?;
+                if self.loads_state.hold == Hold::Force {
+                    scene.loads = held_forces(&scene.loads, &self.scene.beam, &scene.beam);
+                }
                 validate_scene(&scene)?;
                 if scene != self.scene {
                     self.scene = scene;
@@ -658,7 +985,7 @@ impl App {
             }
             EditTarget::Load { row, col } => {
                 let old = self.scene.loads.get(*row).ok_or("no such load path")?;
-                let path = loads::edited(old, *col, text)?;
+                let path = loads::edited(old, *col, text, self.si_beam())?;
                 if path != *old {
                     self.scene.loads[*row] = path;
                     self.scene_dirty = true;
@@ -677,45 +1004,109 @@ impl App {
         Ok(())
     }
 
-    fn prompt_key(&mut self, key: KeyEvent, ctrl_c: bool) -> Vec<Command> {
+    fn prompt_key(&mut self, key: KeyEvent, ctrl_c: bool, now: Instant) -> Vec<Command> {
         let Some((kind, tb)) = &mut self.prompt else {
             return Vec::new();
         };
         let kind = *kind;
-        if kind == PromptKind::ConfirmQuit {
-            match key.code {
-                KeyCode::Char('y') | KeyCode::Char('Y') => self.quit = true,
-                _ => self.prompt = None,
+        if kind.is_question() {
+            let yes = matches!(key.code, KeyCode::Char('y') | KeyCode::Char('Y'));
+            self.prompt = None;
+            let write = self.overwrite.take();
+            match (kind, yes) {
+                (PromptKind::ConfirmQuit, true) => self.quit = true,
+                (PromptKind::ConfirmOpen, true) => {
+                    self.open_prompt(PromptKind::OpenScene, String::new())
+                }
+                (PromptKind::ConfirmOverwrite, true) => {
+                    return match write {
+                        Some(Command::SaveScene { path, .. }) => vec![Command::SaveScene {
+                            path,
+                            overwrite: true,
+                        }],
+                        Some(Command::Export { path, .. }) => vec![Command::Export {
+                            path,
+                            overwrite: true,
+                        }],
+                        _ => Vec::new(),
+                    };
+                }
+                (PromptKind::ConfirmOverwrite, false) => self.set_info("not written"),
+                _ => {}
             }
             return Vec::new();
         }
-        match key.code {
-            KeyCode::Esc => self.prompt = None,
-            _ if ctrl_c => self.prompt = None,
-            KeyCode::Backspace => {
-                tb.text.pop();
+        if ctrl_c {
+            self.prompt = None;
+            self.export_path = None;
+            return Vec::new();
+        }
+        match text_action(&key) {
+            TextKey::Action(Action::TextCancel) => {
+                self.prompt = None;
+                self.export_path = None;
             }
-            KeyCode::Char(c) if tb.text.len() < 256 => tb.text.push(c),
-            KeyCode::Enter => {
+            TextKey::Action(Action::TextAccept) => {
                 let text = tb.text.trim().to_string();
                 self.prompt = None;
                 if text.is_empty() {
                     return Vec::new();
                 }
+                self.clear_message();
                 return match kind {
-                    PromptKind::SaveScene => vec![Command::SaveScene(PathBuf::from(text))],
+                    PromptKind::SaveScene => vec![Command::SaveScene {
+                        path: PathBuf::from(text),
+                        overwrite: false,
+                    }],
                     PromptKind::OpenScene => vec![Command::OpenScene(PathBuf::from(text))],
-                    // Exported by the worker from its baseline: no solve on this thread.
-                    PromptKind::ExportModel => vec![self.export(PathBuf::from(text))],
+                    // Exported by the worker from its baseline: no solve on this thread. The
+                    // formats with masses ask for the links' density first.
+                    PromptKind::ExportModel => {
+                        let path = PathBuf::from(text);
+                        if Format::from_path(&path).is_some_and(has_masses) {
+                            self.export_path = Some(path);
+                            let density = trim_number(self.export_density, 6);
+                            self.open_prompt(PromptKind::ExportDensity, density);
+                            Vec::new()
+                        } else {
+                            vec![Command::Export {
+                                path,
+                                overwrite: false,
+                            }]
+                        }
+                    }
+                    PromptKind::ExportDensity => match parse_density(&text) {
+                        Ok(density) => {
+                            self.export_density = density;
+                            match self.export_path.take() {
+                                Some(path) => vec![Command::Export {
+                                    path,
+                                    overwrite: false,
+                                }],
+                                None => Vec::new(),
+                            }
+                        }
+                        Err(e) => {
+                            self.export_path = None;
+                            self.set_error(format!("not exported: {e}"));
+                            Vec::new()
+                        }
+                    },
                     PromptKind::Topology => {
-                        self.load_named_matrix(&text, Instant::now());
+                        self.load_named_matrix(&text, now);
                         Vec::new()
                     }
                     // Answered above, before any text is typed.
-                    PromptKind::ConfirmQuit => Vec::new(),
+                    PromptKind::ConfirmQuit
+                    | PromptKind::ConfirmOpen
+                    | PromptKind::ConfirmOverwrite => Vec::new(),
                 };
             }
-            _ => {}
+            TextKey::Action(a) => {
+                tb.apply(a);
+            }
+            TextKey::Char(c) => tb.insert(c),
+            TextKey::None => {}
         }
         Vec::new()
     }
@@ -730,11 +1121,27 @@ impl App {
             PrbMatrix::from_topology(name).map_err(|e| e.to_string())
         };
         match m {
+            Ok(m) if PUBLISHED.contains(&name) => {
+                // A published model is a comparison: its own figures first, judged, not
+                // fitted (live refit resumes with the next edit; r fits it now).
+                self.set_info(format!(
+                    "matrix: {name}, the published values (r fits them)"
+                ));
+                self.replace_matrix(m, now);
+                self.judge_only();
+            }
             Ok(m) => {
                 self.set_info(format!("matrix: {name}"));
                 self.replace_matrix(m, now);
             }
             Err(e) => self.set_error(format!("rejected: {e}")),
+        }
+    }
+
+    /// The change waiting is judged, not fitted, even with live refit on.
+    fn judge_only(&mut self) {
+        if let Some(p) = &mut self.pending {
+            p.fit = false;
         }
     }
 
@@ -806,15 +1213,26 @@ impl App {
         }
     }
 
-    /// The scene was replaced (opened from a file).
-    pub fn set_scene(&mut self, scene: Scene, path: PathBuf, now: Instant) {
+    /// The scene was replaced (opened from a file). Nothing is unsaved after an open. A
+    /// scene with its own model (`[prb] matrix`) brings it, judged as saved (`r` fits it);
+    /// without one the model being worked on stays.
+    pub fn set_scene(&mut self, mut scene: Scene, path: PathBuf, now: Instant) {
+        let fit = match scene.prb.take() {
+            Some(m) => {
+                self.matrix = m;
+                self.matrix_state.clamp(self.matrix.len());
+                false
+            }
+            None => self.live,
+        };
         self.scene = scene;
         self.scene_path = Some(path);
         self.scene_dirty = false;
+        self.model_dirty = false;
         self.loads_state.row = 0;
         self.baseline = None;
         self.model = None;
-        self.changed(now);
+        self.refresh(now, fit);
     }
 
     /// The load path whose cases the shape chart draws.

@@ -2,8 +2,9 @@
 //! the hint line all read, so they cannot drift apart (gitui's `key_list.rs` with the
 //! `CommandInfo` of each tab). README.md's key table is this table, checked by a test.
 //!
-//! Text entry (a field's editor, a prompt) takes every key as typed, Enter accepts and Esc
-//! cancels; it is not part of this table.
+//! Text entry (a field's editor, a prompt) has its own rows, scope [`Scope::TEXT`]: the
+//! readline keys; any other character is typed (the first one over a pre-filled value
+//! replaces it).
 
 use ratatui::crossterm::event::{KeyCode, KeyEvent, KeyModifiers};
 
@@ -50,8 +51,12 @@ pub enum Action {
     Topology,
     /// Load the next published model.
     NextPublished,
-    /// Switch the matrix between nondimensional and SI.
+    /// Compare with the next model: none, the published ones, the selection's.
+    CycleCompare,
+    /// Switch the matrix and the loads between nondimensional and SI.
     ToggleSi,
+    /// Switch what a beam edit holds: alpha or the force.
+    ToggleHold,
     /// Fit now.
     Fit,
     /// Cancel the running fit.
@@ -74,6 +79,28 @@ pub enum Action {
     Open,
     /// Export the model.
     Export,
+    /// Text: accept.
+    TextAccept,
+    /// Text: cancel.
+    TextCancel,
+    /// Text: cursor left.
+    TextLeft,
+    /// Text: cursor right.
+    TextRight,
+    /// Text: cursor to the start.
+    TextStart,
+    /// Text: cursor to the end.
+    TextEnd,
+    /// Text: delete before the cursor.
+    TextBackspace,
+    /// Text: delete at the cursor.
+    TextDelete,
+    /// Text: delete from the start to the cursor.
+    TextClearStart,
+    /// Text: delete from the cursor to the end.
+    TextClearEnd,
+    /// Text: delete the word before the cursor.
+    TextDeleteWord,
 }
 
 /// A key, with or without Ctrl. A key without Ctrl matches whatever the modifiers (Shift
@@ -108,6 +135,8 @@ impl Scope {
     pub const PANELS: Scope = Scope(7);
     /// The selection view.
     pub const SELECT: Scope = Scope(8);
+    /// Text entry: a field's editor or a prompt.
+    pub const TEXT: Scope = Scope(16);
 
     /// Both scopes.
     pub const fn or(self, other: Scope) -> Scope {
@@ -277,6 +306,13 @@ pub const KEYMAP: &[Entry] = &[
         ],
     },
     Entry {
+        keys: "H",
+        does: "loads: a beam edit holds alpha, or the force (N, N m: alphas rescaled)",
+        scope: Scope::LOADS,
+        bindings: &[ch('H', Action::ToggleHold)],
+        hints: &[hint("H hold alpha/force", Scope::LOADS)],
+    },
+    Entry {
         keys: "[ / ]",
         does: "previous / next load path in the shape chart",
         scope: ALL,
@@ -285,24 +321,31 @@ pub const KEYMAP: &[Entry] = &[
     },
     Entry {
         keys: "t",
-        does: "matrix from a topology name (L-R-R-R) or a published model name",
+        does: "matrix from a topology (L-R-R-R, 3R) or a published model's name",
         scope: ALL,
         bindings: &[ch('t', Action::Topology)],
         hints: &[hint("t topology", Scope::MATRIX)],
     },
     Entry {
         keys: "m",
-        does: "cycle the published models: Howell 1R, Su 3R, Chen 3R",
+        does: "cycle the published models: Howell 1R, Su 3R, Chen 3R (judged, not fitted)",
         scope: ALL,
         bindings: &[ch('m', Action::NextPublished)],
         hints: &[hint("m model", Scope::MATRIX)],
     },
     Entry {
+        keys: "C",
+        does: "compare with: none, Howell, Su, Chen, the selection's model (charts, status)",
+        scope: ALL,
+        bindings: &[ch('C', Action::CycleCompare)],
+        hints: &[hint("C compare", ALL)],
+    },
+    Entry {
         keys: "u",
-        does: "matrix in SI for the beam: lengths, N m/rad, N/m (typed values too)",
+        does: "matrix and loads in SI: lengths, N m/rad, N/m, N, N m (typed values too)",
         scope: ALL,
         bindings: &[ch('u', Action::ToggleSi)],
-        hints: &[hint("u SI", Scope::MATRIX)],
+        hints: &[hint("u SI", Scope::MATRIX.or(Scope::LOADS))],
     },
     Entry {
         keys: "r",
@@ -377,12 +420,75 @@ pub const KEYMAP: &[Entry] = &[
         bindings: &[ch('e', Action::Export)],
         hints: &[hint("e export", Scope::MATRIX)],
     },
+    Entry {
+        keys: "Enter / Esc (typing)",
+        does: "accept / cancel; the first character typed replaces the shown value",
+        scope: Scope::TEXT,
+        bindings: &[
+            code(KeyCode::Enter, Action::TextAccept),
+            code(KeyCode::Esc, Action::TextCancel),
+        ],
+        hints: &[],
+    },
+    Entry {
+        keys: "Left / Right (typing)",
+        does: "move the cursor (and keep the shown value to edit it)",
+        scope: Scope::TEXT,
+        bindings: &[
+            code(KeyCode::Left, Action::TextLeft),
+            code(KeyCode::Right, Action::TextRight),
+        ],
+        hints: &[],
+    },
+    Entry {
+        keys: "Home, Ctrl-A / End, Ctrl-E",
+        does: "cursor to the start / end of the text",
+        scope: Scope::TEXT,
+        bindings: &[
+            code(KeyCode::Home, Action::TextStart),
+            ctrl('a', Action::TextStart),
+            code(KeyCode::End, Action::TextEnd),
+            ctrl('e', Action::TextEnd),
+        ],
+        hints: &[],
+    },
+    Entry {
+        keys: "Backspace / Delete",
+        does: "delete the character before / at the cursor",
+        scope: Scope::TEXT,
+        bindings: &[
+            code(KeyCode::Backspace, Action::TextBackspace),
+            code(KeyCode::Delete, Action::TextDelete),
+        ],
+        hints: &[],
+    },
+    Entry {
+        keys: "Ctrl-U / Ctrl-K",
+        does: "delete to the start / end of the text (at the end Ctrl-U clears it)",
+        scope: Scope::TEXT,
+        bindings: &[
+            ctrl('u', Action::TextClearStart),
+            ctrl('k', Action::TextClearEnd),
+        ],
+        hints: &[],
+    },
+    Entry {
+        keys: "Ctrl-W",
+        does: "delete the word before the cursor",
+        scope: Scope::TEXT,
+        bindings: &[ctrl('w', Action::TextDeleteWord)],
+        hints: &[],
+    },
 ];
 
 /// The hint line while a field is being edited.
-pub const EDITING_HINT: &str = " type a value (0.5 mm, 200 GPa, inf) · Enter accept · Esc cancel";
+pub const EDITING_HINT: &str =
+    " type 0.5 mm, 200 GPa, inf · ←/→ edit · ^U clear · ^W word · Enter ok · Esc cancel";
 /// The hint line while a prompt asks for text.
-pub const PROMPT_HINT: &str = " type · Enter accept · Esc cancel";
+pub const PROMPT_HINT: &str =
+    " type (replaces the text) · ←/→ edit · ^U clear · ^W word · Enter ok · Esc cancel";
+/// The hint line while a yes/no question waits.
+pub const QUESTION_HINT: &str = " y yes · any other key no";
 
 /// What `event` does in `scope` (a panel's, or the selection view's), if anything.
 pub fn action(event: &KeyEvent, scope: Scope) -> Option<Action> {
@@ -413,7 +519,13 @@ mod tests {
     /// No key means two things in one place.
     #[test]
     fn no_key_is_bound_twice_in_a_scope() {
-        for scope in [Scope::BEAM, Scope::LOADS, Scope::MATRIX, Scope::SELECT] {
+        for scope in [
+            Scope::BEAM,
+            Scope::LOADS,
+            Scope::MATRIX,
+            Scope::SELECT,
+            Scope::TEXT,
+        ] {
             let keys: Vec<Key> = KEYMAP
                 .iter()
                 .filter(|e| e.scope.contains(scope))

@@ -40,11 +40,11 @@ use ratatui::crossterm::terminal::{
 };
 use ratatui::Terminal;
 
-use crate::io::files::write_atomic;
+use crate::io::files::{check_target, write_atomic, WriteError};
 use crate::scene::Scene;
 
 use app::{App, Command};
-use worker::{Worker, WorkerMsg, WORKER_THREAD};
+use worker::{Job, Worker, WorkerMsg, WORKER_THREAD};
 
 /// Runs the UI on `scene` until the user quits.
 pub fn run(scene: Scene, scene_path: Option<PathBuf>) -> Result<()> {
@@ -214,7 +214,7 @@ fn run_loop(
     stop: &AtomicBool,
 ) -> Result<()> {
     let mut trace = trace_path.and_then(Trace::open);
-    let first = app.submit(app.live);
+    let first = app.start();
     execute_command(app, worker, first, &mut trace);
     let mut redraw = true;
     // When the last key arrived, until the frame that answers it is drawn.
@@ -314,31 +314,49 @@ fn run_loop(
 }
 
 fn execute_command(app: &mut App, worker: &Worker, cmd: Command, trace: &mut Option<Trace>) {
+    let Some(job) = run_command(app, cmd, Instant::now()) else {
+        return;
+    };
+    if let (Some(t), Some(at)) = (trace.as_mut(), app.edit_accepted_at) {
+        // Time from the accepted edit (debounce included) to the chart.
+        t.edit_at = Some((job.id, at));
+    }
+    worker.submit(job);
+}
+
+/// Carries out a command: the file side effects here (save, open; an export's target is
+/// checked), jobs returned for the worker. A save or an export over an existing file asks
+/// "overwrite? (y/n)" first, except a save to the scene's own file, which is what saving is.
+pub fn run_command(app: &mut App, cmd: Command, now: Instant) -> Option<Job> {
     match cmd {
-        Command::Submit(job) => {
-            if let (Some(t), Some(at)) = (trace.as_mut(), app.edit_accepted_at) {
-                // Time from the accepted edit (debounce included) to the chart.
-                t.edit_at = Some((job.id, at));
-            }
-            worker.submit(job);
-        }
-        Command::SaveScene(path) => {
-            let overwrite = app.scene_path.as_deref() == Some(path.as_path());
-            match write_atomic(&path, app.scene.to_toml().as_bytes(), overwrite) {
-                Ok(()) => {
-                    app.scene_path = Some(path.clone());
-                    app.scene_dirty = false;
-                    app.set_info(format!("saved {}", path.display()));
-                }
-                Err(e) => app.set_error(format!("not saved: {e}")),
+        Command::Submit(job) => return Some(job),
+        Command::SaveScene { path, overwrite } => {
+            let overwrite = overwrite || app.scene_path.as_deref() == Some(path.as_path());
+            let text = app.scene_to_save().to_toml();
+            match write_atomic(&path, text.as_bytes(), overwrite) {
+                Ok(()) => app.saved(path),
+                Err(WriteError::Exists(_)) => app.ask_overwrite(Command::SaveScene {
+                    path,
+                    overwrite: true,
+                }),
+                Err(e) => app.set_error(format!("not saved: {}", worker::write_error(e))),
             }
         }
         Command::OpenScene(path) => match Scene::from_file(&path) {
             Ok(scene) => {
-                app.set_scene(scene, path.clone(), Instant::now());
+                app.set_scene(scene, path.clone(), now);
                 app.set_info(format!("opened {}", path.display()));
             }
             Err(e) => app.set_error(format!("not opened: {e}")),
         },
+        Command::Export { path, overwrite } => match check_target(&path, overwrite) {
+            Ok(()) => return Some(app.export_job(path, overwrite)),
+            Err(WriteError::Exists(_)) => app.ask_overwrite(Command::Export {
+                path,
+                overwrite: true,
+            }),
+            Err(e) => app.set_error(format!("not exported: {}", worker::write_error(e))),
+        },
     }
+    None
 }

@@ -7,7 +7,8 @@
 //! newer job and their result is always delivered.
 //!
 //! Results carry what they were computed from: every `Progress` and `Done` holds the
-//! [`BaselineView`] its model was judged on, so no order of messages can pair a model with
+//! [`BaselineView`] its model (and the model compared against, if any) was judged on, as does
+//! a compare job's `Compared`, so no order of messages can pair a model with
 //! another beam's baseline, or with none. The baseline of the last scene is cached and
 //! re-solved only when the beam, the loads, the targets or the fidelity change.
 //!
@@ -41,16 +42,26 @@ pub const WORKER_THREAD: &str = "prbfit-worker";
 pub const SHUTDOWN_DEADLINE: Duration = Duration::from_millis(200);
 
 /// What a job does.
-#[derive(Debug, Clone, PartialEq, Eq)]
+#[derive(Debug, Clone, PartialEq)]
 pub enum JobKind {
     /// Write the matrix to a file, in the format its extension names.
-    Export(std::path::PathBuf),
+    Export {
+        /// The file.
+        path: std::path::PathBuf,
+        /// The links' density (kg/m^3), for the masses of the robot formats.
+        density: f64,
+        /// Replace the file if it exists (the user said so).
+        overwrite: bool,
+    },
     /// Judge the matrix.
     Judge,
     /// Judge, then fit its free cells.
     Fit,
     /// Fit the topology ladder, judge the published models, measure the trade-off.
     Select,
+    /// Judge the matrix as the model the user compares against (a kept job: it neither
+    /// cancels nor is cancelled by the fit of the model being worked on).
+    Compare,
 }
 
 /// One request: the scene as it was when the job was made, and the matrix.
@@ -62,6 +73,9 @@ pub struct Job {
     pub scene: Arc<Scene>,
     /// The PRB matrix to judge, fit or export.
     pub matrix: PrbMatrix,
+    /// The model to compare against: a judge or fit job judges it too, on the same
+    /// baseline, and its messages carry it.
+    pub compare: Option<PrbMatrix>,
     /// How finely the beam is solved and the fit sampled.
     pub fidelity: Fidelity,
     /// What to do.
@@ -130,6 +144,8 @@ pub enum WorkerMsg {
         model: Box<ModelView>,
         /// How far the fit has got.
         status: FitStatus,
+        /// The job's compare model, judged on the same baseline.
+        compare: Option<Box<ModelView>>,
     },
     /// The job's final model.
     Done {
@@ -143,6 +159,17 @@ pub enum WorkerMsg {
         report: Option<Box<FitReport>>,
         /// Time the job took.
         seconds: f64,
+        /// The job's compare model, judged on the same baseline.
+        compare: Option<Box<ModelView>>,
+    },
+    /// A compare job's model, judged.
+    Compared {
+        /// The job.
+        id: u64,
+        /// The baseline it was judged on.
+        baseline: Arc<BaselineView>,
+        /// The model.
+        model: Box<ModelView>,
     },
     /// The job failed, saying why.
     Failed {
@@ -185,6 +212,7 @@ impl WorkerMsg {
             WorkerMsg::Progress { id, .. }
             | WorkerMsg::Done { id, .. }
             | WorkerMsg::Failed { id, .. }
+            | WorkerMsg::Compared { id, .. }
             | WorkerMsg::SelectRow { id, .. }
             | WorkerMsg::Exported { id, .. }
             | WorkerMsg::SelectDone { id, .. } => *id,
@@ -216,10 +244,10 @@ impl Worker {
         })
     }
 
-    /// Queues a job. An export is kept until done; any other job replaces the one waiting
-    /// and cancels the one running.
+    /// Queues a job. An export or a compare is kept until done; any other job replaces the
+    /// one waiting and cancels the one running.
     pub fn submit(&self, job: Job) {
-        if matches!(job.kind, JobKind::Export(_)) {
+        if matches!(job.kind, JobKind::Export { .. } | JobKind::Compare) {
             self.queue.submit_kept(job);
         } else {
             self.queue.submit(job);
@@ -452,8 +480,12 @@ fn run_job(
     let baseline = &solved.baseline;
     match &job.kind {
         JobKind::Select => return run_selection(job, &solved, &send),
-        JobKind::Export(path) => {
-            let result = export_file(job, &solved, path);
+        JobKind::Export {
+            path,
+            density,
+            overwrite,
+        } => {
+            let result = export_file(job, &solved, path, *density, *overwrite);
             send(WorkerMsg::Exported {
                 id: job.id,
                 path: path.clone(),
@@ -467,11 +499,28 @@ fn run_job(
         return Ok(());
     }
     let angle_weight = job.scene.fit.angle_weight;
+    if job.kind == JobKind::Compare {
+        let model = model_view(&job.matrix, baseline, angle_weight)?;
+        send(WorkerMsg::Compared {
+            id: job.id,
+            baseline: solved.view.clone(),
+            model: Box::new(model),
+        });
+        return Ok(());
+    }
+    // The compared model on the same baseline, once; a model that fails here is just not
+    // shown (the main model is what the job is for).
+    let compare = job
+        .compare
+        .as_ref()
+        .and_then(|m| model_view(m, baseline, angle_weight).ok())
+        .map(Box::new);
     let progress = |model: ModelView, status: FitStatus| WorkerMsg::Progress {
         id: job.id,
         baseline: solved.view.clone(),
         model: Box::new(model),
         status,
+        compare: compare.clone(),
     };
     // The edited matrix at once, so the charts answer the edit before any fitting.
     let start_view = model_view(&job.matrix, baseline, angle_weight);
@@ -483,6 +532,7 @@ fn run_job(
             model: Box::new(model),
             report: None,
             seconds: t0.elapsed().as_secs_f64(),
+            compare,
         });
         return Ok(());
     }
@@ -524,6 +574,7 @@ fn run_job(
         model: Box::new(model),
         report: Some(Box::new(report)),
         seconds: t0.elapsed().as_secs_f64(),
+        compare,
     });
     Ok(())
 }
@@ -554,8 +605,15 @@ fn run_selection(job: &Job, solved: &Solved, send: &dyn Fn(WorkerMsg)) -> Result
     Ok(())
 }
 
-/// Writes the job's matrix in the format the path's extension names, never over a file.
-fn export_file(job: &Job, solved: &Solved, path: &std::path::Path) -> Result<(), String> {
+/// Writes the job's matrix in the format the path's extension names; over an existing file
+/// only when `overwrite` (the UI asked the user).
+fn export_file(
+    job: &Job,
+    solved: &Solved,
+    path: &std::path::Path,
+    density: f64,
+    overwrite: bool,
+) -> Result<(), String> {
     use crate::export::{export, ExportInput};
     use crate::format::Format;
     let format = Format::from_path(path).ok_or_else(|| {
@@ -571,8 +629,17 @@ fn export_file(job: &Job, solved: &Solved, path: &std::path::Path) -> Result<(),
         scene: &scene,
         baseline: &solved.baseline,
         fidelity: job.fidelity.to_string(),
-        density: 1000.0,
+        density,
     };
     let text = export(&input, format).map_err(|e| e.to_string())?;
-    crate::io::files::write_atomic(path, text.as_bytes(), false).map_err(|e| e.to_string())
+    crate::io::files::write_atomic(path, text.as_bytes(), overwrite).map_err(write_error)
+}
+
+/// A write error as the UI says it: an existing file is a question the UI asks (no `--force`
+/// in a terminal UI).
+pub fn write_error(e: crate::io::files::WriteError) -> String {
+    match e {
+        crate::io::files::WriteError::Exists(p) => format!("{}: the file exists", p.display()),
+        e => e.to_string(),
+    }
 }

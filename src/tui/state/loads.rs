@@ -1,21 +1,102 @@
 //! The load-path panel: one row per path (its end load and step count); the selected row is
 //! also the path the shape chart draws.
+//!
+//! Loads are nondimensional in the scene (`alpha = F L^2 / (E I0)`, `beta = M L / (E I0)`,
+//! DESIGN §1), so a beam edit holding alpha changes the force: a blade 4x thicker takes 64x
+//! the force for the same alpha. The panel shows them in SI too (N, N m, for the beam as it
+//! is now), and [`Hold`] says which stays when the beam changes: with `Force`, a beam edit
+//! rescales the alphas so that Fx, Fy and Mz stay ([`held_forces`]).
 
-use crate::scene::{LoadPath, Scene, MAX_STEPS};
+use crate::beam::Load;
+use crate::scene::{BeamSpec, LoadPath, Scene, MAX_STEPS};
+use crate::si::load_factors;
 
 use super::super::units::{parse_quantity, trim_number, Quantity};
 use super::step;
 
 /// The load table's columns.
 pub const LOAD_COLUMNS: [&str; 4] = ["alpha_x", "alpha_y", "beta", "steps"];
+/// The load table's columns in SI.
+pub const LOAD_COLUMNS_SI: [&str; 4] = ["Fx N", "Fy N", "Mz N m", "steps"];
 
-/// The load panel's cursor.
+/// What stays when the beam changes.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub enum Hold {
+    /// The nondimensional loads (the scene file's numbers): the forces follow the beam.
+    #[default]
+    Alpha,
+    /// The forces and moments in N and N m: the alphas follow the beam.
+    Force,
+}
+
+impl std::fmt::Display for Hold {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Hold::Alpha => "alpha",
+            Hold::Force => "force",
+        })
+    }
+}
+
+/// The load panel's cursor and what a beam edit holds.
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
 pub struct LoadsState {
     /// The selected path (and the one the shape chart shows).
     pub row: usize,
     /// The selected column, an index into [`LOAD_COLUMNS`].
     pub col: usize,
+    /// What a beam edit keeps.
+    pub hold: Hold,
+}
+
+/// The loads of `old`'s beam with the same forces (N) and moments (N m) on `new`'s beam:
+/// every alpha times `(E I0 / L^2)_old / (E I0 / L^2)_new`, every beta likewise with
+/// `E I0 / L`.
+pub fn held_forces(loads: &[LoadPath], old: &BeamSpec, new: &BeamSpec) -> Vec<LoadPath> {
+    let (f0, m0) = load_factors(old);
+    let (f1, m1) = load_factors(new);
+    loads
+        .iter()
+        .map(|p| LoadPath {
+            end: Load::new(
+                p.end.alpha_x * f0 / f1,
+                p.end.alpha_y * f0 / f1,
+                p.end.beta * m0 / m1,
+            ),
+            ..*p
+        })
+        .collect()
+}
+
+/// A load in SI for `beam`, as the panel writes it: `Fx 0 N  Fy 2.083 N  Mz 0 N m`.
+pub fn si_text(path: &LoadPath, beam: &BeamSpec) -> String {
+    let (f, m) = load_factors(beam);
+    format!(
+        "Fx {} N  Fy {} N  Mz {} N m",
+        trim_number(path.end.alpha_x * f, 4),
+        trim_number(path.end.alpha_y * f, 4),
+        trim_number(path.end.beta * m, 4)
+    )
+}
+
+/// The nondimensional load of the same end load, as the panel writes it.
+pub fn alpha_text(path: &LoadPath) -> String {
+    format!(
+        "alpha_x {}  alpha_y {}  beta {}",
+        trim_number(path.end.alpha_x, 4),
+        trim_number(path.end.alpha_y, 4),
+        trim_number(path.end.beta, 4)
+    )
+}
+
+/// The SI value of one nondimensional unit of a load column for `beam` (1 for `steps`).
+fn column_factor(beam: &BeamSpec, col: usize) -> f64 {
+    let (f, m) = load_factors(beam);
+    match col {
+        0 | 1 => f,
+        2 => m,
+        _ => 1.0,
+    }
 }
 
 impl LoadsState {
@@ -56,18 +137,26 @@ impl LoadsState {
     }
 }
 
-/// The text of a cell.
-pub fn load_text(path: &LoadPath, col: usize) -> String {
+/// The text of a cell: nondimensional, or in SI for `si`'s beam.
+pub fn load_text(path: &LoadPath, col: usize, si: Option<&BeamSpec>) -> String {
+    let k = si.map_or(1.0, |b| column_factor(b, col));
+    let digits = if si.is_some() { 5 } else { 6 };
     match col {
-        0 => trim_number(path.end.alpha_x, 6),
-        1 => trim_number(path.end.alpha_y, 6),
-        2 => trim_number(path.end.beta, 6),
+        0 => trim_number(path.end.alpha_x * k, digits),
+        1 => trim_number(path.end.alpha_y * k, digits),
+        2 => trim_number(path.end.beta * k, digits),
         _ => path.steps.to_string(),
     }
 }
 
-/// `path` with column `col` set from `text`; an error (and nothing changed) if invalid.
-pub fn edited(path: &LoadPath, col: usize, text: &str) -> Result<LoadPath, String> {
+/// `path` with column `col` set from `text` (in SI for `si`'s beam when given); an error (and
+/// nothing changed) if invalid.
+pub fn edited(
+    path: &LoadPath,
+    col: usize,
+    text: &str,
+    si: Option<&BeamSpec>,
+) -> Result<LoadPath, String> {
     let mut path = *path;
     if col == 3 {
         let steps: i64 = text
@@ -80,7 +169,8 @@ pub fn edited(path: &LoadPath, col: usize, text: &str) -> Result<LoadPath, Strin
         path.steps = steps as u32;
     } else {
         let v = parse_quantity(text, Quantity::Plain)
-            .map_err(|e| format!("{}: {e}", LOAD_COLUMNS[col.min(2)]))?;
+            .map_err(|e| format!("{}: {e}", LOAD_COLUMNS[col.min(2)]))?
+            / si.map_or(1.0, |b| column_factor(b, col));
         match col {
             0 => path.end.alpha_x = v,
             1 => path.end.alpha_y = v,

@@ -6,12 +6,14 @@
 //! - [`beam`]: the beam's fields and the scene's targets;
 //! - [`loads`]: the load-path table;
 //! - [`matrix`]: the PRB matrix table (nondimensional or SI), gamma rebalancing;
-//! - [`select`]: the model-selection view.
+//! - [`select`]: the model-selection view;
+//! - [`text`]: the text box of the editors and prompts (cursor, readline keys).
 
 pub mod beam;
 pub mod loads;
 pub mod matrix;
 pub mod select;
+pub mod text;
 
 /// The panels that take the keyboard.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -1,5 +1,6 @@
 //! The tip error charts: position (%L) or angle (deg) error against the fraction of each
-//! path's end load, one line per path, with the scene's target as red lines.
+//! path's end load, one line per path, with the scene's target as red lines; the model
+//! compared against (`C`) as grey dotted lines under them.
 
 use ratatui::layout::{Constraint, Rect};
 use ratatui::style::Color;
@@ -32,6 +33,8 @@ pub struct View<'a> {
     pub baseline: Option<&'a BaselineView>,
     /// The model's errors.
     pub model: Option<&'a ModelView>,
+    /// The compared model's errors, on the same baseline.
+    pub compare: Option<&'a ModelView>,
     /// The scene's targets.
     pub accuracy: Accuracy,
     /// Colours.
@@ -45,6 +48,7 @@ impl<'a> View<'a> {
             kind,
             baseline: app.baseline.as_deref(),
             model: app.model.as_ref(),
+            compare: app.shown_compare().map(|(_, v)| v),
             accuracy: app.scene.accuracy,
             pal: Palette { mono: app.mono },
         }
@@ -65,20 +69,13 @@ fn bounds(values: impl Iterator<Item = f64>) -> [f64; 2] {
     [if lo < 0.0 { lo - pad } else { lo }, hi + pad]
 }
 
-/// Draws one error chart.
-pub fn draw(frame: &mut Frame, area: Rect, view: &View) {
-    let (kind, pal) = (view.kind, view.pal);
-    let (title, unit) = match kind {
-        ErrorKind::Position => (" Tip position error ", "%L"),
-        ErrorKind::Angle => (" Tip angle error ", "deg"),
-    };
-    let block = Block::default().borders(Borders::ALL).title(title);
-    let (Some(model), Some(baseline)) = (view.model, view.baseline) else {
-        frame.render_widget(Paragraph::new("").block(block), area);
-        return;
-    };
-    // One series per load path: error against the fraction of the path's end load.
-    let mut series: Vec<Vec<(f64, f64)>> = Vec::new();
+/// One series per load path: `model`'s error against the fraction of the path's end load.
+fn path_series(
+    baseline: &BaselineView,
+    model: &ModelView,
+    kind: ErrorKind,
+) -> Vec<Vec<(f64, f64)>> {
+    let mut series = Vec::with_capacity(baseline.paths.len());
     let mut k = 0;
     for p in &baseline.paths {
         let mut pts = Vec::with_capacity(p.steps as usize + 1);
@@ -97,25 +94,52 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View) {
         }
         series.push(pts);
     }
-    let yb = bounds(series.iter().flatten().map(|p| p.1));
+    series
+}
+
+/// Draws one error chart.
+pub fn draw(frame: &mut Frame, area: Rect, view: &View) {
+    let (kind, pal) = (view.kind, view.pal);
+    let (title, unit) = match kind {
+        ErrorKind::Position => (" Tip position error ", "%L"),
+        ErrorKind::Angle => (" Tip angle error ", "deg"),
+    };
+    let block = Block::default().borders(Borders::ALL).title(title);
+    let (Some(model), Some(baseline)) = (view.model, view.baseline) else {
+        frame.render_widget(Paragraph::new("").block(block), area);
+        return;
+    };
+    let series = path_series(baseline, model, kind);
+    let compared = view
+        .compare
+        .map(|c| path_series(baseline, c, kind))
+        .unwrap_or_default();
+    let yb = bounds(series.iter().chain(&compared).flatten().map(|p| p.1));
     let target = match kind {
         ErrorKind::Position => view.accuracy.max_pos_err * 100.0,
         ErrorKind::Angle => view.accuracy.max_ang_err.to_degrees(),
     };
     let target_line = [(0.0, target), (1.0, target)];
     let neg_target = [(0.0, -target), (1.0, -target)];
-    let mut datasets: Vec<Dataset> = series
+    // The compared model first, so the model being worked on draws over it.
+    let mut datasets: Vec<Dataset> = compared
         .iter()
-        .enumerate()
-        .map(|(i, pts)| {
+        .map(|pts| {
             Dataset::default()
-                .name(format!("{}", i + 1))
-                .marker(Marker::Braille)
-                .graph_type(GraphType::Line)
-                .style(pal.fg(PATH_COLORS[i % PATH_COLORS.len()]))
+                .marker(Marker::Dot)
+                .graph_type(GraphType::Scatter)
+                .style(pal.fg(Color::DarkGray))
                 .data(pts)
         })
         .collect();
+    datasets.extend(series.iter().enumerate().map(|(i, pts)| {
+        Dataset::default()
+            .name(format!("{}", i + 1))
+            .marker(Marker::Braille)
+            .graph_type(GraphType::Line)
+            .style(pal.fg(PATH_COLORS[i % PATH_COLORS.len()]))
+            .data(pts)
+    }));
     // The scene's target, where it falls inside the plotted range.
     if target <= yb[1] {
         datasets.push(

@@ -1,13 +1,17 @@
-//! The load-path panel: a table of the paths' end loads and step counts.
+//! The load-path panel: a table of the paths' end loads and step counts (nondimensional, or
+//! in SI with `u`), what a beam edit holds in the title, and the selected path in the other
+//! units on the bottom border.
 
 use ratatui::layout::{Constraint, Rect};
-use ratatui::style::{Modifier, Style};
+use ratatui::style::{Color, Modifier, Style};
 use ratatui::text::Span;
 use ratatui::widgets::{Cell, Row, Table, TableState};
 use ratatui::Frame;
 
 use super::super::app::{App, EditTarget, Panel};
-use super::super::state::loads::{load_text, LOAD_COLUMNS};
+use super::super::state::loads::{
+    alpha_text, load_text, si_text, Hold, LOAD_COLUMNS, LOAD_COLUMNS_SI,
+};
 use super::{panel_block, shown, Palette, PATH_COLORS};
 
 /// What the load panel draws.
@@ -21,6 +25,12 @@ pub struct View {
     pub row: usize,
     /// The selected column.
     pub col: usize,
+    /// The table is in SI (N, N m).
+    pub si: bool,
+    /// What a beam edit holds.
+    pub hold: Hold,
+    /// The selected path in the units the table is not in.
+    pub other_units: String,
     /// Colours.
     pub pal: Palette,
 }
@@ -37,12 +47,29 @@ impl View {
                 .enumerate()
                 .map(|(row, path)| {
                     (0..LOAD_COLUMNS.len())
-                        .map(|col| shown(app, &EditTarget::Load { row, col }, load_text(path, col)))
+                        .map(|col| {
+                            shown(
+                                app,
+                                &EditTarget::Load { row, col },
+                                load_text(path, col, app.si_beam()),
+                            )
+                        })
                         .collect()
                 })
                 .collect(),
             row: app.loads_state.row,
             col: app.loads_state.col,
+            si: app.matrix_state.si,
+            hold: app.loads_state.hold,
+            other_units: app
+                .scene
+                .loads
+                .get(app.shown_path())
+                .map(|p| match app.matrix_state.si {
+                    true => alpha_text(p),
+                    false => si_text(p, &app.scene.beam),
+                })
+                .unwrap_or_default(),
             pal: Palette { mono: app.mono },
         }
     }
@@ -51,10 +78,19 @@ impl View {
 /// Draws the load panel.
 pub fn draw(frame: &mut Frame, area: Rect, view: &View) {
     let pal = view.pal;
-    let block = panel_block(" Load paths ", view.focused, pal);
+    let title = format!(" Load paths  hold {} ", view.hold);
+    let block = panel_block(title, view.focused, pal).title_bottom(Span::styled(
+        format!(" {} ", view.other_units),
+        pal.fg(Color::DarkGray),
+    ));
+    let columns = if view.si {
+        LOAD_COLUMNS_SI
+    } else {
+        LOAD_COLUMNS
+    };
     let header = Row::new(
         std::iter::once(Cell::from("#"))
-            .chain(LOAD_COLUMNS.iter().map(|c| Cell::from(*c)))
+            .chain(columns.iter().map(|c| Cell::from(*c)))
             .collect::<Vec<_>>(),
     )
     .style(Style::default().add_modifier(Modifier::BOLD));

@@ -4,7 +4,7 @@
 //!
 //! Layout: a title line; the beam, load and matrix panels on the left; on the right the
 //! deformed shapes (beam and PRB linkage, equal aspect) over the tip-error charts; a status
-//! line with the fit's figures against the scene's targets; a key-hint line. Below
+//! line with the fit's figures against the scene's targets, a message line; a key-hint line. Below
 //! [`MIN_WIDTH`] x [`MIN_HEIGHT`] only a "too small" note is drawn.
 //!
 //! Text that came from outside (a scene's name, file paths, error messages) is drawn through
@@ -91,12 +91,13 @@ pub fn draw(frame: &mut Frame, app: &App) {
         overlays::draw_too_small(frame, area);
         return;
     }
+    let status_view = status::View::new(app);
     let rows = Layout::default()
         .direction(Direction::Vertical)
         .constraints([
             Constraint::Length(1),
             Constraint::Min(10),
-            Constraint::Length(1),
+            Constraint::Length(status::height(&status_view)),
             Constraint::Length(1),
         ])
         .split(area);
@@ -108,7 +109,7 @@ pub fn draw(frame: &mut Frame, app: &App) {
         .split(rows[1]);
     draw_left(frame, cols[0], app);
     draw_right(frame, cols[1], app);
-    status::draw(frame, rows[2], &status::View::new(app));
+    status::draw(frame, rows[2], &status_view);
     status::draw_hints(frame, rows[3], &status::HintsView::new(app));
     if let Some(view) = select::View::new(app) {
         select::draw(frame, rows[1], &view);
@@ -170,7 +171,7 @@ fn panel_block<'a>(title: impl Into<Cow<'a, str>>, focused: bool, pal: Palette) 
 /// The text of a field, or its editor (with a cursor) when being edited.
 fn shown(app: &App, target: &super::app::EditTarget, text: String) -> (String, bool) {
     match &app.editing {
-        Some((t, tb)) if t == target => (format!("{}_", tb.text), true),
+        Some((t, tb)) if t == target => (tb.with_cursor(), true),
         _ => (text, false),
     }
 }

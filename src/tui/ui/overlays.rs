@@ -1,5 +1,5 @@
-//! What is drawn over the panels: the help (every key, from the keymap), a prompt, and the
-//! note when the terminal is too small.
+//! What is drawn over the panels: the help (every key, from the keymap), a prompt (with its
+//! text and cursor, or a yes/no question), and the note when the terminal is too small.
 
 use ratatui::layout::Rect;
 use ratatui::style::Color;
@@ -13,24 +13,27 @@ use super::{centered, sanitize_terminal, Palette, MIN_HEIGHT, MIN_WIDTH};
 
 /// What the overlays draw.
 #[derive(Debug, Clone)]
-pub struct View<'a> {
+pub struct View {
     /// Show the help.
     pub help: bool,
-    /// An open prompt: its question and the text typed so far.
-    pub prompt: Option<(&'static str, &'a str)>,
+    /// An open prompt: its question and the text typed so far with the cursor drawn in
+    /// (none for a yes/no question).
+    pub prompt: Option<(&'static str, Option<String>)>,
     /// Colours.
     pub pal: Palette,
 }
 
-impl<'a> View<'a> {
+impl View {
     /// The overlays of `app`.
-    pub fn new(app: &'a App) -> View<'a> {
+    pub fn new(app: &App) -> View {
         View {
             help: app.help,
-            prompt: app
-                .prompt
-                .as_ref()
-                .map(|(kind, tb)| (kind.question(), tb.text.as_str())),
+            prompt: app.prompt.as_ref().map(|(kind, tb)| {
+                (
+                    kind.question(),
+                    (!kind.is_question()).then(|| tb.with_cursor()),
+                )
+            }),
             pal: Palette { mono: app.mono },
         }
     }
@@ -41,8 +44,8 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View) {
     if view.help {
         draw_help(frame, area, view.pal);
     }
-    if let Some((question, text)) = view.prompt {
-        draw_prompt(frame, area, question, text, view.pal);
+    if let Some((question, text)) = &view.prompt {
+        draw_prompt(frame, area, question, text.as_deref(), view.pal);
     }
 }
 
@@ -58,13 +61,13 @@ pub fn draw_too_small(frame: &mut Frame, area: Rect) {
 }
 
 fn draw_help(frame: &mut Frame, area: Rect, pal: Palette) {
-    let rect = centered(area, 92, KEYMAP.len() as u16 + 2);
+    let rect = centered(area, 106, KEYMAP.len() as u16 + 2);
     frame.render_widget(Clear, rect);
     let lines: Vec<Line> = KEYMAP
         .iter()
         .map(|e| {
             Line::from(vec![
-                Span::styled(format!(" {:<16}", e.keys), pal.fg(Color::Cyan)),
+                Span::styled(format!(" {:<27}", e.keys), pal.fg(Color::Cyan)),
                 Span::raw(e.does),
             ])
         })
@@ -78,7 +81,7 @@ fn draw_help(frame: &mut Frame, area: Rect, pal: Palette) {
     );
 }
 
-fn draw_prompt(frame: &mut Frame, area: Rect, question: &str, text: &str, pal: Palette) {
+fn draw_prompt(frame: &mut Frame, area: Rect, question: &str, text: Option<&str>, pal: Palette) {
     let rect = centered(area, 70, 3);
     frame.render_widget(Clear, rect);
     let block = Block::default()
@@ -86,7 +89,7 @@ fn draw_prompt(frame: &mut Frame, area: Rect, question: &str, text: &str, pal: P
         .border_style(pal.fg(Color::Cyan))
         .title(format!(" {question} "));
     frame.render_widget(
-        Paragraph::new(format!("{}_", sanitize_terminal(text))).block(block),
+        Paragraph::new(text.map(sanitize_terminal).unwrap_or_default().into_owned()).block(block),
         rect,
     );
 }

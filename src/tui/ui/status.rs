@@ -1,5 +1,6 @@
-//! The one-line bars: the title (scene, fidelity, live refit), the status line (J and the
-//! maximum errors against the targets, what the worker is doing, the last message) and the
+//! The one-line bars: the title (scene, fidelity, live refit), the status lines (J and the
+//! maximum errors against the targets with what the worker is doing, always shown; under it
+//! the last message on a line of its own, so no message ever hides J or PASS/FAIL) and the
 //! key hints, read from the keymap.
 
 use ratatui::layout::Rect;
@@ -74,6 +75,8 @@ pub struct View<'a> {
     pub message: Option<(&'a str, Tone)>,
     /// The shown model's figures.
     pub figures: Option<&'a ErrorFigures>,
+    /// The model compared against: its name and figures on the same baseline.
+    pub compare: Option<(&'a str, &'a ErrorFigures)>,
     /// The scene's targets.
     pub accuracy: Accuracy,
     /// What the worker is doing.
@@ -88,6 +91,7 @@ impl<'a> View<'a> {
         View {
             message: app.message.as_ref().map(|(m, t)| (m.as_str(), *t)),
             figures: app.model.as_ref().map(|m| &m.figures),
+            compare: app.shown_compare().map(|(n, v)| (n, &v.figures)),
             accuracy: app.scene.accuracy,
             activity: &app.activity,
             pal: Palette { mono: app.mono },
@@ -95,49 +99,42 @@ impl<'a> View<'a> {
     }
 }
 
-/// Draws the status line: an error message alone, else the figures, the activity and any
-/// information message.
+/// How many lines [`draw`] takes: the figures, the compared model's (when comparing), the
+/// message.
+pub fn height(view: &View) -> u16 {
+    2 + u16::from(view.compare.is_some())
+}
+
+/// `J | pos ..% PASS<.. | ang ..deg PASS<.. | ` for figures `f` against `acc`.
+fn figure_spans(f: &ErrorFigures, acc: &Accuracy, pal: Palette) -> Vec<Span<'static>> {
+    let pos_ok = f.max_pos_err <= acc.max_pos_err;
+    let ang_ok = f.max_ang_err <= acc.max_ang_err;
+    let verdict = |ok: bool| Span::styled(if ok { "PASS" } else { "FAIL" }, pal.pass(ok));
+    vec![
+        Span::raw(format!(" J {:.3e} | pos ", f.objective)),
+        Span::raw(format!("{}%L ", trim_number(f.max_pos_err * 100.0, 3))),
+        verdict(pos_ok),
+        Span::raw(format!(
+            "<{} | ang {}deg ",
+            trim_number(acc.max_pos_err * 100.0, 3),
+            trim_number(f.max_ang_err.to_degrees(), 3)
+        )),
+        verdict(ang_ok),
+        Span::raw(format!(
+            "<{} | ",
+            trim_number(acc.max_ang_err.to_degrees(), 3)
+        )),
+    ]
+}
+
+/// Draws the status lines: the figures and the activity, the compared model's figures (when
+/// comparing), then the message (if any).
 pub fn draw(frame: &mut Frame, area: Rect, view: &View) {
     let pal = view.pal;
-    if let Some((m, Tone::Error)) = view.message {
-        let line = Line::from(Span::styled(
-            format!(" {}", sanitize_terminal(m)),
-            pal.fg(Color::Red),
-        ));
-        frame.render_widget(Paragraph::new(line), area);
-        return;
-    }
-    let mut spans = Vec::new();
-    match view.figures {
-        Some(f) => {
-            let acc = &view.accuracy;
-            let pos_ok = f.max_pos_err <= acc.max_pos_err;
-            let ang_ok = f.max_ang_err <= acc.max_ang_err;
-            spans.push(Span::raw(format!(" J {:.3e} | pos ", f.objective)));
-            spans.push(Span::raw(format!(
-                "{}%L ",
-                trim_number(f.max_pos_err * 100.0, 3)
-            )));
-            spans.push(Span::styled(
-                if pos_ok { "PASS" } else { "FAIL" },
-                pal.pass(pos_ok),
-            ));
-            spans.push(Span::raw(format!(
-                "<{} | ang {}deg ",
-                trim_number(acc.max_pos_err * 100.0, 3),
-                trim_number(f.max_ang_err.to_degrees(), 3)
-            )));
-            spans.push(Span::styled(
-                if ang_ok { "PASS" } else { "FAIL" },
-                pal.pass(ang_ok),
-            ));
-            spans.push(Span::raw(format!(
-                "<{} | ",
-                trim_number(acc.max_ang_err.to_degrees(), 3)
-            )));
-        }
-        None => spans.push(Span::raw(" no model judged yet  ")),
-    }
+    let mut spans = match view.figures {
+        Some(f) => figure_spans(f, &view.accuracy, pal),
+        None => vec![Span::raw(" no model judged yet  ")],
+    };
     let activity = match view.activity {
         Activity::Idle => "idle".to_string(),
         Activity::Waiting => "working...".to_string(),
@@ -155,10 +152,26 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View) {
         Activity::Cancelled => "fit cancelled".to_string(),
     };
     spans.push(Span::styled(activity, pal.fg(Color::Cyan)));
-    if let Some((m, Tone::Info)) = view.message {
-        spans.push(Span::raw(format!("  | {}", sanitize_terminal(m))));
+    let mut lines = vec![Line::from(spans)];
+    if let Some((name, f)) = view.compare {
+        let mut spans = figure_spans(f, &view.accuracy, pal);
+        spans.push(Span::styled(
+            format!("compared with {} (C)", sanitize_terminal(name)),
+            pal.fg(Color::DarkGray),
+        ));
+        lines.push(Line::from(spans));
     }
-    frame.render_widget(Paragraph::new(Line::from(spans)), area);
+    if let Some((m, tone)) = view.message {
+        let style = match tone {
+            Tone::Error => pal.fg(Color::Red),
+            Tone::Info => Style::default(),
+        };
+        lines.push(Line::from(Span::styled(
+            format!(" {}", sanitize_terminal(m)),
+            style,
+        )));
+    }
+    frame.render_widget(Paragraph::new(lines), area);
 }
 
 /// What the hint line draws.
@@ -175,8 +188,12 @@ impl HintsView {
     pub fn new(app: &App) -> HintsView {
         let text = if app.editing.is_some() {
             keymap::EDITING_HINT.to_string()
-        } else if app.prompt.is_some() {
-            keymap::PROMPT_HINT.to_string()
+        } else if let Some((kind, _)) = &app.prompt {
+            if kind.is_question() {
+                keymap::QUESTION_HINT.to_string()
+            } else {
+                keymap::PROMPT_HINT.to_string()
+            }
         } else {
             keymap::hint_line(app.focus)
         };
