@@ -343,6 +343,11 @@ pub fn run_command(app: &mut App, cmd: Command, now: Instant) -> Option<Job> {
             }
         }
         Command::OpenScene(path) => match Scene::from_file(&path) {
+            Ok(scene) if scene.mechanism.is_some() => app.set_error(format!(
+                "not opened: {} is a mechanism scene (DESIGN §8); the UI solves only \
+                 cantilever scenes so far",
+                path.display()
+            )),
             Ok(scene) => {
                 app.set_scene(scene, path.clone(), now);
                 app.set_info(format!("opened {}", path.display()));
