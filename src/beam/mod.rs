@@ -214,7 +214,7 @@ impl Default for EffortBudget {
         EffortBudget {
             continuation_steps: 400,
             shots: 4_000,
-            rk_steps: 4_000_000,
+            rk_steps: 3_000_000,
         }
     }
 }
@@ -264,8 +264,8 @@ pub enum SolveError {
     #[error("bad resolution: {0}")]
     BadResolution(String),
     #[error(
-        "no equilibrium found for {load}: stuck at {:.4} of the load path ({reason})",
-        fraction
+        "no equilibrium found for {load}: stuck at {} of the load path ({reason})",
+        Fraction(*fraction)
     )]
     NoConvergence {
         load: Load,
@@ -273,16 +273,16 @@ pub enum SolveError {
         reason: String,
     },
     #[error(
-        "the equilibrium path for {load} reaches a critical point at {:.4} of the load \
+        "the equilibrium path for {load} reaches a critical point at {} of the load \
          (dM(L)/dM(0) -> 0): a snap-through limit point, past which the beam jumps to another \
          shape, or a buckling bifurcation, past which the shape is not unique (for an exactly \
          axial compression, tilt the load slightly to choose the buckling direction)",
-        fraction
+        Fraction(*fraction)
     )]
     Unstable { load: Load, fraction: f64 },
     #[error(
-        "the material law fails for {load} at {:.4} of the load path: {reason}",
-        fraction
+        "the material law fails for {load} at {} of the load path: {reason}",
+        Fraction(*fraction)
     )]
     MaterialLimit {
         load: Load,
@@ -291,11 +291,12 @@ pub enum SolveError {
     },
     /// The solve was still following the load path when its [`EffortBudget`] ran out.
     #[error(
-        "gave up on {load} at {:.4} of the load path after {steps} continuation steps, {shots} \
-         Newton shots and {rk_steps} integration steps (the effort budget): the equilibrium \
-         moves too slowly along this path to finish in bounded time; solve a smaller load, \
-         loosen the tolerance, or raise the solver's effort budget",
-        fraction
+        "gave up on {load} at {} of the load path: the effort budget ran out ({steps} \
+         continuation steps, {shots} Newton shots, {rk_steps} integration steps for one load \
+         case) before the path reached its end; to proceed, solve a smaller load (this \
+         fraction of it was reached), loosen the tolerance, or raise the solver's effort \
+         budget",
+        Fraction(*fraction)
     )]
     EffortExceeded {
         load: Load,
@@ -305,8 +306,22 @@ pub enum SolveError {
         rk_steps: u64,
     },
     /// The caller's [`CancelToken`] was cancelled.
-    #[error("solve of {load} cancelled at {:.4} of the load path", fraction)]
+    #[error("solve of {load} cancelled at {} of the load path", Fraction(*fraction))]
     Cancelled { load: Load, fraction: f64 },
+}
+
+/// A fraction of a load path, printed with four decimals, or four significant digits when it
+/// is below a thousandth (a huge load's critical point can sit at 2.467e-4 of it).
+struct Fraction(f64);
+
+impl fmt::Display for Fraction {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if self.0 == 0.0 || self.0.abs() >= 1e-3 {
+            write!(f, "{:.4}", self.0)
+        } else {
+            write!(f, "{:.3e}", self.0)
+        }
+    }
 }
 
 /// The accepted state at one point of a load path: `(psi, M)` at the start of every
@@ -389,9 +404,9 @@ const MIN_CORRECTION: f64 = 0.15;
 /// A continuation stuck where `dM(L)/dM(0)` has fallen below this fraction of its largest
 /// value on the path has reached a critical point.
 const NEAR_CRITICAL: f64 = 0.01;
-/// The smallest continuation step before the solver gives up, for loads whose first step is
-/// the whole path; a huge load, whose tip moves within its first millionths, gets a
-/// proportionally finer one (see [`first_step`]).
+/// The smallest continuation step before the solver gives up, for loads up to 100; a huge
+/// load, whose shape changes and critical points sit within the path's first millionths,
+/// gets a proportionally finer one, so that those are located as precisely.
 const MIN_STEP: f64 = 1e-7;
 const MAX_NEWTON: u32 = 30;
 /// Shooting segments are short enough that perturbations grow by at most about
@@ -460,7 +475,7 @@ impl BeamSolver {
         }];
         let mut out = Vec::with_capacity(steps as usize);
         let mut dlam = first_step(&self.model, end, 1.0 / steps as f64);
-        let min_step = MIN_STEP.min(1e-3 * first_step(&self.model, end, 1.0));
+        let min_step = MIN_STEP * (100.0 / end.magnitude()).min(1.0);
         for k in 1..=steps {
             let target = k as f64 / steps as f64;
             let mut case = CaseContext::new(self.budget, cancel);
@@ -534,7 +549,22 @@ impl BeamSolver {
                             stability: result.convergence.stability,
                         });
                         peak_stability = peak_stability.max(result.convergence.stability);
-                        dlam = (dlam * 2.0).min(1.0);
+                        // Double the step, but not past what this step's tip motion says
+                        // would break a limit: the tip moves about in proportion to the
+                        // step, and a rejected step costs a whole Newton solve. (A huge pull
+                        // with extension on stretches the beam by 0.5 L per step; doubling
+                        // blindly had every second step rejected.)
+                        let taken = lambda - prev_lambda;
+                        let mut next = 2.0 * dlam;
+                        if turn > 0.0 {
+                            next = next.min(0.9 * MAX_TIP_TURN / turn * taken);
+                        }
+                        if moved > 0.0 {
+                            next = next.min(0.9 * MAX_TIP_MOVE / moved * taken);
+                        }
+                        // An accepted step turned and moved the tip within the limits, so
+                        // this is at least 0.9 of it.
+                        dlam = next.min(1.0);
                         if lambda >= target {
                             let solution = BeamSolution {
                                 load,
@@ -583,7 +613,9 @@ impl BeamSolver {
                     reason,
                 },
             };
-            dlam *= 0.5;
+            // Halve the step actually tried: one clipped at the target would otherwise be
+            // retried unchanged until the halving reached below the distance to it.
+            dlam = 0.5 * (lambda - prev_lambda);
             if dlam < min_step {
                 // Stuck where the stability slope has collapsed: a limit point, past which
                 // the equilibrium followed from zero no longer exists (the beam snaps).
