@@ -341,6 +341,24 @@ fn huge_axial_compression_is_unstable_at_eulers_load() {
     assert!(err.to_string().contains("2.46"), "{err}");
 }
 
+/// A tip moment `beta > 2 sqrt(F)` cannot be carried by the tip's boundary layer
+/// (`chi'^2 = 4 F sin^2(chi / 2)` peaks at `4 F`): along the path `lambda beta` outgrows
+/// `2 sqrt(lambda F)` at `lambda = 4 F / beta^2`, where the tip snaps into a loop. The solver
+/// reports that limit point, where the slope `dM(L)/dM(0)` is still 1e285 at 1e6.
+#[test]
+fn huge_force_with_too_big_a_tip_moment_snaps() {
+    let solver = elastica();
+    for load in [Load::new(0.0, 1e4, 300.0), Load::new(0.0, -1e6, -3000.0)] {
+        let expected = 4.0 * load.alpha_y.abs() / (load.beta * load.beta);
+        match solver.solve(load) {
+            Err(SolveError::Unstable { fraction, .. }) => {
+                assert!((fraction - expected).abs() < 1e-4, "{load}: at {fraction}")
+            }
+            other => panic!("{load}: expected a limit point, got {other:?}"),
+        }
+    }
+}
+
 /// A solve that cannot be finished within the budget says so, with the fraction reached,
 /// and never spends more than the budget.
 #[test]

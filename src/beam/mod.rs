@@ -333,6 +333,8 @@ struct PathPoint {
     tip: TipPose,
     /// `dM(L)/dM(0)` here.
     stability: f64,
+    /// The same, scale-free (see [`Chain::direction`]).
+    direction: f64,
 }
 
 /// The outcome of one Newton solve at a fixed load.
@@ -343,8 +345,8 @@ struct NewtonResult {
     shots: u32,
     rk_steps: u32,
     convergence: Convergence,
-    /// `dM(s)/dM(0)` vanishes somewhere inside the beam (see [`chain_stability`]).
-    focal_point: bool,
+    /// The stability of the shape (see [`chain_stability`]).
+    chain: Chain,
 }
 
 enum NewtonFailure {
@@ -404,11 +406,16 @@ const MIN_CORRECTION: f64 = 0.15;
 /// A continuation stuck where `dM(L)/dM(0)` has fallen below this fraction of its largest
 /// value on the path has reached a critical point.
 const NEAR_CRITICAL: f64 = 0.01;
+/// The same for the slope's direction ([`Chain::direction`]), which falls like the slope near a
+/// limit point but is bounded by 1, so a huge load's fold shows in it only close by.
+const NEAR_CRITICAL_DIRECTION: f64 = 0.1;
 /// The smallest continuation step before the solver gives up, for loads up to 100; a huge
 /// load, whose shape changes and critical points sit within the path's first millionths,
 /// gets a proportionally finer one, so that those are located as precisely.
 const MIN_STEP: f64 = 1e-7;
 const MAX_NEWTON: u32 = 30;
+/// Newton gives up when its residual has not halved in this many shots.
+const STAGNATION_SHOTS: u32 = 8;
 /// Shooting segments are short enough that perturbations grow by at most about
 /// `exp(SEGMENT_GROWTH)` across one (they grow like `exp(sqrt(|alpha|) s)`).
 const SEGMENT_GROWTH: f64 = 3.0;
@@ -472,6 +479,8 @@ impl BeamSolver {
             nodes: vec![[0.0, 0.0]; segments],
             tip: TipPose::STRAIGHT,
             stability: 1.0,
+            // (dpsi, dM)(L) = (L, 1) for the unloaded beam.
+            direction: std::f64::consts::FRAC_1_SQRT_2,
         }];
         let mut out = Vec::with_capacity(steps as usize);
         let mut dlam = first_step(&self.model, end, 1.0 / steps as f64);
@@ -499,11 +508,13 @@ impl BeamSolver {
         let mut shots = 0u32;
         let mut sub_steps = 0u32;
         let mut peak_stability = history.iter().map(|p| p.stability).fold(1.0, f64::max);
+        let mut peak_direction = history.iter().map(|p| p.direction).fold(0.0, f64::max);
         loop {
             let prev = history
                 .last()
                 .expect("history starts with the unloaded beam");
-            let (prev_lambda, prev_tip, prev_stability) = (prev.lambda, prev.tip, prev.stability);
+            let (prev_lambda, prev_tip) = (prev.lambda, prev.tip);
+            let (prev_stability, prev_direction) = (prev.stability, prev.direction);
             if case.meter.cancel.is_cancelled() {
                 return Err(SolveError::Cancelled {
                     load: end,
@@ -526,7 +537,7 @@ impl BeamSolver {
                     // itself: a big correction means it found another branch.
                     let correction = result.tip.max_diff(&predicted_tip);
                     let allowed = MIN_CORRECTION + 0.5 * predicted_tip.max_diff(&prev_tip);
-                    if result.convergence.stability <= 0.0 || result.focal_point {
+                    if result.convergence.stability <= 0.0 || result.chain.focal_point {
                         SolveError::Unstable {
                             load: end,
                             fraction: prev_lambda,
@@ -547,8 +558,10 @@ impl BeamSolver {
                             nodes: result.nodes.clone(),
                             tip: result.tip,
                             stability: result.convergence.stability,
+                            direction: result.chain.direction,
                         });
                         peak_stability = peak_stability.max(result.convergence.stability);
+                        peak_direction = peak_direction.max(result.chain.direction);
                         // Double the step, but not past what this step's tip motion says
                         // would break a limit: the tip moves about in proportion to the
                         // step, and a rejected step costs a whole Newton solve. (A huge pull
@@ -616,10 +629,16 @@ impl BeamSolver {
             // Halve the step actually tried: one clipped at the target would otherwise be
             // retried unchanged until the halving reached below the distance to it.
             dlam = 0.5 * (lambda - prev_lambda);
-            if dlam < min_step {
+            // The smallest step is also relative to the load reached, so that a limit point
+            // far along a huge load's path costs no more halvings than one at an ordinary load.
+            if dlam < min_step.max(MIN_STEP * prev_lambda) {
                 // Stuck where the stability slope has collapsed: a limit point, past which
-                // the equilibrium followed from zero no longer exists (the beam snaps).
-                if prev_stability < NEAR_CRITICAL * peak_stability {
+                // the equilibrium followed from zero no longer exists (the beam snaps). Under
+                // a huge force the slope carries a factor exp(sqrt(alpha)) that grows along
+                // the path and hides its collapse; its direction does not.
+                if prev_stability < NEAR_CRITICAL * peak_stability
+                    || prev_direction < NEAR_CRITICAL_DIRECTION * peak_direction
+                {
                     return Err(SolveError::Unstable {
                         load: end,
                         fraction: prev_lambda,
@@ -666,6 +685,7 @@ impl BeamSolver {
         // The last iterate that improved the residual, and the update taken from it.
         let mut base: Option<(Vec<[f64; 2]>, f64, Vec<f64>)> = None;
         let mut last_measure = f64::INFINITY;
+        let (mut best_merit, mut best_shot) = (f64::INFINITY, 0);
         nodes[0][0] = 0.0;
         for shot_no in 1..=MAX_NEWTON {
             if case.work.shots >= case.budget.shots {
@@ -737,6 +757,17 @@ impl BeamSolver {
                 })
                 .fold(0.0_f64, |acc, r| acc.max(r.abs()));
 
+            // Past a limit point there is no root, only a minimum of the residual, where
+            // damped Newton cycles for ever: give up once the residual stops halving, and let
+            // the continuation halve its step instead.
+            if merit < 0.5 * best_merit {
+                best_merit = merit;
+                best_shot = shot_no;
+            } else if shot_no - best_shot >= STAGNATION_SHOTS {
+                return Err(NewtonFailure::Diverged(format!(
+                    "Newton stagnated: the residual did not halve in {STAGNATION_SHOTS} shots"
+                )));
+            }
             if let Some((base_nodes, base_merit, update)) = &base {
                 let noise_level = last_measure <= 10.0 * tip_tol;
                 if merit > *base_merit && !noise_level {
@@ -799,7 +830,7 @@ impl BeamSolver {
                     b: origin.1 + delta.b,
                     phi: last[0] + delta.phi,
                 };
-                let (stability, focal_point) = chain_stability(&ends);
+                let chain = chain_stability(&ends);
                 return Ok(NewtonResult {
                     nodes: apply(&nodes, &update),
                     shape,
@@ -809,9 +840,9 @@ impl BeamSolver {
                     convergence: Convergence {
                         residual: merit,
                         last_update: measure,
-                        stability,
+                        stability: chain.slope,
                     },
-                    focal_point,
+                    chain,
                 });
             }
             // Damp wild updates: angles beyond a radian or moments beyond what the load can
@@ -908,6 +939,20 @@ fn first_step(model: &BeamModel, end: Load, wanted: f64) -> f64 {
     step
 }
 
+/// The response `(dpsi, dM)` of the beam to a change of its root moment, as far as the
+/// stability tests need it.
+#[derive(Debug, Clone, Copy)]
+struct Chain {
+    /// `dM(L)/dM(0)`, saturating at `f64::MAX`.
+    slope: f64,
+    /// `dM(L) / |(dpsi(L), dM(L))|`: the slope's sign without the factor
+    /// `exp(sqrt(alpha))` a huge force puts in front of it. Near a limit point it falls like
+    /// the slope; far from one it is of order 1 at any load, where the slope can be 1e300.
+    direction: f64,
+    /// `dM(s)/dM(0)` is already non-positive at the end of an inner segment.
+    focal_point: bool,
+}
+
 /// `dM(L)/dM(0)` through the chain of segments, and whether `dM(s)/dM(0)` is already
 /// non-positive at the end of an inner segment.
 ///
@@ -923,7 +968,7 @@ fn first_step(model: &BeamModel, end: Load, wanted: f64) -> f64 {
 /// At huge loads the product grows like `exp(sqrt(alpha))`, past the range of a double, so
 /// it is rescaled as it goes and a stable equilibrium too stiff to represent saturates at
 /// `f64::MAX`.
-fn chain_stability(ends: &[[f64; 12]]) -> (f64, bool) {
+fn chain_stability(ends: &[[f64; 12]]) -> Chain {
     let mut v = [0.0, 1.0];
     let mut log_scale = 0.0;
     let mut focal_point = false;
@@ -939,16 +984,23 @@ fn chain_stability(ends: &[[f64; 12]]) -> (f64, bool) {
             log_scale += big.ln();
         }
     }
-    if log_scale == 0.0 || v[1] == 0.0 {
-        return (v[1], focal_point);
-    }
-    let magnitude = v[1].abs().ln() + log_scale;
-    let stability = if magnitude >= f64::MAX.ln() {
-        f64::MAX.copysign(v[1])
+    let norm = v[0].hypot(v[1]);
+    let direction = if norm > 0.0 { v[1] / norm } else { 0.0 };
+    let slope = if log_scale == 0.0 || v[1] == 0.0 {
+        v[1]
     } else {
-        magnitude.exp().copysign(v[1])
+        let magnitude = v[1].abs().ln() + log_scale;
+        if magnitude >= f64::MAX.ln() {
+            f64::MAX.copysign(v[1])
+        } else {
+            magnitude.exp().copysign(v[1])
+        }
     };
-    (stability, focal_point)
+    Chain {
+        slope,
+        direction,
+        focal_point,
+    }
 }
 
 /// `nodes` moved by a Newton update laid out as the unknowns (`M_0, psi_1, M_1, ...`).
