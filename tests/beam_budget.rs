@@ -236,11 +236,13 @@ fn huge_combined_loads_match_the_aligned_asymptote() {
 }
 
 /// A huge pull with extension on only stretches the beam: `a = 1 + alpha_x c_e` exactly,
-/// for any load (here a strain of 8.3 at L/t = 100, 0.083 at L/t = 1000). Shear on as well
-/// changes nothing while the straight beam is stable (see the next test).
+/// for any load (here a strain of 833 at L/t = 10, 8.3 at L/t = 100, 0.083 at L/t = 1000).
+/// Shear on as well changes nothing while the straight beam is stable (see the next test).
+/// The integrator's error is relative here: `a` is summed over up to 4096 segments.
 #[test]
 fn huge_tension_stretches_by_n_over_ea() {
     for (effects, slenderness) in [
+        ("extension", 10.0),
         ("extension", 100.0),
         ("extension", 1000.0),
         ("shear,extension", 1000.0),
@@ -257,7 +259,7 @@ fn huge_tension_stretches_by_n_over_ea() {
         let tip = solver.solve(Load::new(alpha_x, 0.0, 0.0)).unwrap().tip;
         let expected = 1.0 + alpha_x * model.axial_compliance();
         assert!(
-            (tip.a - expected).abs() < 1e-12 * expected,
+            (tip.a - expected).abs() < 1e-11 * expected,
             "{effects}, L/t {slenderness}: a {} vs {expected}",
             tip.a
         );

@@ -205,7 +205,8 @@ pub struct EffortBudget {
     pub continuation_steps: u32,
     /// Newton shots (each integrates the whole beam once).
     pub shots: u32,
-    /// Integration steps tried, over all shots.
+    /// Integration steps tried, over all shots; with the Poisson effect on each counts
+    /// twice, as its material law makes a step cost about that much more.
     pub rk_steps: u64,
 }
 
@@ -214,7 +215,7 @@ impl Default for EffortBudget {
         EffortBudget {
             continuation_steps: 400,
             shots: 4_000,
-            rk_steps: 3_000_000,
+            rk_steps: 4_000_000,
         }
     }
 }
@@ -365,12 +366,15 @@ struct CaseContext<'a> {
 }
 
 impl<'a> CaseContext<'a> {
-    fn new(budget: EffortBudget, cancel: &'a CancelToken) -> CaseContext<'a> {
+    fn new(budget: EffortBudget, model: &BeamModel, cancel: &'a CancelToken) -> CaseContext<'a> {
         CaseContext {
             budget,
             work: Work::default(),
             meter: Meter {
                 tries: 0,
+                cost: 0,
+                // Poisson's law solves an equation for the strain at every evaluation.
+                weight: if model.effects.poisson { 2 } else { 1 },
                 limit: budget.rk_steps,
                 cancel,
             },
@@ -383,7 +387,7 @@ impl<'a> CaseContext<'a> {
             fraction,
             steps: self.work.steps,
             shots: self.work.shots,
-            rk_steps: self.meter.tries.min(self.budget.rk_steps),
+            rk_steps: self.meter.tries,
         }
     }
 }
@@ -401,6 +405,10 @@ pub struct BeamSolver {
 const MAX_TIP_TURN: f64 = 1.0;
 /// ... or moves it by more than this (units of L), so it cannot hop to another branch.
 const MAX_TIP_MOVE: f64 = 0.6;
+/// ... or, once extension has stretched the beam past 2.4 L, by more than this fraction of
+/// the tip's distance from the root: a pull of 1e6 on a stubby beam stretches it 800-fold,
+/// and an absolute limit would take thousands of steps along a straight line.
+const STRETCHED_MOVE: f64 = 0.25;
 /// Newton's correction of the predicted tip may always be this large (units of L, radians).
 const MIN_CORRECTION: f64 = 0.15;
 /// A continuation stuck where `dM(L)/dM(0)` has fallen below this fraction of its largest
@@ -487,7 +495,7 @@ impl BeamSolver {
         let min_step = MIN_STEP * (100.0 / end.magnitude()).min(1.0);
         for k in 1..=steps {
             let target = k as f64 / steps as f64;
-            let mut case = CaseContext::new(self.budget, cancel);
+            let mut case = CaseContext::new(self.budget, &self.model, cancel);
             let (solution, next_dlam) =
                 self.advance(end, &mut history, target, (dlam, min_step), &mut case)?;
             dlam = next_dlam;
@@ -532,6 +540,8 @@ impl BeamSolver {
                 Ok(result) => {
                     shots += result.shots;
                     let turn = (result.tip.phi - prev_tip.phi).abs();
+                    let move_limit =
+                        MAX_TIP_MOVE.max(STRETCHED_MOVE * prev_tip.a.hypot(prev_tip.b));
                     let moved = (result.tip.a - prev_tip.a).hypot(result.tip.b - prev_tip.b);
                     // Newton may correct the predictor, but not by much more than the step
                     // itself: a big correction means it found another branch.
@@ -542,7 +552,7 @@ impl BeamSolver {
                             load: end,
                             fraction: prev_lambda,
                         }
-                    } else if turn > MAX_TIP_TURN || moved > MAX_TIP_MOVE || correction > allowed {
+                    } else if turn > MAX_TIP_TURN || moved > move_limit || correction > allowed {
                         SolveError::NoConvergence {
                             load: end,
                             fraction: prev_lambda,
@@ -573,7 +583,7 @@ impl BeamSolver {
                             next = next.min(0.9 * MAX_TIP_TURN / turn * taken);
                         }
                         if moved > 0.0 {
-                            next = next.min(0.9 * MAX_TIP_MOVE / moved * taken);
+                            next = next.min(0.9 * move_limit / moved * taken);
                         }
                         // An accepted step turned and moved the tip within the limits, so
                         // this is at least 0.9 of it.

@@ -58,7 +58,12 @@ pub(crate) enum ShotFailure {
 /// Counts the integration steps (accepted or not) of every shot of one solve against its
 /// budget, and watches the cancel flag, so no shot can run away with the CPU.
 pub(crate) struct Meter<'a> {
+    /// Integration steps tried.
     pub tries: u64,
+    /// Their cost, in units of an elastica step: `weight` per step.
+    pub cost: u64,
+    pub weight: u64,
+    /// The most `cost` allowed.
     pub limit: u64,
     pub cancel: &'a CancelToken,
 }
@@ -69,10 +74,11 @@ impl Meter<'_> {
 
     #[inline]
     fn tick(&mut self) -> Result<(), ShotFailure> {
-        self.tries += 1;
-        if self.tries > self.limit {
+        if self.cost + self.weight > self.limit {
             return Err(ShotFailure::OutOfEffort);
         }
+        self.tries += 1;
+        self.cost += self.weight;
         if self.tries % Self::CANCEL_STRIDE == 0 && self.cancel.is_cancelled() {
             return Err(ShotFailure::Cancelled);
         }
