@@ -115,15 +115,17 @@ impl Band {
             rhs.swap(j, self.pivots[j]);
             let v = rhs[j];
             if v != 0.0 {
-                for r in j + 1..=(j + kl).min(n - 1) {
-                    rhs[r] -= self.data[self.at(r, j)] * v;
+                let last = (j + kl).min(n - 1);
+                for (r, x) in rhs.iter_mut().enumerate().take(last + 1).skip(j + 1) {
+                    *x -= self.data[self.at(r, j)] * v;
                 }
             }
         }
         for j in (0..n).rev() {
+            let last = (j + kv).min(n - 1);
             let mut v = rhs[j];
-            for c in j + 1..=(j + kv).min(n - 1) {
-                v -= self.data[self.at(j, c)] * rhs[c];
+            for (c, x) in rhs.iter().enumerate().take(last + 1).skip(j + 1) {
+                v -= self.data[self.at(j, c)] * x;
             }
             rhs[j] = v / self.data[self.at(j, j)];
         }

@@ -610,8 +610,8 @@ impl BeamSolver {
                         if moved > 0.0 {
                             next = next.min(0.9 * move_limit / moved * taken);
                         }
-                        // An accepted step turned and moved the tip within the limits, so
-                        // this is at least 0.9 of it.
+                        // The step just accepted kept within the limits, so the next is at
+                        // least 0.9 of it: the step size cannot collapse here.
                         dlam = next.min(1.0);
                         if lambda >= target {
                             let solution = BeamSolution {

@@ -79,7 +79,7 @@ impl Meter<'_> {
         }
         self.tries += 1;
         self.cost += self.weight;
-        if self.tries % Self::CANCEL_STRIDE == 0 && self.cancel.is_cancelled() {
+        if self.tries.is_multiple_of(Self::CANCEL_STRIDE) && self.cancel.is_cancelled() {
             return Err(ShotFailure::Cancelled);
         }
         Ok(())
