@@ -27,6 +27,7 @@ fn main() {
     }
     if std::env::var("SKIP_HUGE").is_err() {
         huge_loads();
+        cancel_latency();
         worst_case();
     }
 }
@@ -293,4 +294,30 @@ fn worst_case() {
         println!("  {t:>6.3} s  tol {tol:.0e}, effects {effects}: {load} -> {what}");
     }
     println!();
+}
+
+/// How long a long path solve takes to stop after its token is cancelled.
+fn cancel_latency() {
+    let solver = BeamSolver::new(BeamModel::elastica(), Resolution::with_tol(1e-9)).unwrap();
+    let mut latencies = Vec::new();
+    for delay_ms in [5u64, 13, 29, 61, 97] {
+        let token = prbfit::cancel::CancelToken::new();
+        let remote = token.clone();
+        let canceller = std::thread::spawn(move || {
+            std::thread::sleep(std::time::Duration::from_millis(delay_ms));
+            remote.cancel();
+            Instant::now()
+        });
+        let result = solver.solve_path_cancellable(Load::new(0.0, 1e8, 0.0), 40, &token);
+        let stopped = Instant::now();
+        let cancelled_at = canceller.join().unwrap();
+        assert!(matches!(result, Err(SolveError::Cancelled { .. })));
+        latencies.push(stopped.duration_since(cancelled_at).as_secs_f64() * 1e6);
+    }
+    let worst = latencies.iter().cloned().fold(0.0, f64::max);
+    println!(
+        "Cancellation: a 40-case alpha_y = 1e8 path stops {:.0} us (median; worst {worst:.0} us) \
+         after its token is cancelled.\n",
+        median(latencies)
+    );
 }
