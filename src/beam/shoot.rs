@@ -25,6 +25,7 @@
 
 use super::model::{BeamModel, MaterialLimit};
 use super::ShapePoint;
+use crate::cancel::CancelToken;
 
 /// State layout: `psi, M, x, y`, then their derivatives with respect to the starting `M`
 /// (slots 4..8) and, when `N = 12`, to the starting `psi` (slots 8..12). A shot from the
@@ -49,6 +50,40 @@ pub(crate) enum ShotFailure {
     /// The step size collapsed or the step budget ran out (a wildly wrong guess).
     StepBudget,
     NonFinite,
+    /// The solve's effort budget of integration steps ran out.
+    OutOfEffort,
+    Cancelled,
+}
+
+/// Counts the integration steps (accepted or not) of every shot of one solve against its
+/// budget, and watches the cancel flag, so no shot can run away with the CPU.
+pub(crate) struct Meter<'a> {
+    /// Integration steps tried.
+    pub tries: u64,
+    /// Their cost, in units of an elastica step: `weight` per step.
+    pub cost: u64,
+    pub weight: u64,
+    /// The most `cost` allowed.
+    pub limit: u64,
+    pub cancel: &'a CancelToken,
+}
+
+impl Meter<'_> {
+    /// Steps between looks at the cancel flag: a few microseconds of work.
+    const CANCEL_STRIDE: u64 = 64;
+
+    #[inline]
+    fn tick(&mut self) -> Result<(), ShotFailure> {
+        if self.cost + self.weight > self.limit {
+            return Err(ShotFailure::OutOfEffort);
+        }
+        self.tries += 1;
+        self.cost += self.weight;
+        if self.tries.is_multiple_of(Self::CANCEL_STRIDE) && self.cancel.is_cancelled() {
+            return Err(ShotFailure::Cancelled);
+        }
+        Ok(())
+    }
 }
 
 /// A tip load in the nondimensional core.
@@ -181,13 +216,14 @@ pub(crate) struct Samples<'a> {
 }
 
 /// Integrates one segment. Position states start at zero (they are increments), the
-/// sensitivities at the identity.
+/// sensitivities at the identity. Every attempted step is charged to `meter`.
 pub(crate) fn shoot<const N: usize>(
     model: &BeamModel,
     force: TipForce,
     segment: Segment,
     settings: ShotSettings,
     mut shape: Option<Samples<'_>>,
+    meter: &mut Meter<'_>,
 ) -> Result<Shot, ShotFailure> {
     let mut u: State<N> = [0.0; N];
     u[PSI] = segment.psi;
@@ -230,6 +266,7 @@ pub(crate) fn shoot<const N: usize>(
         if tries > settings.max_steps || h < 1e-12 {
             return Err(ShotFailure::StepBudget);
         }
+        meter.tick()?;
         let last = s + h >= s_end - 1e-12;
         if last {
             h = s_end - s;
