@@ -12,6 +12,7 @@ use std::time::Instant;
 use serde::{Deserialize, Serialize};
 
 use crate::beam::{BeamModel, BeamSolution, BeamSolver, Load, Resolution, SolveError, TipPose};
+use crate::cancel::CancelToken;
 use crate::fidelity::Fidelity;
 use crate::prb::{PrbCase, PrbError, PrbMatrix, PrbSolver};
 use crate::scene::{Accuracy, LoadPath, Scene};
@@ -53,18 +54,32 @@ impl Baseline {
         paths: &[LoadPath],
         resolution: Resolution,
     ) -> Result<Baseline, BaselineError> {
+        Baseline::solve(model, paths, resolution, &CancelToken::new(), &mut |_, _| {})
+    }
+
+    /// As [`Baseline::for_model`], stopping with [`SolveError::Cancelled`] soon after
+    /// `cancel` is set (the beam checks it every continuation step), and telling
+    /// `on_path(paths_done, cases_done)` after each path (for progress).
+    pub fn solve(
+        model: BeamModel,
+        paths: &[LoadPath],
+        resolution: Resolution,
+        cancel: &CancelToken,
+        on_path: &mut dyn FnMut(usize, usize),
+    ) -> Result<Baseline, BaselineError> {
         let t0 = Instant::now();
         let solver = BeamSolver::new(model, resolution)
             .map_err(|source| BaselineError { path: 0, source })?;
         let mut solutions = Vec::new();
         for (i, p) in paths.iter().enumerate() {
             let sols = solver
-                .solve_path(p.end, p.steps)
+                .solve_path_cancellable(p.end, p.steps, cancel)
                 .map_err(|source| BaselineError {
                     path: i + 1,
                     source,
                 })?;
             solutions.extend(sols);
+            on_path(i + 1, solutions.len());
         }
         Ok(Baseline {
             model,

@@ -79,6 +79,18 @@ pub fn decide_effects(
     accuracy: &Accuracy,
     resolution: Resolution,
 ) -> Result<EffectsDecision, BaselineError> {
+    decide_effects_cancellable(beam, loads, accuracy, resolution, &CancelToken::new())
+}
+
+/// As [`decide_effects`], stopping soon after `cancel` is set (the UI's worker cancels it
+/// when a newer edit arrives).
+pub fn decide_effects_cancellable(
+    beam: &BeamSpec,
+    loads: &[LoadPath],
+    accuracy: &Accuracy,
+    resolution: Resolution,
+    cancel: &CancelToken,
+) -> Result<EffectsDecision, BaselineError> {
     // Each set of effects is solved once, however often the procedure asks for it.
     let mut solved: Vec<(Effects, Vec<BeamSolution>)> = Vec::new();
     let mut tip_moves = |effects: Effects| -> Result<(f64, f64), BaselineError> {
@@ -91,7 +103,7 @@ pub fn decide_effects(
             b.effects = EffectsChoice::Fixed(e);
             solved.push((
                 e,
-                Baseline::for_model(b.model(), loads, resolution)?.solutions,
+                Baseline::solve(b.model(), loads, resolution, cancel, &mut |_, _| {})?.solutions,
             ));
             Ok(solved.len() - 1)
         };

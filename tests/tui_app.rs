@@ -437,6 +437,55 @@ fn worker_reports_failures_and_goes_on() {
     assert!(app.report.is_some() && app.baseline.is_some() && app.model.is_some());
 }
 
+/// Issue 11: load paths the beam needs a minute for (a hundred paths to alpha_y = 1e8, each
+/// ~0.5 s from zero) keep the worker only until a newer job arrives: the baseline solve is
+/// cancelled with the job, and the newer job is answered. Before, the worker finished the
+/// old solve first (and with a huge enough load, never).
+#[test]
+fn a_slow_baseline_is_cancelled_by_a_newer_job() {
+    use prbfit::beam::Load;
+    use prbfit::tui::worker::Worker;
+    let worker = Worker::spawn().unwrap();
+    let mut app = app();
+    app.scene.beam.effects = prbfit::scene::EffectsChoice::Fixed(prbfit::beam::Effects::NONE);
+    app.scene.loads = vec![
+        prbfit::scene::LoadPath {
+            end: Load::new(0.0, 1e8, 0.0),
+            steps: 1,
+        };
+        100
+    ];
+    let Command::Submit(slow) = app.submit(false) else {
+        panic!()
+    };
+    worker.submit(slow);
+    // Let the worker get well into the slow solve.
+    std::thread::sleep(Duration::from_millis(300));
+    app.scene = Scene::builtin();
+    let Command::Submit(job) = app.submit(false) else {
+        panic!()
+    };
+    let good_id = job.id;
+    worker.submit(job);
+    // Minutes for the old job; the new one's answer must come long before.
+    let deadline = std::time::Instant::now() + Duration::from_secs(20);
+    loop {
+        let left = deadline.saturating_duration_since(std::time::Instant::now());
+        let msg = worker
+            .messages
+            .recv_timeout(left)
+            .expect("the newer job was answered while the old solve ran on");
+        if msg.id() == good_id && matches!(msg, WorkerMsg::Done { .. }) {
+            break;
+        }
+        assert!(
+            !matches!(msg, WorkerMsg::Failed { .. }),
+            "a cancelled job reported a failure: {msg:?}"
+        );
+    }
+    assert!(worker.shutdown(Duration::from_secs(5)), "the worker did not stop");
+}
+
 /// S opens the selection view and starts a selection job; rows of a stale job are dropped;
 /// Enter loads the selected row's model and closes the view; Esc closes and cancels.
 #[test]

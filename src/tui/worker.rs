@@ -29,7 +29,7 @@ use crate::eval::{Baseline, CaseError, ErrorFigures};
 use crate::fit::{fit, Fidelity, FitOptions, FitReport};
 use crate::prb::{PrbMatrix, PrbSolver};
 use crate::scene::{Accuracy, BeamSpec, EffectsChoice, LoadPath, Scene};
-use crate::select::{decide_effects, select, EffectsDecision, Rung, Selection};
+use crate::select::{decide_effects_cancellable, select, EffectsDecision, Rung, Selection};
 use crate::tradeoff::Knob;
 
 use super::latest_job::{Cancellable, LatestJob, Taken};
@@ -343,7 +343,9 @@ fn worker_loop(jobs: &LatestJob<Job>, out: &Sender<WorkerMsg>) {
                 Some(format!("internal error in the worker: {what}"))
             }
         };
-        if let Some(message) = failure {
+        // A cancelled job's failure (its solve stopped on the token) is no news: a newer job
+        // or the user's cancel already speaks for it.
+        if let Some(message) = failure.filter(|_| !taken.job.cancel.is_cancelled()) {
             if out.send(WorkerMsg::Failed { id, message }).is_err() {
                 return;
             }
@@ -421,11 +423,12 @@ fn solve_baseline(job: &Job, cache: &mut Option<Solved>) -> Result<Solved, Strin
     // `auto` effects are decided here, off the UI thread.
     let (beam, decision) = match scene.beam.effects {
         EffectsChoice::Auto => {
-            let d = decide_effects(
+            let d = decide_effects_cancellable(
                 &scene.beam,
                 &scene.loads,
                 &scene.accuracy,
                 job.fidelity.resolution(),
+                &job.cancel,
             )
             .map_err(|e| format!("the beam cannot be solved: {e}"))?;
             let mut b = scene.beam;
@@ -434,10 +437,13 @@ fn solve_baseline(job: &Job, cache: &mut Option<Solved>) -> Result<Solved, Strin
         }
         EffectsChoice::Fixed(_) => (scene.beam, None),
     };
-    let b = Baseline::for_model(
+    // Cancellable: a load the beam struggles with never keeps the worker from a newer job.
+    let b = Baseline::solve(
         beam.model(),
         &job.fidelity.sample(&scene.loads),
         job.fidelity.resolution(),
+        &job.cancel,
+        &mut |_, _| {},
     )
     .map_err(|e| format!("the beam cannot be solved: {e}"))?;
     let solved = Solved {
