@@ -54,7 +54,13 @@ impl Baseline {
         paths: &[LoadPath],
         resolution: Resolution,
     ) -> Result<Baseline, BaselineError> {
-        Baseline::solve(model, paths, resolution, &CancelToken::new(), &mut |_, _| {})
+        Baseline::solve(
+            model,
+            paths,
+            resolution,
+            &CancelToken::new(),
+            &mut |_, _| {},
+        )
     }
 
     /// As [`Baseline::for_model`], stopping with [`SolveError::Cancelled`] soon after

@@ -483,7 +483,10 @@ fn a_slow_baseline_is_cancelled_by_a_newer_job() {
             "a cancelled job reported a failure: {msg:?}"
         );
     }
-    assert!(worker.shutdown(Duration::from_secs(5)), "the worker did not stop");
+    assert!(
+        worker.shutdown(Duration::from_secs(5)),
+        "the worker did not stop"
+    );
 }
 
 /// S opens the selection view and starts a selection job; rows of a stale job are dropped;

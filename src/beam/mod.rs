@@ -54,6 +54,8 @@ use std::fmt;
 
 use serde::{Deserialize, Serialize};
 
+use crate::text::bounded;
+
 use crate::cancel::CancelToken;
 use band::Band;
 pub use model::{cowper_kappa, BeamModel, Effects, ModelError, MAX_SLENDERNESS};
@@ -123,7 +125,9 @@ impl fmt::Display for Load {
         write!(
             f,
             "alpha_x = {}, alpha_y = {}, beta = {}",
-            self.alpha_x, self.alpha_y, self.beta
+            bounded(self.alpha_x),
+            bounded(self.alpha_y),
+            bounded(self.beta)
         )
     }
 }
@@ -202,7 +206,7 @@ impl Resolution {
         if !(self.tol.is_finite() && self.tol >= 1e-14 && self.tol <= 1e-2) {
             return Err(SolveError::BadResolution(format!(
                 "tolerance must be in [1e-14, 1e-2], got {}",
-                self.tol
+                bounded(self.tol)
             )));
         }
         if self.shape_points < 2 || self.shape_points > 100_000 {

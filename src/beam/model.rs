@@ -112,12 +112,12 @@ impl fmt::Display for Effects {
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum ModelError {
     #[error(
-        "slenderness L/t0 must be from 1 (a beam at least as long as it is thick) to {MAX_SLENDERNESS:e}, got {0}"
+        "slenderness L/t0 must be from 1 (a beam at least as long as it is thick) to {MAX_SLENDERNESS:e}, got {}", crate::text::bounded(*.0)
     )]
     Slenderness(f64),
-    #[error("Poisson's ratio must be in [0, 0.5), got {0}")]
+    #[error("Poisson's ratio must be in [0, 0.5), got {}", crate::text::bounded(*.0))]
     PoissonRatio(f64),
-    #[error("shear coefficient kappa must be a finite number > 0, got {0}")]
+    #[error("shear coefficient kappa must be a finite number > 0, got {}", crate::text::bounded(*.0))]
     ShearCoefficient(f64),
     #[error("unknown effect `{0}` (expected shear, extension, poisson, none or all)")]
     UnknownEffect(String),

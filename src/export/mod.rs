@@ -51,7 +51,7 @@ pub enum ExportError {
     #[error("the model cannot follow the scene's loads: {0}")]
     Eval(String),
     /// A bad density.
-    #[error("density must be a finite number > 0, got {0}")]
+    #[error("density must be a finite number > 0, got {}", crate::text::bounded(*.0))]
     Density(f64),
     /// The model file could not be written as text.
     #[error(transparent)]

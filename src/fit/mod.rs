@@ -152,7 +152,7 @@ pub enum FitError {
     #[error(transparent)]
     Param(#[from] ParamError),
     /// A bad option.
-    #[error("angle weight must be a finite number >= 0, got {0}")]
+    #[error("angle weight must be a finite number >= 0, got {}", crate::text::bounded(*.0))]
     AngleWeight(f64),
     /// Even the best parameters found cannot follow the scene's loads.
     #[error("no fitted model follows every load of the scene: {0}")]

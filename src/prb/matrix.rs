@@ -22,9 +22,17 @@ use serde::de::{self, Deserializer};
 use serde::ser::Serializer;
 use serde::{Deserialize, Serialize};
 
+use crate::text::bounded;
+
 /// How far the gammas' sum may stray from 1 (round-off in a typed matrix, not rounding of
 /// published values, which must be converted explicitly).
 pub const GAMMA_SUM_TOL: f64 = 1e-9;
+
+/// The stiffest finite spring a matrix may hold, in units of `E I0 / L` (`E A0 / L`). A
+/// spring this stiff moves its joint by 1e-12 of the load: it is rigid, and `inf` says so
+/// exactly, where a spring of 1e308 would only make the statics ill-conditioned (and, before
+/// this limit, was reported as a buckling point).
+pub const MAX_SPRING: f64 = 1e12;
 
 /// The three columns of a row.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -162,7 +170,8 @@ pub enum MatrixError {
     },
     /// A segment length is not a finite number > 0.
     #[error(
-        "row {row}, column gamma: the segment length must be a finite number > 0, got {value}"
+        "row {row}, column gamma: the segment length must be a finite number > 0, got {}",
+        bounded(*value)
     )]
     Gamma {
         /// 1-based row.
@@ -172,7 +181,9 @@ pub enum MatrixError {
     },
     /// A spring constant is neither > 0 nor `inf` (zero, negative, NaN or `-inf`).
     #[error(
-        "row {row}, column {column}: a spring constant must be > 0 or inf (no spring), got {value}"
+        "row {row}, column {column}: a spring constant must be > 0 and at most {MAX_SPRING:e} \
+         (stiffer is rigid: write inf for no joint), got {}",
+        bounded(*value)
     )]
     Spring {
         /// 1-based row.
@@ -264,7 +275,7 @@ impl PrbMatrix {
             }
             for column in [Column::KTheta, Column::KEx] {
                 let value = r.get(column);
-                let ok = value == f64::INFINITY || (value.is_finite() && value > 0.0);
+                let ok = value == f64::INFINITY || (value > 0.0 && value <= MAX_SPRING);
                 if !ok {
                     return Err(MatrixError::Spring { row, column, value });
                 }

@@ -5,5 +5,5 @@ mod matrix;
 pub mod published;
 mod statics;
 
-pub use matrix::{Column, MatrixError, PrbMatrix, PrbRow, GAMMA_SUM_TOL};
+pub use matrix::{Column, MatrixError, PrbMatrix, PrbRow, GAMMA_SUM_TOL, MAX_SPRING};
 pub use statics::{PrbCase, PrbError, PrbSolution, PrbSolver};

@@ -391,31 +391,32 @@ pub const MAX_CASES: u64 = 100_000;
 /// reader (errors name the line) and by [`Scene::validate`] (an edited scene, no file).
 mod rules {
     use crate::beam::{Load, MAX_SLENDERNESS};
+    use crate::text::bounded;
 
     use super::MAX_STEPS;
 
     pub fn positive(v: f64) -> Result<(), String> {
         (v.is_finite() && v > 0.0)
             .then_some(())
-            .ok_or_else(|| format!("must be a finite number > 0, got {v}"))
+            .ok_or_else(|| format!("must be a finite number > 0, got {}", bounded(v)))
     }
 
     pub fn poisson_ratio(v: f64) -> Result<(), String> {
         (v.is_finite() && (0.0..0.5).contains(&v))
             .then_some(())
-            .ok_or_else(|| format!("must be in [0, 0.5), got {v}"))
+            .ok_or_else(|| format!("must be in [0, 0.5), got {}", bounded(v)))
     }
 
     pub fn non_negative(v: f64) -> Result<(), String> {
         (v.is_finite() && v >= 0.0)
             .then_some(())
-            .ok_or_else(|| format!("must be a finite number >= 0, got {v}"))
+            .ok_or_else(|| format!("must be a finite number >= 0, got {}", bounded(v)))
     }
 
     pub fn finite(v: f64) -> Result<(), String> {
         v.is_finite()
             .then_some(())
-            .ok_or_else(|| format!("must be a finite number, got {v}"))
+            .ok_or_else(|| format!("must be a finite number, got {}", bounded(v)))
     }
 
     /// The thickness against the length: `1 <= L/t0 <= MAX_SLENDERNESS`.
@@ -423,7 +424,9 @@ mod rules {
         if thickness > length {
             return Err(format!(
                 "a beam must be at least as long as it is thick (slenderness L/t0 >= 1), \
-                 got thickness {thickness} > length {length}"
+                 got thickness {} > length {}",
+                bounded(thickness),
+                bounded(length)
             ));
         }
         if length / thickness > MAX_SLENDERNESS {
