@@ -270,7 +270,10 @@ fn messages_say_what_is_wrong_once() {
     assert_input_error(&out, &["--prb", "row 1", "gamma"]);
     // An absurdly stiff spring is refused by name, not reported as a buckling point.
     let out = prbfit(&["eval", "--prb", "0.1,inf,inf; 0.9,1e308,inf"]);
-    assert_input_error(&out, &["--prb", "row 2", "k_theta", "at most 1e12", "1e308"]);
+    assert_input_error(
+        &out,
+        &["--prb", "row 2", "k_theta", "at most 1e12", "1e308"],
+    );
     // A load past the Euler load: the cause is said once, not twice.
     let out = prbfit(&["eval", "--model", "su-3r", "--load", "-30,0,0"]);
     let err = String::from_utf8_lossy(&out.stderr);

@@ -7,6 +7,7 @@ use anyhow::{Context, Result};
 use serde::Serialize;
 
 use prbfit::beam::{BeamSolver, Load, Resolution, TipPose};
+use prbfit::cancel::CancelToken;
 use prbfit::eval::{evaluate, Baseline, CaseError, ErrorFigures};
 use prbfit::io::ModelFile;
 use prbfit::prb::{PrbMatrix, PrbSolver};
@@ -14,7 +15,7 @@ use prbfit::scene::{Accuracy, Scene};
 use prbfit::select::EffectsDecision;
 
 use super::args::EvalArgs;
-use super::output::{emit, met, num, safe, DecisionLine};
+use super::output::{emit, met, num, safe, DecisionLine, Progress};
 use super::{bad, parse_matrix, resolved_scene, scene_model};
 
 /// One model's row, or several under `models` (DESIGN §6).
@@ -242,7 +243,19 @@ pub fn run(args: EvalArgs) -> Result<()> {
     }
 
     // One baseline for every model.
-    let baseline = Baseline::compute(&scene, resolution).context("baseline beam")?;
+    let mut progress = Progress::new("solving the beam");
+    let n_paths = scene.loads.len();
+    let baseline = Baseline::solve(
+        scene.beam.model(),
+        &scene.loads,
+        resolution,
+        &CancelToken::new(),
+        &mut |done, cases| {
+            progress.update(|| format!("load path {done}/{n_paths}, {cases} cases"));
+        },
+    )
+    .context("baseline beam")?;
+    progress.finish();
     let mut rows = Vec::new();
     for (name, m) in models {
         let t0 = Instant::now();
