@@ -5,6 +5,9 @@
 //! panel's cursor and edit handling is in [`state`](super::state), and every key goes through
 //! the [`keymap`].
 
+mod prompts;
+mod results;
+
 use std::path::PathBuf;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
@@ -517,133 +520,6 @@ impl App {
         self.pending.is_some()
     }
 
-    /// A message from the worker; stale ones (not the newest job's) are dropped, except an
-    /// export's. A model is always shown with the baseline it was judged on, which comes with
-    /// it.
-    pub fn on_worker(&mut self, msg: WorkerMsg) -> bool {
-        if let WorkerMsg::Compared {
-            baseline, model, ..
-        } = msg
-        {
-            // Kept like an export, and shown only while it is the compared matrix and the
-            // baseline is the shown one (see shown_compare).
-            let wanted = self
-                .compare
-                .as_ref()
-                .is_some_and(|(_, m)| *m == model.matrix);
-            if wanted {
-                self.compare_view = Some((baseline, *model));
-            }
-            return wanted;
-        }
-        if let WorkerMsg::Exported { path, result, .. } = msg {
-            match result {
-                Ok(()) => {
-                    self.model_dirty = false;
-                    self.set_info(format!("exported {}", path.display()));
-                }
-                Err(e) => self.set_error(format!("not exported: {e}")),
-            }
-            return true;
-        }
-        let Some((current, _)) = &self.current_job else {
-            return false;
-        };
-        if msg.id() != *current {
-            return false;
-        }
-        match msg {
-            WorkerMsg::Progress {
-                baseline,
-                model,
-                status,
-                compare,
-                ..
-            } => {
-                self.take_compare(&baseline, compare);
-                self.baseline = Some(baseline);
-                self.model = Some(*model);
-                self.activity = Activity::Fitting(status);
-                self.clear_worker_error();
-            }
-            WorkerMsg::Done {
-                baseline,
-                model,
-                report,
-                seconds,
-                compare,
-                ..
-            } => {
-                self.take_compare(&baseline, compare);
-                let (stop, iterations, evaluations) = match &report {
-                    Some(r) => (Some(r.stop), r.iterations, r.evaluations),
-                    None => (None, 0, 0),
-                };
-                if let Some(r) = &report {
-                    // The fitted values replace the free cells (not an edit: no refit). They
-                    // are the user's work when the user asked for this fit (`r`, or the live
-                    // refit of an edit); the fit the program started (start-up, open) changes
-                    // nothing the user would lose.
-                    if r.matrix != self.matrix {
-                        self.matrix = r.matrix.clone();
-                        self.model_dirty |= self.current_job_by_user;
-                    }
-                    self.activity = if r.stop == StopReason::Cancelled {
-                        Activity::Cancelled
-                    } else {
-                        Activity::Done {
-                            seconds,
-                            stop,
-                            iterations,
-                            evaluations,
-                        }
-                    };
-                } else {
-                    self.activity = Activity::Done {
-                        seconds,
-                        stop,
-                        iterations,
-                        evaluations,
-                    };
-                }
-                self.report = report.map(|r| *r);
-                self.baseline = Some(baseline);
-                self.model = Some(*model);
-                self.clear_worker_error();
-            }
-            WorkerMsg::Failed { message, .. } => {
-                self.set_error(message.clone());
-                self.message_from_worker = true;
-                self.activity = Activity::Failed(message);
-                if let Some(v) = &mut self.select {
-                    v.running = false;
-                }
-            }
-            // Taken above, whatever its job.
-            WorkerMsg::Exported { .. } | WorkerMsg::Compared { .. } => {}
-            WorkerMsg::SelectRow { id, row } => {
-                if let Some(v) = &mut self.select {
-                    v.on_row(id, *row);
-                }
-            }
-            WorkerMsg::SelectDone {
-                id,
-                selection,
-                knobs,
-            } => {
-                let pick = selection.chosen.unwrap_or(selection.closest);
-                if let Some(row) = selection.rows.get(pick) {
-                    self.selection_model = Some((format!("{} (S)", row.name), row.prb.clone()));
-                }
-                if let Some(v) = &mut self.select {
-                    v.on_done(id, *selection, knobs);
-                }
-                self.activity = Activity::Idle;
-            }
-        }
-        true
-    }
-
     /// Opens the selection view and starts the selection job.
     fn open_selection(&mut self) -> Command {
         let cmd = self.submit_kind(JobKind::Select);
@@ -714,20 +590,6 @@ impl App {
     fn clear_message(&mut self) {
         self.message = None;
         self.message_from_worker = false;
-    }
-
-    /// The compared model a result brought, judged on `baseline`.
-    fn take_compare(&mut self, baseline: &Arc<BaselineView>, compare: Option<Box<ModelView>>) {
-        if let Some(view) = compare {
-            self.compare_view = Some((baseline.clone(), *view));
-        }
-    }
-
-    /// A good result answers the failure before it.
-    fn clear_worker_error(&mut self) {
-        if self.message_from_worker {
-            self.clear_message();
-        }
     }
 
     /// Whether the user has work that is not in any file: an edit of the scene or of the
@@ -1002,113 +864,6 @@ impl App {
             }
         }
         Ok(())
-    }
-
-    fn prompt_key(&mut self, key: KeyEvent, ctrl_c: bool, now: Instant) -> Vec<Command> {
-        let Some((kind, tb)) = &mut self.prompt else {
-            return Vec::new();
-        };
-        let kind = *kind;
-        if kind.is_question() {
-            let yes = matches!(key.code, KeyCode::Char('y') | KeyCode::Char('Y'));
-            self.prompt = None;
-            let write = self.overwrite.take();
-            match (kind, yes) {
-                (PromptKind::ConfirmQuit, true) => self.quit = true,
-                (PromptKind::ConfirmOpen, true) => {
-                    self.open_prompt(PromptKind::OpenScene, String::new())
-                }
-                (PromptKind::ConfirmOverwrite, true) => {
-                    return match write {
-                        Some(Command::SaveScene { path, .. }) => vec![Command::SaveScene {
-                            path,
-                            overwrite: true,
-                        }],
-                        Some(Command::Export { path, .. }) => vec![Command::Export {
-                            path,
-                            overwrite: true,
-                        }],
-                        _ => Vec::new(),
-                    };
-                }
-                (PromptKind::ConfirmOverwrite, false) => self.set_info("not written"),
-                _ => {}
-            }
-            return Vec::new();
-        }
-        if ctrl_c {
-            self.prompt = None;
-            self.export_path = None;
-            return Vec::new();
-        }
-        match text_action(&key) {
-            TextKey::Action(Action::TextCancel) => {
-                self.prompt = None;
-                self.export_path = None;
-            }
-            TextKey::Action(Action::TextAccept) => {
-                let text = tb.text.trim().to_string();
-                self.prompt = None;
-                if text.is_empty() {
-                    return Vec::new();
-                }
-                self.clear_message();
-                return match kind {
-                    PromptKind::SaveScene => vec![Command::SaveScene {
-                        path: PathBuf::from(text),
-                        overwrite: false,
-                    }],
-                    PromptKind::OpenScene => vec![Command::OpenScene(PathBuf::from(text))],
-                    // Exported by the worker from its baseline: no solve on this thread. The
-                    // formats with masses ask for the links' density first.
-                    PromptKind::ExportModel => {
-                        let path = PathBuf::from(text);
-                        if Format::from_path(&path).is_some_and(has_masses) {
-                            self.export_path = Some(path);
-                            let density = trim_number(self.export_density, 6);
-                            self.open_prompt(PromptKind::ExportDensity, density);
-                            Vec::new()
-                        } else {
-                            vec![Command::Export {
-                                path,
-                                overwrite: false,
-                            }]
-                        }
-                    }
-                    PromptKind::ExportDensity => match parse_density(&text) {
-                        Ok(density) => {
-                            self.export_density = density;
-                            match self.export_path.take() {
-                                Some(path) => vec![Command::Export {
-                                    path,
-                                    overwrite: false,
-                                }],
-                                None => Vec::new(),
-                            }
-                        }
-                        Err(e) => {
-                            self.export_path = None;
-                            self.set_error(format!("not exported: {e}"));
-                            Vec::new()
-                        }
-                    },
-                    PromptKind::Topology => {
-                        self.load_named_matrix(&text, now);
-                        Vec::new()
-                    }
-                    // Answered above, before any text is typed.
-                    PromptKind::ConfirmQuit
-                    | PromptKind::ConfirmOpen
-                    | PromptKind::ConfirmOverwrite => Vec::new(),
-                };
-            }
-            TextKey::Action(a) => {
-                tb.apply(a);
-            }
-            TextKey::Char(c) => tb.insert(c),
-            TextKey::None => {}
-        }
-        Vec::new()
     }
 
     /// A topology name or a published model's name.

@@ -1,0 +1,113 @@
+//! The one-line prompts (save, open, export, topology, density) and the y/n questions
+//! (quit, open over unsaved work, overwrite): their keys and what Enter does.
+
+use super::*;
+
+impl App {
+    pub(super) fn prompt_key(&mut self, key: KeyEvent, ctrl_c: bool, now: Instant) -> Vec<Command> {
+        let Some((kind, tb)) = &mut self.prompt else {
+            return Vec::new();
+        };
+        let kind = *kind;
+        if kind.is_question() {
+            let yes = matches!(key.code, KeyCode::Char('y') | KeyCode::Char('Y'));
+            self.prompt = None;
+            let write = self.overwrite.take();
+            match (kind, yes) {
+                (PromptKind::ConfirmQuit, true) => self.quit = true,
+                (PromptKind::ConfirmOpen, true) => {
+                    self.open_prompt(PromptKind::OpenScene, String::new())
+                }
+                (PromptKind::ConfirmOverwrite, true) => {
+                    return match write {
+                        Some(Command::SaveScene { path, .. }) => vec![Command::SaveScene {
+                            path,
+                            overwrite: true,
+                        }],
+                        Some(Command::Export { path, .. }) => vec![Command::Export {
+                            path,
+                            overwrite: true,
+                        }],
+                        _ => Vec::new(),
+                    };
+                }
+                (PromptKind::ConfirmOverwrite, false) => self.set_info("not written"),
+                _ => {}
+            }
+            return Vec::new();
+        }
+        if ctrl_c {
+            self.prompt = None;
+            self.export_path = None;
+            return Vec::new();
+        }
+        match text_action(&key) {
+            TextKey::Action(Action::TextCancel) => {
+                self.prompt = None;
+                self.export_path = None;
+            }
+            TextKey::Action(Action::TextAccept) => {
+                let text = tb.text.trim().to_string();
+                self.prompt = None;
+                if text.is_empty() {
+                    return Vec::new();
+                }
+                self.clear_message();
+                return match kind {
+                    PromptKind::SaveScene => vec![Command::SaveScene {
+                        path: PathBuf::from(text),
+                        overwrite: false,
+                    }],
+                    PromptKind::OpenScene => vec![Command::OpenScene(PathBuf::from(text))],
+                    // Exported by the worker from its baseline: no solve on this thread. The
+                    // formats with masses ask for the links' density first.
+                    PromptKind::ExportModel => {
+                        let path = PathBuf::from(text);
+                        if Format::from_path(&path).is_some_and(has_masses) {
+                            self.export_path = Some(path);
+                            let density = trim_number(self.export_density, 6);
+                            self.open_prompt(PromptKind::ExportDensity, density);
+                            Vec::new()
+                        } else {
+                            vec![Command::Export {
+                                path,
+                                overwrite: false,
+                            }]
+                        }
+                    }
+                    PromptKind::ExportDensity => match parse_density(&text) {
+                        Ok(density) => {
+                            self.export_density = density;
+                            match self.export_path.take() {
+                                Some(path) => vec![Command::Export {
+                                    path,
+                                    overwrite: false,
+                                }],
+                                None => Vec::new(),
+                            }
+                        }
+                        Err(e) => {
+                            self.export_path = None;
+                            self.set_error(format!("not exported: {e}"));
+                            Vec::new()
+                        }
+                    },
+                    PromptKind::Topology => {
+                        self.load_named_matrix(&text, now);
+                        Vec::new()
+                    }
+                    // Answered above, before any text is typed.
+                    PromptKind::ConfirmQuit
+                    | PromptKind::ConfirmOpen
+                    | PromptKind::ConfirmOverwrite => Vec::new(),
+                };
+            }
+            TextKey::Action(a) => {
+                tb.apply(a);
+            }
+            TextKey::Char(c) => tb.insert(c),
+            TextKey::None => {}
+        }
+        Vec::new()
+    }
+}
