@@ -4,9 +4,9 @@
 //!
 //! # Method
 //! The tip load keeps its direction, so the boundary-value problem reduces to one unknown,
-//! the root moment `M(0)`, and one condition, `M(L) = beta` (see [`shoot`] for why). It is
-//! solved by shooting with Newton's method, the slope coming from the variational equations
-//! integrated alongside the beam. Every load is reached by continuation from the unloaded
+//! the root moment `M(0)`, and one condition, `M(L) = beta` (see the `shoot` module for
+//! why). It is solved by shooting with Newton's method, the slope coming from the
+//! variational equations integrated alongside the beam. Every load is reached by continuation from the unloaded
 //! beam: the load is scaled by `lambda` from 0 to 1 in steps that halve whenever Newton
 //! fails, lands on an unstable equilibrium, or jumps too far, so the solution stays on the
 //! branch the physical beam reaches.
@@ -65,12 +65,19 @@ use shoot::{shoot, Meter, Samples, Segment, Shot, ShotFailure, ShotSettings, Tip
 /// `alpha_y = Fy L^2 / (E I0)`, `beta = Mz L / (E I0)`.
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
 pub struct Load {
+    /// Tip force along the clamp's axis (x), `Fx L^2 / (E I0)`; negative compresses the
+    /// unloaded beam.
     pub alpha_x: f64,
+    /// Tip force across the clamp's axis (y), `Fy L^2 / (E I0)`.
     pub alpha_y: f64,
+    /// Tip moment, `Mz L / (E I0)`, counter-clockwise positive; `2 pi` curls the elastica
+    /// into a full circle.
     pub beta: f64,
 }
 
 impl Load {
+    /// The load `(alpha_x, alpha_y, beta)`; the forces keep this direction while the beam
+    /// deflects (they are not follower loads).
     pub const fn new(alpha_x: f64, alpha_y: f64, beta: f64) -> Load {
         Load {
             alpha_x,
@@ -93,6 +100,8 @@ impl Load {
         self.alpha_x.abs() + self.alpha_y.abs() + self.beta.abs()
     }
 
+    /// Whether all three components are finite (neither infinite nor NaN); the solver
+    /// refuses any other load with [`SolveError::NonFiniteLoad`].
     pub fn is_finite(&self) -> bool {
         self.alpha_x.is_finite() && self.alpha_y.is_finite() && self.beta.is_finite()
     }
@@ -135,8 +144,13 @@ impl fmt::Display for Load {
 /// The tip pose: position in units of L, cross-section angle in radians.
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
 pub struct TipPose {
+    /// Tip position along the clamp's axis, `x(L) / L` (1 for the unloaded beam).
     pub a: f64,
+    /// Tip position across the clamp's axis, `y(L) / L`.
     pub b: f64,
+    /// Tip cross-section angle `psi(L)`, radians, counter-clockwise positive: the
+    /// orientation of a rigid body bolted to the tip. With shear on it differs from the
+    /// slope of the centre line by the shear angle `atan(gamma / (1 + eps))`.
     pub phi: f64,
 }
 
@@ -162,9 +176,11 @@ impl TipPose {
 pub struct ShapePoint {
     /// Material coordinate, units of L.
     pub s: f64,
+    /// Position along the clamp's axis, units of L.
     pub x: f64,
+    /// Position across the clamp's axis, units of L.
     pub y: f64,
-    /// Cross-section angle.
+    /// Cross-section angle, radians.
     pub psi: f64,
 }
 
@@ -271,7 +287,9 @@ pub struct Convergence {
 /// One equilibrium of the beam.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct BeamSolution {
+    /// The load this equilibrium carries.
     pub load: Load,
+    /// The tip pose under it.
     pub tip: TipPose,
     /// Bending moment at the clamp, units of `E I0 / L`.
     pub root_moment: f64,
@@ -283,25 +301,40 @@ pub struct BeamSolution {
     pub continuation_steps: u32,
     /// Integration steps of the final shot.
     pub rk_steps: u32,
+    /// How well the equilibrium is pinned down, and how stable it is.
     pub convergence: Convergence,
 }
 
 /// Why the beam could not be solved.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum SolveError {
+    /// A component of the requested load is infinite or NaN.
     #[error("load is not finite: {0}")]
     NonFiniteLoad(Load),
+    /// [`BeamSolver::new`] was given a tolerance outside `[1e-14, 1e-2]` or a shape sampling
+    /// outside `[2, 100000]` points; the text says which.
     #[error("bad resolution: {0}")]
     BadResolution(String),
+    /// Continuation could not make progress: its step fell below the smallest allowed
+    /// while Newton kept failing (stagnation, a singular Jacobian, a shot that overflowed
+    /// or whose step size collapsed) or kept jumping to another branch, with no sign of a
+    /// critical point.
     #[error(
         "no equilibrium found for {load}: stuck at {} of the load path ({reason})",
         Fraction(*fraction)
     )]
     NoConvergence {
+        /// The load whose path was being followed (its end).
         load: Load,
+        /// The fraction `lambda` of `load` reached, i.e. the last accepted equilibrium.
         fraction: f64,
+        /// What the last failed attempt ran into.
         reason: String,
     },
+    /// The equilibrium followed from zero stops being stable: `dM(s)/dM(0)` reaches zero
+    /// somewhere along the beam (a buckling bifurcation, e.g. axial compression past Euler's
+    /// load), or continuation is stuck where that slope has collapsed (a snap-through limit
+    /// point).
     #[error(
         "the equilibrium path for {load} reaches a critical point at {} of the load \
          (dM(L)/dM(0) -> 0): a snap-through limit point, past which the beam jumps to another \
@@ -309,14 +342,26 @@ pub enum SolveError {
          axial compression, tilt the load slightly to choose the buckling direction)",
         Fraction(*fraction)
     )]
-    Unstable { load: Load, fraction: f64 },
+    Unstable {
+        /// The load whose path was being followed (its end).
+        load: Load,
+        /// The fraction of `load` at the last stable equilibrium before the critical point.
+        fraction: f64,
+    },
+    /// The constitutive law has no state for the axial force met on the path: with
+    /// Poisson's effect a tension past the peak of `eps (1 - nu eps)^2 = N / (E A0)` (the
+    /// section necks), or a compression that shortens the centre line to nothing
+    /// (`1 + eps <= 0`).
     #[error(
         "the material law fails for {load} at {} of the load path: {reason}",
         Fraction(*fraction)
     )]
     MaterialLimit {
+        /// The load whose path was being followed (its end).
         load: Load,
+        /// The fraction of `load` at the last accepted equilibrium.
         fraction: f64,
+        /// The axial force and which limit it passed.
         reason: String,
     },
     /// The solve was still following the load path when its [`EffortBudget`] ran out.
@@ -329,15 +374,25 @@ pub enum SolveError {
         Fraction(*fraction)
     )]
     EffortExceeded {
+        /// The load whose path was being followed (its end).
         load: Load,
+        /// The fraction of `load` at the last accepted equilibrium.
         fraction: f64,
+        /// Continuation steps tried on this load case.
         steps: u32,
+        /// Newton shots tried on this load case.
         shots: u32,
+        /// Integration steps tried on this load case.
         rk_steps: u64,
     },
     /// The caller's [`CancelToken`] was cancelled.
     #[error("solve of {load} cancelled at {} of the load path", Fraction(*fraction))]
-    Cancelled { load: Load, fraction: f64 },
+    Cancelled {
+        /// The load whose path was being followed (its end).
+        load: Load,
+        /// The fraction of `load` at the last accepted equilibrium.
+        fraction: f64,
+    },
 }
 
 /// A fraction of a load path, printed with four decimals, or four significant digits when it
@@ -365,6 +420,26 @@ struct PathPoint {
     stability: f64,
     /// The same, scale-free (see [`Chain::direction`]).
     direction: f64,
+}
+
+/// The last two accepted points of a load path (one at its start), all the predictor needs.
+/// It always holds a point, the unloaded beam to begin with.
+#[derive(Debug, Clone)]
+struct History {
+    before: Option<PathPoint>,
+    last: PathPoint,
+}
+
+impl History {
+    /// Accepts `point`, forgetting the oldest one kept.
+    fn push(&mut self, point: PathPoint) {
+        self.before = Some(std::mem::replace(&mut self.last, point));
+    }
+
+    /// The points kept, oldest first.
+    fn iter(&self) -> impl Iterator<Item = &PathPoint> {
+        self.before.iter().chain(std::iter::once(&self.last))
+    }
 }
 
 /// The outcome of one Newton solve at a fixed load.
@@ -424,7 +499,9 @@ impl<'a> CaseContext<'a> {
 /// The solver: a validated beam, a resolution, and the most work it may spend on a case.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct BeamSolver {
+    /// The beam: slenderness, Poisson's ratio, shear coefficient and effects.
     pub model: BeamModel,
+    /// Integrator tolerance and shape sampling.
     pub resolution: Resolution,
     /// The most work one load case may take; [`BeamSolver::new`] sets the default.
     pub budget: EffortBudget,
@@ -461,6 +538,8 @@ const SEGMENT_GROWTH: f64 = 3.0;
 const MAX_SEGMENTS: usize = 4096;
 
 impl BeamSolver {
+    /// A solver for `model` at `resolution`, with the default [`EffortBudget`]; fails with
+    /// [`SolveError::BadResolution`] if the resolution is out of range.
     pub fn new(model: BeamModel, resolution: Resolution) -> Result<BeamSolver, SolveError> {
         resolution.validate()?;
         Ok(BeamSolver {
@@ -487,8 +566,8 @@ impl BeamSolver {
         load: Load,
         cancel: &CancelToken,
     ) -> Result<BeamSolution, SolveError> {
-        let mut out = self.solve_path_cancellable(load, 1, cancel)?;
-        Ok(out.pop().expect("one case per step"))
+        let (_, last) = self.follow_path(load, 1, cancel)?;
+        Ok(last)
     }
 
     /// Solves the proportional path to `end`, returning the cases at `k / steps`,
@@ -506,38 +585,58 @@ impl BeamSolver {
         steps: u32,
         cancel: &CancelToken,
     ) -> Result<Vec<BeamSolution>, SolveError> {
+        let (mut out, last) = self.follow_path(end, steps, cancel)?;
+        out.push(last);
+        Ok(out)
+    }
+
+    /// The work of [`BeamSolver::solve_path_cancellable`]: the cases before the last, and the
+    /// last (at `end` itself) apart, so that a single solve gets its case without a search.
+    fn follow_path(
+        &self,
+        end: Load,
+        steps: u32,
+        cancel: &CancelToken,
+    ) -> Result<(Vec<BeamSolution>, BeamSolution), SolveError> {
         if !end.is_finite() {
             return Err(SolveError::NonFiniteLoad(end));
         }
         let steps = steps.max(1);
         let segments = segment_count(&self.model, end);
-        let mut history = vec![PathPoint {
-            lambda: 0.0,
-            nodes: vec![[0.0, 0.0]; segments],
-            tip: TipPose::STRAIGHT,
-            stability: 1.0,
-            // (dpsi, dM)(L) = (L, 1) for the unloaded beam.
-            direction: std::f64::consts::FRAC_1_SQRT_2,
-        }];
-        let mut out = Vec::with_capacity(steps as usize);
+        let mut history = History {
+            before: None,
+            last: PathPoint {
+                lambda: 0.0,
+                nodes: vec![[0.0, 0.0]; segments],
+                tip: TipPose::STRAIGHT,
+                stability: 1.0,
+                // (dpsi, dM)(L) = (L, 1) for the unloaded beam.
+                direction: std::f64::consts::FRAC_1_SQRT_2,
+            },
+        };
+        let mut earlier = Vec::with_capacity(steps as usize);
         let mut dlam = first_step(&self.model, end, 1.0 / steps as f64);
         let min_step = MIN_STEP * (100.0 / end.magnitude()).min(1.0);
-        for k in 1..=steps {
+        let mut k = 1;
+        loop {
             let target = k as f64 / steps as f64;
             let mut case = CaseContext::new(self.budget, &self.model, cancel);
             let (solution, next_dlam) =
                 self.advance(end, &mut history, target, (dlam, min_step), &mut case)?;
             dlam = next_dlam;
-            out.push(solution);
+            if k == steps {
+                return Ok((earlier, solution));
+            }
+            earlier.push(solution);
+            k += 1;
         }
-        Ok(out)
     }
 
     /// Continues from the last point of `history` to `target`, sub-stepping as needed.
     fn advance(
         &self,
         end: Load,
-        history: &mut Vec<PathPoint>,
+        history: &mut History,
         target: f64,
         (mut dlam, min_step): (f64, f64),
         case: &mut CaseContext<'_>,
@@ -547,9 +646,7 @@ impl BeamSolver {
         let mut peak_stability = history.iter().map(|p| p.stability).fold(1.0, f64::max);
         let mut peak_direction = history.iter().map(|p| p.direction).fold(0.0, f64::max);
         loop {
-            let prev = history
-                .last()
-                .expect("history starts with the unloaded beam");
+            let prev = &history.last;
             let (prev_lambda, prev_tip) = (prev.lambda, prev.tip);
             let (prev_stability, prev_direction) = (prev.stability, prev.direction);
             if case.meter.cancel.is_cancelled() {
@@ -589,9 +686,6 @@ impl BeamSolver {
                         }
                     } else {
                         sub_steps += 1;
-                        if history.len() == 2 {
-                            history.remove(0);
-                        }
                         history.push(PathPoint {
                             lambda,
                             nodes: result.nodes.clone(),
@@ -1060,9 +1154,12 @@ fn apply(nodes: &[[f64; 2]], update: &[f64]) -> Vec<[f64; 2]> {
 /// Predicts the nodes and the tip at `lambda` from the path so far: the linear-theory
 /// tangent at the start (`M(s) = beta + alpha_y (1 - s)`, `psi` its integral, the tip
 /// moving by the Euler-Bernoulli compliance), then secant extrapolation.
-fn predict(end: Load, history: &[PathPoint], lambda: f64) -> (Vec<[f64; 2]>, TipPose) {
+fn predict(end: Load, history: &History, lambda: f64) -> (Vec<[f64; 2]>, TipPose) {
     match history {
-        [p] => {
+        History {
+            before: None,
+            last: p,
+        } => {
             let segments = p.nodes.len();
             let dl = lambda - p.lambda;
             let nodes = (0..segments)
@@ -1080,7 +1177,10 @@ fn predict(end: Load, history: &[PathPoint], lambda: f64) -> (Vec<[f64; 2]>, Tip
             };
             (nodes, tip)
         }
-        [.., p0, p1] => {
+        History {
+            before: Some(p0),
+            last: p1,
+        } => {
             let t = (lambda - p1.lambda) / (p1.lambda - p0.lambda);
             let nodes = p1
                 .nodes
@@ -1095,6 +1195,5 @@ fn predict(end: Load, history: &[PathPoint], lambda: f64) -> (Vec<[f64; 2]>, Tip
             };
             (nodes, tip)
         }
-        [] => unreachable!("history starts with the unloaded beam"),
     }
 }

@@ -111,16 +111,23 @@ impl fmt::Display for Effects {
 /// Errors in the description of a beam.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum ModelError {
+    /// The slenderness `L / t0` is not finite or lies outside `[1, MAX_SLENDERNESS]`.
     #[error(
         "slenderness L/t0 must be from 1 (a beam at least as long as it is thick) to {MAX_SLENDERNESS:e}, got {}", crate::text::bounded(*.0)
     )]
     Slenderness(f64),
+    /// Poisson's ratio `nu` is not finite or lies outside `[0, 0.5)`.
     #[error("Poisson's ratio must be in [0, 0.5), got {}", crate::text::bounded(*.0))]
     PoissonRatio(f64),
+    /// The shear coefficient `kappa` (given, or Cowper's from `nu`) is not a finite positive
+    /// number.
     #[error("shear coefficient kappa must be a finite number > 0, got {}", crate::text::bounded(*.0))]
     ShearCoefficient(f64),
+    /// An effect name other than `shear`, `extension` or `poisson` (the name given).
     #[error("unknown effect `{0}` (expected shear, extension, poisson, none or all)")]
     UnknownEffect(String),
+    /// `poisson` is on without `extension`: the section shrinks with the axial strain, which
+    /// is zero without extension.
     #[error("the poisson effect needs extension: add \"extension\" to the effects")]
     PoissonWithoutExtension,
 }
@@ -140,9 +147,14 @@ pub fn cowper_kappa(nu: f64) -> f64 {
 /// remains is the slenderness `L / t0`, Poisson's ratio, the shear coefficient and the effects.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct BeamModel {
+    /// `L / t0`, from 1 to [`MAX_SLENDERNESS`]; sets the axial and shear compliances.
     pub slenderness: f64,
+    /// Poisson's ratio, in `[0, 0.5)`; enters the shear modulus `G = E / (2 (1 + nu))` and
+    /// the section's shrink `1 - nu eps`.
     pub nu: f64,
+    /// Shear coefficient of the section, `gamma = Q / (kappa G A)`.
     pub kappa: f64,
+    /// Which effects the beam includes.
     pub effects: Effects,
     /// `I0 / (A0 L^2)`: axial compliance in units of `L^2 / (E I0)`.
     c_e: f64,
@@ -169,21 +181,27 @@ impl BeamModel {
             return Err(ModelError::ShearCoefficient(kappa));
         }
         effects.validate()?;
+        Ok(BeamModel::from_valid(slenderness, nu, kappa, effects))
+    }
+
+    /// The beam with parameters already checked as [`BeamModel::new`] does.
+    fn from_valid(slenderness: f64, nu: f64, kappa: f64, effects: Effects) -> BeamModel {
         let c_e = 1.0 / (12.0 * slenderness * slenderness);
         let c_s = c_e * 2.0 * (1.0 + nu) / kappa;
-        Ok(BeamModel {
+        BeamModel {
             slenderness,
             nu,
             kappa,
             effects,
             c_e,
             c_s,
-        })
+        }
     }
 
     /// The inextensible, shear-rigid elastica (slenderness and nu are then irrelevant).
     pub fn elastica() -> BeamModel {
-        BeamModel::new(100.0, 0.3, None, Effects::NONE).expect("constant beam is valid")
+        // Slenderness 100, nu = 0.3, Cowper's kappa and no effects pass every check of `new`.
+        BeamModel::from_valid(100.0, 0.3, cowper_kappa(0.3), Effects::NONE)
     }
 
     /// Axial compliance `I0 / (A0 L^2) = 1 / (12 (L/t0)^2)`.
