@@ -2,6 +2,7 @@
 //! a bounded effort, huge forces are answered and right, and a solve can be cancelled.
 //!
 //! No test here asserts a wall-clock time: `cargo bench --bench beam` reports the times.
+#![allow(clippy::unwrap_used, clippy::expect_used)] // tests: a failure should panic
 
 use std::f64::consts::{FRAC_PI_2, PI};
 use std::thread;

@@ -9,7 +9,7 @@
 //! `(da, db, sqrt(w) dphi) / sqrt(n)`.
 //!
 //! # Method
-//! 1. The free cells are reparameterised ([`param`]) so every parameter vector is a valid
+//! 1. The free cells are reparameterised (`param`) so every parameter vector is a valid
 //!    matrix: gammas positive and summing to 1, spring constants positive.
 //! 2. Starts: the given matrix, the published models of the same topology (so a fitted 3R is
 //!    never worse than Su's or Chen's), and seeded random points.
@@ -26,7 +26,7 @@
 //! so a cancelled fit returns within milliseconds with the best matrix found so far.
 
 //!
-//! The parts: [`param`] (the reparameterisation), `starts`, `swarm` (the global phase),
+//! The parts: `param` (the reparameterisation), `starts`, `swarm` (the global phase),
 //! [`lm`] (the polish), `objective` (J as residuals), `progress` (best-so-far reports), and
 //! `presets` (what each [`Fidelity`] means for the fit).
 
