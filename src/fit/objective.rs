@@ -10,7 +10,7 @@ use nalgebra::DVector;
 
 use crate::cancel::CancelToken;
 use crate::eval::Baseline;
-use crate::prb::{PrbMatrix, PrbSolver};
+use crate::prb::{PrbMatrix, PrbSolver, SolverLimits};
 
 use super::Parameterisation;
 
@@ -30,6 +30,10 @@ const FIT_NEWTON_PER_CASE: u32 = 20;
 /// Newton iterations per continuation attempt for trial models (quadratic convergence from
 /// a secant predictor needs about five).
 const FIT_NEWTON_LIMIT: u32 = 12;
+
+/// The limits of trial models, checked when the crate compiles.
+const TRIAL_LIMITS: SolverLimits =
+    SolverLimits::new(FIT_NEWTON_LIMIT, FIT_NEWTON_PER_CASE, FIT_MIN_STEP);
 
 /// `J` and its residuals for parameter vectors, counting evaluations.
 pub(super) struct Objective<'a> {
@@ -86,9 +90,7 @@ impl<'a> Objective<'a> {
         self.evaluations.set(self.evaluations.get() + 1);
         out.clear();
         let solver = PrbSolver::new(matrix, self.baseline.model.axial_compliance())
-            .with_min_step(FIT_MIN_STEP)
-            .with_newton_limit(FIT_NEWTON_LIMIT)
-            .with_case_budget(FIT_NEWTON_PER_CASE);
+            .with_limits(TRIAL_LIMITS);
         // Residuals are capped at the penalty, so that failing to reach a case is never
         // better than reaching it badly.
         // The residuals stay in case order whichever cases are missed (the polish compares

@@ -107,6 +107,66 @@ impl PrbCase<'_> {
     }
 }
 
+/// How hard a solver tries before it gives up on a load path. A fit's trial models use tight
+/// limits, so that failing ones cost little; the defaults suit a model being judged.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SolverLimits {
+    /// Newton iterations one attempt may take before the continuation step is halved (from a
+    /// good predictor Newton converges in a handful).
+    newton_limit: u32,
+    /// Newton iterations a load path may spend per case, all attempts counted (the path gets
+    /// `case_budget * steps + 100`).
+    case_budget: u32,
+    /// The smallest continuation step, as a fraction of the path, before giving up; a reported
+    /// critical load is located only to within it.
+    min_step: f64,
+}
+
+impl SolverLimits {
+    /// Validated limits: every count at least 1, the step in (0, 1). A `const` built with
+    /// this is checked when the crate compiles.
+    pub const fn new(newton_limit: u32, case_budget: u32, min_step: f64) -> SolverLimits {
+        assert!(newton_limit >= 1, "a Newton limit of 0 allows no iteration");
+        assert!(case_budget >= 1, "a case budget of 0 allows no iteration");
+        assert!(
+            min_step > 0.0 && min_step < 1.0,
+            "the smallest step must be in (0, 1)"
+        );
+        SolverLimits {
+            newton_limit,
+            case_budget,
+            min_step,
+        }
+    }
+
+    /// Checked at run time: the error says which limit is wrong.
+    pub fn checked(
+        newton_limit: u32,
+        case_budget: u32,
+        min_step: f64,
+    ) -> Result<SolverLimits, String> {
+        if newton_limit == 0 {
+            return Err("the Newton limit must be at least 1".into());
+        }
+        if case_budget == 0 {
+            return Err("the per-case Newton budget must be at least 1".into());
+        }
+        if !(min_step > 0.0 && min_step < 1.0) {
+            return Err(format!(
+                "the smallest continuation step must be in (0, 1), got {}",
+                crate::text::bounded(min_step)
+            ));
+        }
+        Ok(SolverLimits::new(newton_limit, case_budget, min_step))
+    }
+}
+
+impl Default for SolverLimits {
+    fn default() -> Self {
+        SolverLimits::new(MAX_NEWTON, u32::MAX, MIN_STEP)
+    }
+}
+
 /// Solves a PRB chain's statics. Cheap to build; holds no scratch between calls.
 #[derive(Debug, Clone)]
 pub struct PrbSolver {
@@ -156,28 +216,11 @@ impl PrbSolver {
         }
     }
 
-    /// Halves the continuation step after `iterations` Newton iterations without convergence
-    /// (default 40). From a good predictor Newton converges in a handful; a fit's trial models
-    /// use a lower limit, so struggling ones cost little.
-    pub fn with_newton_limit(mut self, iterations: u32) -> PrbSolver {
-        self.newton_limit = iterations;
-        self
-    }
-
-    /// Gives up on a load path of `steps` cases after `per_case * steps + 100` Newton
-    /// iterations in all (a fit's trial models that struggle this much are useless, and must
-    /// stay cheap).
-    pub fn with_case_budget(mut self, per_case: u32) -> PrbSolver {
-        self.case_budget = per_case;
-        self
-    }
-
-    /// Gives up on a load path once the continuation step falls below `min_step` (default
-    /// 1e-7). A fit, which only needs to know that a model fails, uses a coarser limit so that
-    /// failing trial models cost little; the reported critical load is then only located to
-    /// within `min_step` of the path.
-    pub fn with_min_step(mut self, min_step: f64) -> PrbSolver {
-        self.min_step = min_step;
+    /// The solver with these effort limits (checked when the limits were made).
+    pub fn with_limits(mut self, limits: SolverLimits) -> PrbSolver {
+        self.newton_limit = limits.newton_limit;
+        self.case_budget = limits.case_budget;
+        self.min_step = limits.min_step;
         self
     }
 
@@ -511,5 +554,27 @@ impl Workspace {
             step: vec![0.0; m],
             jac: vec![0.0; m * m],
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn limits_are_checked() {
+        assert!(SolverLimits::checked(0, 5, 1e-3)
+            .unwrap_err()
+            .contains("Newton limit"));
+        assert!(SolverLimits::checked(5, 0, 1e-3)
+            .unwrap_err()
+            .contains("budget"));
+        for bad in [0.0, -1.0, 1.0, f64::NAN] {
+            assert!(SolverLimits::checked(5, 5, bad).is_err(), "{bad}");
+        }
+        assert_eq!(
+            SolverLimits::checked(12, 20, 1e-3),
+            Ok(SolverLimits::new(12, 20, 1e-3))
+        );
     }
 }

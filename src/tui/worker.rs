@@ -363,13 +363,10 @@ pub fn model_view(
     let solver = PrbSolver::new(matrix, baseline.model.axial_compliance());
     let mut cases = Vec::with_capacity(baseline.case_count());
     let mut linkages = Vec::with_capacity(baseline.case_count());
-    let mut beam = baseline.solutions.iter();
-    for path in &baseline.paths {
-        solver
-            .solve_path_with(path.end, path.steps, |sol| {
-                // The baseline holds one beam solution per case of its paths; a shortfall is
-                // reported below rather than trusted.
-                let Some(b) = beam.next() else { return };
+    baseline
+        .follow(
+            &solver,
+            |b, sol| {
                 cases.push(CaseError::new(sol.load, b.tip, sol.tip));
                 linkages.push(
                     solver
@@ -378,9 +375,10 @@ pub fn model_view(
                         .map(|p| (p[0], p[1]))
                         .collect(),
                 );
-            })
-            .map_err(|e| format!("the PRB model fails: {e}"))?;
-    }
+            },
+            |_| std::ops::ControlFlow::Break(()),
+        )
+        .map_err(|e| format!("the PRB model fails: {e}"))?;
     if cases.len() != baseline.case_count() {
         return Err(format!(
             "internal error: {} PRB cases for {} beam cases",
