@@ -1,0 +1,278 @@
+//! Known answers for flexure mechanisms (DESIGN §8), exact beam and PRB.
+//!
+//! The beams here have `L = 1 m` and `E I0 = 1 N m^2` (width 1 m, thickness 0.01 m,
+//! `E = 12e6 Pa`), so SI values are the nondimensional ones and every number below reads
+//! directly as units of `L` and `alpha = F L^2 / (E I0)`. The exact beam is the inextensible
+//! elastica (no effects), the setting of the classical closed forms.
+//!
+//! Tolerances: the mechanism Newton stops at `tol = 1e-10` on the tip residuals and the beams
+//! are solved at the same `tol`, whose tips are good to `10 tol = 1e-9`
+//! (`Resolution::claimed_tip_error`); comparisons against a separately solved reference
+//! beam therefore hold to `1e-8` with a margin of ten for the reported force's own error
+//! (a force error `e` moves a tip by about `e / 3`).
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
+use prbfit::beam::{BeamModel, BeamSolver, Effects, Load, Resolution};
+use prbfit::mech::{exact, prb, MechCase, MechError};
+use prbfit::prb::PrbMatrix;
+use prbfit::scene::{Attach, BeamSpec, Coordinate, Drive, EffectsChoice, Flexure, Mechanism};
+use proptest::prelude::*;
+
+const TOL: f64 = 1e-10;
+
+/// `L = 1`, `E I0 = 1`, the elastica.
+fn beam() -> BeamSpec {
+    BeamSpec {
+        length: 1.0,
+        width: 1.0,
+        thickness: 0.01,
+        youngs_modulus: 12e6,
+        poisson_ratio: 0.3,
+        shear_coefficient: None,
+        effects: EffectsChoice::Fixed(Effects::NONE),
+    }
+}
+
+fn flexure(root: [f64; 2], attach: Attach) -> Flexure {
+    Flexure {
+        root,
+        angle: 0.0,
+        attach,
+        beam: beam(),
+    }
+}
+
+fn mechanism(
+    flexures: Vec<Flexure>,
+    stage_point: [f64; 2],
+    drive: [Coordinate; 3],
+    steps: u32,
+) -> Mechanism {
+    Mechanism {
+        flexures,
+        stage_point,
+        drives: vec![Drive {
+            coordinates: drive,
+            steps,
+        }],
+    }
+}
+
+fn exact_cases(m: &Mechanism) -> Result<Vec<MechCase>, MechError> {
+    Ok(exact::solve(m, Resolution::with_tol(TOL))?.remove(0))
+}
+
+fn elastica() -> BeamSolver {
+    BeamSolver::new(BeamModel::elastica(), Resolution::with_tol(TOL)).unwrap()
+}
+
+use Coordinate::{Loaded, Prescribed};
+
+/// The fixed-guided segment: one clamped flexure, its tip moved sideways by `dy` with the
+/// stage kept from turning and free to slide along the flexure (`dx` loaded with 0).
+///
+/// The known answer: with no axial force and equal, opposite end rotations (both zero), the
+/// moment `M(s) = beta + alpha (a - x(s))` vanishes where `x = a / 2`, and by symmetry at the
+/// middle `s = L / 2`: the beam is two cantilevers of length `L / 2` meeting at that
+/// inflection point, each under the transverse force `F` alone. A half beam's own load is
+/// `alpha_half = F (L/2)^2 / (E I) = alpha / 4`; its tip is `(a_c, b_c)(alpha / 4)` in units
+/// of `L / 2`; two of them, point-symmetric, give `delta / L = b_c(alpha / 4)` and
+/// `a / L = a_c(alpha / 4)`, and the tip moment is `beta = -alpha a / 2` (`M(L/2) = 0`).
+/// For small motion `b_c(x) = x / 3`, so `delta = alpha / 12`: the stiffness `12 E I / L^3`.
+fn fixed_guided(dy: f64, steps: u32) -> Mechanism {
+    mechanism(
+        vec![flexure([0.0, 0.0], Attach::Clamped)],
+        [1.0, 0.0],
+        [Loaded(0.0), Prescribed(dy), Prescribed(0.0)],
+        steps,
+    )
+}
+
+#[test]
+fn fixed_guided_is_two_half_cantilevers() {
+    let cases = exact_cases(&fixed_guided(0.6, 6)).unwrap();
+    let half = elastica();
+    assert_eq!(cases.len(), 6);
+    for c in &cases {
+        let f = c.flexures[0];
+        let alpha = f.wrench.alpha_y;
+        let reference = half.solve(Load::new(0.0, alpha / 4.0, 0.0)).unwrap().tip;
+        assert!(
+            (reference.b - c.stage[1]).abs() < 1e-8,
+            "{c:?} vs {reference:?}"
+        );
+        assert!((reference.b - f.tip.b).abs() < 1e-8);
+        assert!(
+            (reference.a - f.tip.a).abs() < 1e-8,
+            "{c:?} vs {reference:?}"
+        );
+        assert!(
+            (f.wrench.beta + alpha * f.tip.a / 2.0).abs() < 1e-8,
+            "{c:?}"
+        );
+        assert!(f.wrench.alpha_x.abs() < 1e-8);
+        assert!(f.tip.phi.abs() < 1e-9);
+        // The stage follows the tip, and the drive supplies the flexure's force.
+        assert!((c.stage[0] - (f.tip.a - 1.0)).abs() < 1e-9);
+        assert!((c.stage_load[1] - alpha).abs() < 1e-12);
+        assert_eq!(c.stage_load[0], 0.0);
+    }
+}
+
+#[test]
+fn fixed_guided_small_motion_stiffness_is_12() {
+    let dy = 1e-4;
+    let c = &exact_cases(&fixed_guided(dy, 1)).unwrap()[0];
+    // The nonlinear correction is O(dy^2) = 1e-8; the tolerance on the tip, 1e-10 over
+    // dy = 1e-4, is 1e-6 of the stiffness.
+    let k = c.stage_load[1] / dy;
+    assert!((k - 12.0).abs() < 1e-4, "stiffness {k}");
+}
+
+/// The displacement-driven cantilever: the tip moved sideways, free to slide and turn. Its
+/// reaction, applied as a load, must put the tip back where the drive put it.
+#[test]
+fn driven_cantilever_inverts_the_loaded_one() {
+    let m = mechanism(
+        vec![flexure([0.0, 0.0], Attach::Clamped)],
+        [1.0, 0.0],
+        [Loaded(0.0), Prescribed(0.4), Loaded(0.0)],
+        4,
+    );
+    let cases = exact_cases(&m).unwrap();
+    let solver = elastica();
+    for c in &cases {
+        let w = c.flexures[0].wrench;
+        assert!(w.alpha_x.abs() < 1e-8 && w.beta.abs() < 1e-8, "{w:?}");
+        let tip = solver
+            .solve(Load::new(0.0, c.stage_load[1], 0.0))
+            .unwrap()
+            .tip;
+        assert!((tip.b - c.stage[1]).abs() < 1e-8, "{tip:?} vs {c:?}");
+        assert!((tip.phi - c.stage[2]).abs() < 1e-8);
+    }
+}
+
+/// The parallel-guiding stage: two identical clamped flexures at `(0, +-W)`, a force on the
+/// stage centre `(L, 0)`. For small motion the stage barely turns (its rotation is resisted
+/// by the flexures' axial stiffness) and each flexure is a fixed-guided segment carrying
+/// half the force: `uy = (Ay / 2) / 12 = Ay / 24`.
+fn parallel_stage(ay: f64, steps: u32) -> Mechanism {
+    let w = 0.3;
+    mechanism(
+        vec![
+            flexure([0.0, w], Attach::Clamped),
+            flexure([0.0, -w], Attach::Clamped),
+        ],
+        [1.0, 0.0],
+        [Loaded(0.0), Loaded(ay), Loaded(0.0)],
+        steps,
+    )
+}
+
+#[test]
+fn parallel_stage_small_motion() {
+    let ay = 1e-3;
+    let c = &exact_cases(&parallel_stage(ay, 1)).unwrap()[0];
+    // Nonlinear terms are O(ay^2) relative; the tip tolerance 1e-10 is 2.4e-6 of uy.
+    let uy = c.stage[1];
+    assert!((uy / (ay / 24.0) - 1.0).abs() < 1e-4, "uy = {uy}");
+    assert!(c.stage[2].abs() < 1e-6);
+}
+
+/// A tip pinned onto a guide through its unloaded tip and pushed along the inextensible
+/// flexure's axis can only move by buckling: not even a first-order motion exists.
+#[test]
+fn pinned_tip_pushed_along_its_axis_is_immobile() {
+    let m = mechanism(
+        vec![flexure([0.0, 0.0], Attach::Pinned)],
+        [1.0, 0.0],
+        [Prescribed(-0.1), Prescribed(0.0), Prescribed(0.0)],
+        4,
+    );
+    let e = exact_cases(&m).unwrap_err();
+    assert!(matches!(e, MechError::Immobile { drive: 1, .. }), "{e}");
+}
+
+fn howell_1r() -> PrbMatrix {
+    PrbMatrix::parse("0.15,inf,inf; 0.85,2.2525,inf").unwrap()
+}
+
+#[test]
+fn one_r_cannot_be_fixed_guided() {
+    let e = prb::solve(&fixed_guided(0.2, 2), &howell_1r(), TOL).unwrap_err();
+    assert!(matches!(e, MechError::Immobile { .. }), "{e}");
+}
+
+/// The compliant slider-crank with Howell's 1R model against the rigid-body slider-crank.
+///
+/// The 1R chain is a rigid crank of length `r = 0.85` turning about `O = (0.15, 0)` against a
+/// torsion spring `k = 2.2525` (`E I0 / L`). A rigid coupler of length `c` joins the crank's
+/// end `A = O + r (cos t, sin t)` to the slider `S = S0 + (0, s)`,
+/// `S0 = (1 + c cos 45deg, -c sin 45deg)`, driven along y. Closure `|S - A| = c` with
+/// `D = S - O` reads `|D|^2 - 2 r (Dx cos t + Dy sin t) + r^2 = c^2`, so
+/// `t = atan2(Dy, Dx) + acos((|D|^2 + r^2 - c^2) / (2 r |D|))` (the branch through `t = 0` at
+/// `s = 0`, where `atan2(Dy, Dx) < 0`). The guide's normal force does no work along the
+/// drive, so virtual work gives the drive force `F_y ds = k t dt`: `alpha_y = k t dt/ds`.
+#[test]
+fn one_r_slider_crank_matches_the_rigid_body_model() {
+    let c_len = 0.5;
+    let (s45, c45) = std::f64::consts::FRAC_PI_4.sin_cos();
+    let s0 = [1.0 + c_len * c45, -c_len * s45];
+    let stroke = 0.3;
+    let m = mechanism(
+        vec![flexure([0.0, 0.0], Attach::Link { to: s0 })],
+        s0,
+        [Prescribed(0.0), Prescribed(stroke), Prescribed(0.0)],
+        6,
+    );
+    let (r, k, o) = (0.85, 2.2525, [0.15, 0.0]);
+    let crank = |s: f64| {
+        let d = [s0[0] - o[0], s0[1] + s - o[1]];
+        let dn = d[0].hypot(d[1]);
+        d[1].atan2(d[0]) + ((dn * dn + r * r - c_len * c_len) / (2.0 * r * dn)).acos()
+    };
+    assert!(crank(0.0).abs() < 1e-12);
+    let cases = prb::solve(&m, &howell_1r(), 1e-12).unwrap().remove(0);
+    for c in &cases {
+        let s = c.stage[1];
+        let t = crank(s);
+        let h = 1e-5;
+        let dt = (crank(s + h) - crank(s - h)) / (2.0 * h);
+        let tip = c.flexures[0].tip;
+        assert!((tip.phi - t).abs() < 1e-10, "{tip:?} vs {t}");
+        assert!((tip.a - (o[0] + r * t.cos())).abs() < 1e-10);
+        assert!((tip.b - (o[1] + r * t.sin())).abs() < 1e-10);
+        // The central difference is good to h^2 t''' ~ 1e-10.
+        let force = k * t * dt;
+        assert!(
+            (c.stage_load[1] - force).abs() < 1e-7 * (1.0 + force.abs()),
+            "{} vs {force}",
+            c.stage_load[1]
+        );
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 6, ..ProptestConfig::default() })]
+
+    /// Every flexure's reported wrench, solved as a plain cantilever from rest, gives back its
+    /// reported tip: the mechanism's flexures are the single beam. (Only where the flexure is
+    /// stable under its wrench as a given load: elsewhere that load has other equilibria and
+    /// the cantilever followed from rest takes one of them. Small loads, where every flexure
+    /// is, are always drawn.)
+    #[test]
+    fn reported_wrenches_reproduce_the_tips(ay in -8.0..8.0f64, ax in -3.0..3.0f64, mz in -1.0..1.0f64) {
+        let mut m = parallel_stage(ay, 2);
+        m.drives[0].coordinates = [Loaded(ax), Loaded(ay), Loaded(mz)];
+        let cases = exact_cases(&m).unwrap();
+        let solver = elastica();
+        prop_assert!(cases[0].flexures.iter().all(|f| f.load_stable) || ay.abs() > 2.0);
+        for c in &cases {
+            for f in c.flexures.iter().filter(|f| f.load_stable) {
+                let tip = solver.solve(f.wrench).unwrap().tip;
+                prop_assert!(tip.max_diff(&f.tip) < 1e-8, "{tip:?} vs {f:?}");
+            }
+        }
+    }
+}
