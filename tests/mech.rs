@@ -276,3 +276,62 @@ proptest! {
         }
     }
 }
+
+/// A clamped-clamped flexure pushed along its axis (extension on, `L / t0 = 100`): it
+/// shortens by `alpha c_e` (`c_e = 1 / (12 (L/t0)^2)`) until the Euler load of the
+/// clamped-clamped column, `alpha = 4 pi^2`, at `dx = -4 pi^2 c_e = -3.29e-4`, where the
+/// straight shape bifurcates. The solver must stop there, not carry on along the straight,
+/// unstable branch.
+#[test]
+fn clamped_flexure_pushed_past_euler_reports_the_bifurcation() {
+    let mut f = flexure([0.0, 0.0], Attach::Clamped);
+    f.beam.effects = EffectsChoice::Fixed(Effects {
+        shear: false,
+        extension: true,
+        poisson: false,
+    });
+    let m = mechanism(
+        vec![f],
+        [1.0, 0.0],
+        [Prescribed(-6e-4), Prescribed(0.0), Prescribed(0.0)],
+        12,
+    );
+    let e = exact_cases(&m).unwrap_err();
+    let critical = 4.0 * std::f64::consts::PI.powi(2) / (12.0 * 100.0 * 100.0) / 6e-4;
+    match e {
+        MechError::Critical { drive: 1, fraction } => {
+            assert!(
+                fraction < critical && fraction >= critical - 1.0 / 12.0 - 1e-12,
+                "stopped at {fraction}, critical at {critical}"
+            );
+        }
+        other => panic!("{other}"),
+    }
+}
+
+/// The compliant slider-crank with the exact beam: the coupler is a two-force member, so
+/// the flexure's tip force points along it, and the drive force balances it.
+#[test]
+fn exact_slider_crank_pushes_along_the_coupler() {
+    let c_len = 0.5;
+    let (s45, c45) = std::f64::consts::FRAC_PI_4.sin_cos();
+    let s0 = [1.0 + c_len * c45, -c_len * s45];
+    let m = mechanism(
+        vec![flexure([0.0, 0.0], Attach::Link { to: s0 })],
+        s0,
+        [Prescribed(0.0), Prescribed(0.3), Prescribed(0.0)],
+        5,
+    );
+    let cases = exact_cases(&m).unwrap();
+    for c in &cases {
+        let f = c.flexures[0];
+        let slider = [s0[0] + c.stage[0], s0[1] + c.stage[1]];
+        let along = [slider[0] - f.tip.a, slider[1] - f.tip.b];
+        assert!((along[0].hypot(along[1]) - c_len).abs() < 1e-9);
+        let w = f.wrench;
+        assert!((w.alpha_x * along[1] - w.alpha_y * along[0]).abs() < 1e-9);
+        assert_eq!(w.beta, 0.0);
+        assert!((c.stage_load[1] - w.alpha_y).abs() < 1e-12);
+        assert!(c.stage_load[1] > 0.0);
+    }
+}

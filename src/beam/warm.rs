@@ -46,6 +46,34 @@ impl WarmBeam {
     }
 }
 
+impl WarmBeam {
+    /// The nodes for `segments` shooting segments: `(psi, M)` interpolated linearly in `s`
+    /// between this state's nodes and its tip (`psi(L) = phi`, `M(L) = beta`). The segment
+    /// count grows with the force (see `segment_count`), so a nearby load may need more.
+    fn resampled(&self, segments: usize) -> Vec<[f64; 2]> {
+        let n = self.nodes.len();
+        if n == segments {
+            return self.nodes.clone();
+        }
+        let at = |k: usize| {
+            if k < n {
+                self.nodes[k]
+            } else {
+                [self.tip.phi, self.load.beta]
+            }
+        };
+        (0..segments)
+            .map(|j| {
+                let x = j as f64 / segments as f64 * n as f64;
+                let k = (x.floor() as usize).min(n - 1);
+                let t = x - k as f64;
+                let (p, q) = (at(k), at(k + 1));
+                [p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1])]
+            })
+            .collect()
+    }
+}
+
 impl BeamSolver {
     /// The equilibrium under `load`, started from `from` when given (see the module docs).
     pub fn solve_near(&self, load: Load, from: Option<&WarmBeam>) -> Result<WarmBeam, SolveError> {
@@ -57,9 +85,9 @@ impl BeamSolver {
         }
         let cancel = CancelToken::new();
         let segments = segment_count(&self.model, load);
-        if let Some(w) = from.filter(|w| w.nodes.len() == segments) {
+        if let Some(w) = from {
             let mut case = CaseContext::new(self.budget, &self.model, &cancel);
-            if let Ok(r) = self.newton(load, w.nodes.clone(), &mut case) {
+            if let Ok(r) = self.newton(load, w.resampled(segments), &mut case) {
                 let moved = (r.tip.a - w.tip.a).hypot(r.tip.b - w.tip.b);
                 let turn = (r.tip.phi - w.tip.phi).abs();
                 if moved <= 0.5 * MAX_TIP_MOVE && turn <= 0.5 * MAX_TIP_TURN {
