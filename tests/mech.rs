@@ -335,3 +335,33 @@ fn exact_slider_crank_pushes_along_the_coupler() {
         assert!(c.stage_load[1] > 0.0);
     }
 }
+
+/// Flexures of other sizes and directions, each in its own frame and units: flexure 1 as in
+/// the parallel stage, flexure 2 twice as long, with twice the stiffness `E`, reaching back
+/// from the right (`root = (3, -W)`, `angle = 180 deg`). To first order the stage does not
+/// turn (the inextensible flexures hold it) and each flexure is a fixed-guided segment of
+/// stiffness `12 E I / L^3`: 12 and `12 * 2 / 8 = 3`, so `uy = Ay / 15`. Flexure 2's own
+/// wrench is in its own units: its transverse force, `Ay * 3 / 15` in flexure 1's units, is
+/// `-Ay * 3 / 15 * L2^2 / (E I2 / E I1) = -Ay * 0.4` in its own frame, which points the
+/// other way.
+#[test]
+fn flexures_of_other_sizes_and_directions() {
+    let ay = 1e-3;
+    let w = 0.3;
+    let mut f2 = flexure([3.0, -w], Attach::Clamped);
+    f2.angle = std::f64::consts::PI;
+    f2.beam.length = 2.0;
+    f2.beam.youngs_modulus *= 2.0;
+    let m = mechanism(
+        vec![flexure([0.0, w], Attach::Clamped), f2],
+        [1.0, 0.0],
+        [Loaded(0.0), Loaded(ay), Loaded(0.0)],
+        1,
+    );
+    let c = &exact_cases(&m).unwrap()[0];
+    assert!((c.stage[1] / (ay / 15.0) - 1.0).abs() < 1e-4, "{c:?}");
+    let w2 = c.flexures[1].wrench;
+    assert!((w2.alpha_y / (-ay * 0.4) - 1.0).abs() < 1e-4, "{w2:?}");
+    // Its tip, in its own units, moved down (its +y is global -y) by uy / L2.
+    assert!((c.flexures[1].tip.b / (-c.stage[1] / 2.0) - 1.0).abs() < 1e-6);
+}
