@@ -55,10 +55,9 @@ impl ChainTip {
                 return None;
             }
             let size = step.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
-            if size > 0.5 {
-                return None;
-            }
-            q.iter_mut().zip(&step).for_each(|(a, d)| *a += d);
+            // Damped: no joint turns by more than half a radian per iteration.
+            let damping = if size > 0.5 { 0.5 / size } else { 1.0 };
+            q.iter_mut().zip(&step).for_each(|(a, d)| *a += damping * d);
             if size <= CHAIN_TOL {
                 return Some(q);
             }

@@ -30,13 +30,10 @@ const MAX_NEWTON: u32 = 25;
 const FD_STEP: f64 = 1e-6;
 /// The smallest continuation step before giving up.
 const MIN_STEP: f64 = 1e-6;
-/// A Jacobian whose smallest pivot is this small next to its largest is singular (the
-/// finite differences' own noise is about 1e-10 of a pivot) ...
-const SINGULAR: f64 = 1e-12;
-/// ... and one this small is singular if the mechanism cannot move off it either (the
-/// differences' truncation error leaves about 1e-8 of an exactly singular one; stiff axial
-/// paths with extension on are legitimately near 1e-9 and do move).
-const NEARLY_SINGULAR: f64 = 1e-6;
+/// An equilibrated Jacobian (see [`equilibrate`]) whose smallest pivot is this small next to
+/// its largest is singular: the finite differences' truncation error leaves about 1e-8 of an
+/// exactly singular one, a regular mechanism's pivots are within a few orders of magnitude.
+const SINGULAR: f64 = 1e-6;
 /// No flexure tip moves by more than this (units of its `L`, radians) in one sub-step, so the
 /// path cannot hop to another branch.
 const MAX_TIP_STEP: f64 = 0.3;
@@ -378,8 +375,9 @@ impl<M: TipModel> MechSolver<M> {
             drive: index,
             detail: format!("its smallest pivot is {ratio:.1e} of its largest"),
         };
-        let (sign0, ratio0) = match lu_solve(&mut jac, &mut rhs, n) {
-            Some(lu) if lu.pivot_ratio > SINGULAR => (lu.det_sign, lu.pivot_ratio),
+        equilibrate(&mut jac, n);
+        let sign0 = match lu_solve(&mut jac, &mut rhs, n) {
+            Some(lu) if lu.pivot_ratio > SINGULAR => lu.det_sign,
             other => return Err(immobile(other.map_or(0.0, |l| l.pivot_ratio))),
         };
         let mut prev = Point {
@@ -436,11 +434,6 @@ impl<M: TipModel> MechSolver<M> {
                 };
                 dlam *= 0.5;
                 if dlam < MIN_STEP {
-                    // A nearly singular start that cannot move at all is a singular one
-                    // blurred by the finite differences.
-                    if prev.lambda == 0.0 && ratio0 < NEARLY_SINGULAR {
-                        return Err(immobile(ratio0));
-                    }
                     return Err(MechError::NoEquilibrium {
                         drive: index,
                         fraction: prev.lambda,
@@ -496,6 +489,26 @@ fn flexure_error(i: usize, source: TipFailure) -> MechError {
 
 fn norm(v: &[f64]) -> f64 {
     v.iter().map(|x| x * x).sum::<f64>().sqrt()
+}
+
+/// Scales every row, then every column, of a square matrix (row-major) to a largest entry of
+/// 1, so that a pivot's size says how singular the matrix is, not in which units its
+/// unknowns and equations are written (a flexure's axial compliance is `1e-9` of its
+/// bending compliance at `L / t0 = 1e4`, and is no singularity). Positive scaling keeps the
+/// determinant's sign.
+fn equilibrate(matrix: &mut [f64], n: usize) {
+    for row in matrix.chunks_mut(n.max(1)) {
+        let big = row.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+        if big > 0.0 {
+            row.iter_mut().for_each(|v| *v /= big);
+        }
+    }
+    for col in 0..n {
+        let big = (0..n).fold(0.0_f64, |m, r| m.max(matrix[r * n + col].abs()));
+        if big > 0.0 {
+            (0..n).for_each(|r| matrix[r * n + col] /= big);
+        }
+    }
 }
 
 /// The sign of a square matrix's determinant (row-major, destroyed; `rhs` is scratch of
