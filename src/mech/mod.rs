@@ -35,6 +35,19 @@
 //!   pushed along the inextensible flexure's axis; a 1R model asked to keep its tip angle
 //!   while moving sideways; a stage coordinate nothing holds): [`MechError::Immobile`].
 //!
+//! # Known limitation: flexures past their own load-controlled limit
+//! The unknowns are tip wrenches, so each flexure is solved as a *load-controlled*
+//! cantilever. Where that cantilever has a limit point (a parallel stage's compressed
+//! flexure under an axial force past the cantilever's buckling load `pi^2 / 4`, with a
+//! transverse force), its tip is a folded function of its wrench, the mechanism's Jacobian
+//! passes through infinity (the determinant's sign test corrects for that, see
+//! [`solve::TipModel::load_stability`]) and Newton may stall near the fold although the
+//! mechanism is regular there: the parallel stage with Su's 3R stops with
+//! [`MechError::NoEquilibrium`] near `Ay = 3.3`, where the exact one carries on. The cure is
+//! to take each flexure's root moment (beam) or joint coordinates (PRB) as its unknowns
+//! instead of its tip moment: the map from the root to the tip is an initial-value problem
+//! with no folds. That is the next step.
+//!
 //! # Accuracy
 //! Newton stops when every tip compatibility residual is below the solver's tolerance `tol`
 //! (units of each flexure's `L`, radians) and the stage balance below `tol (1 + |load|)`.
