@@ -365,3 +365,45 @@ fn flexures_of_other_sizes_and_directions() {
     // Its tip, in its own units, moved down (its +y is global -y) by uy / L2.
     assert!((c.flexures[1].tip.b / (-c.stage[1] / 2.0) - 1.0).abs() < 1e-6);
 }
+
+/// The fixed-guided segment with every effect on (shear, extension, Poisson; `L / t0 = 10`,
+/// a stubby flexure where they matter): the point symmetry about the middle holds for the
+/// Reissner beam too (no axial force, so the axial and shear strains follow the same
+/// antisymmetric pattern), so each half is a cantilever of its own slenderness `5` under
+/// `alpha / 4`.
+#[test]
+fn fixed_guided_with_every_effect_is_two_half_cantilevers() {
+    let mut f = flexure([0.0, 0.0], Attach::Clamped);
+    f.beam.thickness = 0.1;
+    f.beam.youngs_modulus = 12e3; // E I0 = 1 again
+    f.beam.effects = EffectsChoice::Fixed(Effects::ALL);
+    let m = mechanism(
+        vec![f],
+        [1.0, 0.0],
+        [Loaded(0.0), Prescribed(0.4), Prescribed(0.0)],
+        4,
+    );
+    let cases = exact_cases(&m).unwrap();
+    let half = BeamSolver::new(
+        BeamModel::new(5.0, 0.3, None, Effects::ALL).unwrap(),
+        Resolution::with_tol(TOL),
+    )
+    .unwrap();
+    for c in &cases {
+        let f = c.flexures[0];
+        let alpha = f.wrench.alpha_y;
+        let reference = half.solve(Load::new(0.0, alpha / 4.0, 0.0)).unwrap().tip;
+        assert!(
+            (reference.b - f.tip.b).abs() < 1e-8,
+            "{c:?} vs {reference:?}"
+        );
+        assert!(
+            (reference.a - f.tip.a).abs() < 1e-8,
+            "{c:?} vs {reference:?}"
+        );
+        assert!(
+            (f.wrench.beta + alpha * f.tip.a / 2.0).abs() < 1e-8,
+            "{c:?}"
+        );
+    }
+}
