@@ -407,3 +407,43 @@ fn fixed_guided_with_every_effect_is_two_half_cantilevers() {
         );
     }
 }
+
+/// A scene file in SI (DESIGN §8's slider-crank: `L = 50 mm` steel, coupler `c = 25 mm` at
+/// 45 degrees, stroke 10 mm) gives the same nondimensional answers as the same mechanism
+/// drawn at `L = 1`, `E I0 = 1`: the solver sees only flexure 1's units.
+#[test]
+fn si_scene_solves_in_flexure_one_units() {
+    let (s45, c45) = std::f64::consts::FRAC_PI_4.sin_cos();
+    let (l, c_len) = (0.05, 0.025);
+    let slider = [l + c_len * c45, -c_len * s45];
+    let text = format!(
+        "name = \"slider-crank\"\n[beam]\nlength = {l}\nwidth = 0.01\nthickness = 0.0005\n\
+         youngs_modulus = 200e9\npoisson_ratio = 0.3\neffects = \"none\"\n[[flexures]]\n\
+         root = [0.0, 0.0]\nangle_deg = 0.0\nattach = \"link\"\n[stage]\n\
+         point = [{:?}, {:?}]\n[[drives]]\ndx = 0.0\ndy = 0.01\ndphi = 0.0\nsteps = 4\n",
+        slider[0], slider[1]
+    );
+    let scene = prbfit::scene::Scene::from_toml_str(&text, "sc.toml").unwrap();
+    let si = exact_cases(scene.mechanism.as_ref().unwrap()).unwrap();
+    let s0 = [slider[0] / l, slider[1] / l];
+    let unit = mechanism(
+        vec![flexure([0.0, 0.0], Attach::Link { to: s0 })],
+        s0,
+        [Prescribed(0.0), Prescribed(0.01 / l), Prescribed(0.0)],
+        4,
+    );
+    let unit = exact_cases(&unit).unwrap();
+    for (a, b) in si.iter().zip(&unit) {
+        for k in 0..3 {
+            assert!((a.stage[k] - b.stage[k]).abs() < 1e-9, "{a:?} vs {b:?}");
+            assert!(
+                (a.stage_load[k] - b.stage_load[k]).abs() < 1e-7,
+                "{a:?} vs {b:?}"
+            );
+        }
+        assert!(a.flexures[0].tip.max_diff(&b.flexures[0].tip) < 1e-9);
+    }
+    // A 10 mm stroke of a 50 mm crank is 0.2 L: the drive force is of order 1.
+    assert!((si[3].stage[1] - 0.2).abs() < 1e-12);
+    assert!(si[3].stage_load[1] > 0.1, "{:?}", si[3]);
+}
