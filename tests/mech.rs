@@ -254,22 +254,24 @@ fn one_r_slider_crank_matches_the_rigid_body_model() {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 6, ..ProptestConfig::default() })]
+    #![proptest_config(ProptestConfig { cases: 24, ..ProptestConfig::default() })]
 
     /// Every flexure's reported wrench, solved as a plain cantilever from rest, gives back its
-    /// reported tip: the mechanism's flexures are the single beam. (Only where the flexure is
-    /// stable under its wrench as a given load: elsewhere that load has other equilibria and
-    /// the cantilever followed from rest takes one of them. Small loads, where every flexure
-    /// is, are always drawn.)
+    /// reported tip: the mechanism's flexures are the single beam. Only for loads that keep
+    /// every flexure's axial compression below the cantilever's buckling load `pi^2 / 4`:
+    /// past it a flexure's wrench has other equilibria, and the cantilever loaded from rest
+    /// takes one of those or meets a limit point (`FlexureCase::load_stable` says when the
+    /// flexure is even stable under its wrench as a dead load; the shrunk cases
+    /// `ay = 4.12` and `ay = 6.6, ax = 1.1` in the regression file were such).
     #[test]
-    fn reported_wrenches_reproduce_the_tips(ay in -8.0..8.0f64, ax in -3.0..3.0f64, mz in -1.0..1.0f64) {
+    fn reported_wrenches_reproduce_the_tips(ay in -2.0..2.0f64, ax in -1.0..1.0f64, mz in -0.3..0.3f64) {
         let mut m = parallel_stage(ay, 2);
         m.drives[0].coordinates = [Loaded(ax), Loaded(ay), Loaded(mz)];
         let cases = exact_cases(&m).unwrap();
         let solver = elastica();
-        prop_assert!(cases[0].flexures.iter().all(|f| f.load_stable) || ay.abs() > 2.0);
+        prop_assert!(cases.iter().all(|c| c.flexures.iter().all(|f| f.load_stable)));
         for c in &cases {
-            for f in c.flexures.iter().filter(|f| f.load_stable) {
+            for f in &c.flexures {
                 let tip = solver.solve(f.wrench).unwrap().tip;
                 prop_assert!(tip.max_diff(&f.tip) < 1e-8, "{tip:?} vs {f:?}");
             }

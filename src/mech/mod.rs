@@ -78,7 +78,8 @@ pub struct FlexureCase {
     /// flexure held by the stage can be stable where the loaded cantilever is not (a
     /// parallel stage's compressed flexure past the cantilever's buckling load
     /// `pi^2 / 4`); its wrench then has other equilibria, and `solve --load`, which follows
-    /// the load from zero, finds one of those or none.
+    /// the load from zero, finds one of those or none. Past that buckling load even a stable
+    /// flexure may sit on a branch that loading from rest does not reach.
     pub load_stable: bool,
 }
 
