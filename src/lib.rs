@@ -22,6 +22,7 @@ pub mod fit;
 pub mod format;
 pub mod io;
 pub mod linalg;
+pub mod mech;
 pub mod plot;
 pub mod prb;
 pub mod scene;

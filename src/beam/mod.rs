@@ -49,6 +49,7 @@
 mod band;
 mod model;
 mod shoot;
+pub mod warm;
 
 use std::fmt;
 

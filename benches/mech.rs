@@ -1,0 +1,119 @@
+//! Mechanism solves (DESIGN §8): time per drive case of the exact mechanism (beam tol 1e-8)
+//! and of PRB mechanisms, for the fixed-guided segment, the parallel-guiding stage and the
+//! compliant slider-crank. Targets (issue 12): one-flexure driven case <= 50 us, parallel
+//! stage <= 150 us, any PRB mechanism <= 5 us.
+//!
+//! Run: `cargo bench --bench mech` (release build). Prints a table; asserts nothing.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
+use std::hint::black_box;
+use std::time::Instant;
+
+use prbfit::beam::{Effects, Resolution};
+use prbfit::mech::{exact, prb};
+use prbfit::prb::PrbMatrix;
+use prbfit::scene::{Attach, BeamSpec, Coordinate, Drive, EffectsChoice, Flexure, Mechanism};
+
+use Coordinate::{Loaded, Prescribed};
+
+const STEPS: u32 = 20;
+
+fn flexure(root: [f64; 2], attach: Attach) -> Flexure {
+    Flexure {
+        root,
+        angle: 0.0,
+        attach,
+        beam: BeamSpec {
+            length: 1.0,
+            width: 1.0,
+            thickness: 0.01,
+            youngs_modulus: 12e6,
+            poisson_ratio: 0.3,
+            shear_coefficient: None,
+            effects: EffectsChoice::Fixed(Effects::NONE),
+        },
+    }
+}
+
+fn mechanism(flexures: Vec<Flexure>, point: [f64; 2], drive: [Coordinate; 3]) -> Mechanism {
+    Mechanism {
+        flexures,
+        stage_point: point,
+        drives: vec![Drive {
+            coordinates: drive,
+            steps: STEPS,
+        }],
+    }
+}
+
+/// Median microseconds per case over `runs` solves of the whole path.
+fn time(runs: usize, mut solve: impl FnMut() -> usize) -> f64 {
+    let mut t: Vec<f64> = (0..runs)
+        .map(|_| {
+            let start = Instant::now();
+            let cases = black_box(solve());
+            start.elapsed().as_secs_f64() * 1e6 / cases as f64
+        })
+        .collect();
+    t.sort_by(f64::total_cmp);
+    t[t.len() / 2]
+}
+
+fn main() {
+    let (s45, c45) = std::f64::consts::FRAC_PI_4.sin_cos();
+    let s0 = [1.0 + 0.5 * c45, -0.5 * s45];
+    let scenes = [
+        (
+            "fixed-guided dy=0.5",
+            mechanism(
+                vec![flexure([0.0, 0.0], Attach::Clamped)],
+                [1.0, 0.0],
+                [Loaded(0.0), Prescribed(0.5), Prescribed(0.0)],
+            ),
+        ),
+        (
+            "parallel stage Ay=5",
+            mechanism(
+                vec![
+                    flexure([0.0, 0.3], Attach::Clamped),
+                    flexure([0.0, -0.3], Attach::Clamped),
+                ],
+                [1.0, 0.0],
+                [Loaded(0.0), Loaded(5.0), Loaded(0.0)],
+            ),
+        ),
+        (
+            "slider-crank stroke 0.3",
+            mechanism(
+                vec![flexure([0.0, 0.0], Attach::Link { to: s0 })],
+                s0,
+                [Prescribed(0.0), Prescribed(0.3), Prescribed(0.0)],
+            ),
+        ),
+    ];
+    let models = [
+        ("howell-1r", "0.15,inf,inf; 0.85,2.2525,inf"),
+        (
+            "su-3r",
+            "0.10,inf,inf; 0.35,3.51,inf; 0.40,2.99,inf; 0.15,2.58,inf",
+        ),
+    ];
+    println!("{:<26} {:<12} {:>12}", "mechanism", "model", "us/case");
+    for (name, m) in &scenes {
+        let us = time(5, || match exact::solve(m, Resolution::with_tol(1e-8)) {
+            Ok(c) => c[0].len(),
+            Err(e) => panic!("{name}: {e}"),
+        });
+        println!("{name:<26} {:<12} {us:>12.1}", "beam 1e-8");
+        for (model, text) in models {
+            let matrix = PrbMatrix::parse(text).unwrap();
+            match prb::solve(m, &matrix, 1e-10) {
+                Ok(_) => {
+                    let us = time(21, || prb::solve(m, &matrix, 1e-10).unwrap()[0].len());
+                    println!("{name:<26} {model:<12} {us:>12.1}");
+                }
+                Err(e) => println!("{name:<26} {model:<12} {e}"),
+            }
+        }
+    }
+}
