@@ -4,6 +4,24 @@
 /// Gaussian elimination with partial pivoting on a small dense row-major system; the
 /// solution replaces `rhs`. Returns false for a singular matrix.
 pub fn solve_dense(matrix: &mut [f64], rhs: &mut [f64], n: usize) -> bool {
+    lu_solve(matrix, rhs, n).is_some()
+}
+
+/// What an elimination learnt about the matrix besides the solution.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LuInfo {
+    /// The sign of the determinant (+1 or -1): a change of sign along a path marks a limit
+    /// point or a bifurcation.
+    pub det_sign: f64,
+    /// Smallest pivot over largest: near round-off, the matrix is numerically singular.
+    pub pivot_ratio: f64,
+}
+
+/// As [`solve_dense`], also giving the determinant's sign and the pivots' spread; `None` for
+/// a non-finite or exactly singular matrix, or a non-finite solution.
+pub fn lu_solve(matrix: &mut [f64], rhs: &mut [f64], n: usize) -> Option<LuInfo> {
+    let mut sign = 1.0;
+    let (mut smallest, mut largest) = (f64::INFINITY, 0.0_f64);
     for col in 0..n {
         // `col < n`, so the range is never empty and the fallback is never taken.
         let pivot = (col..n)
@@ -15,14 +33,18 @@ pub fn solve_dense(matrix: &mut [f64], rhs: &mut [f64], n: usize) -> bool {
             .unwrap_or(col);
         let p = matrix[pivot * n + col];
         if p == 0.0 || !p.is_finite() {
-            return false;
+            return None;
         }
         if pivot != col {
             for j in 0..n {
                 matrix.swap(col * n + j, pivot * n + j);
             }
             rhs.swap(col, pivot);
+            sign = -sign;
         }
+        sign *= p.signum();
+        smallest = smallest.min(p.abs());
+        largest = largest.max(p.abs());
         for row in col + 1..n {
             let factor = matrix[row * n + col] / p;
             if factor != 0.0 {
@@ -40,7 +62,10 @@ pub fn solve_dense(matrix: &mut [f64], rhs: &mut [f64], n: usize) -> bool {
         }
         rhs[col] = v / matrix[col * n + col];
     }
-    rhs.iter().all(|v| v.is_finite())
+    rhs.iter().all(|v| v.is_finite()).then_some(LuInfo {
+        det_sign: sign,
+        pivot_ratio: smallest / largest,
+    })
 }
 
 /// Solves `A x = b` for a symmetric positive definite `A` (row-major, overwritten by its

@@ -1,6 +1,9 @@
 //! Known answers for the baseline beam (shared/reference/validation.md and closed forms).
 #![allow(clippy::unwrap_used, clippy::expect_used)] // tests: a failure should panic
 
+mod common;
+
+use common::{carlson_rd, carlson_rf};
 use std::f64::consts::PI;
 
 use prbfit::beam::{BeamModel, BeamSolver, Effects, Load, Resolution};
@@ -167,58 +170,6 @@ fn pure_tension_with_poisson() {
         (lhs - alpha_x * model.axial_compliance()).abs() < 1e-12,
         "eps {eps}"
     );
-}
-
-/// Carlson's symmetric elliptic integral R_F (duplication; Numerical Recipes' `rf`), iterated
-/// until the series remainder (the sixth power of the deviation) is below round-off.
-fn carlson_rf(x: f64, y: f64, z: f64) -> f64 {
-    let (mut x, mut y, mut z) = (x, y, z);
-    loop {
-        let (sx, sy, sz) = (x.sqrt(), y.sqrt(), z.sqrt());
-        let lambda = sx * (sy + sz) + sy * sz;
-        x = 0.25 * (x + lambda);
-        y = 0.25 * (y + lambda);
-        z = 0.25 * (z + lambda);
-        let ave = (x + y + z) / 3.0;
-        let (dx, dy, dz) = ((ave - x) / ave, (ave - y) / ave, (ave - z) / ave);
-        if dx.abs().max(dy.abs()).max(dz.abs()) < 1e-4 {
-            let e2 = dx * dy - dz * dz;
-            let e3 = dx * dy * dz;
-            return (1.0 + (e2 / 24.0 - 0.1 - 3.0 / 44.0 * e3) * e2 + e3 / 14.0) / ave.sqrt();
-        }
-    }
-}
-
-/// Carlson's R_D (Numerical Recipes' `rd`).
-fn carlson_rd(x: f64, y: f64, z: f64) -> f64 {
-    let (c1, c2, c3, c4) = (3.0 / 14.0, 1.0 / 6.0, 9.0 / 22.0, 3.0 / 26.0);
-    let (c5, c6) = (0.25 * c3, 1.5 * c4);
-    let (mut x, mut y, mut z) = (x, y, z);
-    let (mut sum, mut fac) = (0.0, 1.0);
-    loop {
-        let (sx, sy, sz) = (x.sqrt(), y.sqrt(), z.sqrt());
-        let lambda = sx * (sy + sz) + sy * sz;
-        sum += fac / (sz * (z + lambda));
-        fac *= 0.25;
-        x = 0.25 * (x + lambda);
-        y = 0.25 * (y + lambda);
-        z = 0.25 * (z + lambda);
-        let ave = 0.2 * (x + y + 3.0 * z);
-        let (dx, dy, dz) = ((ave - x) / ave, (ave - y) / ave, (ave - z) / ave);
-        if dx.abs().max(dy.abs()).max(dz.abs()) < 1e-4 {
-            let ea = dx * dy;
-            let eb = dz * dz;
-            let ec = ea - eb;
-            let ed = ea - 6.0 * eb;
-            let ee = ed + ec + ec;
-            return 3.0 * sum
-                + fac
-                    * (1.0
-                        + ed * (-c1 + c5 * ed - c6 * dz * ee)
-                        + dz * (c2 * ee + dz * (-c3 * ec + dz * c4 * ea)))
-                    / (ave * ave.sqrt());
-        }
-    }
 }
 
 /// Incomplete elliptic integrals of the first and second kind, modulus k.

@@ -2,6 +2,7 @@
 //! beam or a PRB chain). See the parent module for the formulation.
 
 use crate::beam::{Load, TipPose};
+use crate::linalg::lu_solve;
 use crate::scene::Coordinate;
 
 use super::geometry::{cross, Geometry, Joint};
@@ -67,13 +68,6 @@ struct Converged<W> {
     point: Point<W>,
     det_sign: f64,
     iterations: u32,
-}
-
-/// The scaled outcome of a dense LU solve.
-struct Lu {
-    det_sign: f64,
-    /// Smallest pivot over largest.
-    pivot_ratio: f64,
 }
 
 impl<M: TipModel> MechSolver<M> {
@@ -515,55 +509,4 @@ fn equilibrate(matrix: &mut [f64], n: usize) {
 /// length `n`), 0 for a singular one.
 pub fn det_sign(matrix: &mut [f64], rhs: &mut [f64], n: usize) -> f64 {
     lu_solve(matrix, rhs, n).map_or(0.0, |lu| lu.det_sign)
-}
-
-/// Gaussian elimination with partial pivoting (row-major `matrix`, solution into `rhs`), with
-/// the determinant's sign and the pivots' spread; `None` for a non-finite or exactly
-/// singular matrix.
-fn lu_solve(matrix: &mut [f64], rhs: &mut [f64], n: usize) -> Option<Lu> {
-    let mut sign = 1.0;
-    let (mut smallest, mut largest) = (f64::INFINITY, 0.0_f64);
-    for col in 0..n {
-        let pivot = (col..n)
-            .max_by(|&i, &j| {
-                matrix[i * n + col]
-                    .abs()
-                    .total_cmp(&matrix[j * n + col].abs())
-            })
-            .unwrap_or(col);
-        let p = matrix[pivot * n + col];
-        if p == 0.0 || !p.is_finite() {
-            return None;
-        }
-        if pivot != col {
-            for j in 0..n {
-                matrix.swap(col * n + j, pivot * n + j);
-            }
-            rhs.swap(col, pivot);
-            sign = -sign;
-        }
-        sign *= p.signum();
-        smallest = smallest.min(p.abs());
-        largest = largest.max(p.abs());
-        for row in col + 1..n {
-            let factor = matrix[row * n + col] / p;
-            if factor != 0.0 {
-                for j in col..n {
-                    matrix[row * n + j] -= factor * matrix[col * n + j];
-                }
-                rhs[row] -= factor * rhs[col];
-            }
-        }
-    }
-    for col in (0..n).rev() {
-        let mut v = rhs[col];
-        for j in col + 1..n {
-            v -= matrix[col * n + j] * rhs[j];
-        }
-        rhs[col] = v / matrix[col * n + col];
-    }
-    Some(Lu {
-        det_sign: sign,
-        pivot_ratio: smallest / largest,
-    })
 }
