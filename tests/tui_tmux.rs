@@ -21,8 +21,20 @@ fn have_tmux(test: &str) -> bool {
     false
 }
 
+thread_local! {
+    /// The tmux server of the running test. Each test has its own (`tmux -L`): with one
+    /// shared server, a test killing its last session ends the server while another test's
+    /// `new-session` is connecting, and that test fails for no fault of the UI's.
+    static SOCKET: std::cell::RefCell<Option<String>> = const { std::cell::RefCell::new(None) };
+}
+
 fn tmux(args: &[&str]) -> Option<String> {
-    let out = Command::new("tmux").args(args).output().ok()?;
+    let socket = SOCKET.with(|s| s.borrow().clone());
+    let mut cmd = Command::new("tmux");
+    if let Some(socket) = socket {
+        cmd.args(["-L", &socket]);
+    }
+    let out = cmd.args(args).output().ok()?;
     out.status
         .success()
         .then(|| String::from_utf8_lossy(&out.stdout).into_owned())
@@ -62,6 +74,7 @@ fn edit_a_cell_and_see_the_errors_change() {
     }
     let session = format!("prbfit-e2e-{}", std::process::id());
     let bin = env!("CARGO_BIN_EXE_prbfit");
+    SOCKET.with(|s| *s.borrow_mut() = Some(format!("prbfit-test-{session}")));
     tmux(&[
         "new-session",
         "-d",
@@ -126,6 +139,7 @@ fn terminal_is_restored_on_quit_and_on_sigterm() {
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     let session = format!("prbfit-restore-{}", std::process::id());
+    SOCKET.with(|s| *s.borrow_mut() = Some(format!("prbfit-test-{session}")));
     tmux(&[
         "new-session",
         "-d",
@@ -222,6 +236,7 @@ fn kill_terminal_and_wait(session: &str, pid: u32, what: &str) {
 }
 
 fn start_ui(session: &str, args: &[&str]) {
+    SOCKET.with(|s| *s.borrow_mut() = Some(format!("prbfit-test-{session}")));
     let bin = env!("CARGO_BIN_EXE_prbfit");
     let mut cmd = vec![
         "new-session",
