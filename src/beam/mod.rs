@@ -432,6 +432,21 @@ struct History {
 }
 
 impl History {
+    /// The unloaded beam, shot in `segments` segments: where every path starts.
+    fn unloaded(segments: usize) -> History {
+        History {
+            before: None,
+            last: PathPoint {
+                lambda: 0.0,
+                nodes: vec![[0.0, 0.0]; segments],
+                tip: TipPose::STRAIGHT,
+                stability: 1.0,
+                // (dpsi, dM)(L) = (L, 1) for the unloaded beam.
+                direction: std::f64::consts::FRAC_1_SQRT_2,
+            },
+        }
+    }
+
     /// Accepts `point`, forgetting the oldest one kept.
     fn push(&mut self, point: PathPoint) {
         self.before = Some(std::mem::replace(&mut self.last, point));
@@ -604,17 +619,7 @@ impl BeamSolver {
         }
         let steps = steps.max(1);
         let segments = segment_count(&self.model, end);
-        let mut history = History {
-            before: None,
-            last: PathPoint {
-                lambda: 0.0,
-                nodes: vec![[0.0, 0.0]; segments],
-                tip: TipPose::STRAIGHT,
-                stability: 1.0,
-                // (dpsi, dM)(L) = (L, 1) for the unloaded beam.
-                direction: std::f64::consts::FRAC_1_SQRT_2,
-            },
-        };
+        let mut history = History::unloaded(segments);
         let mut earlier = Vec::with_capacity(steps as usize);
         let mut dlam = first_step(&self.model, end, 1.0 / steps as f64);
         let min_step = MIN_STEP * (100.0 / end.magnitude()).min(1.0);

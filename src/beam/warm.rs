@@ -16,8 +16,8 @@
 //! stability.
 
 use super::{
-    first_step, segment_count, BeamSolver, CaseContext, History, Load, PathPoint, SolveError,
-    TipPose, MAX_TIP_MOVE, MAX_TIP_TURN, MIN_STEP,
+    first_step, segment_count, BeamSolver, CaseContext, History, Load, SolveError, TipPose,
+    MAX_TIP_MOVE, MAX_TIP_TURN, MIN_STEP,
 };
 use crate::cancel::CancelToken;
 
@@ -100,16 +100,7 @@ impl BeamSolver {
                 }
             }
         }
-        let mut history = History {
-            before: None,
-            last: PathPoint {
-                lambda: 0.0,
-                nodes: vec![[0.0, 0.0]; segments],
-                tip: TipPose::STRAIGHT,
-                stability: 1.0,
-                direction: std::f64::consts::FRAC_1_SQRT_2,
-            },
-        };
+        let mut history = History::unloaded(segments);
         let mut case = CaseContext::new(self.budget, &self.model, &cancel);
         let dlam = first_step(&self.model, load, 1.0);
         let min_step = MIN_STEP * (100.0 / load.magnitude()).min(1.0);

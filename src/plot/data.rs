@@ -2,6 +2,7 @@
 //! followed along the same load paths ([`Baseline::follow`], the loop every comparison goes
 //! through). The drawing code reads only the structs made here.
 
+use crate::text::bounded_prec;
 use std::cell::RefCell;
 use std::ops::ControlFlow;
 
@@ -240,36 +241,8 @@ fn error_curve(path: usize, cases: &[Option<ModelCase>]) -> ErrorCurve {
 fn load_label(alpha_x: f64, alpha_y: f64, beta: f64) -> String {
     format!(
         "αx = {}, αy = {}, β = {}",
-        short(alpha_x),
-        short(alpha_y),
-        short(beta)
+        bounded_prec(alpha_x, 4),
+        bounded_prec(alpha_y, 4),
+        bounded_prec(beta, 4)
     )
-}
-
-/// A number in at most four significant digits, without trailing zeros.
-fn short(v: f64) -> String {
-    if v == 0.0 {
-        return "0".to_string();
-    }
-    let digits = (3 - v.abs().log10().floor() as i32).clamp(0, 6) as usize;
-    let s = format!("{v:.digits$}");
-    if s.contains('.') {
-        s.trim_end_matches('0').trim_end_matches('.').to_string()
-    } else {
-        s
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn short_numbers() {
-        assert_eq!(short(5.0), "5");
-        assert_eq!(short(-2.1213), "-2.121");
-        assert_eq!(short(0.0), "0");
-        assert_eq!(short(1234.6), "1235");
-        assert_eq!(short(0.05), "0.05");
-    }
 }

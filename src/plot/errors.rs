@@ -219,8 +219,9 @@ fn draw_markers<DB: DrawingBackend>(
     .map_err(drawing)
 }
 
-/// Axis bounds holding every finite value and zero, with a little headroom.
-fn bounds(values: impl Iterator<Item = f64>) -> [f64; 2] {
+/// Axis bounds holding every finite value and zero, with a little headroom (the plots and
+/// the UI's error charts share it).
+pub fn bounds(values: impl Iterator<Item = f64>) -> [f64; 2] {
     let (mut lo, mut hi) = (0.0_f64, 0.0_f64);
     for v in values.filter(|v| v.is_finite()) {
         lo = lo.min(v);

@@ -476,14 +476,7 @@ impl Validator<'_> {
                 "the drive path goes nowhere: give a non-zero dx/fx, dy/fy or dphi/mz".into(),
             ));
         }
-        let steps = match &r.steps {
-            None => 1,
-            Some(s) => {
-                let v = *s.get_ref();
-                rules::steps(v).map_err(|m| self.error(s.span(), &key("steps"), m))?;
-                v as u32
-            }
-        };
+        let steps = self.steps(&r.steps, &key("steps"))?;
         Ok(Drive { coordinates, steps })
     }
 }

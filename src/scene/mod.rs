@@ -743,15 +743,20 @@ impl Validator<'_> {
             component(&r.beta, "beta")?,
         );
         rules::nonzero(&end).map_err(|m| self.error(raw.span(), &format!("loads[{index}]"), m))?;
-        let steps = match &r.steps {
-            None => 1,
+        let steps = self.steps(&r.steps, &key("steps"))?;
+        Ok(LoadPath { end, steps })
+    }
+
+    /// A path's `steps` (1 when absent), within [`MAX_STEPS`].
+    fn steps(&self, raw: &Option<Spanned<i64>>, key: &str) -> Result<u32, SceneError> {
+        match raw {
+            None => Ok(1),
             Some(s) => {
                 let v = *s.get_ref();
-                rules::steps(v).map_err(|m| self.error(s.span(), &key("steps"), m))?;
-                v as u32
+                rules::steps(v).map_err(|m| self.error(s.span(), key, m))?;
+                Ok(v as u32)
             }
-        };
-        Ok(LoadPath { end, steps })
+        }
     }
 }
 

@@ -2,6 +2,7 @@
 //! path's end load, one line per path, with the scene's target as red lines; the model
 //! compared against (`C`) as grey dotted lines under them.
 
+use crate::plot::errors::bounds;
 use ratatui::layout::{Constraint, Rect};
 use ratatui::style::Color;
 use ratatui::symbols::Marker;
@@ -53,20 +54,6 @@ impl<'a> View<'a> {
             pal: Palette { mono: app.mono },
         }
     }
-}
-
-/// Axis bounds from data, with zero included and a little headroom.
-fn bounds(values: impl Iterator<Item = f64>) -> [f64; 2] {
-    let (mut lo, mut hi) = (0.0_f64, 0.0_f64);
-    for v in values.filter(|v| v.is_finite()) {
-        lo = lo.min(v);
-        hi = hi.max(v);
-    }
-    if hi - lo < 1e-12 {
-        hi = lo + 1.0;
-    }
-    let pad = 0.08 * (hi - lo);
-    [if lo < 0.0 { lo - pad } else { lo }, hi + pad]
 }
 
 /// One series per load path: `model`'s error against the fraction of the path's end load.
