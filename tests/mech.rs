@@ -332,7 +332,8 @@ fn exact_slider_crank_pushes_along_the_coupler() {
         assert!((along[0].hypot(along[1]) - c_len).abs() < 1e-9);
         let w = f.wrench;
         assert!((w.alpha_x * along[1] - w.alpha_y * along[0]).abs() < 1e-9);
-        assert_eq!(w.beta, 0.0);
+        // The pin's zero tip moment is one of Newton's equations, met to its tol (1e-10).
+        assert!(w.beta.abs() < 1e-9, "tip moment {}", w.beta);
         assert!((c.stage_load[1] - w.alpha_y).abs() < 1e-12);
         assert!(c.stage_load[1] > 0.0);
     }

@@ -48,8 +48,8 @@
 
 mod band;
 mod model;
+pub mod root;
 mod shoot;
-pub mod warm;
 
 use std::fmt;
 

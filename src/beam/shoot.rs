@@ -29,7 +29,9 @@ use crate::cancel::CancelToken;
 
 /// State layout: `psi, M, x, y`, then their derivatives with respect to the starting `M`
 /// (slots 4..8) and, when `N = 12`, to the starting `psi` (slots 8..12). A shot from the
-/// clamp (where `psi = 0` is known) needs only the first eight.
+/// clamp (where `psi = 0` is known) needs only the first eight. With `N = 16` the slots
+/// 8..12 and 12..16 are the derivatives with respect to the tip force's `alpha_x` and
+/// `alpha_y` instead (a root shot whose force is itself an unknown: [`root_shot`]).
 pub(crate) type State<const N: usize> = [f64; N];
 const PSI: usize = 0;
 const MOM: usize = 1;
@@ -146,6 +148,36 @@ fn rhs<const N: usize>(
         out[base + 2] = dx_psi * v_psi;
         out[base + 3] = dy_psi * v_psi;
     }
+    if N == 16 {
+        // The force's own terms: the right-hand side's partial derivatives with respect to
+        // the section forces N and Q at fixed psi, M (the psi-derivatives above are these
+        // chained through N_psi = Q, Q_psi = -N), chained through N_ax = cos, Q_ax = -sin,
+        // N_ay = sin, Q_ay = cos.
+        let d_n = de_dn;
+        let p_n = if model.effects.poisson {
+            -model.nu * d_n
+        } else {
+            0.0
+        };
+        let bc_n = -4.0 * bend_compliance * inv_p * p_n;
+        let (g_n, g_q) = if model.effects.shear {
+            let c_s = model.shear_compliance();
+            (-2.0 * c_s * q * inv_p2 * inv_p * p_n, c_s * inv_p2)
+        } else {
+            (0.0, 0.0)
+        };
+        let d_n_row = [
+            m * bc_n,
+            -d_n * q + g_n * n + gamma,
+            d_n * cs - g_n * sn,
+            d_n * sn + g_n * cs,
+        ];
+        let d_q_row = [0.0, -stretch + g_q * n, -g_q * sn, g_q * cs];
+        for k in 0..4 {
+            out[8 + k] += d_n_row[k] * cs - d_q_row[k] * sn;
+            out[12 + k] += d_n_row[k] * sn + d_q_row[k] * cs;
+        }
+    }
     Ok(out)
 }
 
@@ -222,9 +254,44 @@ pub(crate) fn shoot<const N: usize>(
     force: TipForce,
     segment: Segment,
     settings: ShotSettings,
-    mut shape: Option<Samples<'_>>,
+    shape: Option<Samples<'_>>,
     meter: &mut Meter<'_>,
 ) -> Result<Shot, ShotFailure> {
+    let (u, steps) = integrate::<N>(model, force, segment, settings, shape, meter)?;
+    let mut end = [0.0; 12];
+    end[..N.min(12)].copy_from_slice(&u[..N.min(12)]);
+    Ok(Shot { end, steps })
+}
+
+/// The whole beam shot from its clamp under the tip force `force` and the root moment
+/// `moment`, with the derivatives of the tip state with respect to `moment`, `alpha_x` and
+/// `alpha_y` (the `N = 16` layout): an initial-value problem, no Newton iteration.
+pub(crate) fn root_shot(
+    model: &BeamModel,
+    force: TipForce,
+    moment: f64,
+    settings: ShotSettings,
+    meter: &mut Meter<'_>,
+) -> Result<(State<16>, u32), ShotFailure> {
+    let segment = Segment {
+        s_start: 0.0,
+        s_end: 1.0,
+        psi: 0.0,
+        moment,
+        origin: (0.0, 0.0),
+    };
+    integrate::<16>(model, force, segment, settings, None, meter)
+}
+
+/// [`shoot`]'s integration, returning the whole end state.
+fn integrate<const N: usize>(
+    model: &BeamModel,
+    force: TipForce,
+    segment: Segment,
+    settings: ShotSettings,
+    mut shape: Option<Samples<'_>>,
+    meter: &mut Meter<'_>,
+) -> Result<(State<N>, u32), ShotFailure> {
     let mut u: State<N> = [0.0; N];
     u[PSI] = segment.psi;
     u[MOM] = segment.moment;
@@ -340,9 +407,7 @@ pub(crate) fn shoot<const N: usize>(
     if u.iter().any(|v| !v.is_finite()) {
         return Err(ShotFailure::NonFinite);
     }
-    let mut end = [0.0; 12];
-    end[..N].copy_from_slice(&u);
-    Ok(Shot { end, steps })
+    Ok((u, steps))
 }
 
 /// Second derivatives `(psi'', M'', x'', y'')` from the linearisation: the variational

@@ -1,64 +1,62 @@
-//! The exact mechanism: every flexure is the §2 beam (DESIGN §8), solved by
-//! [`BeamSolver::solve_near`] under its tip wrench, warm-started from its last equilibrium.
+//! The exact mechanism: every flexure is the §2 beam (DESIGN §8) with its tip force and its
+//! *root* moment as unknowns, shot from the clamp ([`BeamSolver::shoot_root`]): one
+//! integration per flexure per Newton iteration, whose variational equations give the tip's
+//! exact compliance (`d(a, b, phi, beta) / d(alpha_x, alpha_y, m0)`), and no Newton iteration
+//! inside the flexure. The map from the root to the tip is an initial-value problem, so it
+//! has no folds: a flexure held by the stage past its own load-controlled buckling load is
+//! solved like any other.
 //!
-//! Cost: each Newton iteration of the mechanism solves every flexure `1 + n_i` times
-//! (finite-difference Jacobian, `n_i` = 3 clamped, 2 pinned or coupled), each a warm-started
-//! shooting Newton of one to three shots. The analytic tip compliance from the beam's
-//! variational equations would replace the `n_i` extra solves; it is not done yet.
+//! Accuracy: Newton stops at the solver's `tol` on every compatibility residual; the shot
+//! integrates to the beam's `tol`, so a flexure's tip is good to the beam's
+//! `Resolution::claimed_tip_error` and its reported wrench `(alpha_x, alpha_y, beta)` is the
+//! one that shape balances (`beta` is the shot's own tip moment).
 //!
-//! Accuracy: Newton stops at the solver's `tol` on every tip compatibility residual; the
-//! beam's tips are good to its `Resolution::claimed_tip_error` (10 times the beam's tol), so
-//! pick the mechanism's `tol` at about the beam's.
+//! Range: one shot spans the flexure, and perturbations grow like `exp(sqrt(|alpha|))` along
+//! it, so flexure forces past a few hundred (a stage load of hundreds of `E I / L^2`) lose
+//! digits; the continuation then stops with [`MechError::NoEquilibrium`] rather than report
+//! them.
 
-use crate::beam::warm::WarmBeam;
-use crate::beam::{BeamSolver, Load, Resolution, TipPose};
+use crate::beam::{BeamSolver, Resolution};
 use crate::scene::Mechanism;
 
 use super::geometry::Geometry;
-use super::solve::{MechSolver, TipModel};
+use super::solve::{FlexEval, FlexureModel, MechSolver};
 use super::{MechCase, MechError, TipFailure};
 
 /// One flexure as the exact beam.
 #[derive(Debug, Clone, Copy)]
-pub struct BeamTip {
+pub struct BeamFlexure {
     /// Its solver (its own slenderness, effects and resolution).
     pub solver: BeamSolver,
 }
 
-impl TipModel for BeamTip {
-    type Warm = WarmBeam;
-
-    fn unloaded(&self) -> WarmBeam {
-        WarmBeam::unloaded()
+impl FlexureModel for BeamFlexure {
+    fn internal(&self) -> usize {
+        0
     }
 
-    fn solve(&self, wrench: Load, from: &WarmBeam) -> Result<WarmBeam, TipFailure> {
-        Ok(self.solver.solve_near(wrench, Some(from))?)
+    fn eval(&self, w: [f64; 3], _z: &[f64]) -> Result<FlexEval, TipFailure> {
+        let shot = self.solver.shoot_root(w[0], w[1], w[2])?;
+        Ok(FlexEval {
+            tip: shot.tip,
+            tip_moment: shot.tip_moment,
+            internal: Vec::new(),
+            jacobian: shot.jacobian.iter().flatten().copied().collect(),
+        })
     }
 
-    fn tip(&self, state: &WarmBeam) -> TipPose {
-        state.tip
-    }
-
-    fn load_stability(&self, state: &WarmBeam) -> f64 {
-        if state.stability < 0.0 {
-            -1.0
-        } else {
-            1.0
-        }
+    fn load_stable(&self, eval: &FlexEval, _w: [f64; 3], _z: &[f64]) -> bool {
+        // dM(L)/dM(0), the single beam's own test (see `beam::root::RootShot::stability`).
+        eval.jacobian[3 * 3 + 2] > 0.0
     }
 }
 
-/// The exact mechanism solver of `mechanism`: each flexure its own beam at `resolution`
-/// (its shape sampling is not used; two points are kept), Newton at the resolution's tol.
+/// The exact mechanism solver of `mechanism`: each flexure its own beam at `resolution`,
+/// Newton at the resolution's tol.
 pub fn solver(
     mechanism: &Mechanism,
     resolution: Resolution,
-) -> Result<MechSolver<BeamTip>, MechError> {
-    let resolution = Resolution {
-        shape_points: 2,
-        ..resolution
-    };
+) -> Result<MechSolver<BeamFlexure>, MechError> {
     let mut models = Vec::with_capacity(mechanism.flexures.len());
     for (i, f) in mechanism.flexures.iter().enumerate() {
         let solver =
@@ -66,7 +64,7 @@ pub fn solver(
                 flexure: i + 1,
                 source: e.into(),
             })?;
-        models.push(BeamTip { solver });
+        models.push(BeamFlexure { solver });
     }
     Ok(MechSolver::new(
         Geometry::new(mechanism),

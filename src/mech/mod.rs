@@ -4,57 +4,53 @@
 //!
 //! # Method
 //! Both solvers share one formulation ([`solve`]). Every flexure is a cantilever in its own
-//! frame ([`geometry`]) under an unknown tip wrench, written in its own units:
-//! - clamped tip: `(alpha_x, alpha_y, beta)`; compatibility: the tip pose `(a, b, phi)` is
-//!   where the stage puts the tip (3 equations);
-//! - pinned tip: `(alpha_x, alpha_y)`, `beta = 0`; compatibility of `(a, b)` (2 equations);
-//! - coupler (`link`): the coupler's tension `t` and direction `psi` (global frame, flexure 1's
-//!   units), so the tip force is `t (cos psi, sin psi)`, `beta = 0`; compatibility: the tip sits
-//!   at the coupler's stage end minus `length (cos psi, sin psi)` (2 equations).
+//! frame ([`geometry`]) whose state is given by three wrench parameters, in its own units,
+//! and (a PRB chain) its joint coordinates:
+//! - the exact beam ([`exact`]): its tip force `(alpha_x, alpha_y)` and its *root* moment;
+//!   the tip follows by one integration from the clamp (an initial-value problem, no folds),
+//!   whose variational equations give the tip's exact compliance;
+//! - a PRB chain ([`prb`]): its tip force and tip moment, and its joint angles and
+//!   extensions `q`, with the joints' equilibrium `K q = J(q)^T w` as extra equations and
+//!   the statics' analytic tangent.
 //!
-//! The stage's loaded coordinates are the remaining unknowns, balanced by the stage's
-//! equilibrium: the load applied at `P` equals the sum of the flexures' tip forces and their
-//! moments about `P` (the tip wrench acts on the flexure; its reaction on the stage). For a
-//! prescribed coordinate the same sum is the reaction the drive supplies.
+//! A coupler (`link`) takes its tension `t` and direction `psi` (global frame, flexure 1's
+//! units) in place of the force, so the tip force lies along it. The equations are, per
+//! flexure: clamped, the tip pose `(a, b, phi)` is where the stage puts the tip; pinned,
+//! `(a, b)` and a zero tip moment; coupled, the tip sits at the coupler's stage end minus
+//! `length (cos psi, sin psi)` and the tip moment is zero. The stage's loaded coordinates are
+//! the remaining unknowns, balanced by the stage's equilibrium: the load applied at `P`
+//! equals the sum of the flexures' tip forces and their moments about `P` (the tip wrench
+//! acts on the flexure; its reaction on the stage). For a prescribed coordinate the same sum
+//! is the reaction the drive supplies.
 //!
-//! Newton's method solves the system; its Jacobian is by finite differences: each flexure
-//! unknown is perturbed by `1e-6 (1 + |x|)` and only that flexure is re-solved (warm-started
-//! from its current equilibrium), the stage unknowns need no flexure solve. One Newton
-//! iteration therefore costs `1 + n_i` tip solves per flexure (`n_i` its unknowns, 2 or 3).
-//! The drive path is followed by continuation: the drive's end values are scaled by
-//! `lambda`, cases at `k / steps`, sub-steps that halve on failure, each started from a
-//! secant prediction of the last two accepted points.
+//! Newton's method solves the system with its analytic Jacobian: the flexures' blocks from
+//! their models, chained with the rigid stage's and the couplers' geometry (checked against
+//! differences in `solve`'s tests). One iteration costs one integration of each beam, or one
+//! linearisation of each chain. The drive path is followed by continuation: the drive's end
+//! values are scaled by `lambda`, cases at `k / steps`, sub-steps that halve on failure, each
+//! started from a secant prediction of the last two accepted points.
 //!
 //! # Honesty
 //! - The sign of the Jacobian's determinant is watched along the path: it changes sign only
 //!   through a singular Jacobian, i.e. a limit point (snap-through) or a bifurcation of the
 //!   mechanism, and the solver stops there with [`MechError::Critical`] rather than follow
-//!   the unstable branch or jump.
+//!   the unstable branch or jump. Continuation that stalls next to a nearly singular
+//!   Jacobian (a fold it cannot pass at a fixed drive fraction) is reported the same way.
+//!   The flexures' own unknowns are root (beam) or joint (chain) quantities, never a given
+//!   tip load, so a flexure held by the stage past its own load-controlled buckling load (a
+//!   parallel stage's compressed flexure) is regular and changes no sign.
 //! - A Jacobian that is singular in the unloaded pose means the drive asks for a motion no
 //!   flexure can make to first order (a tip pinned onto a guide through its unloaded tip and
 //!   pushed along the inextensible flexure's axis; a 1R model asked to keep its tip angle
 //!   while moving sideways; a stage coordinate nothing holds): [`MechError::Immobile`].
 //!
-//! # Known limitation: flexures past their own load-controlled limit
-//! The unknowns are tip wrenches, so each flexure is solved as a *load-controlled*
-//! cantilever. Where that cantilever has a limit point (a parallel stage's compressed
-//! flexure under an axial force past the cantilever's buckling load `pi^2 / 4`, with a
-//! transverse force), its tip is a folded function of its wrench, the mechanism's Jacobian
-//! passes through infinity (the determinant's sign test corrects for that, see
-//! [`solve::TipModel::load_stability`]) and Newton may stall near the fold although the
-//! mechanism is regular there: the parallel stage with Su's 3R stops with
-//! [`MechError::NoEquilibrium`] near `Ay = 3.3`, where the exact one carries on. The cure is
-//! to take each flexure's root moment (beam) or joint coordinates (PRB) as its unknowns
-//! instead of its tip moment: the map from the root to the tip is an initial-value problem
-//! with no folds. That is the next step.
-//!
 //! # Accuracy
 //! Newton stops when every tip compatibility residual is below the solver's tolerance `tol`
-//! (units of each flexure's `L`, radians) and the stage balance below `tol (1 + |load|)`.
-//! A flexure's tip is then as accurate as its tip solver (the beam's
-//! `Resolution::claimed_tip_error`, `10 tol` of the beam; the PRB chain to 1e-13), and the
-//! reported wrench reproduces the reported tip by construction: it is the wrench the tip was
-//! solved under.
+//! (units of each flexure's `L`, radians) and the moment and stage balance rows below
+//! `tol (1 + |load|)`. A beam's tip is then as accurate as its shot (the beam's
+//! `Resolution::claimed_tip_error`, `10 tol` of the beam; a PRB chain is exact), and the
+//! reported wrench reproduces the reported tip by construction: it is the wrench the shape
+//! balances (`FlexureCase::load_stable` says whether loading from rest reaches it).
 
 pub mod exact;
 pub mod geometry;

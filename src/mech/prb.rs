@@ -1,118 +1,100 @@
 //! The PRB mechanism: every flexure replaced by the scene's PRB matrix scaled to it (DESIGN
-//! §8; the matrix is nondimensional, so it serves flexures of any size), the closed chain
-//! solved by the same outer Newton as the exact mechanism ([`super::solve`]): each chain is
-//! solved under its unknown tip wrench, and the loop is closed on the tip poses.
+//! §8; the matrix is nondimensional, so it serves flexures of any size), the closed chain's
+//! equilibrium solved by the same outer Newton as the exact mechanism ([`super::solve`]).
 //!
-//! A chain under a wrench is solved by Newton on the PRB statics' analytic tangent stiffness
-//! from its last configuration (a few iterations), falling back to
-//! [`PrbSolver::solve`]'s continuation from the unloaded chain if that fails. Chains are
-//! exact to 1e-13 (the PRB Newton's tolerance), so the mechanism's accuracy is its `tol`.
+//! A chain's unknowns are its tip wrench *and* its joint coordinates `q` (angles,
+//! extensions), its extra equations the joints' equilibrium `K q - J(q)^T w = 0`, all with
+//! the analytic Jacobian of [`PrbSolver::linearise`]. Being unknowns, the joint coordinates
+//! are never solved under a given load, so a chain past its own load-controlled limit (a
+//! compressed flexure held by the stage) is as regular as any other.
 //!
 //! A chain with fewer degrees of freedom than its tip must have (a 1R model whose tip must
 //! keep its angle while it moves, as in a fixed-guided flexure) makes the mechanism's
 //! Jacobian singular in the unloaded pose, reported as [`MechError::Immobile`].
 
-use crate::beam::{Load, TipPose};
-use crate::linalg::solve_dense;
-use crate::prb::{PrbMatrix, PrbSolver};
+use crate::beam::Load;
+use crate::linalg::lu_solve;
+use std::cell::RefCell;
+
+use crate::prb::{Linearised, PrbMatrix, PrbSolver};
 use crate::scene::Mechanism;
 
 use super::geometry::Geometry;
-use super::solve::{MechSolver, TipModel};
+use super::solve::{FlexEval, FlexureModel, MechSolver};
 use super::{MechCase, MechError, TipFailure};
-
-/// Newton iterations of a warm chain solve before falling back to continuation.
-const CHAIN_NEWTON: u32 = 30;
-/// The warm chain solve stops when its update is below this.
-const CHAIN_TOL: f64 = 1e-13;
 
 /// One flexure as a PRB chain.
 #[derive(Debug, Clone)]
-pub struct ChainTip {
+pub struct ChainFlexure {
     /// The chain's statics (the flexure's own axial compliance).
     pub solver: PrbSolver,
+    /// Storage reused by every linearisation.
+    scratch: RefCell<Linearised>,
 }
 
-/// A chain's configuration and tip.
-#[derive(Debug, Clone, PartialEq)]
-pub struct ChainState {
-    /// Joint angles and extensions (see [`PrbSolver`]).
-    pub q: Vec<f64>,
-    /// Its tip.
-    pub tip: TipPose,
-    /// The wrench it balances.
-    pub load: Load,
-}
-
-impl ChainTip {
-    fn newton(&self, wrench: Load, from: &[f64]) -> Option<Vec<f64>> {
-        let m = from.len();
-        let mut q = from.to_vec();
-        for _ in 0..CHAIN_NEWTON {
-            let (r, mut jac) = self.solver.residual_and_jacobian(wrench, &q);
-            let mut step: Vec<f64> = r.iter().map(|v| -v).collect();
-            if !solve_dense(&mut jac, &mut step, m) {
-                return None;
-            }
-            let size = step.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
-            // Damped: no joint turns by more than half a radian per iteration.
-            let damping = if size > 0.5 { 0.5 / size } else { 1.0 };
-            q.iter_mut().zip(&step).for_each(|(a, d)| *a += damping * d);
-            if size <= CHAIN_TOL {
-                return Some(q);
-            }
-        }
-        None
+impl ChainFlexure {
+    /// The chain of `solver`.
+    pub fn new(solver: PrbSolver) -> ChainFlexure {
+        let scratch = RefCell::new(solver.linearised());
+        ChainFlexure { solver, scratch }
     }
 }
 
-impl TipModel for ChainTip {
-    type Warm = ChainState;
-
-    fn unloaded(&self) -> ChainState {
-        let q = vec![0.0; self.solver.dof_count()];
-        ChainState {
-            tip: self.solver.tip_pose(&q),
-            load: Load::default(),
-            q,
-        }
+impl FlexureModel for ChainFlexure {
+    fn internal(&self) -> usize {
+        self.solver.dof_count()
     }
 
-    fn solve(&self, wrench: Load, from: &ChainState) -> Result<ChainState, TipFailure> {
-        let q = match self.newton(wrench, &from.q) {
-            Some(q) => q,
-            None => self.solver.solve(wrench)?.q,
-        };
-        Ok(ChainState {
-            tip: self.solver.tip_pose(&q),
-            load: wrench,
-            q,
+    fn eval(&self, w: [f64; 3], z: &[f64]) -> Result<FlexEval, TipFailure> {
+        let m = z.len();
+        let mut lin = self.scratch.borrow_mut();
+        self.solver
+            .linearise_into(Load::new(w[0], w[1], w[2]), z, &mut lin);
+        let cols = 3 + m;
+        let mut jacobian = vec![0.0; (4 + m) * cols];
+        // Tip rows: d(a, b, phi)/dq.
+        for r in 0..3 {
+            jacobian[r * cols + 3..(r + 1) * cols]
+                .copy_from_slice(&lin.tip_jacobian[r * m..(r + 1) * m]);
+        }
+        // The tip moment is the unknown w itself.
+        jacobian[3 * cols + 2] = 1.0;
+        // Joint equilibrium rows: d/dw = -J^T, d/dq = the tangent stiffness.
+        for r in 0..m {
+            let row = (4 + r) * cols;
+            for c in 0..3 {
+                jacobian[row + c] = -lin.tip_jacobian[c * m + r];
+            }
+            jacobian[row + 3..row + cols].copy_from_slice(&lin.stiffness[r * m..(r + 1) * m]);
+        }
+        Ok(FlexEval {
+            tip: lin.tip,
+            tip_moment: w[2],
+            internal: lin.residual.clone(),
+            jacobian,
         })
     }
 
-    fn tip(&self, state: &ChainState) -> TipPose {
-        state.tip
-    }
-
-    fn load_stability(&self, state: &ChainState) -> f64 {
-        // The sign of the tangent stiffness's determinant: the chain's compliance has its
-        // poles where that determinant crosses zero.
-        let m = state.q.len();
-        let (_, mut k) = self.solver.residual_and_jacobian(state.load, &state.q);
+    fn load_stable(&self, eval: &FlexEval, _w: [f64; 3], z: &[f64]) -> bool {
+        // The tangent stiffness positive definite: its determinant's sign along the path
+        // from the unloaded chain (positive there) and no negative pivot.
+        let m = z.len();
+        let cols = 3 + m;
+        let mut k: Vec<f64> = (0..m)
+            .flat_map(|r| eval.jacobian[(4 + r) * cols + 3..(4 + r + 1) * cols].to_vec())
+            .collect();
         let mut rhs = vec![0.0; m];
-        crate::mech::solve::det_sign(&mut k, &mut rhs, m)
+        m == 0 || lu_solve(&mut k, &mut rhs, m).is_some_and(|lu| lu.det_sign > 0.0)
     }
 }
 
 /// The PRB mechanism solver: `matrix` in place of every flexure of `mechanism`, Newton at
 /// `tol`.
-pub fn solver(mechanism: &Mechanism, matrix: &PrbMatrix, tol: f64) -> MechSolver<ChainTip> {
+pub fn solver(mechanism: &Mechanism, matrix: &PrbMatrix, tol: f64) -> MechSolver<ChainFlexure> {
     let models = mechanism
         .flexures
         .iter()
-        .map(|f| ChainTip {
-            solver: PrbSolver::new(matrix, f.beam.model().axial_compliance()),
-        })
+        .map(|f| ChainFlexure::new(PrbSolver::new(matrix, f.beam.model().axial_compliance())))
         .collect();
     MechSolver::new(Geometry::new(mechanism), models, tol)
 }

@@ -1,83 +1,114 @@
-//! The mechanism's equations and their Newton continuation, for any tip model (the exact
+//! The mechanism's equations and their Newton continuation, for any flexure model (the exact
 //! beam or a PRB chain). See the parent module for the formulation.
 
 use crate::beam::{Load, TipPose};
 use crate::linalg::lu_solve;
 use crate::scene::Coordinate;
 
-use super::geometry::{cross, Geometry, Joint};
+use super::geometry::{cross, rotate, Geometry, Joint};
 use super::{FlexureCase, MechCase, MechError, TipFailure};
 
-/// A flexure's tip under a wrench: the exact beam or a PRB chain.
-pub trait TipModel {
-    /// A converged state a nearby wrench can start from.
-    type Warm: Clone;
-    /// The unloaded flexure.
-    fn unloaded(&self) -> Self::Warm;
-    /// The tip under `wrench` (own frame and units), started from `from`.
-    fn solve(&self, wrench: Load, from: &Self::Warm) -> Result<Self::Warm, TipFailure>;
-    /// The tip of a state.
-    fn tip(&self, state: &Self::Warm) -> TipPose;
-    /// The sign of the flexure's stability under its wrench as a *given* load (+1 stable):
-    /// it flips where the tip's compliance passes through a pole (a limit point of the
-    /// load-controlled flexure, harmless to the mechanism), and so does the sign of the
-    /// mechanism's Jacobian with it.
-    fn load_stability(&self, state: &Self::Warm) -> f64;
+/// A flexure whose state is given by three wrench parameters and, for a PRB chain, its
+/// joint coordinates: the exact beam (root shot) or a PRB chain (joint coordinates and tip
+/// wrench, the chain's equilibrium as extra equations).
+pub trait FlexureModel {
+    /// How many unknowns besides the three wrench parameters (the chain's joint
+    /// coordinates; none for the beam), and as many equations.
+    fn internal(&self) -> usize;
+    /// The flexure at `(alpha_x, alpha_y, w)` (its own frame and units; `w` is the root
+    /// moment of a beam, the tip moment of a chain) and internal unknowns `z`.
+    fn eval(&self, w: [f64; 3], z: &[f64]) -> Result<FlexEval, TipFailure>;
+    /// Whether the flexure is stable under its tip wrench as a *given* (dead) load.
+    fn load_stable(&self, eval: &FlexEval, w: [f64; 3], z: &[f64]) -> bool;
+}
+
+/// A flexure model evaluated at its unknowns.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FlexEval {
+    /// Its tip (own frame and units).
+    pub tip: TipPose,
+    /// The moment on its tip (own units).
+    pub tip_moment: f64,
+    /// The internal equations' residuals.
+    pub internal: Vec<f64>,
+    /// `d(a, b, phi, tip_moment, internal...) / d(alpha_x, alpha_y, w, z...)`, row-major,
+    /// `4 + k` rows of `3 + k` (`k` = [`FlexureModel::internal`]).
+    pub jacobian: Vec<f64>,
 }
 
 /// Newton iterations at one point of the path before the step is halved.
 const MAX_NEWTON: u32 = 25;
-/// Relative finite-difference step of the Jacobian.
-const FD_STEP: f64 = 1e-6;
 /// The smallest continuation step before giving up.
 const MIN_STEP: f64 = 1e-6;
 /// An equilibrated Jacobian (see [`equilibrate`]) whose smallest pivot is this small next to
-/// its largest is singular: the finite differences' truncation error leaves about 1e-8 of an
-/// exactly singular one, a regular mechanism's pivots are within a few orders of magnitude.
-const SINGULAR: f64 = 1e-6;
+/// its largest is singular: a regular mechanism's pivots are within a few orders of
+/// magnitude, an exactly singular one's at rounding (the beam's variational equations are
+/// integrated to a relative 1e-7 at most).
+const SINGULAR: f64 = 1e-5;
+/// Continuation that stalls where the equilibrated Jacobian's pivot spread has fallen below
+/// this fraction of the unloaded mechanism's has reached a limit point: the spread falls
+/// like the distance to the fold, and Newton's basin at a fixed drive fraction with it (the
+/// Su 3R parallel stage at `(Ax, Ay, B) = (-10, 6, 3)` stalls at 0.7% of its unloaded spread;
+/// the solved points of that design grid, beam and PRB, stay above 13%).
+const NEAR_CRITICAL: f64 = 0.02;
 /// No flexure tip moves by more than this (units of its `L`, radians) in one sub-step, so the
 /// path cannot hop to another branch.
 const MAX_TIP_STEP: f64 = 0.3;
 
-/// The solver of one mechanism with one tip model per flexure.
+/// The solver of one mechanism with one model per flexure.
 #[derive(Debug, Clone)]
 pub struct MechSolver<M> {
     geometry: Geometry,
     models: Vec<M>,
     tol: f64,
+    /// Where each flexure's unknowns start in the unknown vector.
+    offsets: Vec<usize>,
+    /// Flexure unknowns in all (the stage's loaded coordinates follow).
+    flexure_unknowns: usize,
 }
 
-/// Unknown counts per flexure.
-fn unknowns_of(joint: Joint) -> usize {
-    match joint {
-        Joint::Clamped => 3,
-        Joint::Pinned | Joint::Link { .. } => 2,
-    }
+/// One evaluation of the whole system at an unknown vector.
+struct System {
+    evals: Vec<FlexEval>,
+    residual: Vec<f64>,
+    /// The load the flexures put on the stage at `P` (flexure 1's units).
+    load: [f64; 3],
 }
 
-/// A point of the path: the unknowns and every flexure's state there.
+/// A point of the path.
 #[derive(Clone)]
-struct Point<W> {
+struct Point {
     lambda: f64,
     x: Vec<f64>,
-    states: Vec<W>,
+    tips: Vec<TipPose>,
 }
 
 /// What one Newton solve found.
-struct Converged<W> {
-    point: Point<W>,
+struct Converged {
+    point: Point,
     det_sign: f64,
     iterations: u32,
 }
 
-impl<M: TipModel> MechSolver<M> {
-    /// A solver for `geometry` with one tip model per flexure; Newton stops at `tol` (units
-    /// of each flexure's `L`, radians).
+impl<M: FlexureModel> MechSolver<M> {
+    /// A solver for `geometry` with one model per flexure; Newton stops at `tol` (units of
+    /// each flexure's `L`, radians; loads relative to `1 + |load|`).
     pub fn new(geometry: Geometry, models: Vec<M>, tol: f64) -> MechSolver<M> {
+        let mut at = 0;
+        let offsets = models
+            .iter()
+            .map(|m| {
+                let o = at;
+                at += 3 + m.internal();
+                o
+            })
+            .collect();
         MechSolver {
             geometry,
             models,
             tol,
+            offsets,
+            flexure_unknowns: at,
         }
     }
 
@@ -86,61 +117,43 @@ impl<M: TipModel> MechSolver<M> {
         &self.geometry
     }
 
-    fn offsets(&self) -> Vec<usize> {
-        let mut at = 0;
-        self.geometry
-            .frames
-            .iter()
-            .map(|f| {
-                let o = at;
-                at += unknowns_of(f.joint);
-                o
-            })
-            .collect()
-    }
-
-    fn flexure_unknowns(&self) -> usize {
-        self.geometry
-            .frames
-            .iter()
-            .map(|f| unknowns_of(f.joint))
-            .sum()
-    }
-
     /// The unknowns of the unloaded mechanism (couplers along their unloaded direction).
     fn start(&self, drive: &[Coordinate; 3]) -> Vec<f64> {
-        let mut x = Vec::new();
-        for f in &self.geometry.frames {
-            match f.joint {
-                Joint::Clamped => x.extend([0.0; 3]),
-                Joint::Pinned => x.extend([0.0; 2]),
-                Joint::Link { to, .. } => {
-                    let tip = f.unloaded_tip();
-                    x.extend([0.0, (to[1] - tip[1]).atan2(to[0] - tip[0])]);
-                }
+        let mut x = vec![0.0; self.flexure_unknowns];
+        for (f, &o) in self.geometry.frames.iter().zip(&self.offsets) {
+            if let Joint::Link { to, .. } = f.joint {
+                let tip = f.unloaded_tip();
+                x[o + 1] = (to[1] - tip[1]).atan2(to[0] - tip[0]);
             }
         }
         x.extend(drive.iter().filter(|c| !c.is_prescribed()).map(|_| 0.0));
         x
     }
 
-    /// Flexure `i`'s wrench (own frame and units) from its unknowns `u`.
-    fn wrench(&self, i: usize, u: &[f64]) -> Load {
+    /// Flexure `i`'s wrench parameters in its own frame and units, and their derivatives
+    /// with respect to its first two unknowns (`d(alpha_x, alpha_y) / d(u0, u1)`, row-major).
+    fn own_wrench(&self, i: usize, x: &[f64]) -> ([f64; 3], [f64; 4]) {
         let f = &self.geometry.frames[i];
+        let u = &x[self.offsets[i]..self.offsets[i] + 3];
         match f.joint {
-            Joint::Clamped => Load::new(u[0], u[1], u[2]),
-            Joint::Pinned => Load::new(u[0], u[1], 0.0),
+            Joint::Clamped | Joint::Pinned => ([u[0], u[1], u[2]], [1.0, 0.0, 0.0, 1.0]),
             Joint::Link { .. } => {
+                // A coupler's tension `t` and direction `psi` (global, flexure 1's units).
                 let (s, c) = u[1].sin_cos();
                 let local = f.force_to_local([u[0] * c, u[0] * s]);
-                Load::new(local[0], local[1], 0.0)
+                let d_t = f.force_to_local([c, s]);
+                let d_psi = f.force_to_local([-u[0] * s, u[0] * c]);
+                (
+                    [local[0], local[1], u[2]],
+                    [d_t[0], d_psi[0], d_t[1], d_psi[1]],
+                )
             }
         }
     }
 
     /// The stage pose at `lambda` for unknowns `x`.
     fn pose(&self, drive: &[Coordinate; 3], lambda: f64, x: &[f64]) -> [f64; 3] {
-        let mut k = self.flexure_unknowns();
+        let mut k = self.flexure_unknowns;
         let mut pose = [0.0; 3];
         for (p, c) in pose.iter_mut().zip(drive) {
             *p = match c {
@@ -154,49 +167,46 @@ impl<M: TipModel> MechSolver<M> {
         pose
     }
 
-    /// The residual of the mechanism's equations and the load the flexures put on the stage
-    /// (`[alpha_x, alpha_y, beta]` at `P`, flexure 1's units).
-    fn residual(
+    /// The geometry's equations (every flexure's three joint rows, then the stage's loaded
+    /// coordinates' balance) for unknowns `x` and flexure outputs `outs`, appended to `out`;
+    /// returns the load the flexures put on the stage at `P`.
+    fn joints(
         &self,
         drive: &[Coordinate; 3],
         lambda: f64,
         x: &[f64],
-        tips: &[TipPose],
+        outs: &[[f64; 4]],
         out: &mut Vec<f64>,
     ) -> [f64; 3] {
-        out.clear();
         let pose = self.pose(drive, lambda, x);
         let p = self.geometry.stage_point_at(pose);
         let mut sum = [0.0; 3];
-        let mut k = 0;
-        for (f, tip) in self.geometry.frames.iter().zip(tips) {
-            let u = &x[k..k + unknowns_of(f.joint)];
-            k += u.len();
-            let (at, force, moment) = match f.joint {
+        for (i, (f, o)) in self.geometry.frames.iter().zip(outs).enumerate() {
+            let u = &x[self.offsets[i]..self.offsets[i] + 3];
+            let (at, force) = match f.joint {
                 Joint::Clamped | Joint::Pinned => {
                     let at = self.geometry.stage_map(pose, f.unloaded_tip());
                     let want = f.to_local(at);
-                    out.extend([tip.a - want[0], tip.b - want[1]]);
-                    let moment = if f.joint == Joint::Clamped {
-                        out.push(tip.phi - pose[2]);
-                        f.moment_to_global(u[2])
+                    let third = if f.joint == Joint::Clamped {
+                        o[2] - pose[2]
                     } else {
-                        0.0
+                        o[3]
                     };
-                    (at, f.force_to_global([u[0], u[1]]), moment)
+                    out.extend([o[0] - want[0], o[1] - want[1], third]);
+                    (at, f.force_to_global([u[0], u[1]]))
                 }
                 Joint::Link { to, length } => {
                     let (s, c) = u[1].sin_cos();
                     let end = self.geometry.stage_map(pose, to);
                     let at = [end[0] - length * c, end[1] - length * s];
                     let want = f.to_local(at);
-                    out.extend([tip.a - want[0], tip.b - want[1]]);
-                    (at, [u[0] * c, u[0] * s], 0.0)
+                    out.extend([o[0] - want[0], o[1] - want[1], o[3]]);
+                    (at, [u[0] * c, u[0] * s])
                 }
             };
             sum[0] += force[0];
             sum[1] += force[1];
-            sum[2] += cross([at[0] - p[0], at[1] - p[1]], force) + moment;
+            sum[2] += cross([at[0] - p[0], at[1] - p[1]], force) + f.moment_to_global(o[3]);
         }
         for (c, s) in drive.iter().zip(sum) {
             if let Coordinate::Loaded(v) = c {
@@ -206,133 +216,248 @@ impl<M: TipModel> MechSolver<M> {
         sum
     }
 
-    /// Whether a residual meets the tolerance.
-    fn converged(&self, r: &[f64], tip_rows: usize, load: [f64; 3]) -> bool {
-        let scale = 1.0 + load.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
-        r[..tip_rows].iter().all(|v| v.abs() <= self.tol)
-            && r[tip_rows..].iter().all(|v| v.abs() <= self.tol * scale)
-    }
-
-    fn tips(&self, states: &[M::Warm]) -> Vec<TipPose> {
-        self.models
-            .iter()
-            .zip(states)
-            .map(|(m, s)| m.tip(s))
+    /// Every flexure evaluated at `x`.
+    fn evaluate(&self, x: &[f64]) -> Result<Vec<FlexEval>, MechError> {
+        (0..self.models.len())
+            .map(|i| {
+                let (w, _) = self.own_wrench(i, x);
+                let o = self.offsets[i] + 3;
+                let z = &x[o..o + self.models[i].internal()];
+                self.models[i].eval(w, z).map_err(|e| flexure_error(i, e))
+            })
             .collect()
     }
 
-    /// Every flexure solved at the wrenches of `x`, from `from`.
-    fn solve_flexures(&self, x: &[f64], from: &[M::Warm]) -> Result<Vec<M::Warm>, MechError> {
-        let offsets = self.offsets();
-        let mut out = Vec::with_capacity(from.len());
-        for (i, (m, w)) in self.models.iter().zip(from).enumerate() {
-            let n = unknowns_of(self.geometry.frames[i].joint);
-            let u = &x[offsets[i]..offsets[i] + n];
-            out.push(
-                m.solve(self.wrench(i, u), w)
-                    .map_err(|e| flexure_error(i, e))?,
-            );
-        }
-        Ok(out)
+    /// The flexures' outputs that the geometry's equations read: `[a, b, phi, tip_moment]`.
+    fn outputs(evals: &[FlexEval]) -> Vec<[f64; 4]> {
+        evals
+            .iter()
+            .map(|e| [e.tip.a, e.tip.b, e.tip.phi, e.tip_moment])
+            .collect()
     }
 
-    /// The finite-difference Jacobian (row-major) at `x`, whose flexures are in `states`.
-    fn jacobian(
-        &self,
-        drive: &[Coordinate; 3],
-        lambda: f64,
-        x: &[f64],
-        states: &[M::Warm],
-        r0: &[f64],
-    ) -> Result<Vec<f64>, MechError> {
+    /// The whole system at `x`: flexures, residual (joint rows, internal rows, balance).
+    fn system(&self, drive: &[Coordinate; 3], lambda: f64, x: &[f64]) -> Result<System, MechError> {
+        let evals = self.evaluate(x)?;
+        let mut joint = Vec::with_capacity(x.len());
+        let load = self.joints(drive, lambda, x, &Self::outputs(&evals), &mut joint);
+        Ok(System {
+            residual: self.assemble_rows(&joint, &evals),
+            evals,
+            load,
+        })
+    }
+
+    /// Rows in the unknowns' order: flexure i's three joint rows then its internal rows, and
+    /// the balance rows last.
+    fn assemble_rows(&self, joint: &[f64], evals: &[FlexEval]) -> Vec<f64> {
+        let mut r = Vec::with_capacity(joint.len() + self.flexure_unknowns);
+        for (i, e) in evals.iter().enumerate() {
+            r.extend_from_slice(&joint[3 * i..3 * i + 3]);
+            r.extend_from_slice(&e.internal);
+        }
+        r.extend_from_slice(&joint[3 * evals.len()..]);
+        r
+    }
+
+    /// The Jacobian (row-major) at `x`: each flexure's own block from its model (the beam's
+    /// variational equations, the chain's analytic tangent), chained with the geometry's
+    /// derivatives, written out below (a rigid stage, straight couplers).
+    fn jacobian(&self, drive: &[Coordinate; 3], lambda: f64, x: &[f64], sys: &System) -> Vec<f64> {
         let n = x.len();
-        let offsets = self.offsets();
-        let mut tips = self.tips(states);
         let mut jac = vec![0.0; n * n];
-        let mut xp = x.to_vec();
-        let mut r = Vec::with_capacity(n);
-        for j in 0..n {
-            let h = FD_STEP * (1.0 + x[j].abs());
-            xp[j] = x[j] + h;
-            // Which flexure owns unknown j, if any.
-            let owner = offsets
-                .iter()
-                .enumerate()
-                .rev()
-                .find(|(i, &o)| j >= o && j < o + unknowns_of(self.geometry.frames[*i].joint))
-                .map(|(i, _)| i);
-            if let Some(i) = owner {
-                let nu = unknowns_of(self.geometry.frames[i].joint);
-                let u = &xp[offsets[i]..offsets[i] + nu];
-                let s = self.models[i]
-                    .solve(self.wrench(i, u), &states[i])
-                    .map_err(|e| flexure_error(i, e))?;
-                tips[i] = self.models[i].tip(&s);
+        let pose = self.pose(drive, lambda, x);
+        let p = self.geometry.stage_point_at(pose);
+        let p0 = self.geometry.stage_point;
+        // Columns of the stage's loaded coordinates; rows of their balance.
+        let mut pose_col = [None; 3];
+        let mut next = self.flexure_unknowns;
+        for (c, coordinate) in drive.iter().enumerate() {
+            if !coordinate.is_prescribed() {
+                pose_col[c] = Some(next);
+                next += 1;
             }
-            self.residual(drive, lambda, &xp, &tips, &mut r);
-            for row in 0..n {
-                jac[row * n + j] = (r[row] - r0[row]) / h;
-            }
-            if let Some(i) = owner {
-                tips[i] = self.models[i].tip(&states[i]);
-            }
-            xp[j] = x[j];
         }
-        Ok(jac)
+        let balance_row = pose_col;
+        for (i, f) in self.geometry.frames.iter().enumerate() {
+            let e = &sys.evals[i];
+            let k = self.models[i].internal();
+            let cols = 3 + k;
+            let o = self.offsets[i];
+            let u = &x[o..o + 3];
+            let (_, dw) = self.own_wrench(i, x);
+            // d(model output `row`) / d(own unknown `c`): the model's Jacobian chained with
+            // the wrench parameters' (a coupler's tension and direction).
+            let own = |row: usize, c: usize| -> f64 {
+                let jr = &e.jacobian[row * cols..(row + 1) * cols];
+                match c {
+                    0 => jr[0] * dw[0] + jr[1] * dw[2],
+                    1 => jr[0] * dw[1] + jr[1] * dw[3],
+                    _ => jr[c],
+                }
+            };
+            // Where the tip force acts, the force (global), and their derivatives with
+            // respect to the stage pose, the coupler's direction and the force parameters.
+            let stage_end = match f.joint {
+                Joint::Link { to, .. } => to,
+                _ => f.unloaded_tip(),
+            };
+            let rel = rotate([stage_end[0] - p0[0], stage_end[1] - p0[1]], pose[2]);
+            let d_at_pose = [[1.0, 0.0], [0.0, 1.0], [-rel[1], rel[0]]];
+            let (at, d_at_psi, force, d_force) = match f.joint {
+                Joint::Clamped | Joint::Pinned => (
+                    self.geometry.stage_map(pose, stage_end),
+                    [0.0, 0.0],
+                    f.force_to_global([u[0], u[1]]),
+                    [f.force_to_global([1.0, 0.0]), f.force_to_global([0.0, 1.0])],
+                ),
+                Joint::Link { length, .. } => {
+                    let (s, c) = u[1].sin_cos();
+                    let end = self.geometry.stage_map(pose, stage_end);
+                    (
+                        [end[0] - length * c, end[1] - length * s],
+                        [length * s, -length * c],
+                        [u[0] * c, u[0] * s],
+                        [[c, s], [-u[0] * s, u[0] * c]],
+                    )
+                }
+            };
+            // Joint rows: the tip minus where the stage wants it, in the flexure's frame.
+            let local = |v: [f64; 2]| {
+                let r = rotate(v, -f.angle);
+                [r[0] / f.length, r[1] / f.length]
+            };
+            for (c, col) in pose_col.iter().enumerate() {
+                if let Some(col) = *col {
+                    let d = local(d_at_pose[c]);
+                    jac[o * n + col] -= d[0];
+                    jac[(o + 1) * n + col] -= d[1];
+                }
+            }
+            if matches!(f.joint, Joint::Link { .. }) {
+                let d = local(d_at_psi);
+                jac[o * n + o + 1] -= d[0];
+                jac[(o + 1) * n + o + 1] -= d[1];
+            }
+            let third = if f.joint == Joint::Clamped {
+                if let Some(col) = pose_col[2] {
+                    jac[(o + 2) * n + col] -= 1.0;
+                }
+                2
+            } else {
+                3
+            };
+            for c in 0..cols {
+                jac[o * n + o + c] += own(0, c);
+                jac[(o + 1) * n + o + c] += own(1, c);
+                jac[(o + 2) * n + o + c] += own(third, c);
+            }
+            // The flexure's internal equations.
+            for r in 0..k {
+                for c in 0..cols {
+                    jac[(o + 3 + r) * n + o + c] = own(4 + r, c);
+                }
+            }
+            // The stage's balance: force components, and the moment about P of the force
+            // at `at` plus the tip moment.
+            let arm = [at[0] - p[0], at[1] - p[1]];
+            for (b, row) in balance_row.iter().enumerate() {
+                let Some(row) = *row else { continue };
+                let at_row = |c: usize| row * n + c;
+                for (j, df) in d_force.iter().enumerate() {
+                    jac[at_row(o + j)] += match b {
+                        0 => df[0],
+                        1 => df[1],
+                        _ => cross(arm, *df),
+                    };
+                }
+                if b < 2 {
+                    continue;
+                }
+                if matches!(f.joint, Joint::Link { .. }) {
+                    jac[at_row(o + 1)] += cross(d_at_psi, force);
+                }
+                for (c, col) in pose_col.iter().enumerate() {
+                    if let Some(col) = *col {
+                        // P moves with the stage's translation; `at` with all of the pose.
+                        let dp = [f64::from(c == 0), f64::from(c == 1)];
+                        let d_arm = [d_at_pose[c][0] - dp[0], d_at_pose[c][1] - dp[1]];
+                        jac[at_row(col)] += cross(d_arm, force);
+                    }
+                }
+                let to_global = f.moment_to_global(1.0);
+                for c in 0..cols {
+                    jac[at_row(o + c)] += to_global * own(3, c);
+                }
+            }
+        }
+        jac
     }
 
-    /// Newton at `lambda` from the guess `x` with the flexures started from `states`.
+    /// Whether a residual meets the tolerance.
+    fn converged(&self, r: &[f64], load: [f64; 3]) -> bool {
+        let scale = 1.0 + load.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+        let mut row = 0;
+        for (i, f) in self.geometry.frames.iter().enumerate() {
+            // Position rows in units of L, then an angle or a moment, then internal
+            // (moment) rows.
+            let moment_row = if f.joint == Joint::Clamped { 3 } else { 2 };
+            let rows = 3 + self.models[i].internal();
+            for k in 0..rows {
+                let limit = if k < moment_row {
+                    self.tol
+                } else {
+                    self.tol * scale
+                };
+                if r[row + k].abs() > limit {
+                    return false;
+                }
+            }
+            row += rows;
+        }
+        r[row..].iter().all(|v| v.abs() <= self.tol * scale)
+    }
+
+    /// Newton at `lambda` from the guess `x`.
     fn newton(
         &self,
         drive: &[Coordinate; 3],
         lambda: f64,
         mut x: Vec<f64>,
-        states: &[M::Warm],
-    ) -> Result<Converged<M::Warm>, String> {
+    ) -> Result<Converged, String> {
         let n = x.len();
-        let tip_rows = self.flexure_unknowns();
-        let mut states = self.solve_flexures(&x, states).map_err(|e| e.to_string())?;
-        let mut r = Vec::with_capacity(n);
-        let mut load = self.residual(drive, lambda, &x, &self.tips(&states), &mut r);
+        let mut sys = self.system(drive, lambda, &x).map_err(|e| e.to_string())?;
+        // The determinant's sign of the last Jacobian factored: at the last iterate but one,
+        // within Newton's last (tiny) step of the solution, so a converged point needs no
+        // Jacobian of its own.
+        let mut det_sign = None;
         for iteration in 1..=MAX_NEWTON {
-            let mut jac = self
-                .jacobian(drive, lambda, &x, &states, &r)
-                .map_err(|e| e.to_string())?;
-            let mut step: Vec<f64> = r.iter().map(|v| -v).collect();
-            let lu = lu_solve(&mut jac, &mut step, n).ok_or("singular Jacobian")?;
-            if self.converged(&r, tip_rows, load) {
-                let flexure_signs: f64 = self
-                    .models
-                    .iter()
-                    .zip(&states)
-                    .map(|(m, s)| m.load_stability(s))
-                    .product();
+            let converged = self.converged(&sys.residual, sys.load);
+            if let (true, Some(det_sign)) = (converged, det_sign) {
+                let tips = sys.evals.iter().map(|e| e.tip).collect();
                 return Ok(Converged {
-                    point: Point { lambda, x, states },
-                    det_sign: lu.det_sign * flexure_signs,
+                    point: Point { lambda, x, tips },
+                    det_sign,
                     iterations: iteration,
                 });
             }
+            let mut jac = self.jacobian(drive, lambda, &x, &sys);
+            let mut step: Vec<f64> = sys.residual.iter().map(|v| -v).collect();
+            let lu = lu_solve(&mut jac, &mut step, n).ok_or("singular Jacobian")?;
+            det_sign = Some(lu.det_sign);
+            if converged {
+                continue;
+            }
             // Damped: halve the step while the residual grows.
-            let norm0 = norm(&r);
+            let norm0 = norm(&sys.residual);
             let mut t = 1.0;
             loop {
                 let trial: Vec<f64> = x.iter().zip(&step).map(|(a, d)| a + t * d).collect();
-                let mut rt = Vec::with_capacity(n);
-                let accepted = match self.solve_flexures(&trial, &states) {
-                    Ok(st) => {
-                        let lt = self.residual(drive, lambda, &trial, &self.tips(&st), &mut rt);
-                        if norm(&rt) < norm0 || t < 0.1 {
-                            Some((st, lt))
-                        } else {
-                            None
-                        }
+                if let Ok(st) = self.system(drive, lambda, &trial) {
+                    if norm(&st.residual) < norm0 || t < 0.1 {
+                        (x, sys) = (trial, st);
+                        break;
                     }
-                    Err(_) => None,
-                };
-                if let Some((st, lt)) = accepted {
-                    (x, states, load, r) = (trial, st, lt, rt);
-                    break;
                 }
                 t *= 0.5;
                 if t < 0.01 {
@@ -356,28 +481,25 @@ impl<M: TipModel> MechSolver<M> {
     ) -> Result<Vec<MechCase>, MechError> {
         let steps = steps.max(1);
         let x0 = self.start(drive);
-        let states0: Vec<M::Warm> = self.models.iter().map(|m| m.unloaded()).collect();
         let n = x0.len();
         // The unloaded pose: its Jacobian's sign is the reference, and a singular one means
         // the drive asks for a motion nothing can make.
-        let tips0 = self.tips(&states0);
-        let mut r0 = Vec::with_capacity(n);
-        self.residual(drive, 0.0, &x0, &tips0, &mut r0);
-        let mut jac = self.jacobian(drive, 0.0, &x0, &states0, &r0)?;
+        let sys0 = self.system(drive, 0.0, &x0)?;
+        let mut jac = self.jacobian(drive, 0.0, &x0, &sys0);
         let mut rhs = vec![0.0; n];
         let immobile = |ratio: f64| MechError::Immobile {
             drive: index,
             detail: format!("its smallest pivot is {ratio:.1e} of its largest"),
         };
         equilibrate(&mut jac, n);
-        let sign0 = match lu_solve(&mut jac, &mut rhs, n) {
-            Some(lu) if lu.pivot_ratio > SINGULAR => lu.det_sign,
+        let (sign0, ratio0) = match lu_solve(&mut jac, &mut rhs, n) {
+            Some(lu) if lu.pivot_ratio > SINGULAR => (lu.det_sign, lu.pivot_ratio),
             other => return Err(immobile(other.map_or(0.0, |l| l.pivot_ratio))),
         };
         let mut prev = Point {
             lambda: 0.0,
             x: x0,
-            states: states0,
+            tips: sys0.evals.iter().map(|e| e.tip).collect(),
         };
         let mut prev2: Option<(f64, Vec<f64>)> = None;
         let mut out = Vec::with_capacity(steps as usize);
@@ -398,26 +520,27 @@ impl<M: TipModel> MechSolver<M> {
                     }
                     None => prev.x.clone(),
                 };
-                let failure = match self.newton(drive, lambda, guess, &prev.states) {
+                let failure = match self.newton(drive, lambda, guess) {
                     Ok(c) => {
                         iterations += c.iterations;
-                        let jump = self
-                            .tips(&c.point.states)
+                        let jump = c
+                            .point
+                            .tips
                             .iter()
-                            .zip(self.tips(&prev.states))
-                            .fold(0.0_f64, |m, (a, b)| m.max(a.max_diff(&b)));
-                        if c.det_sign != sign0 {
-                            return Err(MechError::Critical {
-                                drive: index,
-                                fraction: prev.lambda,
-                            });
-                        }
+                            .zip(&prev.tips)
+                            .fold(0.0_f64, |m, (a, b)| m.max(a.max_diff(b)));
                         if jump <= MAX_TIP_STEP {
+                            if c.det_sign != sign0 {
+                                return Err(MechError::Critical {
+                                    drive: index,
+                                    fraction: prev.lambda,
+                                });
+                            }
                             prev2 = Some((prev.lambda, std::mem::take(&mut prev.x)));
                             prev = c.point;
                             dlam = (2.0 * dlam).min(1.0 / steps as f64);
                             if lambda >= target {
-                                out.push(self.case(drive, &prev, iterations));
+                                out.push(self.case(drive, &prev, iterations)?);
                                 break;
                             }
                             continue;
@@ -428,6 +551,14 @@ impl<M: TipModel> MechSolver<M> {
                 };
                 dlam *= 0.5;
                 if dlam < MIN_STEP {
+                    // Stuck next to a nearly singular Jacobian: a limit point, where the
+                    // path turns back and no equilibrium lies further along the drive.
+                    if self.pivot_ratio(drive, &prev) < NEAR_CRITICAL * ratio0 {
+                        return Err(MechError::Critical {
+                            drive: index,
+                            fraction: prev.lambda,
+                        });
+                    }
                     return Err(MechError::NoEquilibrium {
                         drive: index,
                         fraction: prev.lambda,
@@ -439,37 +570,55 @@ impl<M: TipModel> MechSolver<M> {
         Ok(out)
     }
 
+    /// The equilibrated Jacobian's smallest pivot over its largest at an accepted point (0
+    /// if it cannot be evaluated).
+    fn pivot_ratio(&self, drive: &[Coordinate; 3], point: &Point) -> f64 {
+        let n = point.x.len();
+        let Ok(sys) = self.system(drive, point.lambda, &point.x) else {
+            return 0.0;
+        };
+        let mut jac = self.jacobian(drive, point.lambda, &point.x, &sys);
+        equilibrate(&mut jac, n);
+        let mut rhs = vec![0.0; n];
+        lu_solve(&mut jac, &mut rhs, n).map_or(0.0, |lu| lu.pivot_ratio)
+    }
+
     /// The reported case at an accepted point.
-    fn case(&self, drive: &[Coordinate; 3], point: &Point<M::Warm>, iterations: u32) -> MechCase {
-        let tips = self.tips(&point.states);
-        let mut r = Vec::new();
-        let sum = self.residual(drive, point.lambda, &point.x, &tips, &mut r);
-        let mut stage_load = sum;
+    fn case(
+        &self,
+        drive: &[Coordinate; 3],
+        point: &Point,
+        iterations: u32,
+    ) -> Result<MechCase, MechError> {
+        let sys = self.system(drive, point.lambda, &point.x)?;
+        let mut stage_load = sys.load;
         for (l, c) in stage_load.iter_mut().zip(drive) {
             if let Coordinate::Loaded(v) = c {
                 *l = point.lambda * v;
             }
         }
-        let offsets = self.offsets();
-        let flexures = tips
+        let flexures = sys
+            .evals
             .iter()
             .enumerate()
-            .map(|(i, tip)| {
-                let n = unknowns_of(self.geometry.frames[i].joint);
+            .map(|(i, e)| {
+                let (w, _) = self.own_wrench(i, &point.x);
+                let o = self.offsets[i] + 3;
+                let z = &point.x[o..o + self.models[i].internal()];
                 FlexureCase {
-                    tip: *tip,
-                    wrench: self.wrench(i, &point.x[offsets[i]..offsets[i] + n]),
-                    load_stable: self.models[i].load_stability(&point.states[i]) > 0.0,
+                    tip: e.tip,
+                    wrench: Load::new(w[0], w[1], e.tip_moment),
+                    load_stable: self.models[i].load_stable(e, w, z),
                 }
             })
             .collect();
-        MechCase {
+        Ok(MechCase {
             fraction: point.lambda,
             stage: self.pose(drive, point.lambda, &point.x),
             stage_load,
             flexures,
             iterations,
-        }
+        })
     }
 }
 
@@ -505,8 +654,101 @@ fn equilibrate(matrix: &mut [f64], n: usize) {
     }
 }
 
-/// The sign of a square matrix's determinant (row-major, destroyed; `rhs` is scratch of
-/// length `n`), 0 for a singular one.
-pub fn det_sign(matrix: &mut [f64], rhs: &mut [f64], n: usize) -> f64 {
-    lu_solve(matrix, rhs, n).map_or(0.0, |lu| lu.det_sign)
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::beam::{Effects, Resolution};
+    use crate::mech::{exact, prb};
+    use crate::prb::PrbMatrix;
+    use crate::scene::{Attach, BeamSpec, EffectsChoice, Flexure, Mechanism};
+    use Coordinate::{Loaded, Prescribed};
+
+    /// Three flexures of different sizes, directions and attachments, every effect on.
+    fn mixed() -> Mechanism {
+        let beam = |length: f64, thickness: f64| BeamSpec {
+            length,
+            width: 0.01,
+            thickness,
+            youngs_modulus: 2e9,
+            poisson_ratio: 0.45,
+            shear_coefficient: None,
+            effects: EffectsChoice::Fixed(Effects {
+                shear: true,
+                extension: true,
+                poisson: true,
+            }),
+        };
+        let flexure = |root: [f64; 2], deg: f64, attach, b| Flexure {
+            root,
+            angle: f64::to_radians(deg),
+            attach,
+            beam: b,
+        };
+        Mechanism {
+            flexures: vec![
+                flexure([0.0, 0.03], 0.0, Attach::Clamped, beam(0.1, 0.01)),
+                flexure([0.0, -0.03], 10.0, Attach::Pinned, beam(0.12, 0.008)),
+                flexure(
+                    [0.12, 0.1],
+                    -80.0,
+                    Attach::Link { to: [0.09, 0.0] },
+                    beam(0.08, 0.01),
+                ),
+            ],
+            stage_point: [0.1, 0.03],
+            drives: Vec::new(),
+        }
+    }
+
+    /// The analytic Jacobian against central differences of the whole residual at a point
+    /// away from equilibrium. Differences with h = 1e-6 err by O(h^2) relative to the
+    /// residual's curvature plus the shots' tolerance 1e-12 / h = 1e-6; the beam's
+    /// sensitivities are integrated to a relative 1e-7. So 1e-4 relative to the column.
+    fn check<M: FlexureModel>(s: &MechSolver<M>, drive: &[Coordinate; 3]) {
+        let x0 = s.start(drive);
+        let x: Vec<f64> = x0
+            .iter()
+            .enumerate()
+            .map(|(j, v)| v + 0.05 * ((j as f64 * 1.7).sin() + 0.3))
+            .collect();
+        let n = x.len();
+        let lambda = 0.6;
+        let sys = s.system(drive, lambda, &x).unwrap();
+        let jac = s.jacobian(drive, lambda, &x, &sys);
+        for col in 0..n {
+            let h = 1e-6;
+            let mut xp = x.clone();
+            let mut xm = x.clone();
+            xp[col] += h;
+            xm[col] -= h;
+            let rp = s.system(drive, lambda, &xp).unwrap().residual;
+            let rm = s.system(drive, lambda, &xm).unwrap().residual;
+            let scale = (0..n).fold(1.0_f64, |m, r| m.max(jac[r * n + col].abs()));
+            for row in 0..n {
+                let fd = (rp[row] - rm[row]) / (2.0 * h);
+                let an = jac[row * n + col];
+                assert!(
+                    (fd - an).abs() <= 1e-4 * scale,
+                    "row {row} col {col}: analytic {an}, differences {fd}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn analytic_jacobian_matches_differences() {
+        let m = mixed();
+        let drives = [
+            [Loaded(0.3), Loaded(-1.0), Loaded(0.2)],
+            [Prescribed(0.01), Loaded(2.0), Prescribed(0.05)],
+        ];
+        let beam = exact::solver(&m, Resolution::with_tol(1e-12)).unwrap();
+        let su =
+            PrbMatrix::parse("0.10,inf,inf; 0.35,3.51,40; 0.40,2.99,inf; 0.15,2.58,inf").unwrap();
+        let chain = prb::solver(&m, &su, 1e-10);
+        for d in &drives {
+            check(&beam, d);
+            check(&chain, d);
+        }
+    }
 }

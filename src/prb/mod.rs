@@ -6,4 +6,4 @@ pub mod published;
 mod statics;
 
 pub use matrix::{Column, MatrixError, PrbMatrix, PrbRow, GAMMA_SUM_TOL, MAX_SPRING};
-pub use statics::{PrbCase, PrbError, PrbSolution, PrbSolver, SolverLimits};
+pub use statics::{Linearised, PrbCase, PrbError, PrbSolution, PrbSolver, SolverLimits};

@@ -65,6 +65,21 @@ enum Dof {
     Delta(usize),
 }
 
+/// A chain linearised at a configuration: see [`PrbSolver::linearise`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct Linearised {
+    /// The tip.
+    pub tip: TipPose,
+    /// `K q - tau(q)`, one row per degree of freedom.
+    pub residual: Vec<f64>,
+    /// Its Jacobian with respect to `q` (the tangent stiffness), row-major.
+    pub stiffness: Vec<f64>,
+    /// `d(a, b, phi) / dq`, 3 rows of `m`, row-major.
+    pub tip_jacobian: Vec<f64>,
+    /// Scratch.
+    work: Workspace,
+}
+
 /// An equilibrium of the chain.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PrbSolution {
@@ -509,6 +524,63 @@ impl PrbSolver {
         Ok(())
     }
 
+    /// The chain linearised at `q` under `load` (for solvers that take `q` and the load as
+    /// unknowns together, like a closed mechanism's): the residual `K q - tau(q)`, its
+    /// Jacobian with respect to `q`, the tip and the tip's Jacobian `d(a, b, phi) / dq`
+    /// (3 rows of `m`, row-major). `tau = J^T (alpha_x, alpha_y, beta)` is the virtual work
+    /// of the tip wrench, so the residual's derivative with respect to the wrench is minus
+    /// the tip Jacobian's transpose.
+    pub fn linearise(&self, load: Load, q: &[f64]) -> Linearised {
+        let mut out = self.linearised();
+        self.linearise_into(load, q, &mut out);
+        out
+    }
+
+    /// Storage for [`PrbSolver::linearise_into`], sized for this chain.
+    pub fn linearised(&self) -> Linearised {
+        let m = self.dofs.len();
+        Linearised {
+            tip: TipPose::STRAIGHT,
+            residual: vec![0.0; m],
+            stiffness: vec![0.0; m * m],
+            tip_jacobian: vec![0.0; 3 * m],
+            work: Workspace::new(self.gamma.len(), m),
+        }
+    }
+
+    /// [`PrbSolver::linearise`] into storage from [`PrbSolver::linearised`], allocating
+    /// nothing (a mechanism's Newton iteration calls it for every chain at every step).
+    pub fn linearise_into(&self, load: Load, q: &[f64], out: &mut Linearised) {
+        let n = self.gamma.len();
+        let m = self.dofs.len();
+        let ws = &mut out.work;
+        out.tip = self.residual(load, q, ws);
+        // Suffix sums of the segments' projections: d(a, b)/d(theta_i) turns everything
+        // beyond joint i.
+        let (mut sa, mut sb) = (0.0, 0.0);
+        for j in (0..n).rev() {
+            let (s, c) = ws.theta_cum[j].sin_cos();
+            sa -= ws.length[j] * s;
+            sb += ws.length[j] * c;
+            ws.suffix_q[j] = sa;
+            ws.suffix_n[j] = sb;
+        }
+        for (c, dof) in self.dofs.iter().enumerate() {
+            let (da, db, dphi) = match *dof {
+                Dof::Theta(i) => (ws.suffix_q[i], ws.suffix_n[i], 1.0),
+                Dof::Delta(i) => {
+                    let (s, co) = ws.theta_cum[i].sin_cos();
+                    (co, s, 0.0)
+                }
+            };
+            out.tip_jacobian[c] = da;
+            out.tip_jacobian[m + c] = db;
+            out.tip_jacobian[2 * m + c] = dphi;
+        }
+        out.residual.copy_from_slice(&ws.res[..m]);
+        out.stiffness.copy_from_slice(&ws.jac[..m * m]);
+    }
+
     /// The residual and Jacobian at `q`, for testing the analytic Jacobian.
     pub fn residual_and_jacobian(&self, load: Load, q: &[f64]) -> (Vec<f64>, Vec<f64>) {
         let m = self.dofs.len();
@@ -526,6 +598,7 @@ enum Failure {
 }
 
 /// Scratch space for one path solve, so Newton allocates nothing.
+#[derive(Debug, Clone, PartialEq)]
 struct Workspace {
     /// Newton iterations spent on the current path.
     spent: u32,

@@ -1,0 +1,151 @@
+//! The beam shot from its clamp with its tip force and root moment given: an initial-value
+//! problem, for solvers that take the root moment as an unknown (the mechanism's Newton
+//! iteration, `crate::mech::exact`).
+//!
+//! A loaded beam is a boundary-value problem (the tip moment is given, the root moment is
+//! not), solved by shooting in [`BeamSolver::solve`]; with the root moment given instead
+//! there is nothing to solve: one integration gives the tip, the tip moment that holds it,
+//! and from the variational equations their exact derivatives with respect to the force and
+//! the root moment (the tip's compliance). The map has no folds, so a beam held by a
+//! mechanism past its own load-controlled limit point is as regular as any other.
+
+use super::shoot::{root_shot, ShotFailure, TipForce};
+use super::{BeamSolver, CaseContext, Load, SolveError, TipPose};
+use crate::cancel::CancelToken;
+
+/// The beam shot from its clamp under a tip force and a root moment ([`BeamSolver::shoot_root`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RootShot {
+    /// The tip pose.
+    pub tip: TipPose,
+    /// The bending moment at the tip, `beta = M(L) L / (E I0)`: the tip moment that holds
+    /// this shape under the force.
+    pub tip_moment: f64,
+    /// `d(a, b, phi, beta) / d(alpha_x, alpha_y, m0)`, row-major (4 rows, 3 columns), from the
+    /// variational equations integrated with the shot.
+    pub jacobian: [[f64; 3]; 4],
+}
+
+impl RootShot {
+    /// `dM(L)/dM(0)`, positive where the beam under its tip wrench alone (a given load) is
+    /// stable (the single beam's test).
+    pub fn stability(&self) -> f64 {
+        self.jacobian[3][2]
+    }
+}
+
+impl BeamSolver {
+    /// The beam integrated from its clamp with the tip force `(alpha_x, alpha_y)` and the
+    /// root moment `m0` (units of this beam): an initial-value problem, one integration, no
+    /// Newton iteration and no fold. A mechanism that takes the root moment as its unknown
+    /// instead of the tip moment solves its flexures this way (`crate::mech::exact`). One
+    /// shot over the whole beam: perturbations grow like `exp(sqrt(|alpha|))`, so forces
+    /// past a few hundred lose digits (the loaded solvers split the beam instead).
+    pub fn shoot_root(&self, alpha_x: f64, alpha_y: f64, m0: f64) -> Result<RootShot, SolveError> {
+        let load = Load::new(alpha_x, alpha_y, m0);
+        if !load.is_finite() {
+            return Err(SolveError::NonFiniteLoad(load));
+        }
+        let cancel = CancelToken::new();
+        let mut case = CaseContext::new(self.budget, &self.model, &cancel);
+        let mut settings = self.settings(load);
+        settings.moment_scale = load.magnitude();
+        let force = TipForce { alpha_x, alpha_y };
+        let failure = |reason: &str| SolveError::NoConvergence {
+            load,
+            fraction: 0.0,
+            reason: reason.to_string(),
+        };
+        let (u, _) =
+            root_shot(&self.model, force, m0, settings, &mut case.meter).map_err(|e| match e {
+                ShotFailure::Material(limit) => SolveError::MaterialLimit {
+                    load,
+                    fraction: 0.0,
+                    reason: limit.to_string(),
+                },
+                ShotFailure::StepBudget => failure("the integrator's step size collapsed"),
+                ShotFailure::NonFinite => failure("the shot overflowed"),
+                ShotFailure::OutOfEffort => case.exceeded(load, 0.0),
+                ShotFailure::Cancelled => SolveError::Cancelled {
+                    load,
+                    fraction: 0.0,
+                },
+            })?;
+        // Slots: psi, M, x, y; then d/dM0 (4..8), d/dalpha_x (8..12), d/dalpha_y (12..16).
+        let row = |k: usize| [u[8 + k], u[12 + k], u[4 + k]];
+        Ok(RootShot {
+            tip: TipPose {
+                a: u[2],
+                b: u[3],
+                phi: u[0],
+            },
+            tip_moment: u[1],
+            jacobian: [row(2), row(3), row(0), row(1)],
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::beam::{BeamModel, Effects, Resolution};
+
+    fn stubby_rubber() -> BeamSolver {
+        let effects = Effects {
+            shear: true,
+            extension: true,
+            poisson: true,
+        };
+        let model = BeamModel::new(4.0, 0.49, None, effects).unwrap();
+        BeamSolver::new(model, Resolution::with_tol(1e-10)).unwrap()
+    }
+
+    /// The variational equations against central differences of the shot itself, with every
+    /// effect on (the force terms are the new part). Central differences with h = 1e-5 err
+    /// by O(h^2) ~ 1e-10 times the third derivative, plus 1e-10 / h ~ 1e-5 from the shots'
+    /// own tolerance; the sensitivities are integrated to a relative 1e-7. So 1e-4 relative.
+    #[test]
+    fn root_shot_jacobian_matches_differences() {
+        for solver in [
+            stubby_rubber(),
+            BeamSolver::new(BeamModel::elastica(), Resolution::with_tol(1e-10)).unwrap(),
+        ] {
+            let x = [-1.3, 2.1, 0.7];
+            let shot = solver.shoot_root(x[0], x[1], x[2]).unwrap();
+            let out = |s: &RootShot| [s.tip.a, s.tip.b, s.tip.phi, s.tip_moment];
+            for col in 0..3 {
+                let h = 1e-5;
+                let mut xp = x;
+                let mut xm = x;
+                xp[col] += h;
+                xm[col] -= h;
+                let p = out(&solver.shoot_root(xp[0], xp[1], xp[2]).unwrap());
+                let m = out(&solver.shoot_root(xm[0], xm[1], xm[2]).unwrap());
+                for row in 0..4 {
+                    let fd = (p[row] - m[row]) / (2.0 * h);
+                    let an = shot.jacobian[row][col];
+                    assert!(
+                        (fd - an).abs() <= 1e-4 * (1.0 + fd.abs()),
+                        "row {row} col {col}: analytic {an}, differences {fd}"
+                    );
+                }
+            }
+        }
+    }
+
+    /// The root shot's tip moment, given as a load, reproduces its tip (the loaded solver
+    /// follows the path from rest; this load is below any limit point).
+    #[test]
+    fn root_shot_is_the_loaded_beam() {
+        let solver = stubby_rubber();
+        let shot = solver.shoot_root(0.8, 1.5, 1.2).unwrap();
+        let loaded = solver.solve(Load::new(0.8, 1.5, shot.tip_moment)).unwrap();
+        assert!(
+            shot.tip.max_diff(&loaded.tip) < 1e-8,
+            "{:?} vs {:?}",
+            shot.tip,
+            loaded.tip
+        );
+        assert!(shot.stability() > 0.0);
+    }
+}
