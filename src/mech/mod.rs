@@ -57,6 +57,7 @@
 //! solved under.
 
 pub mod exact;
+pub mod figures;
 pub mod geometry;
 pub mod prb;
 pub mod solve;
