@@ -99,10 +99,14 @@ fn count(n: usize, thing: &str) -> String {
     }
 }
 
-/// `x` with a negative zero made positive, so that tables do not print `-0.00000` for a
-/// reaction that is exactly zero.
+/// `x` with round-off zeros (below `1e-12`, far under the tables' last digit) printed as
+/// `0`, so that a reaction that is zero in exact arithmetic does not show as `-0.00000`.
 fn tidy(x: f64) -> f64 {
-    x + 0.0
+    if x.abs() < 1e-12 {
+        0.0
+    } else {
+        x
+    }
 }
 
 /// A drive path as the reports describe it.
