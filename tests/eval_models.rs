@@ -108,6 +108,19 @@ fn example_scenes_are_valid() {
             continue;
         }
         let scene = Scene::from_file(&path).unwrap();
+        if let Some(m) = &scene.mechanism {
+            // A mechanism scene (DESIGN §8) has no cantilever cases: its check is that the
+            // exact mechanism and Su's 3R in every flexure follow every drive
+            // (tests/cli_mech.rs checks each scene's physics).
+            let exact = prbfit::mech::exact::solve(m, Resolution::default())
+                .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+            let su = ModelFile::load("su-3r").unwrap().prb;
+            let prb = prbfit::mech::prb::solve(m, &su, 1e-9)
+                .unwrap_or_else(|e| panic!("su-3r on {}: {e}", path.display()));
+            assert_eq!(exact.len(), prb.len());
+            count += 1;
+            continue;
+        }
         let baseline = Baseline::compute(&scene, Resolution::default())
             .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
         for model in prbfit::prb::published::all() {

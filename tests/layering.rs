@@ -7,8 +7,8 @@ use std::path::Path;
 
 /// Bottom first; each module may use those before it. `cli` is the binary and sits on top.
 const LAYERS: [&str; 18] = [
-    "cancel", "text", "linalg", "beam", "prb", "scene", "si", "fidelity", "format", "eval", "fit",
-    "select", "tradeoff", "io", "export", "plot", "mech", "tui",
+    "cancel", "text", "linalg", "beam", "prb", "scene", "mech", "si", "fidelity", "format", "eval",
+    "fit", "select", "tradeoff", "io", "export", "plot", "tui",
 ];
 
 fn rank(module: &str) -> Option<usize> {

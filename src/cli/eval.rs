@@ -16,7 +16,7 @@ use prbfit::select::EffectsDecision;
 
 use super::args::EvalArgs;
 use super::output::{emit, met, num, safe, DecisionLine, Progress};
-use super::{bad, parse_matrix, resolved_scene, scene_model};
+use super::{bad, load_scene, parse_matrix, resolve_scene, scene_model};
 
 /// One model's row, or several under `models` (DESIGN §6).
 #[derive(Debug, Serialize)]
@@ -32,7 +32,7 @@ pub enum OneOrMany<T> {
 }
 
 impl<T> OneOrMany<T> {
-    fn new(mut rows: Vec<T>) -> OneOrMany<T> {
+    pub(super) fn new(mut rows: Vec<T>) -> OneOrMany<T> {
         if rows.len() == 1 {
             if let Some(one) = rows.pop() {
                 return OneOrMany::One(one);
@@ -41,7 +41,7 @@ impl<T> OneOrMany<T> {
         OneOrMany::Many { models: rows }
     }
 
-    fn rows(&self) -> &[T] {
+    pub(super) fn rows(&self) -> &[T] {
         match self {
             OneOrMany::One(t) => std::slice::from_ref(t),
             OneOrMany::Many { models } => models,
@@ -194,7 +194,7 @@ impl fmt::Display for SceneReport {
 
 /// The models named on the command line, in order: `--model`s then `--prb`s; with none, the
 /// scene's `[prb] matrix`.
-fn named_models(args: &EvalArgs, scene: &Scene) -> Result<Vec<(String, PrbMatrix)>> {
+pub(super) fn named_models(args: &EvalArgs, scene: &Scene) -> Result<Vec<(String, PrbMatrix)>> {
     let mut out = Vec::new();
     for name in &args.model {
         let m = ModelFile::load(name)?;
@@ -212,7 +212,11 @@ fn named_models(args: &EvalArgs, scene: &Scene) -> Result<Vec<(String, PrbMatrix
 
 /// Runs `prbfit eval`.
 pub fn run(args: EvalArgs) -> Result<()> {
-    let (scene, decision) = resolved_scene(&args.common)?;
+    let scene = load_scene(&args.common)?;
+    if let Some(mechanism) = &scene.mechanism {
+        return super::mech::eval(&scene, mechanism, &args);
+    }
+    let (scene, decision) = resolve_scene(&scene)?;
     let models = named_models(&args, &scene)?;
     let resolution = Resolution::with_tol(args.tol);
     let json = args.common.json;

@@ -44,7 +44,7 @@ pub fn run(args: ExportArgs) -> Result<()> {
     // Refuse before spending the time on a baseline: an existing file without --force, a
     // device, a dangling link.
     check_target(&args.output, args.force)?;
-    let (scene, _) = resolved_scene(&args.common)?;
+    let (scene, _) = resolved_scene(&args.common, "export")?;
     let (name, matrix) = match (&args.model, &args.prb) {
         (Some(m), _) => {
             let file = ModelFile::load(m)?;

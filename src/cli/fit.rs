@@ -89,7 +89,7 @@ impl fmt::Display for FitOutput {
 
 /// Runs `prbfit fit`.
 pub fn run(args: FitArgs) -> Result<()> {
-    let (scene, decision) = resolved_scene(&args.common)?;
+    let (scene, decision) = resolved_scene(&args.common, "fit")?;
     let start = match (&args.topology, &args.prb) {
         (Some(t), _) => {
             PrbMatrix::from_topology(t).map_err(|e| bad(format!("--topology {t}: {e}")))?

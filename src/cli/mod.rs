@@ -10,6 +10,7 @@ mod args;
 mod eval;
 mod export;
 mod fit;
+mod mech;
 mod output;
 mod plot;
 mod select;
@@ -151,24 +152,23 @@ fn scene_model(scene: &Scene) -> Result<(String, PrbMatrix)> {
         })
 }
 
-/// The scene named by `--scene`, or the built-in one.
+/// The scene named by `--scene`, or the built-in one: a cantilever or a mechanism scene.
 fn load_scene(common: &Common) -> Result<Scene> {
-    let scene = match &common.scene {
+    Ok(match &common.scene {
         None => Scene::builtin(),
         Some(path) => Scene::from_file(path)?,
-    };
-    refuse_mechanism(&scene)?;
-    Ok(scene)
+    })
 }
 
-/// Mechanism scenes (DESIGN §8) are read and checked, but this version cannot solve them
-/// yet: say so instead of judging a cantilever that is not there.
-fn refuse_mechanism(scene: &Scene) -> Result<()> {
+/// Mechanism scenes (DESIGN §8) are solved and judged by `solve` and `eval`; the other
+/// commands cannot take them yet: say so (bad input, exit 2) instead of judging a cantilever
+/// that is not there.
+fn refuse_mechanism(scene: &Scene, command: &str) -> Result<()> {
     match &scene.mechanism {
         None => Ok(()),
         Some(m) => Err(bad(format!(
-            "\"{}\" is a mechanism scene ({} flexures, {} drive paths): it is valid, but this \
-             version of prbfit solves only cantilever scenes (DESIGN §5), not mechanisms (§8)",
+            "\"{}\" is a mechanism scene ({} flexures, {} drive paths): mechanism scenes are \
+             not supported by `{command}` yet (`solve` and `eval` take them)",
             output::safe(&scene.name),
             m.flexures.len(),
             m.drives.len()
@@ -177,9 +177,16 @@ fn refuse_mechanism(scene: &Scene) -> Result<()> {
 }
 
 /// The scene with `effects = "auto"` decided, and the decision.
-fn resolved_scene(common: &Common) -> Result<(Scene, Option<EffectsDecision>)> {
+fn resolve_scene(scene: &Scene) -> Result<(Scene, Option<EffectsDecision>)> {
+    resolve_effects(scene, Resolution::default()).context("deciding the beam effects")
+}
+
+/// The cantilever scene `command` works on, with `effects = "auto"` decided, and the
+/// decision; a mechanism scene is refused.
+fn resolved_scene(common: &Common, command: &str) -> Result<(Scene, Option<EffectsDecision>)> {
     let scene = load_scene(common)?;
-    resolve_effects(&scene, Resolution::default()).context("deciding the beam effects")
+    refuse_mechanism(&scene, command)?;
+    resolve_scene(&scene)
 }
 
 #[cfg(feature = "tui")]
@@ -188,7 +195,7 @@ fn tui(path: Option<PathBuf>) -> Result<()> {
         Some(p) => Scene::from_file(p)?,
         None => Scene::builtin(),
     };
-    refuse_mechanism(&scene)?;
+    refuse_mechanism(&scene, "tui")?;
     prbfit::tui::run(scene, path).map_err(|e| bad(format!("{e:#}")))
 }
 

@@ -148,7 +148,7 @@ pub fn run(args: PlotArgs, matches: Option<&ArgMatches>) -> Result<()> {
     })?;
     // Refuse before spending the time on a baseline.
     check_target(&args.output, args.force)?;
-    let (scene, _) = resolved_scene(&args.common)?;
+    let (scene, _) = resolved_scene(&args.common, "plot")?;
     if args.path == 0 || args.path > scene.loads.len() {
         return Err(bad(format!(
             "--path {}: the scene has {} load path(s), numbered from 1",

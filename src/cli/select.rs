@@ -114,7 +114,7 @@ impl fmt::Display for SelectOutput {
 
 /// Runs `prbfit select`.
 pub fn run(args: SelectArgs) -> Result<()> {
-    let (scene, decision) = resolved_scene(&args.common)?;
+    let (scene, decision) = resolved_scene(&args.common, "select")?;
     let t0 = Instant::now();
     let baseline = args.fidelity.baseline(&scene).context("baseline beam")?;
     let mut progress = Progress::new("selecting");

@@ -13,7 +13,7 @@ use prbfit::select::EffectsDecision;
 
 use super::args::SolveArgs;
 use super::output::{num, safe, DecisionLine, Progress};
-use super::{bad, load_scene, resolved_scene};
+use super::{bad, load_scene, resolve_scene};
 
 /// The beam as solved, for the reports.
 #[derive(Debug, Serialize)]
@@ -176,10 +176,14 @@ fn beam_model(scene: &Scene, args: &SolveArgs) -> Result<BeamModel> {
 
 /// Runs `prbfit solve`.
 pub fn run(args: SolveArgs) -> Result<()> {
+    let scene = load_scene(&args.common)?;
+    if let Some(mechanism) = &scene.mechanism {
+        return super::mech::solve(&scene, mechanism, &args);
+    }
     let (scene, decision) = if args.effects.is_some() {
-        (load_scene(&args.common)?, None)
+        (scene, None)
     } else {
-        resolved_scene(&args.common)?
+        resolve_scene(&scene)?
     };
     let model = beam_model(&scene, &args)?;
     let solver = BeamSolver::new(model, Resolution::with_tol(args.tol))

@@ -53,7 +53,7 @@ impl fmt::Display for TradeoffOutput {
 
 /// Runs `prbfit tradeoff`.
 pub fn run(args: TradeoffArgs) -> Result<()> {
-    let (scene, decision) = resolved_scene(&args.common)?;
+    let (scene, decision) = resolved_scene(&args.common, "tradeoff")?;
     let start = PrbMatrix::from_topology(&args.topology)
         .map_err(|e| bad(format!("--topology {}: {e}", args.topology)))?;
     let knobs = measure(&scene, &start, &CancelToken::new())?;

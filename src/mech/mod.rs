@@ -53,6 +53,7 @@
 //! balances (`FlexureCase::load_stable` says whether loading from rest reaches it).
 
 pub mod exact;
+pub mod figures;
 pub mod geometry;
 pub mod prb;
 pub mod solve;
