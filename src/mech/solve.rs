@@ -508,7 +508,13 @@ impl<M: FlexureModel> MechSolver<M> {
             let target = k as f64 / steps as f64;
             let mut iterations = 0;
             loop {
-                let lambda = (prev.lambda + dlam).min(target);
+                // Snap onto the case's fraction when within rounding of it, so the last case
+                // reports the drive's own end values.
+                let lambda = if prev.lambda + dlam >= target - 1e-12 {
+                    target
+                } else {
+                    prev.lambda + dlam
+                };
                 let guess: Vec<f64> = match &prev2 {
                     Some((l2, x2)) => {
                         let t = (lambda - prev.lambda) / (prev.lambda - l2);
