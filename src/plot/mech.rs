@@ -185,6 +185,34 @@ impl Abscissa {
     }
 }
 
+/// What a drive varies, in display units: "dy 15 mm, Fx 10 N" (its nonzero end values).
+fn summary(drive: &Drive, units: &Units) -> String {
+    let parts: Vec<String> = drive
+        .coordinates
+        .iter()
+        .enumerate()
+        .filter(|(_, k)| k.value() != 0.0)
+        .map(|(c, &k)| {
+            let (disp, load) = COORDINATE_KEYS[c];
+            let name = if k.is_prescribed() {
+                disp.to_string()
+            } else {
+                capitalised(load)
+            };
+            format!(
+                "{name} {} {}",
+                crate::text::bounded_prec(units.input(c, k), 4),
+                units.unit(c, k.is_prescribed())
+            )
+        })
+        .collect();
+    if parts.is_empty() {
+        "at rest".to_string()
+    } else {
+        parts.join(", ")
+    }
+}
+
 /// `fx` as `Fx`, for force names.
 fn capitalised(s: &str) -> String {
     let mut chars = s.chars();
@@ -400,7 +428,11 @@ pub fn figure_from(
                     drive: i + 1,
                     coordinate: c,
                     output,
-                    title: format!("drive {} of {drive_count}: {what} against {against}", i + 1),
+                    title: format!(
+                        "drive {} of {drive_count} ({}): {what} against {against}",
+                        i + 1,
+                        summary(d, &units)
+                    ),
                     x_label: x.label.clone(),
                     y_label,
                     beam: curve(beam_cases),

@@ -70,7 +70,12 @@ fn panel<DB: DrawingBackend>(
         .y_label_area_size(80)
         .build_cartesian_2d(xb[0]..xb[1], yb[0]..yb[1])
         .map_err(drawing)?;
+    let (x_digits, y_digits) = (digits(xb), digits(yb));
+    let x_format = move |v: &f64| tick(*v, x_digits);
+    let y_format = move |v: &f64| tick(*v, y_digits);
     ctx.configure_mesh()
+        .x_label_formatter(&x_format)
+        .y_label_formatter(&y_format)
         .x_desc(p.x_label.as_str())
         .y_desc(p.y_label.as_str())
         .label_style((FONT, 14))
@@ -136,9 +141,38 @@ fn panel<DB: DrawingBackend>(
     Ok(())
 }
 
+/// Decimals that tell the ticks of an axis spanning `range` apart (about ten ticks).
+fn digits(range: [f64; 2]) -> usize {
+    let step = (range[1] - range[0]).abs() / 10.0;
+    if step.is_finite() && step > 0.0 {
+        // Bounded: a span of 1e-300 asks for 300 digits at most; no axis gets near it.
+        (-step.log10().floor()).clamp(0.0, 12.0) as usize
+    } else {
+        1
+    }
+}
+
+/// A tick label with `digits` decimals, a round-off `-0` printed as `0`.
+fn tick(v: f64, digits: usize) -> String {
+    let text = format!("{v:.digits$}");
+    match text.strip_prefix('-') {
+        Some(rest) if rest.chars().all(|c| c == '0' || c == '.') => rest.to_string(),
+        _ => text,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn ticks_have_enough_digits_and_no_negative_zero() {
+        assert_eq!(digits([0.0, 35.0]), 0);
+        assert_eq!(digits([-0.8, 0.05]), 2);
+        assert_eq!(tick(-1e-17, 2), "0.00");
+        assert_eq!(tick(-0.25, 2), "-0.25");
+        assert_eq!(tick(15.0, 0), "15");
+    }
 
     #[test]
     fn the_grid_grows_with_the_panels() {
