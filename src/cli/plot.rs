@@ -78,9 +78,9 @@ impl fmt::Display for PlotOutput {
             }
             (None, ChartKind::Shapes) => format!("deformed shapes of load path {path}"),
             (None, ChartKind::Errors) => "tip errors of every load path".to_string(),
-            (None, _) => format!(
-                "deformed shapes of load path {path} and tip errors of every load path"
-            ),
+            (None, _) => {
+                format!("deformed shapes of load path {path} and tip errors of every load path")
+            }
         };
         let models = match names.split_first() {
             Some((first, [])) => first.clone(),
@@ -200,13 +200,11 @@ pub fn run(args: PlotArgs, matches: Option<&ArgMatches>) -> Result<()> {
         return run_mechanism(&args, matches, &scene, mechanism, format);
     }
     if !args.kind.has_shapes() && !args.kind.has_errors() {
-        return Err(bad(
-            PlotError::KindNotForScene {
-                kind: args.kind,
-                mechanism: false,
-            }
-            .to_string(),
-        ));
+        return Err(bad(PlotError::KindNotForScene {
+            kind: args.kind,
+            mechanism: false,
+        }
+        .to_string()));
     }
     let (scene, _) = resolve_scene(&scene)?;
     if args.path == 0 || args.path > scene.loads.len() {
@@ -325,8 +323,9 @@ fn run_mechanism(
     .map_err(|e| match e {
         PlotError::KindNotForScene { .. } | PlotError::NothingToDraw { .. } => kind_error(e),
         PlotError::TooManyModels { .. } => bad(format!("--model/--prb: {e}")),
-        other => anyhow::Error::new(other)
-            .context(format!("mechanism scene \"{}\"", safe(&scene.name))),
+        other => {
+            anyhow::Error::new(other).context(format!("mechanism scene \"{}\"", safe(&scene.name)))
+        }
     })?;
     write_figure(args, format, figure, &models, None)
 }

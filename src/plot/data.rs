@@ -12,8 +12,8 @@ use crate::eval::{Baseline, CaseError};
 use crate::prb::{PrbMatrix, PrbSolver};
 use crate::scene::Scene;
 
-use super::mech::ForceStrokeChart;
 use super::errors::{ErrorCurve, ErrorPoint, ErrorsChart, ModelErrors};
+use super::mech::ForceStrokeChart;
 use super::shapes::{Linkage, ModelShapes, ShapesChart};
 use super::{ChartKind, PlotError, MODEL_RGB};
 

@@ -33,10 +33,7 @@ pub fn canvas_size(panels: usize) -> (u32, u32) {
     // Bounded by the drives a scene may have; the casts cannot overflow for any real figure.
     let cols = u32::try_from(cols).unwrap_or(1);
     let rows = u32::try_from(rows).unwrap_or(1).min(64);
-    (
-        (PANEL.0 * cols).max(900),
-        PANEL.1 * rows + TITLE_HEIGHT,
-    )
+    ((PANEL.0 * cols).max(900), PANEL.1 * rows + TITLE_HEIGHT)
 }
 
 /// Draws the chart onto `area` (already titled): the panels in a grid, row by row.
@@ -60,7 +57,12 @@ fn panel<DB: DrawingBackend>(
     legend: Option<&[String]>,
 ) -> Result<(), PlotError> {
     let finite = |q: &&[f64; 2]| q[0].is_finite() && q[1].is_finite();
-    let all = || p.beam.iter().chain(p.models.iter().flatten()).filter(finite);
+    let all = || {
+        p.beam
+            .iter()
+            .chain(p.models.iter().flatten())
+            .filter(finite)
+    };
     let xb = bounds(all().map(|q| q[0]));
     let yb = bounds(all().map(|q| q[1]));
     let area = area.margin(5, 10, 10, 20);
@@ -121,10 +123,7 @@ fn panel<DB: DrawingBackend>(
 
     if legend.is_some() {
         // The corner the curve leaves empty: it runs from the origin towards its last point.
-        let along_diagonal = p
-            .beam
-            .last()
-            .is_none_or(|q| (q[0] >= 0.0) == (q[1] >= 0.0));
+        let along_diagonal = p.beam.last().is_none_or(|q| (q[0] >= 0.0) == (q[1] >= 0.0));
         let position = if along_diagonal {
             SeriesLabelPosition::UpperLeft
         } else {
