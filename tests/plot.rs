@@ -774,3 +774,59 @@ fn kinds_and_flags_that_do_not_fit_the_scene_exit_2() {
         &["--kind motion", "force"],
     );
 }
+
+#[test]
+fn a_model_that_stops_partway_along_a_drive_is_drawn_up_to_there() {
+    // The displacement-driven cantilever pushed 35 mm (0.7 L): a chain whose only joint sits
+    // at mid-length cannot reach past about half its length sideways, so it stops between
+    // the 5th and the 6th of the 8 cases; Su's 3R follows to the end.
+    let dir = Scratch::new("plot-partway");
+    let base = std::fs::read_to_string(example("driven-cantilever")).unwrap();
+    let deep: String = base
+        .lines()
+        .map(|l| {
+            if l.starts_with("dy = ") {
+                "dy = 0.035"
+            } else {
+                l
+            }
+        })
+        .collect::<Vec<_>>()
+        .join("\n");
+    let scene = dir.write("deep.toml", &deep);
+    let file = dir.file("deep.svg");
+    let report = json(&prbfit(&[
+        "plot",
+        "--scene",
+        &scene,
+        "--model",
+        "su-3r",
+        "--prb",
+        "0.5,inf,inf; 0.5,2.0,inf",
+        "-o",
+        &file,
+        "--json",
+    ]));
+    let unfollowed = report["unfollowed"].as_array().unwrap();
+    assert_eq!(unfollowed.len(), 1, "{report}");
+    assert_eq!(unfollowed[0]["model"], "l-r");
+    assert_eq!(unfollowed[0]["steps"], 8);
+    let reached = unfollowed[0]["reached"].as_u64().unwrap() as usize;
+    assert!((1..8).contains(&reached), "{report}");
+
+    let text = std::fs::read_to_string(&file).unwrap();
+    let doc = roxmltree::Document::parse(&text).unwrap();
+    let points = |rgb| -> Vec<usize> {
+        doc.descendants()
+            .filter(|n| n.has_tag_name("polyline") && n.attribute("stroke") == Some(&hex(rgb)))
+            .map(|n| n.attribute("points").unwrap().split_whitespace().count())
+            .filter(|&n| n > 2) // not a legend sample
+            .collect()
+    };
+    let panels = report["panels"].as_array().unwrap().len();
+    assert_eq!(points(MODEL_RGB[1]), vec![reached + 1; panels]);
+    assert_eq!(points(MODEL_RGB[0]), vec![8 + 1; panels]);
+    assert!(svg_texts(&doc)
+        .iter()
+        .any(|t| t == "l-r (stops on drive 1)"));
+}

@@ -1,4 +1,6 @@
 //! `prbfit plot`: the UI's charts as an SVG or PNG figure, for papers and design reviews.
+//! A mechanism scene (DESIGN §8) gets its force–stroke chart ([`prbfit::plot::mech`]): the
+//! kinds `force`, `motion` and `all` apply there, `shapes` and `errors` to cantilevers.
 
 use std::fmt;
 

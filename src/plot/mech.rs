@@ -387,8 +387,8 @@ pub fn figure_from(
             }
             let prescribed = output == Output::Reaction;
             let x = Abscissa::of(d, i + 1, prescribed, &units);
-            for c in 0..3 {
-                if d.coordinates[c].is_prescribed() != prescribed {
+            for (c, coordinate) in d.coordinates.iter().enumerate() {
+                if coordinate.is_prescribed() != prescribed {
                     continue;
                 }
                 let value = |case: &MechCase| match output {
