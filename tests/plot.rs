@@ -392,3 +392,441 @@ fn bad_input_exits_2_naming_what_is_wrong_and_writes_nothing() {
     args.extend_from_slice(&["-o", &fresh]);
     assert_input_error(&prbfit(&args), &["at most"]);
 }
+
+// ---- Mechanism scenes (DESIGN §8): the force–stroke chart ----
+
+use prbfit::beam::Resolution;
+use prbfit::io::ModelFile;
+use prbfit::mech::{exact, prb as prb_mech};
+use prbfit::plot::{mech, Output, PlotModel};
+
+/// An example scene file's path.
+fn example(name: &str) -> String {
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("assets/scenes")
+        .join(format!("{name}.toml"))
+        .display()
+        .to_string()
+}
+
+/// Polylines of each stroke colour in an SVG.
+fn polylines_by_colour(doc: &roxmltree::Document) -> HashMap<String, usize> {
+    let mut polylines: HashMap<String, usize> = HashMap::new();
+    for n in doc.descendants().filter(|n| n.has_tag_name("polyline")) {
+        *polylines
+            .entry(n.attribute("stroke").unwrap_or("").to_string())
+            .or_default() += 1;
+    }
+    polylines
+}
+
+/// Every text element's content, trimmed.
+fn svg_texts(doc: &roxmltree::Document) -> Vec<String> {
+    doc.descendants()
+        .filter(|n| n.has_tag_name("text"))
+        .map(|n| n.text().unwrap_or("").trim().to_string())
+        .collect()
+}
+
+#[test]
+fn slider_crank_force_stroke_chart_as_svg_and_png() {
+    let dir = Scratch::new("plot-mech");
+    let scene = example("slider-crank");
+    for ext in ["svg", "png"] {
+        let file = dir.file(&format!("slider-crank.{ext}"));
+        let report = json(&prbfit(&[
+            "plot",
+            "--scene",
+            &scene,
+            "--model",
+            "su-3r",
+            "--model",
+            "howell-1r",
+            "-o",
+            &file,
+            "--json",
+        ]));
+        assert_eq!(report["format"], ext);
+        assert_eq!(report["kind"], "all");
+        assert!(report.get("path").is_none(), "{report}");
+        assert_eq!(
+            report["unfollowed"].as_array().unwrap().len(),
+            0,
+            "{report}"
+        );
+        // The drive prescribes dx, dy, dphi: the guide's normal force Fx and the drive force
+        // Fy carry reactions; the coupler is pinned at the slider, so no moment (no panel).
+        let panels = report["panels"].as_array().unwrap();
+        let outputs: Vec<(&str, &str)> = panels
+            .iter()
+            .map(|p| {
+                (
+                    p["coordinate"].as_str().unwrap(),
+                    p["output"].as_str().unwrap(),
+                )
+            })
+            .collect();
+        assert_eq!(outputs, [("dx", "reaction"), ("dy", "reaction")]);
+        assert_eq!(panels[1]["x_label"], "stroke dy (mm)");
+        assert_eq!(panels[1]["y_label"], "reaction Fy (N)");
+        let (w, h) = (
+            report["width"].as_u64().unwrap() as u32,
+            report["height"].as_u64().unwrap() as u32,
+        );
+        let bytes = std::fs::read(&file).unwrap();
+        assert_eq!(report["bytes"].as_u64().unwrap() as usize, bytes.len());
+
+        if ext == "png" {
+            assert_eq!(png_size(&bytes), (w, h));
+            let decoder = png::Decoder::new(std::io::Cursor::new(&bytes));
+            let mut reader = decoder.read_info().expect("a PNG header");
+            let mut pixels = vec![0; reader.output_buffer_size().expect("a buffer size")];
+            let info = reader.next_frame(&mut pixels).expect("decodable pixels");
+            let colours: HashSet<(u8, u8, u8)> = pixels[..info.buffer_size()]
+                .chunks_exact(3)
+                .map(|p| (p[0], p[1], p[2]))
+                .collect();
+            for rgb in [BEAM_RGB, MODEL_RGB[0], MODEL_RGB[1]] {
+                assert!(colours.contains(&rgb), "no {rgb:?} in the PNG");
+            }
+            continue;
+        }
+
+        let text = String::from_utf8(bytes).unwrap();
+        let doc = roxmltree::Document::parse(&text).expect("well-formed SVG");
+        let root = doc.root_element();
+        assert_eq!(root.attribute("width"), Some(w.to_string().as_str()));
+        assert_eq!(root.attribute("height"), Some(h.to_string().as_str()));
+        // One curve per panel for the beam and each model, plus one legend sample each.
+        let lines = polylines_by_colour(&doc);
+        let count = |rgb| lines.get(&hex(rgb)).copied().unwrap_or(0);
+        assert_eq!(count(BEAM_RGB), panels.len() + 1, "beam lines: {lines:?}");
+        assert_eq!(count(MODEL_RGB[0]), panels.len() + 1, "su-3r lines");
+        assert_eq!(count(MODEL_RGB[1]), panels.len() + 1, "howell-1r lines");
+        assert_eq!(count(MODEL_RGB[2]), 0);
+        // The beam's dots: one per case (10 steps) in each panel.
+        let dots = doc
+            .descendants()
+            .filter(|n| n.has_tag_name("circle") && n.attribute("fill") == Some(&hex(BEAM_RGB)))
+            .count();
+        assert_eq!(dots, 10 * panels.len());
+        let texts = svg_texts(&doc);
+        for needle in [
+            "compliant slider-crank",
+            "stroke dy (mm)",
+            "reaction Fx (N)",
+            "reaction Fy (N)",
+        ] {
+            assert!(
+                texts.iter().any(|t| t == needle),
+                "no `{needle}`: {texts:?}"
+            );
+        }
+        for legend in ["beam (exact)", "su-3r", "howell-1r"] {
+            assert_eq!(
+                texts.iter().filter(|t| *t == legend).count(),
+                1,
+                "legend `{legend}`: {texts:?}"
+            );
+        }
+        for n in doc.descendants().filter(|n| n.is_element()) {
+            for v in coordinates(&n) {
+                assert!(v.is_finite(), "non-finite coordinate: {n:?}");
+            }
+        }
+    }
+}
+
+#[test]
+fn the_force_stroke_data_are_the_solvers_reactions_in_si_against_the_prescribed_stroke() {
+    let scene = Scene::from_file(std::path::Path::new(&example("slider-crank"))).unwrap();
+    let mechanism = scene.mechanism.clone().unwrap();
+    let su = ModelFile::load("su-3r").unwrap();
+    let models = [PlotModel {
+        name: su.name.clone(),
+        matrix: su.prb.clone(),
+    }];
+    let resolution = Resolution::with_tol(1e-8);
+    let figure = mech::figure(&scene, &mechanism, &models, resolution, ChartKind::Force).unwrap();
+    assert!(figure.unfollowed.is_empty());
+    assert!(figure.shapes.is_none() && figure.errors.is_none());
+    let chart = figure.force_stroke.as_ref().unwrap();
+    assert_eq!(chart.legend, ["su-3r"]);
+
+    // Computed independently: the solvers, flexure 1's E I0 and L, the scene's stroke.
+    let beam = exact::solve(&mechanism, resolution).unwrap();
+    let model = prb_mech::solve(&mechanism, &su.prb, resolution.tol).unwrap();
+    let (length, ei) = mechanism.scale();
+    let newtons = ei / (length * length);
+    let stroke_mm = 15.0; // the scene's dy = 0.015 m
+    let steps = mechanism.drives[0].steps as usize;
+    assert_eq!(chart.panels.len(), 2);
+    for (panel, c) in chart.panels.iter().zip([0, 1]) {
+        assert_eq!(
+            (panel.drive, panel.coordinate, panel.output),
+            (1, c, Output::Reaction)
+        );
+        assert_eq!(panel.beam.len(), steps + 1);
+        assert_eq!(panel.beam[0], [0.0, 0.0], "from rest");
+        for (k, (point, case)) in panel.beam[1..].iter().zip(&beam[0]).enumerate() {
+            let stroke = stroke_mm * (k + 1) as f64 / steps as f64;
+            assert!(
+                (point[0] - stroke).abs() < 1e-12,
+                "stroke {point:?} vs {stroke}"
+            );
+            // ... and the stroke is where the solver put the slider.
+            assert!((case.stage[1] * length * 1e3 - stroke).abs() < 1e-6);
+            let reaction = case.stage_load[c] * newtons;
+            assert!(
+                (point[1] - reaction).abs() <= 1e-12 * reaction.abs().max(1.0),
+                "reaction {point:?} vs {reaction}"
+            );
+        }
+        let curve = &panel.models[0];
+        assert_eq!(curve.len(), steps + 1);
+        for (point, case) in curve[1..].iter().zip(&model[0]) {
+            let reaction = case.stage_load[c] * newtons;
+            assert!((point[1] - reaction).abs() <= 1e-12 * reaction.abs().max(1.0));
+        }
+    }
+    // The drive force grows with the stroke, the guide's force is the other way.
+    let fy = &chart.panels[1].beam;
+    assert!(
+        fy[steps][1] > 1.0 && fy.windows(2).all(|w| w[1][1] > w[0][1]),
+        "{fy:?}"
+    );
+    assert!(chart.panels[0].beam[steps][1] < 0.0);
+
+    // A cantilever kind is not a mechanism's.
+    assert!(mech::figure(&scene, &mechanism, &models, resolution, ChartKind::Shapes).is_err());
+}
+
+#[test]
+fn a_parallel_stage_all_loaded_gets_its_motion_against_the_load() {
+    let dir = Scratch::new("plot-parallel");
+    let scene = example("parallel-stage");
+    let file = dir.file("parallel.svg");
+    let report = json(&prbfit(&[
+        "plot", "--scene", &scene, "--model", "su-3r", "-o", &file, "--json",
+    ]));
+    let panels = report["panels"].as_array().unwrap();
+    assert!(!panels.is_empty());
+    assert!(panels.iter().all(|p| p["output"] == "motion"), "{report}");
+    // Both drives, each with its sideways motion against the sideways load.
+    for drive in [1, 2] {
+        assert!(
+            panels.iter().any(|p| p["drive"] == drive
+                && p["coordinate"] == "dy"
+                && p["x_label"] == "load Fy (N)"
+                && p["y_label"] == "stage dy (mm)"),
+            "drive {drive}: {report}"
+        );
+    }
+    let text = std::fs::read_to_string(&file).unwrap();
+    let doc = roxmltree::Document::parse(&text).unwrap();
+    let lines = polylines_by_colour(&doc);
+    assert_eq!(lines.get(&hex(BEAM_RGB)).copied(), Some(panels.len() + 1));
+    assert_eq!(
+        lines.get(&hex(MODEL_RGB[0])).copied(),
+        Some(panels.len() + 1)
+    );
+    assert!(svg_texts(&doc)
+        .iter()
+        .any(|t| t == "parallel-guiding stage"));
+
+    // Small-motion check of the data (DESIGN §8: uy / L = Ay / 24), first case of drive 1.
+    let s = Scene::from_file(std::path::Path::new(&scene)).unwrap();
+    let m = s.mechanism.clone().unwrap();
+    let f = mech::figure(&s, &m, &[], Resolution::with_tol(1e-8), ChartKind::Motion).unwrap();
+    let chart = f.force_stroke.unwrap();
+    let dy = chart
+        .panels
+        .iter()
+        .find(|p| p.drive == 1 && p.coordinate == 1)
+        .unwrap();
+    let (length, ei) = m.scale();
+    let [fy, uy_mm] = dy.beam[1];
+    let linear_mm = fy * length * length / ei / 24.0 * length * 1e3;
+    assert!(
+        (uy_mm / linear_mm - 1.0).abs() < 0.02,
+        "{uy_mm} vs {linear_mm}"
+    );
+
+    // Nothing is prescribed: no reaction to draw.
+    assert_input_error(
+        &prbfit(&[
+            "plot",
+            "--scene",
+            &scene,
+            "--model",
+            "su-3r",
+            "--kind",
+            "force",
+            "-o",
+            &dir.file("force.svg"),
+        ]),
+        &["--kind force", "motion"],
+    );
+    assert!(!std::path::Path::new(&dir.file("force.svg")).exists());
+}
+
+#[test]
+fn howell_1r_on_a_fixed_guided_flexure_is_listed_as_unfollowed_not_a_crash() {
+    let dir = Scratch::new("plot-immobile");
+    let scene = example("fixed-guided");
+    let file = dir.file("fixed-guided.svg");
+    let report = json(&prbfit(&[
+        "plot",
+        "--scene",
+        &scene,
+        "--model",
+        "su-3r",
+        "--model",
+        "howell-1r",
+        "-o",
+        &file,
+        "--json",
+    ]));
+    let unfollowed = report["unfollowed"].as_array().unwrap();
+    assert_eq!(unfollowed.len(), 1, "{report}");
+    assert_eq!(unfollowed[0]["model"], "howell-1r");
+    assert_eq!(unfollowed[0]["path"], 1);
+    assert_eq!(unfollowed[0]["reached"], 0);
+    assert_eq!(unfollowed[0]["steps"], 6);
+    assert!(unfollowed[0]["reason"]
+        .as_str()
+        .unwrap()
+        .contains("even to first order"));
+    let panels = report["panels"].as_array().unwrap().len();
+    let text = std::fs::read_to_string(&file).unwrap();
+    let doc = roxmltree::Document::parse(&text).unwrap();
+    let lines = polylines_by_colour(&doc);
+    // Howell's 1R: its legend sample alone; Su's 3R and the beam: every panel.
+    assert_eq!(lines.get(&hex(MODEL_RGB[1])).copied(), Some(1), "{lines:?}");
+    assert_eq!(lines.get(&hex(MODEL_RGB[0])).copied(), Some(panels + 1));
+    assert_eq!(lines.get(&hex(BEAM_RGB)).copied(), Some(panels + 1));
+    let texts = svg_texts(&doc);
+    assert!(
+        texts.iter().any(|t| t == "howell-1r (cannot follow)"),
+        "{texts:?}"
+    );
+
+    // The text form says so, and exits 0.
+    let out = prbfit(&[
+        "plot",
+        "--scene",
+        &scene,
+        "--model",
+        "howell-1r",
+        "-o",
+        &dir.file("alone.png"),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        stdout.contains("note: howell-1r reaches only 0 of the 6 cases of drive 1 (not drawn)"),
+        "{stdout}"
+    );
+}
+
+#[test]
+fn kinds_and_flags_that_do_not_fit_the_scene_exit_2() {
+    let dir = Scratch::new("plot-mech-bad");
+    let fresh = dir.file("fresh.svg");
+    let crank = example("slider-crank");
+    let cases: [(&[&str], &[&str]); 4] = [
+        (
+            &["--scene", &crank, "--kind", "shapes"],
+            &["--kind shapes", "mechanism", "force"],
+        ),
+        (
+            &["--scene", &crank, "--kind", "errors"],
+            &["--kind errors", "mechanism"],
+        ),
+        (
+            &["--scene", &crank, "--path", "2"],
+            &["--path 2", "mechanism"],
+        ),
+        (
+            &["--kind", "force"],
+            &["--kind force", "cantilever", "shapes"],
+        ),
+    ];
+    for (flags, needles) in cases {
+        let mut args = vec!["plot", "--model", "su-3r"];
+        args.extend_from_slice(flags);
+        args.extend_from_slice(&["-o", &fresh]);
+        assert_input_error(&prbfit(&args), needles);
+        assert!(
+            !std::path::Path::new(&fresh).exists(),
+            "{flags:?} wrote a file"
+        );
+    }
+    // --kind motion on the slider-crank: every coordinate is prescribed.
+    assert_input_error(
+        &prbfit(&[
+            "plot", "--scene", &crank, "--model", "su-3r", "--kind", "motion", "-o", &fresh,
+        ]),
+        &["--kind motion", "force"],
+    );
+}
+
+#[test]
+fn a_model_that_stops_partway_along_a_drive_is_drawn_up_to_there() {
+    // The displacement-driven cantilever pushed 35 mm (0.7 L): a chain whose only joint sits
+    // at mid-length cannot reach past about half its length sideways, so it stops between
+    // the 5th and the 6th of the 8 cases; Su's 3R follows to the end.
+    let dir = Scratch::new("plot-partway");
+    let base = std::fs::read_to_string(example("driven-cantilever")).unwrap();
+    let deep: String = base
+        .lines()
+        .map(|l| {
+            if l.starts_with("dy = ") {
+                "dy = 0.035"
+            } else {
+                l
+            }
+        })
+        .collect::<Vec<_>>()
+        .join("\n");
+    let scene = dir.write("deep.toml", &deep);
+    let file = dir.file("deep.svg");
+    let report = json(&prbfit(&[
+        "plot",
+        "--scene",
+        &scene,
+        "--model",
+        "su-3r",
+        "--prb",
+        "0.5,inf,inf; 0.5,2.0,inf",
+        "-o",
+        &file,
+        "--json",
+    ]));
+    let unfollowed = report["unfollowed"].as_array().unwrap();
+    assert_eq!(unfollowed.len(), 1, "{report}");
+    assert_eq!(unfollowed[0]["model"], "l-r");
+    assert_eq!(unfollowed[0]["steps"], 8);
+    let reached = unfollowed[0]["reached"].as_u64().unwrap() as usize;
+    assert!((1..8).contains(&reached), "{report}");
+
+    let text = std::fs::read_to_string(&file).unwrap();
+    let doc = roxmltree::Document::parse(&text).unwrap();
+    let points = |rgb| -> Vec<usize> {
+        doc.descendants()
+            .filter(|n| n.has_tag_name("polyline") && n.attribute("stroke") == Some(&hex(rgb)))
+            .map(|n| n.attribute("points").unwrap().split_whitespace().count())
+            .filter(|&n| n > 2) // not a legend sample
+            .collect()
+    };
+    let panels = report["panels"].as_array().unwrap().len();
+    assert_eq!(points(MODEL_RGB[1]), vec![reached + 1; panels]);
+    assert_eq!(points(MODEL_RGB[0]), vec![8 + 1; panels]);
+    assert!(svg_texts(&doc)
+        .iter()
+        .any(|t| t == "l-r (stops on drive 1)"));
+}

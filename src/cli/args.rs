@@ -207,14 +207,16 @@ pub struct PlotArgs {
     /// Overwrite the file if it exists.
     #[arg(long)]
     pub force: bool,
-    /// shapes (deformed shapes of one load path), errors (tip errors of every load path) or
-    /// all (both, side by side).
+    /// Cantilever scenes: shapes (deformed shapes of one load path), errors (tip errors of
+    /// every load path) or all (both, side by side). Mechanism scenes: force (each prescribed
+    /// stage coordinate's reaction against the stroke), motion (each loaded coordinate's
+    /// stage motion against the load) or all (both).
     #[arg(long, value_name = "KIND", default_value = "all", value_parser = ChartKind::from_str)]
     pub kind: ChartKind,
     /// Fidelity of the baseline beam (and its load sampling).
     #[arg(long, value_name = "LEVEL", default_value = "normal", value_parser = Fidelity::from_str)]
     pub fidelity: Fidelity,
-    /// The load path whose deformed shapes are drawn (1-based).
+    /// The load path whose deformed shapes are drawn (1-based; cantilever scenes only).
     #[arg(long, value_name = "N", default_value_t = 1)]
     pub path: usize,
 }

@@ -1,4 +1,6 @@
 //! `prbfit plot`: the UI's charts as an SVG or PNG figure, for papers and design reviews.
+//! A mechanism scene (DESIGN §8) gets its force–stroke chart ([`prbfit::plot::mech`]): the
+//! kinds `force`, `motion` and `all` apply there, `shapes` and `errors` to cantilevers.
 
 use std::fmt;
 
@@ -9,13 +11,14 @@ use serde::Serialize;
 use prbfit::io::files::{check_target, write_atomic};
 use prbfit::io::ModelFile;
 use prbfit::plot::{
-    render, ChartKind, Figure, ImageFormat, PlotError, PlotModel, Unfollowed, MODEL_RGB,
+    mech, render, ChartKind, Figure, ImageFormat, Output, PlotError, PlotModel, Unfollowed,
+    MODEL_RGB,
 };
-use prbfit::scene::Scene;
+use prbfit::scene::{Mechanism, Scene, COORDINATE_KEYS};
 
 use super::args::PlotArgs;
 use super::output::{emit, safe};
-use super::{bad, parse_matrix, resolved_scene, scene_model};
+use super::{bad, load_scene, parse_matrix, resolve_scene, scene_model};
 
 /// A model drawn.
 #[derive(Debug, Serialize)]
@@ -24,14 +27,32 @@ struct ModelEntry {
     prb: String,
 }
 
+/// One panel of a mechanism's force–stroke chart.
+#[derive(Debug, Serialize)]
+struct PanelEntry {
+    /// The drive path, from 1.
+    drive: usize,
+    /// The stage coordinate: `dx`, `dy` or `dphi`.
+    coordinate: &'static str,
+    /// `reaction` (a prescribed coordinate) or `motion` (a loaded one).
+    output: &'static str,
+    x_label: String,
+    y_label: String,
+}
+
 /// What was written.
 #[derive(Debug, Serialize)]
 pub struct PlotOutput {
     output: String,
     format: ImageFormat,
     kind: ChartKind,
-    /// The load path whose shapes are drawn (1-based).
-    path: usize,
+    /// The load path whose shapes are drawn (1-based); absent for a mechanism scene, whose
+    /// figure draws every drive.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    path: Option<usize>,
+    /// A mechanism scene's panels, in the figure's order (row by row).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    panels: Option<Vec<PanelEntry>>,
     /// The model first, then the compared ones.
     models: Vec<ModelEntry>,
     width: u32,
@@ -44,13 +65,24 @@ pub struct PlotOutput {
 impl fmt::Display for PlotOutput {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let names: Vec<String> = self.models.iter().map(|m| safe(&m.name).into()).collect();
-        let what = match self.kind {
-            ChartKind::Shapes => format!("deformed shapes of load path {}", self.path),
-            ChartKind::Errors => "tip errors of every load path".to_string(),
-            ChartKind::All => format!(
-                "deformed shapes of load path {} and tip errors of every load path",
-                self.path
-            ),
+        let path = self.path.unwrap_or(1);
+        let what = match (&self.panels, self.kind) {
+            (Some(panels), _) => {
+                let list: Vec<String> = panels
+                    .iter()
+                    .map(|p| format!("drive {} {}", p.drive, safe(&p.y_label)))
+                    .collect();
+                format!(
+                    "force-stroke chart, {} panel(s): {}",
+                    panels.len(),
+                    list.join(", ")
+                )
+            }
+            (None, ChartKind::Shapes) => format!("deformed shapes of load path {path}"),
+            (None, ChartKind::Errors) => "tip errors of every load path".to_string(),
+            (None, _) => {
+                format!("deformed shapes of load path {path} and tip errors of every load path")
+            }
         };
         let models = match names.split_first() {
             Some((first, [])) => first.clone(),
@@ -67,6 +99,23 @@ impl fmt::Display for PlotOutput {
             self.bytes,
         )?;
         for u in &self.unfollowed {
+            if let Some(reason) = &u.reason {
+                writeln!(
+                    f,
+                    "note: {} reaches only {} of the {} cases of drive {} ({}): {}",
+                    safe(&u.model),
+                    u.reached,
+                    u.steps,
+                    u.path,
+                    if u.reached == 0 {
+                        "not drawn"
+                    } else {
+                        "drawn up to there"
+                    },
+                    safe(reason)
+                )?;
+                continue;
+            }
             writeln!(
                 f,
                 "note: {} reaches only {} of the {} cases of load path {} (drawn up to there)",
@@ -148,7 +197,18 @@ pub fn run(args: PlotArgs, matches: Option<&ArgMatches>) -> Result<()> {
     })?;
     // Refuse before spending the time on a baseline.
     check_target(&args.output, args.force)?;
-    let (scene, _) = resolved_scene(&args.common, "plot")?;
+    let scene = load_scene(&args.common)?;
+    if let Some(mechanism) = &scene.mechanism {
+        return run_mechanism(&args, matches, &scene, mechanism, format);
+    }
+    if !args.kind.has_shapes() && !args.kind.has_errors() {
+        return Err(bad(PlotError::KindNotForScene {
+            kind: args.kind,
+            mechanism: false,
+        }
+        .to_string()));
+    }
+    let (scene, _) = resolve_scene(&scene)?;
     if args.path == 0 || args.path > scene.loads.len() {
         return Err(bad(format!(
             "--path {}: the scene has {} load path(s), numbered from 1",
@@ -169,16 +229,45 @@ pub fn run(args: PlotArgs, matches: Option<&ArgMatches>) -> Result<()> {
         Figure::build(&scene, &baseline, &models, args.path, args.kind).map_err(|e| match e {
             PlotError::NoSuchPath { .. } => bad(format!("--path {}: {e}", args.path)),
             PlotError::TooManyModels { .. } => bad(format!("--model/--prb: {e}")),
+            PlotError::KindNotForScene { .. } => bad(e.to_string()),
             other => anyhow::Error::new(other),
         })?;
+    write_figure(&args, format, figure, &models, Some(args.path))
+}
+
+/// Renders `figure`, writes it and reports what was written.
+fn write_figure(
+    args: &PlotArgs,
+    format: ImageFormat,
+    figure: Figure,
+    models: &[PlotModel],
+    path: Option<usize>,
+) -> Result<()> {
     let bytes = render(&figure, format)?;
     write_atomic(&args.output, &bytes, args.force)?;
-    let (width, height) = prbfit::plot::canvas_size(args.kind);
+    let (width, height) = figure.size();
+    let panels = figure.force_stroke.as_ref().map(|chart| {
+        chart
+            .panels
+            .iter()
+            .map(|p| PanelEntry {
+                drive: p.drive,
+                coordinate: COORDINATE_KEYS[p.coordinate.min(2)].0,
+                output: match p.output {
+                    Output::Reaction => "reaction",
+                    Output::Motion => "motion",
+                },
+                x_label: p.x_label.clone(),
+                y_label: p.y_label.clone(),
+            })
+            .collect()
+    });
     let out = PlotOutput {
         output: args.output.display().to_string(),
         format,
         kind: args.kind,
-        path: args.path,
+        path,
+        panels,
         models: models
             .iter()
             .map(|m| ModelEntry {
@@ -192,4 +281,53 @@ pub fn run(args: PlotArgs, matches: Option<&ArgMatches>) -> Result<()> {
         unfollowed: figure.unfollowed,
     };
     emit(&out, args.common.json)
+}
+
+/// `prbfit plot` on a mechanism scene (DESIGN §8): the force–stroke chart of every drive,
+/// the exact mechanism at the fidelity's resolution and each model's PRB mechanism.
+fn run_mechanism(
+    args: &PlotArgs,
+    matches: Option<&ArgMatches>,
+    scene: &Scene,
+    mechanism: &Mechanism,
+    format: ImageFormat,
+) -> Result<()> {
+    let kind_error = |e: PlotError| bad(e.to_string());
+    if !args.kind.has_force() && !args.kind.has_motion() {
+        return Err(kind_error(PlotError::KindNotForScene {
+            kind: args.kind,
+            mechanism: true,
+        }));
+    }
+    if args.path != 1 {
+        return Err(bad(format!(
+            "--path {}: \"{}\" is a mechanism scene, and its figure draws every drive path \
+             (the shapes of one load path are a cantilever scene's)",
+            args.path,
+            safe(&scene.name)
+        )));
+    }
+    let models = models(args, matches, scene)?;
+    if models.len() > MODEL_RGB.len() {
+        return Err(bad(format!(
+            "--model/--prb: at most {} models fit in one figure, got {}",
+            MODEL_RGB.len(),
+            models.len()
+        )));
+    }
+    let figure = mech::figure(
+        scene,
+        mechanism,
+        &models,
+        args.fidelity.resolution(),
+        args.kind,
+    )
+    .map_err(|e| match e {
+        PlotError::KindNotForScene { .. } | PlotError::NothingToDraw { .. } => kind_error(e),
+        PlotError::TooManyModels { .. } => bad(format!("--model/--prb: {e}")),
+        other => {
+            anyhow::Error::new(other).context(format!("mechanism scene \"{}\"", safe(&scene.name)))
+        }
+    })?;
+    write_figure(args, format, figure, &models, None)
 }

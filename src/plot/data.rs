@@ -13,6 +13,7 @@ use crate::prb::{PrbMatrix, PrbSolver};
 use crate::scene::Scene;
 
 use super::errors::{ErrorCurve, ErrorPoint, ErrorsChart, ModelErrors};
+use super::mech::ForceStrokeChart;
 use super::shapes::{Linkage, ModelShapes, ShapesChart};
 use super::{ChartKind, PlotError, MODEL_RGB};
 
@@ -25,17 +26,21 @@ pub struct PlotModel {
     pub matrix: PrbMatrix,
 }
 
-/// A load path a model could not follow to its end: it is drawn as far as it got.
+/// A load path (or a mechanism's drive path) a model could not follow to its end: it is
+/// drawn as far as it got.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Unfollowed {
     /// The model's name.
     pub model: String,
-    /// The load path, 1-based.
+    /// The load path (a mechanism's drive), 1-based.
     pub path: usize,
     /// Cases of the path the model reached.
     pub reached: usize,
     /// Cases of the path.
     pub steps: usize,
+    /// Why it stopped, when the solver says (mechanism drives).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub reason: Option<String>,
 }
 
 /// A whole figure: its title and the panels its kind asks for.
@@ -49,6 +54,8 @@ pub struct Figure {
     pub shapes: Option<ShapesChart>,
     /// The tip errors, when the kind has them.
     pub errors: Option<ErrorsChart>,
+    /// A mechanism's reactions against the stroke and motions against the load.
+    pub force_stroke: Option<ForceStrokeChart>,
     /// Load paths some model could not follow to the end.
     pub unfollowed: Vec<Unfollowed>,
 }
@@ -71,6 +78,12 @@ impl Figure {
         path: usize,
         kind: ChartKind,
     ) -> Result<Figure, PlotError> {
+        if !kind.has_shapes() && !kind.has_errors() {
+            return Err(PlotError::KindNotForScene {
+                kind,
+                mechanism: false,
+            });
+        }
         let count = baseline.paths.len();
         if path == 0 || path > count {
             return Err(PlotError::NoSuchPath { path, count });
@@ -101,6 +114,7 @@ impl Figure {
                             path: i + 1,
                             reached,
                             steps: w[1] - w[0],
+                            reason: None,
                         });
                     }
                 }
@@ -172,6 +186,7 @@ impl Figure {
             title: scene.name.clone(),
             shapes,
             errors,
+            force_stroke: None,
             unfollowed,
         })
     }

@@ -5,9 +5,12 @@
 //!   models followed along it) into plain data structs that say *what to draw*: the
 //!   deformed centre lines and linkages ([`ShapesChart`]), the tip errors along each load path
 //!   ([`ErrorsChart`]). It is the only part that solves anything.
-//! - [`shapes`] and [`errors`] each draw one of those structs onto a plotters drawing area,
-//!   knowing nothing about solving; [`render`] lays the panels out on one canvas and encodes
-//!   it (SVG text, or a PNG from the bitmap backend).
+//! - [`mech`] does the same for a mechanism scene (DESIGN §8): the exact mechanism and each
+//!   model's PRB mechanism along the drives, as the force–stroke chart ([`ForceStrokeChart`]:
+//!   reactions against the stroke, stage motion against the load).
+//! - [`shapes`], [`errors`] and [`strokes`] each draw one of those structs onto a plotters
+//!   drawing area, knowing nothing about solving; [`render`] lays the panels out on one
+//!   canvas and encodes it (SVG text, or a PNG from the bitmap backend).
 //!
 //! Colours: the beam is grey, each model has its own colour from [`MODEL_RGB`] (the first is
 //! "the model", the others are compared with it), the scene's accuracy targets are red dashed
@@ -17,7 +20,9 @@
 
 pub mod data;
 pub mod errors;
+pub mod mech;
 pub mod shapes;
+pub mod strokes;
 
 use std::fmt;
 use std::path::Path;
@@ -30,9 +35,11 @@ use serde::Serialize;
 
 pub use data::{Figure, PlotModel, Unfollowed};
 pub use errors::{ErrorCurve, ErrorPoint, ErrorsChart, ModelErrors};
+pub use mech::{ForceStrokeChart, Output, StrokePanel};
 pub use shapes::{equal_aspect_bounds, Linkage, ModelShapes, ShapesChart};
 
-/// Which charts a figure holds.
+/// Which charts a figure holds. `shapes` and `errors` are a cantilever scene's, `force` and
+/// `motion` a mechanism scene's; `all` is every chart the scene has.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum ChartKind {
@@ -40,12 +47,36 @@ pub enum ChartKind {
     Shapes,
     /// Tip position and angle error against the load, every load path.
     Errors,
-    /// Both, side by side.
+    /// A mechanism's reactions (prescribed stage coordinates) against the stroke.
+    Force,
+    /// A mechanism's stage motion (loaded stage coordinates) against the load.
+    Motion,
+    /// Every chart of the scene: shapes and errors side by side for a cantilever, reactions
+    /// and motions for a mechanism.
     #[default]
     All,
 }
 
 impl ChartKind {
+    /// Every kind, in the order `--help` lists them.
+    pub const ALL: [ChartKind; 5] = [
+        ChartKind::Shapes,
+        ChartKind::Errors,
+        ChartKind::Force,
+        ChartKind::Motion,
+        ChartKind::All,
+    ];
+
+    /// Whether the figure has a mechanism's reaction panels.
+    pub fn has_force(self) -> bool {
+        matches!(self, ChartKind::Force | ChartKind::All)
+    }
+
+    /// Whether the figure has a mechanism's motion panels.
+    pub fn has_motion(self) -> bool {
+        matches!(self, ChartKind::Motion | ChartKind::All)
+    }
+
     /// Whether the figure has the shapes panel.
     pub fn has_shapes(self) -> bool {
         matches!(self, ChartKind::Shapes | ChartKind::All)
@@ -62,6 +93,8 @@ impl fmt::Display for ChartKind {
         f.write_str(match self {
             ChartKind::Shapes => "shapes",
             ChartKind::Errors => "errors",
+            ChartKind::Force => "force",
+            ChartKind::Motion => "motion",
             ChartKind::All => "all",
         })
     }
@@ -73,9 +106,11 @@ impl FromStr for ChartKind {
         match s {
             "shapes" => Ok(ChartKind::Shapes),
             "errors" => Ok(ChartKind::Errors),
+            "force" => Ok(ChartKind::Force),
+            "motion" => Ok(ChartKind::Motion),
             "all" => Ok(ChartKind::All),
             other => Err(format!(
-                "unknown chart kind `{other}` (expected shapes, errors or all)"
+                "unknown chart kind `{other}` (expected shapes, errors, force, motion or all)"
             )),
         }
     }
@@ -126,6 +161,43 @@ pub enum PlotError {
         /// Load paths in the scene.
         count: usize,
     },
+    /// The kind is not one this scene's figures have (`shapes` and `errors` are for
+    /// cantilever scenes, `force` and `motion` for mechanism scenes).
+    #[error(
+        "--kind {kind} is not a chart of {}: use {}",
+        if *mechanism { "a mechanism scene" } else { "a cantilever scene" },
+        if *mechanism {
+            "force (reactions against the stroke), motion (stage motion against the load) or all"
+        } else {
+            "shapes, errors or all"
+        }
+    )]
+    KindNotForScene {
+        /// The kind asked for.
+        kind: ChartKind,
+        /// Whether the scene is a mechanism.
+        mechanism: bool,
+    },
+    /// The mechanism has nothing of the kind asked for (a `force` chart with no prescribed
+    /// coordinate carrying a reaction, a `motion` chart with no loaded coordinate that moves).
+    #[error(
+        "--kind {kind}: \"{scene}\" has nothing to draw: {}",
+        match kind {
+            ChartKind::Force => "no drive prescribes a stage coordinate that carries a reaction \
+                                 (try --kind motion)",
+            ChartKind::Motion => "no drive loads a stage coordinate that moves (try --kind force)",
+            _ => "no drive prescribes a coordinate with a reaction or loads one that moves",
+        }
+    )]
+    NothingToDraw {
+        /// The kind asked for.
+        kind: ChartKind,
+        /// The scene's name.
+        scene: String,
+    },
+    /// The exact (beam) mechanism could not follow a drive: there is no reference to draw.
+    #[error("the exact (beam) mechanism: {0}")]
+    Exact(crate::mech::MechError),
     /// More models than distinct colours.
     #[error("at most {max} models fit in one figure, got {got}")]
     TooManyModels {
@@ -172,12 +244,24 @@ pub(crate) fn model_colour(i: usize) -> RGBColor {
 /// The font family every text is drawn in (registered from the embedded DejaVu Sans).
 pub(crate) const FONT: &str = "sans-serif";
 
-/// Pixel sizes of the canvas for each kind: (width, height).
+/// Pixel sizes of the canvas of a cantilever scene's figure for each kind: (width, height).
+/// (A mechanism's figure is sized by its panels: [`Figure::size`].)
 pub fn canvas_size(kind: ChartKind) -> (u32, u32) {
     match kind {
         ChartKind::Shapes => (900, 650),
         ChartKind::Errors => (900, 800),
         ChartKind::All => (1600, 800),
+        ChartKind::Force | ChartKind::Motion => strokes::canvas_size(1),
+    }
+}
+
+impl Figure {
+    /// The canvas's pixel size: (width, height).
+    pub fn size(&self) -> (u32, u32) {
+        match &self.force_stroke {
+            Some(chart) => strokes::canvas_size(chart.panels.len()),
+            None => canvas_size(self.kind),
+        }
     }
 }
 
@@ -213,6 +297,10 @@ fn draw_figure<DB: DrawingBackend>(
     let root = root
         .titled(&figure.title, (FONT, 22).into_font().style(FontStyle::Bold))
         .map_err(drawing)?;
+    if let Some(chart) = &figure.force_stroke {
+        strokes::draw(&root, chart)?;
+        return root.present().map_err(drawing);
+    }
     match (&figure.shapes, &figure.errors) {
         (Some(s), Some(e)) => {
             let (w, _) = root.dim_in_pixel();
@@ -230,7 +318,7 @@ fn draw_figure<DB: DrawingBackend>(
 /// The figure as an image file's bytes.
 pub fn render(figure: &Figure, format: ImageFormat) -> Result<Vec<u8>, PlotError> {
     register_font()?;
-    let (w, h) = canvas_size(figure.kind);
+    let (w, h) = figure.size();
     match format {
         ImageFormat::Svg => {
             let mut text = String::new();
@@ -284,7 +372,7 @@ mod tests {
 
     #[test]
     fn kinds_round_trip() {
-        for k in [ChartKind::Shapes, ChartKind::Errors, ChartKind::All] {
+        for k in ChartKind::ALL {
             assert_eq!(k.to_string().parse::<ChartKind>(), Ok(k));
         }
         assert!("bars".parse::<ChartKind>().is_err());

@@ -1,0 +1,490 @@
+//! What a mechanism scene's figure draws (DESIGN §8): the **force–stroke chart**. For each
+//! drive path, one panel per output the drive produces:
+//! - a *prescribed* stage coordinate carrying a reaction: the reaction the drive supplies
+//!   (`stage_load`, in N for `dx`/`dy` and N m for `dphi`, through flexure 1's `E I0` and `L`
+//!   as `eval` prints it) against the drive's stroke;
+//! - a *loaded* stage coordinate that moves: the stage motion (`stage`, mm or m for `dx`/`dy`,
+//!   degrees for `dphi`) against the drive's load.
+//!
+//! The abscissa is the drive's own input, exact because a drive varies proportionally from
+//! rest: the case at fraction `f` sits at `f` times the end value. Reaction panels use the
+//! prescribed displacement that varies (the stroke), motion panels the load that varies; each
+//! falls back on the other, and on the fraction of the drive when nothing varies. Every curve
+//! starts at the unloaded state (abscissa and ordinate 0), then has one point per case.
+//!
+//! The beam is the exact mechanism ([`crate::mech::exact`]); each model replaces every flexure
+//! ([`crate::mech::prb`]). A model that cannot follow a drive is drawn as far as it got (the
+//! cases before its critical point, re-solved on the truncated drive) or not at all
+//! ([`MechError::Immobile`]), and is listed in [`Figure::unfollowed`].
+
+use crate::beam::Resolution;
+use crate::mech::{exact, prb, MechCase, MechError};
+use crate::scene::{Coordinate, Drive, Mechanism, Scene, COORDINATE_KEYS};
+
+use super::data::{Figure, PlotModel, Unfollowed};
+use super::{ChartKind, PlotError, MODEL_RGB};
+
+/// Below this (nondimensional, over every beam case) an output is identically zero and gets
+/// no panel: a coupler pinned at the stage point carries no moment there, whatever the drive.
+const TRIVIAL: f64 = 1e-9;
+
+/// What a panel's ordinate is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Output {
+    /// The reaction of a prescribed stage coordinate.
+    Reaction,
+    /// The motion of a loaded stage coordinate.
+    Motion,
+}
+
+/// One panel: one output of one drive, beam and models.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StrokePanel {
+    /// The drive path, from 1.
+    pub drive: usize,
+    /// The stage coordinate: 0 `x`, 1 `y`, 2 `phi`.
+    pub coordinate: usize,
+    /// Reaction or motion.
+    pub output: Output,
+    /// Over the panel.
+    pub title: String,
+    /// The abscissa's name and unit.
+    pub x_label: String,
+    /// The ordinate's name and unit.
+    pub y_label: String,
+    /// The exact mechanism: `[abscissa, ordinate]` in SI (display units), from rest.
+    pub beam: Vec<[f64; 2]>,
+    /// Per model, in the models' order, as far as it got; empty when it could not move.
+    pub models: Vec<Vec<[f64; 2]>>,
+}
+
+/// The force–stroke chart of a mechanism scene.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ForceStrokeChart {
+    /// The legend's text per model, in order (a model that cannot follow every drive says
+    /// so).
+    pub legend: Vec<String>,
+    /// Drive by drive, reactions before motions, `x`, `y`, `phi`.
+    pub panels: Vec<StrokePanel>,
+}
+
+/// Flexure 1's scale in the units the chart shows.
+#[derive(Debug, Clone, Copy)]
+struct Units {
+    /// Flexure 1's `L`, m.
+    length: f64,
+    /// `E I0 / L^2`, N: the force of `alpha = 1`.
+    force: f64,
+    /// `E I0 / L`, N m: the moment of `beta = 1`.
+    moment: f64,
+    /// "mm" for flexures under a metre, else "m" (as `solve` and `eval` print them).
+    distance: &'static str,
+    /// Display units per metre.
+    per_metre: f64,
+}
+
+impl Units {
+    fn new(mechanism: &Mechanism) -> Units {
+        let (length, ei) = mechanism.scale();
+        let (distance, per_metre) = if length < 1.0 {
+            ("mm", 1e3)
+        } else {
+            ("m", 1.0)
+        };
+        Units {
+            length,
+            force: ei / (length * length),
+            moment: ei / length,
+            distance,
+            per_metre,
+        }
+    }
+
+    /// A reaction (nondimensional, flexure 1's units) in N or N m.
+    fn reaction(&self, c: usize, v: f64) -> f64 {
+        v * if c == 2 { self.moment } else { self.force }
+    }
+
+    /// A stage motion (units of `L`, radians) in mm (or m) or degrees.
+    fn motion(&self, c: usize, v: f64) -> f64 {
+        if c == 2 {
+            v.to_degrees()
+        } else {
+            v * self.length * self.per_metre
+        }
+    }
+
+    /// A drive's SI end value (m, rad, N, N m) in display units.
+    fn input(&self, c: usize, coordinate: Coordinate) -> f64 {
+        match coordinate {
+            Coordinate::Prescribed(v) if c == 2 => v.to_degrees(),
+            Coordinate::Prescribed(v) => v * self.per_metre,
+            Coordinate::Loaded(v) => v,
+        }
+    }
+
+    /// The unit of an output or input.
+    fn unit(&self, c: usize, prescribed: bool) -> &'static str {
+        match (prescribed, c == 2) {
+            (true, true) => "degrees",
+            (true, false) => self.distance,
+            (false, true) => "N m",
+            (false, false) => "N",
+        }
+    }
+}
+
+/// A drive's abscissa: the input that varies (or the fraction), in display units.
+#[derive(Debug, Clone)]
+struct Abscissa {
+    /// Display units at the drive's end (1 for the fraction).
+    end: f64,
+    /// Name and unit.
+    label: String,
+}
+
+impl Abscissa {
+    /// The input of `drive` that varies, of the kind `prescribed` asks for first, then the
+    /// other kind, then the fraction. Of several, the largest translation (or force) wins:
+    /// they vary in proportion, so any one orders the cases.
+    fn of(drive: &Drive, index: usize, prescribed: bool, units: &Units) -> Abscissa {
+        let pick = |want: bool| {
+            (0..3)
+                .filter(|&c| {
+                    let k = drive.coordinates[c];
+                    k.is_prescribed() == want && k.value() != 0.0
+                })
+                .max_by(|&a, &b| {
+                    // Translations (forces) before rotations (moments), then the larger.
+                    let key = |c: usize| (c < 2, drive.coordinates[c].value().abs());
+                    let (ka, kb) = (key(a), key(b));
+                    ka.0.cmp(&kb.0).then(ka.1.total_cmp(&kb.1))
+                })
+        };
+        let found = pick(prescribed)
+            .map(|c| (c, prescribed))
+            .or_else(|| pick(!prescribed).map(|c| (c, !prescribed)));
+        match found {
+            Some((c, is_prescribed)) => {
+                let (disp, load) = COORDINATE_KEYS[c];
+                let name = if is_prescribed {
+                    format!("stroke {disp}")
+                } else {
+                    format!("load {}", capitalised(load))
+                };
+                Abscissa {
+                    end: units.input(c, drive.coordinates[c]),
+                    label: format!("{name} ({})", units.unit(c, is_prescribed)),
+                }
+            }
+            None => Abscissa {
+                end: 1.0,
+                label: format!("fraction of drive {index}"),
+            },
+        }
+    }
+}
+
+/// What a drive varies, in display units: "dy 15 mm, Fx 10 N" (its nonzero end values).
+fn summary(drive: &Drive, units: &Units) -> String {
+    let parts: Vec<String> = drive
+        .coordinates
+        .iter()
+        .enumerate()
+        .filter(|(_, k)| k.value() != 0.0)
+        .map(|(c, &k)| {
+            let (disp, load) = COORDINATE_KEYS[c];
+            let name = if k.is_prescribed() {
+                disp.to_string()
+            } else {
+                capitalised(load)
+            };
+            format!(
+                "{name} {} {}",
+                crate::text::bounded_prec(units.input(c, k), 4),
+                units.unit(c, k.is_prescribed())
+            )
+        })
+        .collect();
+    if parts.is_empty() {
+        "at rest".to_string()
+    } else {
+        parts.join(", ")
+    }
+}
+
+/// `fx` as `Fx`, for force names.
+fn capitalised(s: &str) -> String {
+    let mut chars = s.chars();
+    match chars.next() {
+        Some(first) => first.to_uppercase().chain(chars).collect(),
+        None => String::new(),
+    }
+}
+
+/// One model along every drive: the cases it reached per drive, and why it stopped where it
+/// did not reach the end.
+struct Followed {
+    drives: Vec<Vec<MechCase>>,
+    failures: Vec<Option<MechError>>,
+}
+
+/// The drive's end values scaled by `scale` (nondimensional coordinates).
+fn scaled(coordinates: [Coordinate; 3], scale: f64) -> [Coordinate; 3] {
+    coordinates.map(|c| match c {
+        Coordinate::Prescribed(v) => Coordinate::Prescribed(v * scale),
+        Coordinate::Loaded(v) => Coordinate::Loaded(v * scale),
+    })
+}
+
+/// `matrix` in every flexure of `mechanism`, along each drive; where it stops at a critical
+/// point (or finds no equilibrium) after `k` cases, the drive's first `k` cases are solved
+/// again as a drive of their own (the path is proportional, so they are the same cases).
+fn follow(mechanism: &Mechanism, matrix: &crate::prb::PrbMatrix, tol: f64) -> Followed {
+    let solver = prb::solver(mechanism, matrix, tol);
+    let mut out = Followed {
+        drives: Vec::with_capacity(mechanism.drives.len()),
+        failures: Vec::with_capacity(mechanism.drives.len()),
+    };
+    for (i, d) in mechanism.drives.iter().enumerate() {
+        let nondimensional = mechanism.nondimensional(d);
+        let steps = d.steps.max(1);
+        match solver.solve_drive(&nondimensional, steps, i + 1) {
+            Ok(cases) => {
+                out.drives.push(cases);
+                out.failures.push(None);
+            }
+            Err(e) => {
+                let reached_fraction = match &e {
+                    MechError::Critical { fraction, .. }
+                    | MechError::NoEquilibrium { fraction, .. } => *fraction,
+                    MechError::Immobile { .. } | MechError::Flexure { .. } => 0.0,
+                };
+                // Cases sit at k / steps; the small margin absorbs the fraction's rounding.
+                let k = ((reached_fraction * f64::from(steps) + 1e-6).floor() as u32).min(steps);
+                let part = f64::from(k) / f64::from(steps);
+                let cases = if k == 0 {
+                    Vec::new()
+                } else {
+                    solver
+                        .solve_drive(&scaled(nondimensional, part), k, i + 1)
+                        .map(|cases| {
+                            cases
+                                .into_iter()
+                                .map(|mut c| {
+                                    c.fraction *= part;
+                                    c
+                                })
+                                .collect()
+                        })
+                        .unwrap_or_default()
+                };
+                out.drives.push(cases);
+                out.failures.push(Some(e));
+            }
+        }
+    }
+    out
+}
+
+/// The exact mechanism's cases along every drive, at `resolution`.
+pub fn beam_cases(
+    mechanism: &Mechanism,
+    resolution: Resolution,
+) -> Result<Vec<Vec<MechCase>>, PlotError> {
+    exact::solve(mechanism, resolution).map_err(PlotError::Exact)
+}
+
+/// The force–stroke figure of `models` on the mechanism of `scene`: the exact mechanism at
+/// `resolution`, each model's PRB mechanism at `resolution.tol`. `kind` is
+/// [`ChartKind::Force`] (reactions only), [`ChartKind::Motion`] (motions only) or
+/// [`ChartKind::All`] (both); the others are for cantilever scenes.
+pub fn figure(
+    scene: &Scene,
+    mechanism: &Mechanism,
+    models: &[PlotModel],
+    resolution: Resolution,
+    kind: ChartKind,
+) -> Result<Figure, PlotError> {
+    let beam = beam_cases(mechanism, resolution)?;
+    figure_from(scene, mechanism, &beam, models, resolution.tol, kind)
+}
+
+/// [`figure`] with the exact mechanism already solved (`beam`, one `Vec` per drive).
+pub fn figure_from(
+    scene: &Scene,
+    mechanism: &Mechanism,
+    beam: &[Vec<MechCase>],
+    models: &[PlotModel],
+    tol: f64,
+    kind: ChartKind,
+) -> Result<Figure, PlotError> {
+    if !kind.has_force() && !kind.has_motion() {
+        return Err(PlotError::KindNotForScene {
+            kind,
+            mechanism: true,
+        });
+    }
+    if models.len() > MODEL_RGB.len() {
+        return Err(PlotError::TooManyModels {
+            max: MODEL_RGB.len(),
+            got: models.len(),
+        });
+    }
+    let units = Units::new(mechanism);
+    let followed: Vec<Followed> = models
+        .iter()
+        .map(|m| follow(mechanism, &m.matrix, tol))
+        .collect();
+
+    let mut unfollowed = Vec::new();
+    for (m, f) in models.iter().zip(&followed) {
+        for (i, (d, failure)) in mechanism.drives.iter().zip(&f.failures).enumerate() {
+            if let Some(e) = failure {
+                unfollowed.push(Unfollowed {
+                    model: m.name.clone(),
+                    path: i + 1,
+                    reached: f.drives.get(i).map_or(0, Vec::len),
+                    steps: d.steps.max(1) as usize,
+                    reason: Some(e.to_string()),
+                });
+            }
+        }
+    }
+    let legend = models
+        .iter()
+        .map(|m| {
+            let stopped: Vec<String> = unfollowed
+                .iter()
+                .filter(|u| u.model == m.name)
+                .map(|u| u.path.to_string())
+                .collect();
+            let none_reached = unfollowed
+                .iter()
+                .filter(|u| u.model == m.name)
+                .all(|u| u.reached == 0);
+            if stopped.is_empty() {
+                m.name.clone()
+            } else if stopped.len() == mechanism.drives.len() && none_reached {
+                format!("{} (cannot follow)", m.name)
+            } else {
+                format!("{} (stops on drive {})", m.name, stopped.join(", "))
+            }
+        })
+        .collect();
+
+    let drive_count = mechanism.drives.len();
+    let mut panels = Vec::new();
+    for (i, d) in mechanism.drives.iter().enumerate() {
+        let beam_cases = beam.get(i).map_or(&[][..], Vec::as_slice);
+        for output in [Output::Reaction, Output::Motion] {
+            let wanted = match output {
+                Output::Reaction => kind.has_force(),
+                Output::Motion => kind.has_motion(),
+            };
+            if !wanted {
+                continue;
+            }
+            let prescribed = output == Output::Reaction;
+            let x = Abscissa::of(d, i + 1, prescribed, &units);
+            for (c, coordinate) in d.coordinates.iter().enumerate() {
+                if coordinate.is_prescribed() != prescribed {
+                    continue;
+                }
+                let value = |case: &MechCase| match output {
+                    Output::Reaction => case.stage_load[c],
+                    Output::Motion => case.stage[c],
+                };
+                if beam_cases.iter().all(|case| value(case).abs() <= TRIVIAL) {
+                    continue;
+                }
+                let curve = |cases: &[MechCase]| -> Vec<[f64; 2]> {
+                    if cases.is_empty() {
+                        return Vec::new();
+                    }
+                    std::iter::once([0.0, 0.0])
+                        .chain(cases.iter().map(|case| {
+                            let y = match output {
+                                Output::Reaction => units.reaction(c, value(case)),
+                                Output::Motion => units.motion(c, value(case)),
+                            };
+                            [case.fraction * x.end, y]
+                        }))
+                        .collect()
+                };
+                let (disp, load) = COORDINATE_KEYS[c];
+                let (y_label, what) = match output {
+                    Output::Reaction => (
+                        format!("reaction {} ({})", capitalised(load), units.unit(c, false)),
+                        format!("reaction {}", capitalised(load)),
+                    ),
+                    Output::Motion => (
+                        format!("stage {disp} ({})", units.unit(c, true)),
+                        format!("stage {disp}"),
+                    ),
+                };
+                let against = x.label.split(" (").next().unwrap_or_default().to_string();
+                panels.push(StrokePanel {
+                    drive: i + 1,
+                    coordinate: c,
+                    output,
+                    title: format!(
+                        "drive {} of {drive_count} ({}): {what} against {against}",
+                        i + 1,
+                        summary(d, &units)
+                    ),
+                    x_label: x.label.clone(),
+                    y_label,
+                    beam: curve(beam_cases),
+                    models: followed
+                        .iter()
+                        .map(|f| curve(f.drives.get(i).map_or(&[][..], Vec::as_slice)))
+                        .collect(),
+                });
+            }
+        }
+    }
+    if panels.is_empty() {
+        return Err(PlotError::NothingToDraw {
+            kind,
+            scene: scene.name.clone(),
+        });
+    }
+    Ok(Figure {
+        kind,
+        title: scene.name.clone(),
+        shapes: None,
+        errors: None,
+        force_stroke: Some(ForceStrokeChart { legend, panels }),
+        unfollowed,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn force_names_are_capitalised() {
+        assert_eq!(capitalised("fx"), "Fx");
+        assert_eq!(capitalised("mz"), "Mz");
+        assert_eq!(capitalised(""), "");
+    }
+
+    #[test]
+    fn a_scaled_drive_keeps_its_kinds() {
+        let d = [
+            Coordinate::Prescribed(0.0),
+            Coordinate::Prescribed(0.3),
+            Coordinate::Loaded(2.0),
+        ];
+        assert_eq!(
+            scaled(d, 0.5),
+            [
+                Coordinate::Prescribed(0.0),
+                Coordinate::Prescribed(0.15),
+                Coordinate::Loaded(1.0),
+            ]
+        );
+    }
+}
