@@ -245,7 +245,8 @@ fn slider_crank_pushes_along_its_coupler() {
         assert!((along[0].hypot(along[1]) - c_len).abs() < 1e-6, "{c}");
         let cross = w[0] * along[1] - w[1] * along[0];
         assert!(cross.abs() < 1e-6 * (1.0 + w[0].hypot(w[1])), "{c}");
-        assert_eq!(w[2], 0.0);
+        // The pin's zero tip moment is one of the solver's equations, met to its tol.
+        assert!(w[2].abs() < 1e-6 * (1.0 + w[0].hypot(w[1])), "{c}");
         assert!(load[1] > last, "{c}");
         last = load[1];
     }
