@@ -1,16 +1,21 @@
 //! Mechanism solves (DESIGN §8): time per drive case of the exact mechanism (beam tol 1e-8)
-//! and of PRB mechanisms, for the fixed-guided segment, the parallel-guiding stage and the
+//! and of PRB mechanisms (Newton at 1e-8), for the fixed-guided segment, the parallel-guiding stage and the
 //! compliant slider-crank. Targets (issue 12): one-flexure driven case <= 50 us, parallel
 //! stage <= 150 us, any PRB mechanism <= 5 us.
 //!
-//! Run: `cargo bench --bench mech` (release build). Prints a table; asserts nothing.
+//! Then the issue's coverage grid of the parallel-guiding stage (`W = 0.3 L`, `Ay` 0..20,
+//! `Ax` -10..10, `B` -3..3 in steps 2, 2, 1: 847 points, each by continuation from zero in
+//! 10 steps): how many points each solver solves, how many end at a named critical point,
+//! and how long the whole grid takes.
+//!
+//! Run: `cargo bench --bench mech` (release build). Prints tables; asserts nothing.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
 use std::hint::black_box;
 use std::time::Instant;
 
 use prbfit::beam::{Effects, Resolution};
-use prbfit::mech::{exact, prb};
+use prbfit::mech::{exact, prb, MechCase, MechError};
 use prbfit::prb::PrbMatrix;
 use prbfit::scene::{Attach, BeamSpec, Coordinate, Drive, EffectsChoice, Flexure, Mechanism};
 
@@ -107,13 +112,65 @@ fn main() {
         println!("{name:<26} {:<12} {us:>12.1}", "beam 1e-8");
         for (model, text) in models {
             let matrix = PrbMatrix::parse(text).unwrap();
-            match prb::solve(m, &matrix, 1e-10) {
+            match prb::solve(m, &matrix, 1e-8) {
                 Ok(_) => {
-                    let us = time(21, || prb::solve(m, &matrix, 1e-10).unwrap()[0].len());
+                    let us = time(21, || prb::solve(m, &matrix, 1e-8).unwrap()[0].len());
                     println!("{name:<26} {model:<12} {us:>12.1}");
                 }
                 Err(e) => println!("{name:<26} {model:<12} {e}"),
             }
         }
+    }
+    grid(&models[1]);
+}
+
+/// The coverage grid with the exact beam and with one PRB model.
+fn grid(model: &(&str, &str)) {
+    let matrix = PrbMatrix::parse(model.1).unwrap();
+    let stage = |load: [f64; 3]| {
+        let mut m = mechanism(
+            vec![
+                flexure([0.0, 0.3], Attach::Clamped),
+                flexure([0.0, -0.3], Attach::Clamped),
+            ],
+            [1.0, 0.0],
+            load.map(Loaded),
+        );
+        m.drives[0].steps = 10;
+        m
+    };
+    let loads: Vec<[f64; 3]> = (0..=10)
+        .flat_map(|iy| {
+            (0..=10).flat_map(move |ix| {
+                (0..=6).map(move |ib| [-10.0 + 2.0 * ix as f64, 2.0 * iy as f64, -3.0 + ib as f64])
+            })
+        })
+        .collect();
+    println!();
+    println!("parallel-stage grid, {} points", loads.len());
+    println!(
+        "{:<12} {:>8} {:>10} {:>8} {:>10}",
+        "solver", "solved", "critical", "failed", "seconds"
+    );
+    type Solve<'a> = Box<dyn Fn(&Mechanism) -> Result<Vec<Vec<MechCase>>, MechError> + 'a>;
+    let solvers: [(&str, Solve); 2] = [
+        (
+            "beam 1e-8",
+            Box::new(|m| exact::solve(m, Resolution::with_tol(1e-8))),
+        ),
+        (model.0, Box::new(|m| prb::solve(m, &matrix, 1e-8))),
+    ];
+    for (name, solve) in &solvers {
+        let (mut solved, mut critical, mut failed) = (0, 0, 0);
+        let start = Instant::now();
+        for load in &loads {
+            match solve(&stage(*load)) {
+                Ok(_) => solved += 1,
+                Err(MechError::Critical { .. }) => critical += 1,
+                Err(_) => failed += 1,
+            }
+        }
+        let seconds = start.elapsed().as_secs_f64();
+        println!("{name:<12} {solved:>8} {critical:>10} {failed:>8} {seconds:>10.3}");
     }
 }

@@ -23,14 +23,14 @@ pub fn lu_solve(matrix: &mut [f64], rhs: &mut [f64], n: usize) -> Option<LuInfo>
     let mut sign = 1.0;
     let (mut smallest, mut largest) = (f64::INFINITY, 0.0_f64);
     for col in 0..n {
-        // `col < n`, so the range is never empty and the fallback is never taken.
-        let pivot = (col..n)
-            .max_by(|&i, &j| {
-                matrix[i * n + col]
-                    .abs()
-                    .total_cmp(&matrix[j * n + col].abs())
-            })
-            .unwrap_or(col);
+        let mut pivot = col;
+        let mut best = matrix[col * n + col].abs();
+        for i in col + 1..n {
+            let v = matrix[i * n + col].abs();
+            if v > best {
+                (pivot, best) = (i, v);
+            }
+        }
         let p = matrix[pivot * n + col];
         if p == 0.0 || !p.is_finite() {
             return None;
@@ -45,22 +45,29 @@ pub fn lu_solve(matrix: &mut [f64], rhs: &mut [f64], n: usize) -> Option<LuInfo>
         sign *= p.signum();
         smallest = smallest.min(p.abs());
         largest = largest.max(p.abs());
-        for row in col + 1..n {
-            let factor = matrix[row * n + col] / p;
+        // Row slices, so the inner loop has no bounds checks and vectorises (the mechanism's
+        // Jacobians are mostly zeros, skipped by the factor test).
+        let (upper, lower) = matrix.split_at_mut((col + 1) * n);
+        let pivot_row = &upper[col * n + col..(col + 1) * n];
+        for (k, row) in lower.chunks_exact_mut(n).enumerate() {
+            let factor = row[col] / p;
             if factor != 0.0 {
-                for j in col..n {
-                    matrix[row * n + j] -= factor * matrix[col * n + j];
+                for (t, &v) in row[col..].iter_mut().zip(pivot_row) {
+                    *t -= factor * v;
                 }
-                rhs[row] -= factor * rhs[col];
+                rhs[col + 1 + k] -= factor * rhs[col];
             }
         }
     }
     for col in (0..n).rev() {
-        let mut v = rhs[col];
-        for j in col + 1..n {
-            v -= matrix[col * n + j] * rhs[j];
-        }
-        rhs[col] = v / matrix[col * n + col];
+        let row = &matrix[col * n..(col + 1) * n];
+        let v = rhs[col]
+            - row[col + 1..]
+                .iter()
+                .zip(&rhs[col + 1..n])
+                .map(|(a, b)| a * b)
+                .sum::<f64>();
+        rhs[col] = v / row[col];
     }
     rhs.iter().all(|v| v.is_finite()).then_some(LuInfo {
         det_sign: sign,

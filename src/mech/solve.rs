@@ -75,12 +75,19 @@ struct System {
     load: [f64; 3],
 }
 
-/// A point of the path.
-#[derive(Clone)]
+/// A point of the path, with the flexures evaluated there.
 struct Point {
     lambda: f64,
     x: Vec<f64>,
-    tips: Vec<TipPose>,
+    evals: Vec<FlexEval>,
+    /// The load the flexures put on the stage.
+    load: [f64; 3],
+}
+
+impl Point {
+    fn tip(&self, i: usize) -> TipPose {
+        self.evals[i].tip
+    }
 }
 
 /// What one Newton solve found.
@@ -434,9 +441,13 @@ impl<M: FlexureModel> MechSolver<M> {
         for iteration in 1..=MAX_NEWTON {
             let converged = self.converged(&sys.residual, sys.load);
             if let (true, Some(det_sign)) = (converged, det_sign) {
-                let tips = sys.evals.iter().map(|e| e.tip).collect();
                 return Ok(Converged {
-                    point: Point { lambda, x, tips },
+                    point: Point {
+                        lambda,
+                        x,
+                        evals: sys.evals,
+                        load: sys.load,
+                    },
                     det_sign,
                     iterations: iteration,
                 });
@@ -499,7 +510,8 @@ impl<M: FlexureModel> MechSolver<M> {
         let mut prev = Point {
             lambda: 0.0,
             x: x0,
-            tips: sys0.evals.iter().map(|e| e.tip).collect(),
+            evals: sys0.evals,
+            load: sys0.load,
         };
         let mut prev2: Option<(f64, Vec<f64>)> = None;
         let mut out = Vec::with_capacity(steps as usize);
@@ -529,12 +541,8 @@ impl<M: FlexureModel> MechSolver<M> {
                 let failure = match self.newton(drive, lambda, guess) {
                     Ok(c) => {
                         iterations += c.iterations;
-                        let jump = c
-                            .point
-                            .tips
-                            .iter()
-                            .zip(&prev.tips)
-                            .fold(0.0_f64, |m, (a, b)| m.max(a.max_diff(b)));
+                        let jump = (0..self.models.len())
+                            .fold(0.0_f64, |m, i| m.max(c.point.tip(i).max_diff(&prev.tip(i))));
                         if jump <= MAX_TIP_STEP {
                             if c.det_sign != sign0 {
                                 return Err(MechError::Critical {
@@ -546,7 +554,7 @@ impl<M: FlexureModel> MechSolver<M> {
                             prev = c.point;
                             dlam = (2.0 * dlam).min(1.0 / steps as f64);
                             if lambda >= target {
-                                out.push(self.case(drive, &prev, iterations)?);
+                                out.push(self.case(drive, &prev, iterations));
                                 break;
                             }
                             continue;
@@ -590,20 +598,14 @@ impl<M: FlexureModel> MechSolver<M> {
     }
 
     /// The reported case at an accepted point.
-    fn case(
-        &self,
-        drive: &[Coordinate; 3],
-        point: &Point,
-        iterations: u32,
-    ) -> Result<MechCase, MechError> {
-        let sys = self.system(drive, point.lambda, &point.x)?;
-        let mut stage_load = sys.load;
+    fn case(&self, drive: &[Coordinate; 3], point: &Point, iterations: u32) -> MechCase {
+        let mut stage_load = point.load;
         for (l, c) in stage_load.iter_mut().zip(drive) {
             if let Coordinate::Loaded(v) = c {
                 *l = point.lambda * v;
             }
         }
-        let flexures = sys
+        let flexures = point
             .evals
             .iter()
             .enumerate()
@@ -618,13 +620,13 @@ impl<M: FlexureModel> MechSolver<M> {
                 }
             })
             .collect();
-        Ok(MechCase {
+        MechCase {
             fraction: point.lambda,
             stage: self.pose(drive, point.lambda, &point.x),
             stage_load,
             flexures,
             iterations,
-        })
+        }
     }
 }
 
