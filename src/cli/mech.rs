@@ -99,10 +99,11 @@ fn count(n: usize, thing: &str) -> String {
     }
 }
 
-/// `x` with round-off zeros (below `1e-12`, far under the tables' last digit) printed as
-/// `0`, so that a reaction that is zero in exact arithmetic does not show as `-0.00000`.
-fn tidy(x: f64) -> f64 {
-    if x.abs() < 1e-12 {
+/// `x` for a column printed with `decimals` digits: a value that rounds to zero there (a
+/// reaction zero in exact arithmetic, met to the solver's tolerance) prints as `0`, not
+/// `-0.0000`.
+fn tidy(x: f64, decimals: i32) -> f64 {
+    if x.abs() < 0.5 * 10f64.powi(-decimals) {
         0.0
     } else {
         x
@@ -268,12 +269,12 @@ impl fmt::Display for SolveReport {
                     s[2].to_degrees(),
                     s[0] * units.length * factor,
                     s[1] * units.length * factor,
-                    tidy(l[0]),
-                    tidy(l[1]),
-                    tidy(l[2]),
-                    tidy(l[0] * units.load(0)),
-                    tidy(l[1] * units.load(1)),
-                    tidy(l[2] * units.load(2)),
+                    tidy(l[0], 4),
+                    tidy(l[1], 4),
+                    tidy(l[2], 4),
+                    tidy(l[0] * units.load(0), 5),
+                    tidy(l[1] * units.load(1), 5),
+                    tidy(l[2] * units.load(2), 6),
                 )?;
             }
         }
@@ -479,13 +480,14 @@ impl EvalReport {
             writeln!(f, "{head}")?;
             // An output in SI: the reaction (N, N m) or the motion (mm or m, degrees).
             let output = |c: usize, stage: &[f64; 3], load: &[f64; 3]| {
-                tidy(if info.prescribed[c] {
+                let v = if info.prescribed[c] {
                     load[c] * units.load(c)
                 } else if c == 2 {
                     stage[c].to_degrees()
                 } else {
                     stage[c] * units.length * factor
-                })
+                };
+                tidy(v, 5)
             };
             for c in row.cases.iter().filter(|c| c.drive == info.drive) {
                 let mut line = format!("{:>6.3}", c.fraction);
