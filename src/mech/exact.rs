@@ -78,11 +78,5 @@ pub fn solve(
     mechanism: &Mechanism,
     resolution: Resolution,
 ) -> Result<Vec<Vec<MechCase>>, MechError> {
-    let s = solver(mechanism, resolution)?;
-    mechanism
-        .drives
-        .iter()
-        .enumerate()
-        .map(|(i, d)| s.solve_drive(&mechanism.nondimensional(d), d.steps, i + 1))
-        .collect()
+    solver(mechanism, resolution)?.solve_all(mechanism)
 }

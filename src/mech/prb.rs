@@ -105,11 +105,5 @@ pub fn solve(
     matrix: &PrbMatrix,
     tol: f64,
 ) -> Result<Vec<Vec<MechCase>>, MechError> {
-    let s = solver(mechanism, matrix, tol);
-    mechanism
-        .drives
-        .iter()
-        .enumerate()
-        .map(|(i, d)| s.solve_drive(&mechanism.nondimensional(d), d.steps, i + 1))
-        .collect()
+    solver(mechanism, matrix, tol).solve_all(mechanism)
 }

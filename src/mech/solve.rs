@@ -3,7 +3,7 @@
 
 use crate::beam::{Load, TipPose};
 use crate::linalg::lu_solve;
-use crate::scene::Coordinate;
+use crate::scene::{Coordinate, Mechanism};
 
 use super::geometry::{cross, rotate, Geometry, Joint};
 use super::{FlexureCase, MechCase, MechError, TipFailure};
@@ -582,6 +582,17 @@ impl<M: FlexureModel> MechSolver<M> {
             }
         }
         Ok(out)
+    }
+
+    /// Every drive path of `mechanism` (whose geometry this solver was built from): one
+    /// `Vec` of cases per drive.
+    pub fn solve_all(&self, mechanism: &Mechanism) -> Result<Vec<Vec<MechCase>>, MechError> {
+        mechanism
+            .drives
+            .iter()
+            .enumerate()
+            .map(|(i, d)| self.solve_drive(&mechanism.nondimensional(d), d.steps, i + 1))
+            .collect()
     }
 
     /// The equilibrated Jacobian's smallest pivot over its largest at an accepted point (0
