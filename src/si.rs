@@ -7,7 +7,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::beam::Load;
 use crate::prb::{Column, PrbMatrix};
-use crate::scene::{BeamSpec, LoadPath};
+use crate::scene::{BeamSpec, Coordinate, LoadPath, Mechanism};
 
 /// One segment in SI units.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -121,6 +121,79 @@ pub fn load_range(beam: &BeamSpec, paths: &[LoadPath]) -> LoadRange {
         fx: [ax[0] * force, ax[1] * force],
         fy: [ay[0] * force, ay[1] * force],
         mz: [be[0] * moment, be[1] * moment],
+    }
+}
+
+/// A mechanism's SI scale (DESIGN §8: flexure 1 sets the units) and the display units the
+/// reports and charts use: mm for flexures under a metre (else m), degrees, N, N m.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MechUnits {
+    /// Flexure 1's `L`, m.
+    pub length: f64,
+    /// `E I0 / L^2`, N: the force of `alpha = 1`.
+    pub force: f64,
+    /// `E I0 / L`, N m: the moment of `beta = 1`.
+    pub moment: f64,
+    /// "mm" or "m".
+    pub distance: &'static str,
+    /// Display distance units per metre.
+    pub per_metre: f64,
+}
+
+impl MechUnits {
+    /// The units of `mechanism`.
+    pub fn new(mechanism: &Mechanism) -> MechUnits {
+        let (length, ei) = mechanism.scale();
+        let (distance, per_metre) = if length < 1.0 {
+            ("mm", 1e3)
+        } else {
+            ("m", 1.0)
+        };
+        MechUnits {
+            length,
+            force: ei / (length * length),
+            moment: ei / length,
+            distance,
+            per_metre,
+        }
+    }
+
+    /// The SI factor of stage load coordinate `c` (N for x and y, N m for phi).
+    pub fn load(&self, c: usize) -> f64 {
+        if c == 2 {
+            self.moment
+        } else {
+            self.force
+        }
+    }
+
+    /// A stage motion of coordinate `c` (units of `L`, radians) in display units (mm or m,
+    /// degrees).
+    pub fn motion(&self, c: usize, v: f64) -> f64 {
+        if c == 2 {
+            v.to_degrees()
+        } else {
+            v * self.length * self.per_metre
+        }
+    }
+
+    /// A drive's SI end value of coordinate `c` (m, rad, N, N m) in display units.
+    pub fn input(&self, c: usize, coordinate: Coordinate) -> f64 {
+        match coordinate {
+            Coordinate::Prescribed(v) if c == 2 => v.to_degrees(),
+            Coordinate::Prescribed(v) => v * self.per_metre,
+            Coordinate::Loaded(v) => v,
+        }
+    }
+
+    /// The display unit of coordinate `c`, prescribed (a motion) or not (a load).
+    pub fn unit(&self, c: usize, prescribed: bool) -> &'static str {
+        match (prescribed, c == 2) {
+            (true, true) => "degrees",
+            (true, false) => self.distance,
+            (false, true) => "N m",
+            (false, false) => "N",
+        }
     }
 }
 

@@ -11,7 +11,7 @@ use std::os::unix::fs::FileTypeExt;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-use common::{assert_input_error, prbfit, Scratch};
+use common::{assert_input_error, prbfit, succeeded, Scratch};
 
 fn bin() -> Command {
     let mut c = Command::new(env!("CARGO_BIN_EXE_prbfit"));
@@ -98,11 +98,7 @@ fn export_through_a_symlink_writes_the_target_and_keeps_the_link() {
     let out = prbfit(&[
         "export", "--model", "su-3r", "--format", "mjcf", "-o", &link, "--force",
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    succeeded(&out);
     let meta = std::fs::symlink_metadata(&link).unwrap();
     assert!(meta.file_type().is_symlink(), "the link became a file");
     let text = std::fs::read_to_string(&target).unwrap();
@@ -189,11 +185,7 @@ fn control_characters_never_reach_the_terminal_or_break_an_export() {
         vec!["eval", "--scene", &scene, "--model", "su-3r"],
     ] {
         let out = prbfit(&args);
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
+        succeeded(&out);
         let text = String::from_utf8_lossy(&out.stdout);
         assert!(text.contains("RED"), "{text}");
         assert!(
@@ -206,11 +198,7 @@ fn control_characters_never_reach_the_terminal_or_break_an_export() {
         let out = prbfit(&[
             "export", "--scene", &scene, "--model", "chen-3r", "--format", format, "-o", &path,
         ]);
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
+        succeeded(&out);
         let text = std::fs::read_to_string(&path).unwrap();
         roxmltree::Document::parse(&text)
             .unwrap_or_else(|e| panic!("{format} is not well-formed XML: {e}\n{text}"));

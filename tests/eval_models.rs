@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::prbfit;
+use common::{prbfit, succeeded};
 
 use prbfit::beam::{BeamModel, Effects, Load, Resolution};
 use prbfit::eval::{evaluate, Baseline};
@@ -158,11 +158,7 @@ fn urethane_joint_needs_its_effects() {
 #[test]
 fn cli_eval_reports_the_five_figures() {
     let out = prbfit(&["eval", "--model", "su-3r", "--json"]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    succeeded(&out);
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     for key in [
         "rms_pos_err",

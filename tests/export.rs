@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::prbfit;
+use common::{prbfit, succeeded};
 
 use std::path::Path;
 
@@ -76,11 +76,7 @@ fn own_format_round_trips_exactly_and_evaluates_the_same() {
         assert_eq!(record.fidelity, "normal");
         // prbfit eval reads it back and finds the same figures.
         let out = prbfit(&["eval", "--model", &path, "--json", "--tol", "1e-8"]);
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
+        succeeded(&out);
         let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
         assert_eq!(v["prb"].as_str().unwrap(), m.to_text());
         assert_eq!(v["objective"].as_f64().unwrap(), record.figures.objective);

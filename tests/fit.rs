@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::prbfit;
+use common::{prbfit, succeeded};
 
 use std::path::Path;
 
@@ -256,11 +256,7 @@ fn cli_fit_saves_models_that_reload_exactly() {
             p,
             "--json",
         ]);
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
+        succeeded(&out);
         let fitted: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
         let model = ModelFile::load(p).unwrap();
         assert_eq!(

@@ -88,28 +88,36 @@ fn fixed_guided(dy: f64, steps: u32) -> Mechanism {
     )
 }
 
+/// DESIGN §8's closed form of a fixed-guided case: the flexure is two half-length
+/// cantilevers meeting at the inflection point, so its tip is `b_c(alpha / 4)` of the half
+/// beam `half` (the flexure's own model) and its tip moment `-alpha a / 2`.
+fn assert_two_half_cantilevers(c: &MechCase, half: &BeamSolver) {
+    let f = c.flexures[0];
+    let alpha = f.wrench.alpha_y;
+    let reference = half.solve(Load::new(0.0, alpha / 4.0, 0.0)).unwrap().tip;
+    assert!(
+        (reference.b - f.tip.b).abs() < 1e-8,
+        "{c:?} vs {reference:?}"
+    );
+    assert!(
+        (reference.a - f.tip.a).abs() < 1e-8,
+        "{c:?} vs {reference:?}"
+    );
+    assert!(
+        (f.wrench.beta + alpha * f.tip.a / 2.0).abs() < 1e-8,
+        "{c:?}"
+    );
+}
+
 #[test]
 fn fixed_guided_is_two_half_cantilevers() {
     let cases = exact_cases(&fixed_guided(0.6, 6)).unwrap();
     let half = elastica();
     assert_eq!(cases.len(), 6);
     for c in &cases {
-        let f = c.flexures[0];
-        let alpha = f.wrench.alpha_y;
-        let reference = half.solve(Load::new(0.0, alpha / 4.0, 0.0)).unwrap().tip;
-        assert!(
-            (reference.b - c.stage[1]).abs() < 1e-8,
-            "{c:?} vs {reference:?}"
-        );
-        assert!((reference.b - f.tip.b).abs() < 1e-8);
-        assert!(
-            (reference.a - f.tip.a).abs() < 1e-8,
-            "{c:?} vs {reference:?}"
-        );
-        assert!(
-            (f.wrench.beta + alpha * f.tip.a / 2.0).abs() < 1e-8,
-            "{c:?}"
-        );
+        assert_two_half_cantilevers(c, &half);
+        let (f, alpha) = (c.flexures[0], c.flexures[0].wrench.alpha_y);
+        assert!((c.stage[1] - f.tip.b).abs() < 1e-9);
         assert!(f.wrench.alpha_x.abs() < 1e-8);
         assert!(f.tip.phi.abs() < 1e-9);
         // The stage follows the tip, and the drive supplies the flexure's force.
@@ -445,21 +453,7 @@ fn fixed_guided_with_every_effect_is_two_half_cantilevers() {
     )
     .unwrap();
     for c in &cases {
-        let f = c.flexures[0];
-        let alpha = f.wrench.alpha_y;
-        let reference = half.solve(Load::new(0.0, alpha / 4.0, 0.0)).unwrap().tip;
-        assert!(
-            (reference.b - f.tip.b).abs() < 1e-8,
-            "{c:?} vs {reference:?}"
-        );
-        assert!(
-            (reference.a - f.tip.a).abs() < 1e-8,
-            "{c:?} vs {reference:?}"
-        );
-        assert!(
-            (f.wrench.beta + alpha * f.tip.a / 2.0).abs() < 1e-8,
-            "{c:?}"
-        );
+        assert_two_half_cantilevers(c, &half);
     }
 }
 

@@ -6,7 +6,7 @@
 
 mod common;
 
-use common::prbfit;
+use common::{prbfit, succeeded};
 
 use std::process::Command;
 
@@ -71,22 +71,14 @@ fn exported_mjcf_settles_where_prbfit_says() {
         ];
         args.extend(&common);
         let out = prbfit(&args);
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
+        succeeded(&out);
         for &i in load_ids.iter() {
             let load = scene.loads[i].end;
             let spec = format!("{},{},{}", load.alpha_x, load.alpha_y, load.beta);
             let mut args = vec!["eval", which, model, "--load", &spec, "--json"];
             args.extend(&common);
             let out = prbfit(&args);
-            assert!(
-                out.status.success(),
-                "{}",
-                String::from_utf8_lossy(&out.stderr)
-            );
+            succeeded(&out);
             let expected: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
             let (fx, fy, mz) = (
                 load.alpha_x * ei / (l * l),
@@ -98,11 +90,7 @@ fn exported_mjcf_settles_where_prbfit_says() {
                 .args([fx, fy, mz, l].map(|v| format!("{v:e}")))
                 .output()
                 .unwrap();
-            assert!(
-                out.status.success(),
-                "{}",
-                String::from_utf8_lossy(&out.stderr)
-            );
+            succeeded(&out);
             let got: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
             let d =
                 |k: &str, e: &str| (got[k].as_f64().unwrap() - expected[e].as_f64().unwrap()).abs();

@@ -5,7 +5,7 @@
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
 mod common;
-use common::{assert_input_error, json, prbfit, Scratch};
+use common::{assert_input_error, json, prbfit, succeeded, Scratch};
 
 use std::collections::{HashMap, HashSet};
 
@@ -261,11 +261,7 @@ fn models_keep_the_command_line_order_and_the_scene_model_is_the_default() {
         "-o",
         &dir.file("scene.png"),
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    succeeded(&out);
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(
         text.starts_with("wrote ") && text.contains("scene"),
@@ -326,11 +322,7 @@ fn a_model_that_stops_on_a_path_is_drawn_as_far_as_it_got_and_reported() {
         "-o",
         &dir.file("stop.png"),
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    succeeded(&out);
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(text.contains("note: l-r reaches only 0 of the"), "{text}");
 }
@@ -354,11 +346,7 @@ fn bad_input_exits_2_naming_what_is_wrong_and_writes_nothing() {
     let out = prbfit(&[
         "plot", "--model", "su-3r", "--kind", "shapes", "-o", &kept, "--force",
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    succeeded(&out);
     assert!(std::fs::read_to_string(&kept).unwrap().starts_with("<svg"));
 
     let fresh = dir.file("fresh.svg");
@@ -721,11 +709,7 @@ fn howell_1r_on_a_fixed_guided_flexure_is_listed_as_unfollowed_not_a_crash() {
         "-o",
         &dir.file("alone.png"),
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    succeeded(&out);
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert!(
         stdout.contains("note: howell-1r reaches only 0 of the 6 cases of drive 1 (not drawn)"),

@@ -3,8 +3,10 @@
 #![allow(clippy::unwrap_used, clippy::expect_used)] // tests: a failure should panic
 
 use std::path::Path;
-use std::process::Command;
 
+mod common;
+
+use common::{json, prbfit};
 use prbfit::beam::{Effects, Resolution};
 use prbfit::eval::Baseline;
 use prbfit::fit::{CancelToken, Fidelity};
@@ -147,21 +149,11 @@ fn the_simplest_sufficient_model_is_chosen() {
 
 #[test]
 fn cli_select_and_tradeoff() {
-    let bin = env!("CARGO_BIN_EXE_prbfit");
     let path = format!(
         "{}/assets/scenes/urethane-joint.toml",
         env!("CARGO_MANIFEST_DIR")
     );
-    let out = Command::new(bin)
-        .args(["select", "--scene", &path, "--json"])
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let v = json(&prbfit(&["select", "--scene", &path, "--json"]));
     let rows = v["rows"].as_array().unwrap();
     assert!(rows
         .iter()
@@ -171,16 +163,7 @@ fn cli_select_and_tradeoff() {
     PrbMatrix::parse(chosen["prb"].as_str().unwrap()).unwrap();
     assert_eq!(v["effects_decision"]["effects"]["shear"], true);
 
-    let out = Command::new(bin)
-        .args(["tradeoff", "--topology", "L-R-R", "--json"])
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let v = json(&prbfit(&["tradeoff", "--topology", "L-R-R", "--json"]));
     let knobs = v["knobs"].as_array().unwrap();
     let names: Vec<&str> = knobs.iter().map(|k| k["knob"].as_str().unwrap()).collect();
     assert_eq!(

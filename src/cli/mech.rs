@@ -27,6 +27,7 @@ use prbfit::beam::{BeamSolver, Resolution};
 use prbfit::mech::figures::{compare, MechCaseError, MechFigures};
 use prbfit::mech::{exact, prb, MechCase};
 use prbfit::scene::{Accuracy, Drive, Mechanism, Scene, COORDINATE_KEYS};
+use prbfit::si::MechUnits;
 
 use super::args::{EvalArgs, SolveArgs};
 use super::bad;
@@ -37,57 +38,16 @@ use super::output::{emit, met, num, safe, Progress};
 const LOAD_NAMES: [&str; 3] = ["Fx N", "Fy N", "Mz N m"];
 
 /// Flexure 1's scale, for the text form: lengths and loads in SI.
-#[derive(Debug, Clone, Copy)]
-struct Units {
-    /// Flexure 1's `L`, m.
-    length: f64,
-    /// `E I0 / L^2`, N: the force of `alpha = 1`.
-    force: f64,
-    /// `E I0 / L`, N m: the moment of `beta = 1`.
-    moment: f64,
-}
-
-impl Units {
-    fn new(mechanism: &Mechanism) -> Units {
-        let (length, ei) = mechanism.scale();
-        Units {
-            length,
-            force: ei / (length * length),
-            moment: ei / length,
-        }
-    }
-
-    /// The SI factor of a stage load coordinate (N for x and y, N m for phi).
-    fn load(&self, c: usize) -> f64 {
-        if c == 2 {
-            self.moment
-        } else {
-            self.force
-        }
-    }
-
-    /// Millimetres for flexures under a metre, else metres: the unit's name and factor.
-    fn distance(&self) -> (&'static str, f64) {
-        if self.length < 1.0 {
-            ("mm", 1e3)
-        } else {
-            ("m", 1.0)
-        }
-    }
-}
-
-impl fmt::Display for Units {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let (name, factor) = self.distance();
-        writeln!(
-            f,
-            "flexure 1 sets the units: L = {} {name}; alpha = 1 is E I0/L^2 = {} N, beta = 1 is \
-             E I0/L = {} N m",
-            num(self.length * factor),
-            num(self.force),
-            num(self.moment)
-        )
-    }
+/// The line that says which units flexure 1 sets.
+fn units_line(units: &MechUnits) -> String {
+    format!(
+        "flexure 1 sets the units: L = {} {}; alpha = 1 is E I0/L^2 = {} N, beta = 1 is \
+         E I0/L = {} N m\n",
+        num(units.length * units.per_metre),
+        units.distance,
+        num(units.force),
+        num(units.moment)
+    )
 }
 
 /// `n` things, plural when not one.
@@ -137,8 +97,8 @@ impl DriveInfo {
 }
 
 /// One line naming what a drive prescribes and what it loads, in SI.
-fn drive_line(drive: usize, d: &Drive, units: &Units) -> String {
-    let (dist, factor) = units.distance();
+fn drive_line(drive: usize, d: &Drive, units: &MechUnits) -> String {
+    let (dist, factor) = (units.distance, units.per_metre);
     let mut prescribed = Vec::new();
     let mut loaded = Vec::new();
     for (c, (coordinate, (disp, load))) in d.coordinates.iter().zip(COORDINATE_KEYS).enumerate() {
@@ -228,8 +188,8 @@ pub struct SolveReport {
 
 impl fmt::Display for SolveReport {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let units = Units::new(&self.mechanism);
-        let (dist, factor) = units.distance();
+        let units = MechUnits::new(&self.mechanism);
+        let (dist, factor) = (units.distance, units.per_metre);
         writeln!(
             f,
             "scene: {} (mechanism: {}, {})",
@@ -237,7 +197,7 @@ impl fmt::Display for SolveReport {
             count(self.flexure_count, "flexure"),
             count(self.drives.len(), "drive path")
         )?;
-        write!(f, "{units}")?;
+        write!(f, "{}", units_line(&units))?;
         for (info, drive) in self.drives.iter().zip(&self.mechanism.drives) {
             writeln!(f)?;
             writeln!(f, "{}", drive_line(info.drive, drive, &units))?;
@@ -443,8 +403,8 @@ impl EvalReport {
     /// Per drive, the table of what the drive produces: the loaded coordinates' motion and
     /// the prescribed ones' reactions, beam against PRB.
     fn case_table(&self, f: &mut fmt::Formatter<'_>, row: &ModelRow) -> fmt::Result {
-        let units = Units::new(&self.mechanism);
-        let (dist, factor) = units.distance();
+        let units = MechUnits::new(&self.mechanism);
+        let (dist, factor) = (units.distance, units.per_metre);
         for (info, drive) in self.drives.iter().zip(&self.mechanism.drives) {
             writeln!(f)?;
             writeln!(
@@ -531,7 +491,7 @@ impl fmt::Display for EvalReport {
             count(self.drives.len(), "drive path"),
             count(usize::try_from(cases).unwrap_or(usize::MAX), "case")
         )?;
-        write!(f, "{}", Units::new(&self.mechanism))?;
+        write!(f, "{}", units_line(&MechUnits::new(&self.mechanism)))?;
         writeln!(
             f,
             "targets: max position error {} L, max angle error {} rad, max reaction error {} \

@@ -20,6 +20,7 @@
 use crate::beam::Resolution;
 use crate::mech::{exact, prb, MechCase, MechError};
 use crate::scene::{Coordinate, Drive, Mechanism, Scene, COORDINATE_KEYS};
+use crate::si::MechUnits;
 
 use super::data::{Figure, PlotModel, Unfollowed};
 use super::{ChartKind, PlotError, MODEL_RGB};
@@ -68,72 +69,6 @@ pub struct ForceStrokeChart {
     pub panels: Vec<StrokePanel>,
 }
 
-/// Flexure 1's scale in the units the chart shows.
-#[derive(Debug, Clone, Copy)]
-struct Units {
-    /// Flexure 1's `L`, m.
-    length: f64,
-    /// `E I0 / L^2`, N: the force of `alpha = 1`.
-    force: f64,
-    /// `E I0 / L`, N m: the moment of `beta = 1`.
-    moment: f64,
-    /// "mm" for flexures under a metre, else "m" (as `solve` and `eval` print them).
-    distance: &'static str,
-    /// Display units per metre.
-    per_metre: f64,
-}
-
-impl Units {
-    fn new(mechanism: &Mechanism) -> Units {
-        let (length, ei) = mechanism.scale();
-        let (distance, per_metre) = if length < 1.0 {
-            ("mm", 1e3)
-        } else {
-            ("m", 1.0)
-        };
-        Units {
-            length,
-            force: ei / (length * length),
-            moment: ei / length,
-            distance,
-            per_metre,
-        }
-    }
-
-    /// A reaction (nondimensional, flexure 1's units) in N or N m.
-    fn reaction(&self, c: usize, v: f64) -> f64 {
-        v * if c == 2 { self.moment } else { self.force }
-    }
-
-    /// A stage motion (units of `L`, radians) in mm (or m) or degrees.
-    fn motion(&self, c: usize, v: f64) -> f64 {
-        if c == 2 {
-            v.to_degrees()
-        } else {
-            v * self.length * self.per_metre
-        }
-    }
-
-    /// A drive's SI end value (m, rad, N, N m) in display units.
-    fn input(&self, c: usize, coordinate: Coordinate) -> f64 {
-        match coordinate {
-            Coordinate::Prescribed(v) if c == 2 => v.to_degrees(),
-            Coordinate::Prescribed(v) => v * self.per_metre,
-            Coordinate::Loaded(v) => v,
-        }
-    }
-
-    /// The unit of an output or input.
-    fn unit(&self, c: usize, prescribed: bool) -> &'static str {
-        match (prescribed, c == 2) {
-            (true, true) => "degrees",
-            (true, false) => self.distance,
-            (false, true) => "N m",
-            (false, false) => "N",
-        }
-    }
-}
-
 /// A drive's abscissa: the input that varies (or the fraction), in display units.
 #[derive(Debug, Clone)]
 struct Abscissa {
@@ -147,7 +82,7 @@ impl Abscissa {
     /// The input of `drive` that varies, of the kind `prescribed` asks for first, then the
     /// other kind, then the fraction. Of several, the largest translation (or force) wins:
     /// they vary in proportion, so any one orders the cases.
-    fn of(drive: &Drive, index: usize, prescribed: bool, units: &Units) -> Abscissa {
+    fn of(drive: &Drive, index: usize, prescribed: bool, units: &MechUnits) -> Abscissa {
         let pick = |want: bool| {
             (0..3)
                 .filter(|&c| {
@@ -186,7 +121,7 @@ impl Abscissa {
 }
 
 /// What a drive varies, in display units: "dy 15 mm, Fx 10 N" (its nonzero end values).
-fn summary(drive: &Drive, units: &Units) -> String {
+fn summary(drive: &Drive, units: &MechUnits) -> String {
     let parts: Vec<String> = drive
         .coordinates
         .iter()
@@ -331,7 +266,7 @@ pub fn figure_from(
             got: models.len(),
         });
     }
-    let units = Units::new(mechanism);
+    let units = MechUnits::new(mechanism);
     let followed: Vec<Followed> = models
         .iter()
         .map(|m| follow(mechanism, &m.matrix, tol))
@@ -405,7 +340,7 @@ pub fn figure_from(
                     std::iter::once([0.0, 0.0])
                         .chain(cases.iter().map(|case| {
                             let y = match output {
-                                Output::Reaction => units.reaction(c, value(case)),
+                                Output::Reaction => value(case) * units.load(c),
                                 Output::Motion => units.motion(c, value(case)),
                             };
                             [case.fraction * x.end, y]

@@ -16,13 +16,18 @@ pub fn prbfit(args: &[&str]) -> Output {
         .expect("the binary runs")
 }
 
-/// The one JSON object a successful command printed.
-pub fn json(out: &Output) -> serde_json::Value {
+/// Fails the test, showing the command's stderr, unless it exited with success.
+pub fn succeeded(out: &Output) {
     assert!(
         out.status.success(),
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
+}
+
+/// The one JSON object a successful command printed.
+pub fn json(out: &Output) -> serde_json::Value {
+    succeeded(out);
     serde_json::from_slice(&out.stdout).expect("one JSON object on stdout")
 }
 
