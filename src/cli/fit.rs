@@ -18,7 +18,7 @@ use prbfit::select::EffectsDecision;
 
 use super::args::FitArgs;
 use super::output::{emit, met, num, safe, DecisionLine, Progress};
-use super::{bad, parse_matrix, resolved_scene, scene_model};
+use super::{bad, load_scene, parse_matrix, resolve_scene, scene_model};
 
 /// What `fit` found.
 #[derive(Debug, Serialize)]
@@ -89,7 +89,11 @@ impl fmt::Display for FitOutput {
 
 /// Runs `prbfit fit`.
 pub fn run(args: FitArgs) -> Result<()> {
-    let (scene, decision) = resolved_scene(&args.common, "fit")?;
+    let scene = load_scene(&args.common)?;
+    if let Some(mechanism) = &scene.mechanism {
+        return super::mech::fit(&scene, mechanism, &args);
+    }
+    let (scene, decision) = resolve_scene(&scene)?;
     let start = match (&args.topology, &args.prb) {
         (Some(t), _) => {
             PrbMatrix::from_topology(t).map_err(|e| bad(format!("--topology {t}: {e}")))?

@@ -29,10 +29,15 @@ use prbfit::mech::{exact, prb, MechCase};
 use prbfit::scene::{Accuracy, Drive, Mechanism, Scene, COORDINATE_KEYS};
 use prbfit::si::MechUnits;
 
-use super::args::{EvalArgs, SolveArgs};
-use super::bad;
+use prbfit::fidelity::Fidelity;
+use prbfit::fit::mech::{fit_mechanism, MechFitError};
+use prbfit::fit::{CancelToken, FitError, FitOptions, StopReason};
+use prbfit::prb::PrbMatrix;
+
+use super::args::{EvalArgs, FitArgs, SolveArgs};
 use super::eval::{named_models, OneOrMany};
 use super::output::{emit, met, num, safe, Progress};
+use super::{bad, parse_matrix, scene_model};
 
 /// Names of the stage coordinates' loads in the text tables, with their SI unit.
 const LOAD_NAMES: [&str; 3] = ["Fx N", "Fy N", "Mz N m"];
@@ -624,4 +629,143 @@ pub fn eval(scene: &Scene, mechanism: &Mechanism, args: &EvalArgs) -> Result<()>
         mechanism: mechanism.clone(),
     };
     emit(&report, args.common.json)
+}
+
+/// What `prbfit fit` found on a mechanism scene.
+#[derive(Debug, Serialize)]
+pub struct MechFitOutput {
+    prb: String,
+    topology: String,
+    #[serde(flatten)]
+    figures: MechFigures,
+    start_objective: f64,
+    meets_targets: bool,
+    iterations: u32,
+    evaluations: u64,
+    stop_reason: StopReason,
+    fidelity: Fidelity,
+    cases: usize,
+    baseline_seconds: f64,
+    seconds: f64,
+    #[serde(skip)]
+    scene: String,
+    #[serde(skip)]
+    matrix: PrbMatrix,
+    #[serde(skip)]
+    accuracy: Accuracy,
+}
+
+impl fmt::Display for MechFitOutput {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let m = &self.figures;
+        writeln!(
+            f,
+            "scene: {} (mechanism, {} cases at {} fidelity)",
+            safe(&self.scene),
+            self.cases,
+            self.fidelity
+        )?;
+        writeln!(f, "fitted {}: {}", self.topology, self.matrix)?;
+        writeln!(
+            f,
+            "J = {:.4e} (start {:.4e}); position error max {:.3e} L; angle error max {:.3e} rad; \
+             reaction error rms {:.3e} max {:.3e}",
+            m.objective,
+            self.start_objective,
+            m.max_pos_err,
+            m.max_ang_err,
+            m.rms_force_err,
+            m.max_force_err
+        )?;
+        writeln!(
+            f,
+            "targets ({} L, {} rad, reaction {}): {}",
+            num(self.accuracy.max_pos_err),
+            num(self.accuracy.max_ang_err),
+            num(self.accuracy.max_force_err),
+            met(self.meets_targets)
+        )?;
+        writeln!(
+            f,
+            "{}; {} iterations, {} evaluations, {:.1} ms (exact mechanism {:.1} ms)",
+            self.stop_reason,
+            self.iterations,
+            self.evaluations,
+            self.seconds * 1e3,
+            self.baseline_seconds * 1e3
+        )
+    }
+}
+
+/// Runs `prbfit fit` on a mechanism scene: one matrix for every flexure, fitted to the exact
+/// mechanism along the scene's drives (DESIGN §8's `J`).
+pub fn fit(scene: &Scene, mechanism: &Mechanism, args: &FitArgs) -> Result<()> {
+    if let Some(path) = &args.output {
+        return Err(bad(format!(
+            "-o {}: model files of a mechanism fit are not written yet (its figures include the \
+             reaction error a model file has no place for); the fitted matrix is printed",
+            safe(&path.display().to_string())
+        )));
+    }
+    let start = match (&args.topology, &args.prb) {
+        (Some(t), _) => {
+            PrbMatrix::from_topology(t).map_err(|e| bad(format!("--topology {t}: {e}")))?
+        }
+        (None, Some(text)) => parse_matrix("--prb", text)?,
+        (None, None) => scene_model(scene)?.1,
+    };
+    let resolution = resolution(mechanism, Resolution::default().tol)?;
+    let t0 = Instant::now();
+    let exact = exact::solve(mechanism, resolution).with_context(|| {
+        format!(
+            "mechanism scene \"{}\", the exact (beam) mechanism",
+            safe(&scene.name)
+        )
+    })?;
+    let baseline_seconds = t0.elapsed().as_secs_f64();
+    let options = FitOptions {
+        fidelity: args.fidelity,
+        angle_weight: scene.fit.angle_weight,
+        seed: args.seed,
+    };
+    let mut progress = Progress::new("fitting");
+    let report = fit_mechanism(
+        mechanism,
+        &exact,
+        &start,
+        &options,
+        scene.fit.force_weight,
+        &mut |p| {
+            progress.update(|| {
+                format!(
+                    "{} iteration {}, {} evaluations, best J {:.4e}",
+                    p.phase, p.iteration, p.evaluations, p.best_objective
+                )
+            })
+        },
+        &CancelToken::new(),
+    )
+    .map_err(|e| match e {
+        MechFitError::Fit(FitError::Param(p)) => bad(format!("--prb: {p}")),
+        other => anyhow::Error::new(other),
+    })?;
+    progress.finish();
+    let output = MechFitOutput {
+        prb: report.matrix.to_text(),
+        topology: report.matrix.topology(),
+        figures: report.figures,
+        start_objective: report.start_objective,
+        meets_targets: report.figures.meets(&scene.accuracy),
+        iterations: report.iterations,
+        evaluations: report.evaluations,
+        stop_reason: report.stop,
+        fidelity: report.fidelity,
+        cases: exact.iter().map(Vec::len).sum(),
+        baseline_seconds,
+        seconds: t0.elapsed().as_secs_f64(),
+        scene: scene.name.clone(),
+        matrix: report.matrix,
+        accuracy: scene.accuracy,
+    };
+    emit(&output, args.common.json)
 }

@@ -31,6 +31,7 @@
 //! `presets` (what each [`Fidelity`] means for the fit).
 
 pub mod lm;
+pub mod mech;
 mod objective;
 mod param;
 mod presets;
@@ -54,6 +55,7 @@ pub use param::{ParamError, Parameterisation};
 pub use progress::{FitProgress, PROGRESS_INTERVAL};
 
 use objective::Objective;
+pub use objective::{CantileverTarget, Target};
 use progress::Tracker;
 
 /// Levenberg-Marquardt iterations every candidate gets before only the best
@@ -169,24 +171,62 @@ pub fn fit(
 ) -> Result<FitReport, FitError> {
     let t0 = Instant::now();
     options.validate()?;
+    let target = CantileverTarget::new(baseline, options.angle_weight);
+    let found = search(&target, start, options, progress, cancel)?;
+    let e = evaluate(&found.matrix, baseline, options.angle_weight)
+        .map_err(FitError::NoFeasibleModel)?;
+    Ok(FitReport {
+        matrix: found.matrix,
+        figures: e.figures,
+        start_objective: found.start_objective,
+        iterations: found.iterations,
+        evaluations: found.evaluations,
+        seconds: t0.elapsed().as_secs_f64(),
+        stop: found.stop,
+        fidelity: options.fidelity,
+    })
+}
+
+/// What [`search`] found.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Found {
+    /// The fitted matrix (the start when nothing better was found).
+    pub matrix: PrbMatrix,
+    /// `J` of the starting matrix (the penalty value if it cannot follow the target).
+    pub start_objective: f64,
+    /// Swarm iterations plus polish iterations.
+    pub iterations: u32,
+    /// Evaluations of `J`.
+    pub evaluations: u64,
+    /// Why it stopped.
+    pub stop: StopReason,
+}
+
+/// The fit's search for any [`Target`] (the single beam's loads, a mechanism's drives):
+/// starts, the swarm and the polish of `options.fidelity`, reporting progress and stopping
+/// soon after `cancel`.
+pub fn search(
+    target: &dyn Target,
+    start: &PrbMatrix,
+    options: &FitOptions,
+    progress: &mut dyn FnMut(&FitProgress),
+    cancel: &CancelToken,
+) -> Result<Found, FitError> {
+    let t0 = Instant::now();
+    options.validate()?;
     let param = Parameterisation::new(start)?;
-    let objective = Objective::new(baseline, &param, options.angle_weight, cancel);
+    let objective = Objective::new(target, &param, cancel);
     let p_start = param.encode(start);
     // J of the start itself (its encoding decodes to the start only up to round-off).
     let start_objective = objective.matrix_value(start).unwrap_or(f64::INFINITY);
 
     let report = |matrix: PrbMatrix, stop, iterations, evaluations| {
-        let e =
-            evaluate(&matrix, baseline, options.angle_weight).map_err(FitError::NoFeasibleModel)?;
-        Ok(FitReport {
+        Ok(Found {
             matrix,
-            figures: e.figures,
             start_objective,
             iterations,
             evaluations,
-            seconds: t0.elapsed().as_secs_f64(),
             stop,
-            fidelity: options.fidelity,
         })
     };
     if param.is_empty() {

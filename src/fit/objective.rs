@@ -1,5 +1,5 @@
-//! The fit's objective (DESIGN §4) as least squares: `J = |r|^2` with three residuals per
-//! load case, `(da, db, sqrt(w) dphi) / sqrt(n)`, each capped at [`PENALTY`] so a trial model
+//! The fit's objective (DESIGN §4, §8) as least squares: `J = |r|^2` with the residuals of a
+//! [`Target`] (three per load case), each capped at [`PENALTY`] so a trial model
 //! that misses a case (it buckles or snaps where the beam does not) costs a large but finite
 //! amount — never NaN, never infinity (argmin's solvers hang on the one and fail on the other).
 
@@ -35,59 +35,45 @@ const FIT_NEWTON_LIMIT: u32 = 12;
 const TRIAL_LIMITS: SolverLimits =
     SolverLimits::new(FIT_NEWTON_LIMIT, FIT_NEWTON_PER_CASE, FIT_MIN_STEP);
 
-/// `J` and its residuals for parameter vectors, counting evaluations.
-pub(super) struct Objective<'a> {
-    baseline: &'a Baseline,
-    param: &'a Parameterisation,
-    angle_scale: f64,
-    case_scale: f64,
-    cancel: &'a CancelToken,
-    evaluations: std::cell::Cell<u64>,
+/// What a fit matches: the residuals of a trial matrix against a truth, a fixed number of
+/// them, each capped at [`PENALTY`] (a case the model cannot reach costs [`PENALTY`] per
+/// residual), whose sum of squares is the scene's `J`.
+pub trait Target {
+    /// How many residuals [`Target::residuals`] appends.
+    fn len(&self) -> usize;
+    /// Whether there are none.
+    fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+    /// Appends the residuals of `matrix` to `out` (cleared), in a fixed order.
+    fn residuals(&self, matrix: &PrbMatrix, out: &mut Vec<f64>);
 }
 
-impl<'a> Objective<'a> {
-    pub(super) fn new(
-        baseline: &'a Baseline,
-        param: &'a Parameterisation,
-        angle_weight: f64,
-        cancel: &'a CancelToken,
-    ) -> Objective<'a> {
-        Objective {
+/// The single beam's target (DESIGN §4): three residuals per load case,
+/// `(da, db, sqrt(w) dphi) / sqrt(n)`.
+pub struct CantileverTarget<'a> {
+    baseline: &'a Baseline,
+    angle_scale: f64,
+    case_scale: f64,
+}
+
+impl<'a> CantileverTarget<'a> {
+    /// The target of `baseline` with `J`'s angle weight.
+    pub fn new(baseline: &'a Baseline, angle_weight: f64) -> CantileverTarget<'a> {
+        CantileverTarget {
             baseline,
-            param,
             angle_scale: angle_weight.sqrt(),
             case_scale: 1.0 / (baseline.case_count().max(1) as f64).sqrt(),
-            cancel,
-            evaluations: std::cell::Cell::new(0),
         }
     }
+}
 
-    pub(super) fn evaluations(&self) -> u64 {
-        self.evaluations.get()
+impl Target for CantileverTarget<'_> {
+    fn len(&self) -> usize {
+        3 * self.baseline.case_count()
     }
 
-    /// Fills `out` with the residuals at `p`; false when cancelled.
-    pub(super) fn residuals(&self, p: &DVector<f64>, out: &mut Vec<f64>) -> bool {
-        match self.param.decode(p) {
-            Some(matrix) => self.matrix_residuals(&matrix, out),
-            None => {
-                if self.cancel.is_cancelled() {
-                    return false;
-                }
-                self.evaluations.set(self.evaluations.get() + 1);
-                out.clear();
-                out.resize(3 * self.baseline.case_count(), PENALTY);
-                true
-            }
-        }
-    }
-
-    /// Fills `out` with the residuals of `matrix`; false when cancelled.
-    fn matrix_residuals(&self, matrix: &PrbMatrix, out: &mut Vec<f64>) -> bool {
-        if self.cancel.is_cancelled() {
-            return false;
-        }
-        self.evaluations.set(self.evaluations.get() + 1);
+    fn residuals(&self, matrix: &PrbMatrix, out: &mut Vec<f64>) {
         out.clear();
         let solver = PrbSolver::new(matrix, self.baseline.model.axial_compliance())
             .with_limits(TRIAL_LIMITS);
@@ -116,6 +102,58 @@ impl<'a> Objective<'a> {
                 ControlFlow::Continue(())
             },
         );
+    }
+}
+
+/// `J` and its residuals for parameter vectors, counting evaluations.
+pub(super) struct Objective<'a> {
+    target: &'a dyn Target,
+    param: &'a Parameterisation,
+    cancel: &'a CancelToken,
+    evaluations: std::cell::Cell<u64>,
+}
+
+impl<'a> Objective<'a> {
+    pub(super) fn new(
+        target: &'a dyn Target,
+        param: &'a Parameterisation,
+        cancel: &'a CancelToken,
+    ) -> Objective<'a> {
+        Objective {
+            target,
+            param,
+            cancel,
+            evaluations: std::cell::Cell::new(0),
+        }
+    }
+
+    pub(super) fn evaluations(&self) -> u64 {
+        self.evaluations.get()
+    }
+
+    /// Fills `out` with the residuals at `p`; false when cancelled.
+    pub(super) fn residuals(&self, p: &DVector<f64>, out: &mut Vec<f64>) -> bool {
+        match self.param.decode(p) {
+            Some(matrix) => self.matrix_residuals(&matrix, out),
+            None => {
+                if self.cancel.is_cancelled() {
+                    return false;
+                }
+                self.evaluations.set(self.evaluations.get() + 1);
+                out.clear();
+                out.resize(self.target.len(), PENALTY);
+                true
+            }
+        }
+    }
+
+    /// Fills `out` with the residuals of `matrix`; false when cancelled.
+    fn matrix_residuals(&self, matrix: &PrbMatrix, out: &mut Vec<f64>) -> bool {
+        if self.cancel.is_cancelled() {
+            return false;
+        }
+        self.evaluations.set(self.evaluations.get() + 1);
+        self.target.residuals(matrix, out);
         true
     }
 

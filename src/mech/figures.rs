@@ -11,8 +11,9 @@
 //! - `ang_err`: `dphi_prb - dphi_exact` (radians) when `dphi` is loaded, else 0.
 //! - `force_err`: for each *prescribed* coordinate `c`, `|R_prb,c - R_exact,c| / S_c`, with
 //!   `R` the drive's reaction (`stage_load[c]`) and `S_c` the largest `|R_exact,c|` over every
-//!   case of every drive that prescribes `c`; the case's value is the largest over its
-//!   prescribed coordinates (0 when it has none). `S_c` is floored at `1e-3` times the
+//!   case of every drive that prescribes `c`; the case's value is the root of the sum of
+//!   their squares over its prescribed coordinates (0 when it has none), as `pos_err` is of
+//!   the position errors, so that `J` is a plain sum of squares the fit can minimise. `S_c` is floored at `1e-3` times the
 //!   largest `S` of any prescribed coordinate, so that a coordinate that carries (almost) no
 //!   reaction, such as the guide of a fixed-guided segment with no axial force, is judged
 //!   against the mechanism's main reaction instead of being divided by nearly zero; and at
@@ -76,8 +77,8 @@ pub struct MechCaseError {
     pub pos_err: f64,
     /// Stage angle error `dphi_prb - dphi_exact` if `dphi` is loaded, else 0; radians.
     pub ang_err: f64,
-    /// Largest reaction error over the prescribed coordinates, as a fraction of that
-    /// coordinate's reaction scale.
+    /// Reaction error over the prescribed coordinates, each as a fraction of that
+    /// coordinate's reaction scale, combined as the root of the sum of squares.
     pub force_err: f64,
 }
 
@@ -184,21 +185,18 @@ pub fn compare(
     let reaction_scale = reaction_scales(drives, exact);
     let mut cases = Vec::new();
     for (i, ((drive, p_path), e_path)) in drives.iter().zip(prb).zip(exact).enumerate() {
-        let [x, y, phi] = drive.coordinates.map(|c| c.is_prescribed());
+        let prescribed = drive.coordinates.map(|c| c.is_prescribed());
         for (p, e) in p_path.iter().zip(e_path) {
-            let dx = if x { 0.0 } else { p.stage[0] - e.stage[0] };
-            let dy = if y { 0.0 } else { p.stage[1] - e.stage[1] };
-            let ang_err = if phi { 0.0 } else { p.stage[2] - e.stage[2] };
-            let force_err = drive
-                .coordinates
-                .iter()
-                .enumerate()
-                .filter(|(_, c)| c.is_prescribed())
-                .map(|(c, _)| {
-                    let scale = reaction_scale[c].unwrap_or(ABSOLUTE_SCALE_FLOOR);
-                    (p.stage_load[c] - e.stage_load[c]).abs() / scale
-                })
-                .fold(0.0, f64::max);
+            let errors = signed_errors(drive, p, e, &reaction_scale);
+            let pick = |c: usize, want: bool| {
+                if prescribed[c] == want {
+                    errors[c]
+                } else {
+                    0.0
+                }
+            };
+            let (dx, dy, ang_err) = (pick(0, false), pick(1, false), pick(2, false));
+            let force_err = pick(0, true).hypot(pick(1, true)).hypot(pick(2, true));
             cases.push(MechCaseError {
                 drive: i + 1,
                 fraction: e.fraction,
@@ -214,6 +212,26 @@ pub fn compare(
         figures: figures(&cases, angle_weight, force_weight),
         reaction_scale,
         cases,
+    })
+}
+
+/// One signed error per stage coordinate of a case pair: for a loaded coordinate the stage
+/// motion's (`prb - exact`, units of flexure 1's `L` or radians), for a prescribed one the
+/// reaction's as a fraction of the coordinate's reaction scale `scale` (from
+/// [`MechEvaluation::reaction_scale`]). `pos_err`, `ang_err` and `force_err` are made of
+/// these, and so are the fit's residuals.
+pub fn signed_errors(
+    drive: &Drive,
+    prb: &MechCase,
+    exact: &MechCase,
+    scale: &[Option<f64>; 3],
+) -> [f64; 3] {
+    std::array::from_fn(|c| {
+        if drive.coordinates[c].is_prescribed() {
+            (prb.stage_load[c] - exact.stage_load[c]) / scale[c].unwrap_or(ABSOLUTE_SCALE_FLOOR)
+        } else {
+            prb.stage[c] - exact.stage[c]
+        }
     })
 }
 
@@ -284,17 +302,18 @@ mod tests {
         assert!((c[0].pos_err - 0.003).abs() < 1e-15);
         assert!((c[1].pos_err - 0.004).abs() < 1e-15);
         assert_eq!(c[0].ang_err, 0.0);
-        // Case 1: y 0.2/4 = 0.05, phi 0.3/1 = 0.3 -> 0.3. Case 2: y 0.4/4 = 0.1, phi 0.
-        assert!((c[0].force_err - 0.3).abs() < 1e-12);
+        // Case 1: y 0.2/4 = 0.05, phi 0.3/1 = 0.3 -> hypot = sqrt(0.0925). Case 2: y
+        // 0.4/4 = 0.1, phi 0.
+        assert!((c[0].force_err - 0.0925_f64.sqrt()).abs() < 1e-12);
         assert!((c[1].force_err - 0.1).abs() < 1e-12);
         let f = e.figures;
         assert!((f.max_pos_err - 0.004).abs() < 1e-15);
         assert!((f.rms_pos_err - (12.5e-6_f64).sqrt()).abs() < 1e-15);
-        assert!((f.max_force_err - 0.3).abs() < 1e-12);
-        assert!((f.rms_force_err - 0.05_f64.sqrt()).abs() < 1e-12);
+        assert!((f.max_force_err - 0.0925_f64.sqrt()).abs() < 1e-12);
+        assert!((f.rms_force_err - 0.05125_f64.sqrt()).abs() < 1e-12);
         assert_eq!((f.rms_ang_err, f.max_ang_err), (0.0, 0.0));
-        // J = mean(e_pos^2 + 2 e_force^2) = (9e-6 + 0.18 + 16e-6 + 0.02) / 2.
-        assert!((f.objective - (25e-6 + 0.2) / 2.0).abs() < 1e-15);
+        // J = mean(e_pos^2 + 2 e_force^2) = (9e-6 + 0.185 + 16e-6 + 0.02) / 2.
+        assert!((f.objective - (25e-6 + 0.205) / 2.0).abs() < 1e-15);
     }
 
     #[test]

@@ -1,0 +1,223 @@
+//! Fitting on a mechanism scene (DESIGN §8): one PRB matrix, scaled to every flexure,
+//! fitted so that the PRB mechanism follows the exact one along the scene's drives.
+//!
+//! The residuals are one per stage coordinate per case ([`signed_errors`]): a loaded
+//! coordinate's motion error (`sqrt(w)` times it for the angle), a prescribed one's reaction
+//! error over its reaction scale times `sqrt(w_f)`, all over `sqrt(n)`; their squares sum to
+//! the scene's `J = mean(e_pos^2 + w e_ang^2 + w_f e_force^2)`. A drive a trial model cannot
+//! follow costs [`PENALTY`] for every residual of its cases. The search is the cantilever's
+//! ([`super::search`]): the same starts, swarm, polish, presets, progress and cancel.
+
+use std::time::Instant;
+
+use serde::Serialize;
+
+use crate::mech::figures::{compare, signed_errors, CompareError, MechFigures};
+use crate::mech::{prb, MechCase, MechError};
+use crate::prb::PrbMatrix;
+use crate::scene::Mechanism;
+
+use super::{
+    search, CancelToken, Fidelity, FitError, FitOptions, FitProgress, StopReason, Target, PENALTY,
+};
+
+/// The PRB mechanism's Newton tolerance in trials and in the final figures (the exact
+/// mechanism's own is the scene's resolution; 1e-8 is far below any model error).
+pub const MECH_TOL: f64 = 1e-8;
+
+/// A mechanism's drives as the fit's target.
+pub struct MechTarget<'a> {
+    mechanism: &'a Mechanism,
+    exact: &'a [Vec<MechCase>],
+    reaction_scale: [Option<f64>; 3],
+    /// `sqrt` of the weights of the three coordinates' errors as loaded (position, position,
+    /// angle) and prescribed (reaction), over `sqrt(n)`.
+    loaded_scale: [f64; 3],
+    prescribed_scale: f64,
+    cases: usize,
+}
+
+impl<'a> MechTarget<'a> {
+    /// The target of `mechanism` whose exact solution is `exact` (one path per drive), with
+    /// `J`'s angle and force weights.
+    pub fn new(
+        mechanism: &'a Mechanism,
+        exact: &'a [Vec<MechCase>],
+        angle_weight: f64,
+        force_weight: f64,
+    ) -> Result<MechTarget<'a>, CompareError> {
+        let reaction_scale = compare(&mechanism.drives, exact, exact, 1.0, 1.0)?.reaction_scale;
+        let cases: usize = exact.iter().map(Vec::len).sum();
+        let per_case = 1.0 / (cases.max(1) as f64).sqrt();
+        Ok(MechTarget {
+            mechanism,
+            exact,
+            reaction_scale,
+            loaded_scale: [per_case, per_case, angle_weight.sqrt() * per_case],
+            prescribed_scale: force_weight.sqrt() * per_case,
+            cases,
+        })
+    }
+}
+
+impl Target for MechTarget<'_> {
+    fn len(&self) -> usize {
+        3 * self.cases
+    }
+
+    fn residuals(&self, matrix: &PrbMatrix, out: &mut Vec<f64>) {
+        out.clear();
+        let solver = prb::solver(self.mechanism, matrix, MECH_TOL);
+        for (i, (drive, exact)) in self.mechanism.drives.iter().zip(self.exact).enumerate() {
+            let path = self.mechanism.nondimensional(drive);
+            match solver.solve_drive(&path, drive.steps, i + 1) {
+                Ok(cases) if cases.len() == exact.len() => {
+                    for (p, e) in cases.iter().zip(exact) {
+                        let errors = signed_errors(drive, p, e, &self.reaction_scale);
+                        for (c, err) in errors.iter().enumerate() {
+                            let scale = if drive.coordinates[c].is_prescribed() {
+                                self.prescribed_scale
+                            } else {
+                                self.loaded_scale[c]
+                            };
+                            out.push((err * scale).clamp(-PENALTY, PENALTY));
+                        }
+                    }
+                }
+                _ => out.extend(std::iter::repeat_n(PENALTY, 3 * exact.len())),
+            }
+        }
+    }
+}
+
+/// What a mechanism fit found.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct MechFitReport {
+    /// The fitted matrix (the start when nothing better was found).
+    pub matrix: PrbMatrix,
+    /// Its figures on the scene's drives.
+    pub figures: MechFigures,
+    /// `J` of the starting matrix (the penalty value if it cannot follow the drives).
+    pub start_objective: f64,
+    /// Swarm iterations plus polish iterations.
+    pub iterations: u32,
+    /// Evaluations of `J` (each a PRB mechanism solve of every drive).
+    pub evaluations: u64,
+    /// Wall-clock time of the fit.
+    pub seconds: f64,
+    /// Why it stopped.
+    pub stop: StopReason,
+    /// The preset it ran at.
+    pub fidelity: Fidelity,
+}
+
+/// Why a mechanism fit has no model to report.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum MechFitError {
+    /// The search could not start.
+    #[error(transparent)]
+    Fit(#[from] FitError),
+    /// The exact solution does not pair with the mechanism's drives.
+    #[error(transparent)]
+    Compare(#[from] CompareError),
+    /// Even the best matrix found cannot follow the mechanism.
+    #[error("no fitted model follows the mechanism: {0}")]
+    NoFeasibleModel(MechError),
+}
+
+/// Fits the free cells of `start` so that the PRB mechanism follows `exact`, the exact
+/// mechanism's cases along every drive of `mechanism`; `force_weight` is `J`'s `w_f`.
+pub fn fit_mechanism(
+    mechanism: &Mechanism,
+    exact: &[Vec<MechCase>],
+    start: &PrbMatrix,
+    options: &FitOptions,
+    force_weight: f64,
+    progress: &mut dyn FnMut(&FitProgress),
+    cancel: &CancelToken,
+) -> Result<MechFitReport, MechFitError> {
+    let t0 = Instant::now();
+    let target = MechTarget::new(mechanism, exact, options.angle_weight, force_weight)?;
+    let found = search(&target, start, options, progress, cancel)?;
+    let cases =
+        prb::solve(mechanism, &found.matrix, MECH_TOL).map_err(MechFitError::NoFeasibleModel)?;
+    let e = compare(
+        &mechanism.drives,
+        &cases,
+        exact,
+        options.angle_weight,
+        force_weight,
+    )?;
+    Ok(MechFitReport {
+        matrix: found.matrix,
+        figures: e.figures,
+        start_objective: found.start_objective,
+        iterations: found.iterations,
+        evaluations: found.evaluations,
+        seconds: t0.elapsed().as_secs_f64(),
+        stop: found.stop,
+        fidelity: options.fidelity,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::beam::{Effects, Resolution};
+    use crate::mech::exact;
+    use crate::scene::{Attach, BeamSpec, Coordinate, Drive, EffectsChoice, Flexure};
+    use Coordinate::{Loaded, Prescribed};
+
+    /// The residuals' squares sum to the `J` that `compare` reports, on a mechanism with
+    /// loaded and prescribed coordinates in two drives: the fit minimises what eval judges.
+    #[test]
+    fn residuals_square_to_the_figures_objective() {
+        let beam = BeamSpec {
+            length: 1.0,
+            width: 1.0,
+            thickness: 0.01,
+            youngs_modulus: 12e6,
+            poisson_ratio: 0.3,
+            shear_coefficient: None,
+            effects: EffectsChoice::Fixed(Effects::NONE),
+        };
+        let flexure = |y: f64| Flexure {
+            root: [0.0, y],
+            angle: 0.0,
+            attach: Attach::Clamped,
+            beam,
+        };
+        let m = Mechanism {
+            flexures: vec![flexure(0.3), flexure(-0.3)],
+            stage_point: [1.0, 0.0],
+            drives: vec![
+                Drive {
+                    coordinates: [Loaded(1.0), Prescribed(0.2), Loaded(0.3)],
+                    steps: 3,
+                },
+                Drive {
+                    coordinates: [Loaded(-2.0), Loaded(4.0), Loaded(0.5)],
+                    steps: 2,
+                },
+            ],
+        };
+        let exact = exact::solve(&m, Resolution::with_tol(1e-10)).unwrap();
+        let su =
+            PrbMatrix::parse("0.10,inf,inf; 0.35,3.51,inf; 0.40,2.99,inf; 0.15,2.58,inf").unwrap();
+        let (w, w_f) = (0.7, 2.5);
+        let target = MechTarget::new(&m, &exact, w, w_f).unwrap();
+        let mut r = Vec::new();
+        target.residuals(&su, &mut r);
+        assert_eq!(r.len(), target.len());
+        let j: f64 = r.iter().map(|v| v * v).sum();
+        let prb_cases = prb::solve(&m, &su, MECH_TOL).unwrap();
+        let figures = compare(&m.drives, &prb_cases, &exact, w, w_f)
+            .unwrap()
+            .figures;
+        assert!(j > 0.0);
+        assert!(
+            (j - figures.objective).abs() <= 1e-12 * figures.objective,
+            "{j} vs {figures:?}"
+        );
+    }
+}
