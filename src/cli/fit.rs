@@ -8,12 +8,12 @@ use serde::Serialize;
 
 use prbfit::eval::ErrorFigures;
 use prbfit::fidelity::Fidelity;
-use prbfit::fit::{fit, CancelToken, FitError, FitOptions, StopReason};
+use prbfit::fit::{fit, CancelToken, FitError, FitOptions, FitProgress, StopReason};
 use prbfit::format::Format;
 use prbfit::io::files::{check_target, write_atomic};
 use prbfit::io::ModelFile;
 use prbfit::prb::PrbMatrix;
-use prbfit::scene::Accuracy;
+use prbfit::scene::{Accuracy, Scene};
 use prbfit::select::EffectsDecision;
 
 use super::args::FitArgs;
@@ -88,19 +88,34 @@ impl fmt::Display for FitOutput {
 }
 
 /// Runs `prbfit fit`.
+/// The matrix a fit starts from: `--topology`, `--prb`, or the scene's own model.
+pub(super) fn start_matrix(args: &FitArgs, scene: &Scene) -> Result<PrbMatrix> {
+    Ok(match (&args.topology, &args.prb) {
+        (Some(t), _) => {
+            PrbMatrix::from_topology(t).map_err(|e| bad(format!("--topology {t}: {e}")))?
+        }
+        (None, Some(text)) => parse_matrix("--prb", text)?,
+        (None, None) => scene_model(scene)?.1,
+    })
+}
+
+/// A fit's progress on the progress line.
+pub(super) fn show(progress: &mut Progress, p: &FitProgress) {
+    progress.update(|| {
+        format!(
+            "{} iteration {}, {} evaluations, best J {:.4e}",
+            p.phase, p.iteration, p.evaluations, p.best_objective
+        )
+    })
+}
+
 pub fn run(args: FitArgs) -> Result<()> {
     let scene = load_scene(&args.common)?;
     if let Some(mechanism) = &scene.mechanism {
         return super::mech::fit(&scene, mechanism, &args);
     }
     let (scene, decision) = resolve_scene(&scene)?;
-    let start = match (&args.topology, &args.prb) {
-        (Some(t), _) => {
-            PrbMatrix::from_topology(t).map_err(|e| bad(format!("--topology {t}: {e}")))?
-        }
-        (None, Some(text)) => parse_matrix("--prb", text)?,
-        (None, None) => scene_model(&scene)?.1,
-    };
+    let start = start_matrix(&args, &scene)?;
     let format = match &args.output {
         Some(path) => {
             let format = Format::from_path(path)
@@ -129,14 +144,7 @@ pub fn run(args: FitArgs) -> Result<()> {
         &baseline,
         &start,
         &options,
-        &mut |p| {
-            progress.update(|| {
-                format!(
-                    "{} iteration {}, {} evaluations, best J {:.4e}",
-                    p.phase, p.iteration, p.evaluations, p.best_objective
-                )
-            })
-        },
+        &mut |p| show(&mut progress, p),
         &CancelToken::new(),
     )
     .map_err(|e| match e {

@@ -35,9 +35,9 @@ use prbfit::fit::{CancelToken, FitError, FitOptions, StopReason};
 use prbfit::prb::PrbMatrix;
 
 use super::args::{EvalArgs, FitArgs, SolveArgs};
+use super::bad;
 use super::eval::{named_models, OneOrMany};
 use super::output::{emit, met, num, safe, Progress};
-use super::{bad, parse_matrix, scene_model};
 
 /// Names of the stage coordinates' loads in the text tables, with their SI unit.
 const LOAD_NAMES: [&str; 3] = ["Fx N", "Fy N", "Mz N m"];
@@ -707,13 +707,7 @@ pub fn fit(scene: &Scene, mechanism: &Mechanism, args: &FitArgs) -> Result<()> {
             safe(&path.display().to_string())
         )));
     }
-    let start = match (&args.topology, &args.prb) {
-        (Some(t), _) => {
-            PrbMatrix::from_topology(t).map_err(|e| bad(format!("--topology {t}: {e}")))?
-        }
-        (None, Some(text)) => parse_matrix("--prb", text)?,
-        (None, None) => scene_model(scene)?.1,
-    };
+    let start = super::fit::start_matrix(args, scene)?;
     let resolution = resolution(mechanism, Resolution::default().tol)?;
     let t0 = Instant::now();
     let exact = exact::solve(mechanism, resolution).with_context(|| {
@@ -735,14 +729,7 @@ pub fn fit(scene: &Scene, mechanism: &Mechanism, args: &FitArgs) -> Result<()> {
         &start,
         &options,
         scene.fit.force_weight,
-        &mut |p| {
-            progress.update(|| {
-                format!(
-                    "{} iteration {}, {} evaluations, best J {:.4e}",
-                    p.phase, p.iteration, p.evaluations, p.best_objective
-                )
-            })
-        },
+        &mut |p| super::fit::show(&mut progress, p),
         &CancelToken::new(),
     )
     .map_err(|e| match e {

@@ -10,16 +10,12 @@
 
 use std::time::Instant;
 
-use serde::Serialize;
-
 use crate::mech::figures::{compare, signed_errors, CompareError, MechFigures};
 use crate::mech::{prb, MechCase, MechError};
 use crate::prb::PrbMatrix;
 use crate::scene::Mechanism;
 
-use super::{
-    search, CancelToken, Fidelity, FitError, FitOptions, FitProgress, StopReason, Target, PENALTY,
-};
+use super::{search, CancelToken, FitError, FitOptions, FitProgress, FitReport, Target, PENALTY};
 
 /// The PRB mechanism's Newton tolerance in trials and in the final figures (the exact
 /// mechanism's own is the scene's resolution; 1e-8 is far below any model error).
@@ -91,25 +87,7 @@ impl Target for MechTarget<'_> {
 }
 
 /// What a mechanism fit found.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct MechFitReport {
-    /// The fitted matrix (the start when nothing better was found).
-    pub matrix: PrbMatrix,
-    /// Its figures on the scene's drives.
-    pub figures: MechFigures,
-    /// `J` of the starting matrix (the penalty value if it cannot follow the drives).
-    pub start_objective: f64,
-    /// Swarm iterations plus polish iterations.
-    pub iterations: u32,
-    /// Evaluations of `J` (each a PRB mechanism solve of every drive).
-    pub evaluations: u64,
-    /// Wall-clock time of the fit.
-    pub seconds: f64,
-    /// Why it stopped.
-    pub stop: StopReason,
-    /// The preset it ran at.
-    pub fidelity: Fidelity,
-}
+pub type MechFitReport = FitReport<MechFigures>;
 
 /// Why a mechanism fit has no model to report.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -148,16 +126,7 @@ pub fn fit_mechanism(
         options.angle_weight,
         force_weight,
     )?;
-    Ok(MechFitReport {
-        matrix: found.matrix,
-        figures: e.figures,
-        start_objective: found.start_objective,
-        iterations: found.iterations,
-        evaluations: found.evaluations,
-        seconds: t0.elapsed().as_secs_f64(),
-        stop: found.stop,
-        fidelity: options.fidelity,
-    })
+    Ok(found.report(e.figures, t0, options.fidelity))
 }
 
 #[cfg(test)]

@@ -126,13 +126,14 @@ impl fmt::Display for StopReason {
     }
 }
 
-/// What a fit found.
+/// What a fit found; `F` is the figures of its kind of scene (a mechanism's are
+/// `crate::mech::figures::MechFigures`).
 #[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct FitReport {
+pub struct FitReport<F = ErrorFigures> {
     /// The fitted matrix (the start when nothing better was found).
     pub matrix: PrbMatrix,
-    /// On the fit's baseline.
-    pub figures: ErrorFigures,
+    /// On the fit's baseline (or the scene's exact mechanism).
+    pub figures: F,
     /// `J` of the starting matrix (the penalty value if it cannot follow the loads).
     pub start_objective: f64,
     /// Swarm iterations plus polish iterations.
@@ -175,16 +176,7 @@ pub fn fit(
     let found = search(&target, start, options, progress, cancel)?;
     let e = evaluate(&found.matrix, baseline, options.angle_weight)
         .map_err(FitError::NoFeasibleModel)?;
-    Ok(FitReport {
-        matrix: found.matrix,
-        figures: e.figures,
-        start_objective: found.start_objective,
-        iterations: found.iterations,
-        evaluations: found.evaluations,
-        seconds: t0.elapsed().as_secs_f64(),
-        stop: found.stop,
-        fidelity: options.fidelity,
-    })
+    Ok(found.report(e.figures, t0, options.fidelity))
 }
 
 /// What [`search`] found.
@@ -200,6 +192,22 @@ pub struct Found {
     pub evaluations: u64,
     /// Why it stopped.
     pub stop: StopReason,
+}
+
+impl Found {
+    /// The report of this search, judged by `figures`, started at `t0`.
+    pub fn report<F>(self, figures: F, t0: Instant, fidelity: Fidelity) -> FitReport<F> {
+        FitReport {
+            matrix: self.matrix,
+            figures,
+            start_objective: self.start_objective,
+            iterations: self.iterations,
+            evaluations: self.evaluations,
+            seconds: t0.elapsed().as_secs_f64(),
+            stop: self.stop,
+            fidelity,
+        }
+    }
 }
 
 /// The fit's search for any [`Target`] (the single beam's loads, a mechanism's drives):
