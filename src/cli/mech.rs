@@ -729,6 +729,7 @@ pub fn fit(scene: &Scene, mechanism: &Mechanism, args: &FitArgs) -> Result<()> {
         &start,
         &options,
         scene.fit.force_weight,
+        &scene.accuracy,
         &mut |p| super::fit::show(&mut progress, p),
         &CancelToken::new(),
     )
