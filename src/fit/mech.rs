@@ -95,7 +95,7 @@ impl Target for MechTarget<'_> {
 
     fn residuals(&self, matrix: &PrbMatrix, out: &mut Vec<f64>) {
         out.clear();
-        let solver = prb::solver(self.mechanism, matrix, MECH_TOL);
+        let solver = prb::solver(self.mechanism, matrix, MECH_TOL).for_trials();
         for (i, (drive, exact)) in self.mechanism.drives.iter().zip(self.exact).enumerate() {
             let path = self.mechanism.nondimensional(drive);
             match solver.solve_drive(&path, drive.steps, i + 1) {
