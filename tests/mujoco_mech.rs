@@ -81,7 +81,10 @@ fn check_scene(scene_name: &str, models: &[&str]) {
             let steps = drive.steps;
             let mut ks = vec![1, steps.div_ceil(2), steps];
             ks.dedup();
-            let fractions: Vec<f64> = ks.iter().map(|&k| f64::from(k) / f64::from(steps)).collect();
+            let fractions: Vec<f64> = ks
+                .iter()
+                .map(|&k| f64::from(k) / f64::from(steps))
+                .collect();
             let coordinates: Vec<(&str, f64)> = drive
                 .coordinates
                 .iter()
@@ -114,7 +117,10 @@ fn check_scene(scene_name: &str, models: &[&str]) {
                     })
                     .unwrap_or_else(|| panic!("eval has no case at {fraction} of drive {d}"));
                 let at = |v: &serde_json::Value, c: usize| v[c].as_f64().unwrap();
-                assert_eq!(case["unstable"], 0, "{scene_name} {model}: MuJoCo went unstable");
+                assert_eq!(
+                    case["unstable"], 0,
+                    "{scene_name} {model}: MuJoCo went unstable"
+                );
                 assert_eq!(case["settled"], true, "{scene_name} {model}: never settled");
                 let pose_err = (0..3).fold(0.0_f64, |m, c| {
                     m.max((at(&case["stage"], c) - at(&reference["stage"], c)).abs())

@@ -26,9 +26,19 @@ pub fn write(chain: &Chain, comment: &str) -> String {
         root: [0.0, 0.0],
         angle: 0.0,
     };
-    write_chain(&mut out, chain, &placement, "    ", |out, indent, length| {
-        let _ = writeln!(out, "{indent}<site name=\"tip\" pos=\"{} 0 0\"/>", g(length));
-    });
+    write_chain(
+        &mut out,
+        chain,
+        &placement,
+        "    ",
+        |out, indent, length| {
+            let _ = writeln!(
+                out,
+                "{indent}<site name=\"tip\" pos=\"{} 0 0\"/>",
+                g(length)
+            );
+        },
+    );
     let _ = writeln!(out, "  </worldbody>");
     let _ = writeln!(out, "</mujoco>");
     out
@@ -73,7 +83,11 @@ pub fn write_chain(
         } else {
             format!("pos=\"{} 0 0\"", g(chain.segments[i - 1].length))
         };
-        let _ = writeln!(out, "{indent}<body name=\"{prefix}{}\" {place}>", seg.link());
+        let _ = writeln!(
+            out,
+            "{indent}<body name=\"{prefix}{}\" {place}>",
+            seg.link()
+        );
         let inner = format!("{indent}  ");
         if let Some(k) = seg.hinge {
             let _ = writeln!(

@@ -104,33 +104,38 @@ pub fn write(mechanism: &Mechanism, matrix: &PrbMatrix, density: f64, comment: &
             root: f.root,
             angle: f.angle,
         };
-        write_chain(&mut out, chain, &placement, "    ", |out, indent, length| {
-            let _ = writeln!(
-                out,
-                "{indent}<site name=\"{prefix}tip\" pos=\"{} 0 0\"/>",
-                g(length)
-            );
-            if let Attach::Link { to } = f.attach {
-                let tip = f.tip();
-                let (dx, dy) = (to[0] - tip[0], to[1] - tip[1]);
-                let length_c = dx.hypot(dy);
-                // The coupler's frame: x along the unloaded coupler, in the flexure's frame.
-                let turn = dy.atan2(dx) - f.angle;
-                let (s, c) = (turn / 2.0).sin_cos();
-                let mass = density * length_c * f.beam.width * f.beam.thickness;
-                let inner = format!("{indent}  ");
+        write_chain(
+            &mut out,
+            chain,
+            &placement,
+            "    ",
+            |out, indent, length| {
                 let _ = writeln!(
                     out,
-                    "{indent}<body name=\"{prefix}coupler\" pos=\"{} 0 0\" quat=\"{} 0 0 {}\">",
-                    g(length),
-                    g(c),
-                    g(s)
+                    "{indent}<site name=\"{prefix}tip\" pos=\"{} 0 0\"/>",
+                    g(length)
                 );
-                let _ = writeln!(
-                    out,
-                    "{inner}<joint name=\"{prefix}pin\" type=\"hinge\" axis=\"0 0 1\"/>"
-                );
-                let _ = writeln!(
+                if let Attach::Link { to } = f.attach {
+                    let tip = f.tip();
+                    let (dx, dy) = (to[0] - tip[0], to[1] - tip[1]);
+                    let length_c = dx.hypot(dy);
+                    // The coupler's frame: x along the unloaded coupler, in the flexure's frame.
+                    let turn = dy.atan2(dx) - f.angle;
+                    let (s, c) = (turn / 2.0).sin_cos();
+                    let mass = density * length_c * f.beam.width * f.beam.thickness;
+                    let inner = format!("{indent}  ");
+                    let _ = writeln!(
+                        out,
+                        "{indent}<body name=\"{prefix}coupler\" pos=\"{} 0 0\" quat=\"{} 0 0 {}\">",
+                        g(length),
+                        g(c),
+                        g(s)
+                    );
+                    let _ = writeln!(
+                        out,
+                        "{inner}<joint name=\"{prefix}pin\" type=\"hinge\" axis=\"0 0 1\"/>"
+                    );
+                    let _ = writeln!(
                     out,
                     "{inner}<geom name=\"{prefix}coupler\" type=\"box\" pos=\"{} 0 0\" size=\"{} {} {}\" mass=\"{}\"/>",
                     g(length_c / 2.0),
@@ -139,14 +144,15 @@ pub fn write(mechanism: &Mechanism, matrix: &PrbMatrix, density: f64, comment: &
                     g(f.beam.width / 2.0),
                     g(mass)
                 );
-                let _ = writeln!(
-                    out,
-                    "{inner}<site name=\"{prefix}coupler_end\" pos=\"{} 0 0\"/>",
-                    g(length_c)
-                );
-                let _ = writeln!(out, "{indent}</body>");
-            }
-        });
+                    let _ = writeln!(
+                        out,
+                        "{inner}<site name=\"{prefix}coupler_end\" pos=\"{} 0 0\"/>",
+                        g(length_c)
+                    );
+                    let _ = writeln!(out, "{indent}</body>");
+                }
+            },
+        );
     }
     write_stage(&mut out, mechanism, density);
     let _ = writeln!(out, "  </worldbody>");
@@ -252,8 +258,9 @@ pub fn time_step(chains: &[Chain]) -> f64 {
             let mut d = 0.0;
             for t in &segs[i..] {
                 let (m, l) = (t.mass.mass, t.length);
-                inertia += m * ((l * l + chain.thickness * chain.thickness) / 12.0
-                    + (d + l / 2.0) * (d + l / 2.0));
+                inertia += m
+                    * ((l * l + chain.thickness * chain.thickness) / 12.0
+                        + (d + l / 2.0) * (d + l / 2.0));
                 mass += m;
                 d += l;
             }
@@ -268,6 +275,7 @@ pub fn time_step(chains: &[Chain]) -> f64 {
     if omega_max > 0.0 && omega_max.is_finite() {
         STEP_FRACTION / omega_max
     } else {
+        // A valid matrix has a spring; this only keeps the file loadable.
         1e-3
     }
 }
@@ -297,4 +305,216 @@ pub fn describe_drives(mechanism: &Mechanism) -> String {
         );
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used, clippy::expect_used)] // tests: a failure should panic
+
+    use super::*;
+    use crate::scene::{BeamSpec, Drive, EffectsChoice, Flexure};
+    use roxmltree::{Document, Node};
+
+    /// Three flexures of different sizes, directions and attachments (clamped, pinned, a
+    /// coupler), drive 1 prescribing `dy` only.
+    fn mixed() -> Mechanism {
+        let beam = |length: f64, thickness: f64, youngs_modulus: f64| BeamSpec {
+            length,
+            width: 0.01,
+            thickness,
+            youngs_modulus,
+            poisson_ratio: 0.3,
+            shear_coefficient: None,
+            effects: EffectsChoice::Auto,
+        };
+        let flexure = |root: [f64; 2], deg: f64, attach, b| Flexure {
+            root,
+            angle: f64::to_radians(deg),
+            attach,
+            beam: b,
+        };
+        Mechanism {
+            flexures: vec![
+                flexure([0.0, 0.03], 0.0, Attach::Clamped, beam(0.1, 0.001, 2e9)),
+                flexure([0.0, -0.03], 10.0, Attach::Pinned, beam(0.12, 0.0008, 3e9)),
+                flexure(
+                    [0.12, 0.1],
+                    -80.0,
+                    Attach::Link { to: [0.09, 0.0] },
+                    beam(0.08, 0.001, 2e9),
+                ),
+            ],
+            stage_point: [0.1, 0.03],
+            drives: vec![Drive {
+                coordinates: [
+                    Coordinate::Loaded(1.0),
+                    Coordinate::Prescribed(0.01),
+                    Coordinate::Loaded(0.0),
+                ],
+                steps: 4,
+            }],
+        }
+    }
+
+    const SU_3R_EX: &str = "0.10,inf,inf; 0.35,3.51,40; 0.40,2.99,inf; 0.15,2.58,inf";
+
+    fn numbers(s: &str) -> Vec<f64> {
+        s.split_whitespace().map(|v| v.parse().unwrap()).collect()
+    }
+
+    /// A body's or site's planar pose `(x, y, angle)` in its parent's frame.
+    fn local(n: Node) -> [f64; 3] {
+        let p = n.attribute("pos").map_or(vec![0.0; 3], numbers);
+        let angle = n.attribute("quat").map_or(0.0, |q| {
+            let q = numbers(q);
+            assert_eq!((q[1], q[2]), (0.0, 0.0), "a turn about z only");
+            2.0 * q[3].atan2(q[0])
+        });
+        [p[0], p[1], angle]
+    }
+
+    /// `child` (in `parent`'s frame) in the world.
+    fn compose(parent: [f64; 3], child: [f64; 3]) -> [f64; 3] {
+        let (s, c) = parent[2].sin_cos();
+        [
+            parent[0] + c * child[0] - s * child[1],
+            parent[1] + s * child[0] + c * child[1],
+            parent[2] + child[2],
+        ]
+    }
+
+    /// The world pose of the frame of `n` if it is a body, else of its body (the unloaded
+    /// mechanism: joints at zero). roxmltree's ancestors start with the node itself.
+    fn world(n: Node) -> [f64; 3] {
+        n.ancestors()
+            .filter(|a| a.has_tag_name("body"))
+            .collect::<Vec<_>>()
+            .into_iter()
+            .rev()
+            .fold([0.0; 3], |pose, b| compose(pose, local(b)))
+    }
+
+    fn named<'a, 'i>(doc: &'a Document<'i>, tag: &str, name: &str) -> Node<'a, 'i> {
+        doc.descendants()
+            .find(|n| n.has_tag_name(tag) && n.attribute("name") == Some(name))
+            .unwrap_or_else(|| panic!("no {tag} named {name}"))
+    }
+
+    fn close(a: [f64; 2], b: [f64; 2]) -> bool {
+        (a[0] - b[0]).hypot(a[1] - b[1]) < 1e-12
+    }
+
+    #[test]
+    fn every_loop_closes_in_the_unloaded_pose_it_is_written_in() {
+        let m = mixed();
+        let matrix = PrbMatrix::parse(SU_3R_EX).unwrap();
+        let text = write(&m, &matrix, 1000.0, "test");
+        let doc = Document::parse(&text).expect("well-formed XML");
+        let site = |name: &str| {
+            let s = named(&doc, "site", name);
+            let p = compose(world(s), local(s));
+            [p[0], p[1]]
+        };
+        assert!(close(site("stage"), m.stage_point));
+        for (i, f) in m.flexures.iter().enumerate() {
+            let n = i + 1;
+            assert!(close(site(&format!("f{n}_tip")), f.tip()), "flexure {n}");
+            let first = named(&doc, "body", &format!("f{n}_segment1"));
+            let pose = compose([0.0; 3], local(first));
+            assert!((pose[2] - f.angle).abs() < 1e-12);
+        }
+        assert!(close(site("f3_coupler_end"), [0.09, 0.0]));
+        // Each closure's anchor is where both of its bodies meet.
+        let p = m.stage_point;
+        let weld = named(&doc, "weld", "f1_clamp");
+        let a = numbers(weld.attribute("anchor").unwrap());
+        assert_eq!(weld.attribute("body2"), Some("stage"));
+        assert!(close([p[0] + a[0], p[1] + a[1]], m.flexures[0].tip()));
+        for (name, at) in [("f2_pin", m.flexures[1].tip()), ("f3_link", [0.09, 0.0])] {
+            let c = named(&doc, "connect", name);
+            let body1 = named(&doc, "body", c.attribute("body1").unwrap());
+            let a = numbers(c.attribute("anchor").unwrap());
+            let w = compose(world(body1), [a[0], a[1], 0.0]);
+            assert!(close([w[0], w[1]], at), "{name}: {w:?} vs {at:?}");
+        }
+    }
+
+    #[test]
+    fn springs_are_scaled_to_each_flexure_and_the_drive_is_the_scenes() {
+        let m = mixed();
+        let matrix = PrbMatrix::parse(SU_3R_EX).unwrap();
+        let text = write(&m, &matrix, 1000.0, "test");
+        let doc = Document::parse(&text).unwrap();
+        let count = |tag: &str| doc.descendants().filter(|n| n.has_tag_name(tag)).count();
+        // 4 segments per flexure, one coupler, the stage.
+        assert_eq!(count("body"), 3 * 4 + 1 + 1);
+        // 3 hinges and 1 slide per flexure, the coupler's pin, 3 stage joints, 3 drive
+        // equalities (also `joint` elements).
+        assert_eq!(count("joint"), 3 * 4 + 1 + 3 + 3);
+        assert_eq!((count("weld"), count("connect")), (1, 2));
+        for (i, f) in m.flexures.iter().enumerate() {
+            let b = &f.beam;
+            let ei_l = b.youngs_modulus * b.second_moment() / b.length;
+            let ea_l = b.youngs_modulus * b.area() / b.length;
+            let stiffness = |name: String| {
+                numbers(named(&doc, "joint", &name).attribute("stiffness").unwrap())[0]
+            };
+            let n = i + 1;
+            let rel = |a: f64, e: f64| ((a - e) / e).abs() < 1e-14;
+            assert!(rel(stiffness(format!("f{n}_theta2")), 3.51 * ei_l));
+            assert!(rel(stiffness(format!("f{n}_theta4")), 2.58 * ei_l));
+            assert!(rel(stiffness(format!("f{n}_delta2")), 40.0 * ea_l));
+        }
+        // Drive 1 prescribes dy alone.
+        let active = |name: &str| named(&doc, "joint", name).attribute("active");
+        assert_eq!(active("drive_x"), Some("false"));
+        assert_eq!(active("drive_y"), Some("true"));
+        assert_eq!(active("drive_phi"), Some("false"));
+        assert_eq!(
+            named(&doc, "joint", "drive_y").attribute("joint1"),
+            Some("stage_y")
+        );
+        // The closures' time constant is two of the file's time steps.
+        let step = numbers(
+            doc.descendants()
+                .find(|n| n.has_tag_name("option"))
+                .unwrap()
+                .attribute("timestep")
+                .unwrap(),
+        )[0];
+        let solref = numbers(
+            doc.descendants()
+                .find(|n| n.has_tag_name("equality") && n.attribute("solref").is_some())
+                .unwrap()
+                .attribute("solref")
+                .unwrap(),
+        );
+        assert!((solref[0] - CLOSURE_STEPS * step).abs() < 1e-12 * step);
+        assert!(
+            step > 0.0
+                && step
+                    == time_step(
+                        &m.flexures
+                            .iter()
+                            .map(|f| Chain::new(&matrix, &f.beam, 1000.0))
+                            .collect::<Vec<_>>()
+                    )
+        );
+    }
+
+    #[test]
+    fn the_time_step_follows_the_fastest_spring() {
+        let m = mixed();
+        let chains = |matrix: &str| -> Vec<Chain> {
+            let matrix = PrbMatrix::parse(matrix).unwrap();
+            m.flexures
+                .iter()
+                .map(|f| Chain::new(&matrix, &f.beam, 1000.0))
+                .collect()
+        };
+        // Four times the springs: half the time step.
+        let soft = time_step(&chains("0.1,inf,inf; 0.9,2,inf"));
+        let stiff = time_step(&chains("0.1,inf,inf; 0.9,8,inf"));
+        assert!((soft / stiff - 2.0).abs() < 1e-12);
+    }
 }
