@@ -13,8 +13,9 @@
 //! Scenes: the slider-crank (everything prescribed, the coupler's loop closed by a `connect`;
 //! Su's and Chen's 3R and Howell's 1R), the parallel-guiding stage (two welded flexures, the
 //! stage loaded; both drive paths) and the fixed-guided segment (a weld, `dy` and `dphi`
-//! prescribed, `dx` loaded with zero). Howell's 1R cannot keep its tip angle, so it is only on
-//! the slider-crank.
+//! prescribed, `dx` loaded with zero), and a scene of three flexures of different sizes,
+//! turned, clamped, pinned and coupled ([`MIXED`]). Howell's 1R cannot keep its tip angle, so
+//! it is only on the slider-crank.
 #![allow(clippy::unwrap_used, clippy::expect_used)] // tests: a failure should panic
 
 mod common;
@@ -39,41 +40,73 @@ fn mujoco_available() -> bool {
     )
 }
 
-/// Exports `scene` with each of `models`, drives every drive path in MuJoCo and compares
-/// with `prbfit eval`, printing one line of agreement per case.
+/// Three flexures of their own sizes and stiffnesses, turned, clamped, pinned and coupled:
+/// the per-flexure scaling, the clamps' rotation and every kind of closure at once. Drive 1
+/// loads the stage (it turns by half a degree), drive 2 prescribes `dy` against a pull.
+const MIXED: &str = r#"
+name = "mixed attachments"
+[beam]
+length = 0.05
+width = 0.01
+thickness = 0.0005
+youngs_modulus = 200e9
+poisson_ratio = 0.3
+effects = ["shear", "extension", "poisson"]
+[[flexures]]
+root = [0.0, 0.015]
+attach = "clamped"
+[[flexures]]
+root = [0.0, -0.015]
+angle_deg = 10.0
+attach = "pinned"
+length = 0.06
+thickness = 0.0006
+[[flexures]]
+root = [0.08, 0.05]
+angle_deg = -90.0
+attach = "link"
+link_to = [0.06, 0.0]
+length = 0.04
+youngs_modulus = 150e9
+[stage]
+point = [0.05, 0.0]
+[[drives]]
+fy = 4.0
+mz = 0.02
+steps = 4
+[[drives]]
+fx = 1.0
+dy = 0.003
+steps = 4
+"#;
+
+/// Exports the shipped scene `scene_name` with each of `models`, drives every drive path in
+/// MuJoCo and compares with `prbfit eval`, printing one line of agreement per case.
 fn check_scene(scene_name: &str, models: &[&str]) {
-    if !mujoco_available() {
-        return;
-    }
-    let dir = Scratch::new(&format!("mujoco-mech-{scene_name}"));
     let scene_path = format!(
         "{}/assets/scenes/{scene_name}.toml",
         env!("CARGO_MANIFEST_DIR")
     );
-    let scene = Scene::from_file(Path::new(&scene_path)).unwrap();
+    check(scene_name, &scene_path, models);
+}
+
+/// [`check_scene`] of the scene file at `scene_path`, called `scene_name` in messages.
+fn check(scene_name: &str, scene_path: &str, models: &[&str]) {
+    if !mujoco_available() {
+        return;
+    }
+    let dir = Scratch::new(&format!("mujoco-mech-{scene_name}"));
+    let scene = Scene::from_file(Path::new(scene_path)).unwrap();
     let mechanism = scene.mechanism.as_ref().expect("a mechanism scene");
     let units = MechUnits::new(mechanism);
     let script = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/mujoco_mech_check.py");
     for model in models {
         let xml = dir.file(&format!("{model}.xml"));
         succeeded(&prbfit(&[
-            "export",
-            "--scene",
-            &scene_path,
-            "--model",
-            model,
-            "--format",
-            "mjcf",
-            "-o",
-            &xml,
+            "export", "--scene", scene_path, "--model", model, "--format", "mjcf", "-o", &xml,
         ]));
         let expected = json(&prbfit(&[
-            "eval",
-            "--scene",
-            &scene_path,
-            "--model",
-            model,
-            "--json",
+            "eval", "--scene", scene_path, "--model", model, "--json",
         ]));
         let scale = &expected["reaction_scale"];
         let rows = expected["cases"].as_array().unwrap();
@@ -176,4 +209,11 @@ fn parallel_stage_in_mujoco_goes_where_prbfit_says() {
 #[test]
 fn fixed_guided_in_mujoco_goes_and_pushes_as_prbfit_says() {
     check_scene("fixed-guided", &["su-3r", "chen-3r"]);
+}
+
+#[test]
+fn mixed_attachments_in_mujoco_go_and_push_as_prbfit_says() {
+    let dir = Scratch::new("mujoco-mech-mixed-scene");
+    let path = dir.write("mixed.toml", MIXED);
+    check("mixed", &path, &["su-3r"]);
 }
