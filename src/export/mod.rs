@@ -159,9 +159,11 @@ fn mechanism_comment(input: &MechExportInput) -> String {
          stage_y (m) and stage_phi (rad) are the stage pose (dx, dy, dphi).\n     \
          Drive: a loaded coordinate is a generalized force on its stage joint \
          (data.qfrc_applied); a prescribed one is the joint equality drive_x / drive_y / \
-         drive_phi (set data.eq_active, and eq_data[0] to the target, ramped from 0), whose \
-         constraint force (efc_force times its efc_J row) is the reaction. Ramp slowly and \
-         add joint damping to settle to rest.\n     \
+         drive_phi (set data.eq_active, and model.eq_data[id][0] to the target, ramped from \
+         0), whose constraint force (efc_force times its efc_J row) is the reaction; as \
+         written, the equalities of the coordinates drive 1 prescribes are active. Move \
+         targets and loads in small steps (a jump trips MuJoCo's acceleration guard: the \
+         closures are stiff) and add joint damping to settle to rest.\n     \
          Scene drives: {}",
         xml_comment_safe(&input.name),
         xml_comment_safe(&input.matrix.topology()),
