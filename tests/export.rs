@@ -362,3 +362,42 @@ fn bad_export_requests_exit_2() {
         assert!(!Path::new(&p).exists());
     }
 }
+
+/// A mechanism scene exports as the whole PRB mechanism in MJCF (checked in MuJoCo by
+/// tests/mujoco_mech.rs); every other format is refused as bad input naming the one that
+/// works, and writes nothing.
+#[test]
+fn a_mechanism_scene_exports_as_mjcf_and_refuses_the_other_formats() {
+    let dir = Dir::new("mech");
+    let scene = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/assets/scenes/parallel-stage.toml"
+    );
+    let xml = dir.file("stage.xml");
+    let out = prbfit(&[
+        "export", "--scene", scene, "--model", "su-3r", "-o", &xml, "--json",
+    ]);
+    let report = common::json(&out);
+    assert_eq!(report["format"], "mjcf");
+    let text = std::fs::read_to_string(&xml).unwrap();
+    let doc = roxmltree::Document::parse(&text).expect("well-formed XML");
+    let named = |tag: &str, name: &str| {
+        doc.descendants()
+            .any(|n| n.has_tag_name(tag) && n.attribute("name") == Some(name))
+    };
+    assert!(named("site", "stage") && named("body", "stage"));
+    assert!(named("weld", "f1_clamp") && named("weld", "f2_clamp"));
+    assert!(named("site", "f1_tip") && named("site", "f2_tip"));
+    assert!(
+        text.contains("parallel-guiding stage"),
+        "the header names the scene"
+    );
+    for format in ["toml", "json", "urdf", "sdf", "csv"] {
+        let p = dir.file(&format!("m.{format}"));
+        let out = prbfit(&[
+            "export", "--scene", scene, "--model", "su-3r", "--format", format, "-o", &p,
+        ]);
+        common::assert_input_error(&out, &["--format", "mjcf", format]);
+        assert!(!Path::new(&p).exists(), "{format}: nothing written");
+    }
+}
