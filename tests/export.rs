@@ -364,10 +364,10 @@ fn bad_export_requests_exit_2() {
 }
 
 /// A mechanism scene exports as the whole PRB mechanism in MJCF (checked in MuJoCo by
-/// tests/mujoco_mech.rs); every other format is refused as bad input naming the one that
-/// works, and writes nothing.
+/// tests/mujoco_mech.rs) and as a model file judged on the mechanism (the figures `eval`
+/// gives); URDF, SDF and CSV are refused as bad input naming what works, and write nothing.
 #[test]
-fn a_mechanism_scene_exports_as_mjcf_and_refuses_the_other_formats() {
+fn a_mechanism_scene_exports_as_mjcf_and_model_files_only() {
     let dir = Dir::new("mech");
     let scene = concat!(
         env!("CARGO_MANIFEST_DIR"),
@@ -392,7 +392,31 @@ fn a_mechanism_scene_exports_as_mjcf_and_refuses_the_other_formats() {
         text.contains("parallel-guiding stage"),
         "the header names the scene"
     );
-    for format in ["toml", "json", "urdf", "sdf", "csv"] {
+    let eval = common::json(&prbfit(&[
+        "eval", "--scene", scene, "--model", "su-3r", "--json",
+    ]));
+    for format in ["toml", "json"] {
+        let p = dir.file(&format!("m.{format}"));
+        common::succeeded(&prbfit(&[
+            "export", "--scene", scene, "--model", "su-3r", "-o", &p,
+        ]));
+        let text = std::fs::read_to_string(&p).unwrap();
+        let model: serde_json::Value = if format == "json" {
+            serde_json::from_str(&text).unwrap()
+        } else {
+            let v: toml::Value = toml::from_str(&text).unwrap();
+            serde_json::to_value(v).unwrap()
+        };
+        assert_eq!(model["name"], "su-3r");
+        assert_eq!(model["fit"]["flexure_si"].as_array().unwrap().len(), 2);
+        // Judged as eval judges (both solve the same mechanisms at the same tolerances).
+        let (a, b) = (
+            model["fit"]["max_pos_err"].as_f64().unwrap(),
+            eval["max_pos_err"].as_f64().unwrap(),
+        );
+        assert!((a - b).abs() <= 1e-6 * b, "{format}: {a} vs {b}");
+    }
+    for format in ["urdf", "sdf", "csv"] {
         let p = dir.file(&format!("m.{format}"));
         let out = prbfit(&[
             "export", "--scene", scene, "--model", "su-3r", "--format", format, "-o", &p,

@@ -50,19 +50,19 @@ pub fn run(args: ExportArgs) -> Result<()> {
     check_target(&args.output, args.force)?;
     let scene = load_scene(&args.common)?;
     let (name, matrix) = model(&args, &scene)?;
+    let (scene, _) = resolve_scene(&scene)?;
     let text = match &scene.mechanism {
         Some(mechanism) => {
             let input = MechExportInput {
                 name,
                 matrix: &matrix,
-                scene_name: &scene.name,
+                scene: &scene,
                 mechanism,
                 density: args.density,
             };
             export_mechanism(&input, format).map_err(input_error)?
         }
         None => {
-            let (scene, _) = resolve_scene(&scene)?;
             let baseline = args.fidelity.baseline(&scene).context("baseline beam")?;
             let input = ExportInput {
                 name,

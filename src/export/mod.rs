@@ -107,19 +107,19 @@ pub struct MechExportInput<'a> {
     pub name: String,
     /// The model, in place of every flexure (scaled to each).
     pub matrix: &'a PrbMatrix,
-    /// The scene's name, for the provenance.
-    pub scene_name: &'a str,
+    /// The scene, for the provenance and the targets.
+    pub scene: &'a Scene,
     /// The scene's mechanism.
     pub mechanism: &'a Mechanism,
     /// kg/m^3, for masses.
     pub density: f64,
 }
 
-/// The formats that can hold a whole mechanism. prbfit's own model file (TOML, JSON) is a
-/// model, not a mechanism: it comes next; URDF and SDF have no loop closures of their own and
-/// CSV's load cases are the cantilever's.
+/// The formats that take a mechanism scene: MJCF holds the whole PRB mechanism; prbfit's own
+/// model file (TOML, JSON) holds the model with its figures judged on the mechanism. URDF and
+/// SDF have no loop closures of their own and CSV's load cases are the cantilever's.
 pub fn mechanism_formats() -> &'static [Format] {
-    &[Format::Mjcf]
+    &[Format::Mjcf, Format::Toml, Format::Json]
 }
 
 /// The text of the mechanism export in `format`.
@@ -134,17 +134,52 @@ pub fn export_mechanism(input: &MechExportInput, format: Format) -> Result<Strin
             input.density,
             &mechanism_comment(input),
         )),
-        Format::Toml | Format::Json | Format::Urdf | Format::Sdf | Format::Csv => {
-            Err(ExportError::MechanismFormat {
-                format,
-                supported: mechanism_formats()
-                    .iter()
-                    .map(|f| f.name())
-                    .collect::<Vec<_>>()
-                    .join(", "),
+        Format::Toml | Format::Json => {
+            let file = mechanism_model_file(input)?;
+            Ok(if format == Format::Json {
+                file.to_json()?
+            } else {
+                file.to_toml()?
             })
         }
+        Format::Urdf | Format::Sdf | Format::Csv => Err(ExportError::MechanismFormat {
+            format,
+            supported: mechanism_formats()
+                .iter()
+                .map(|f| f.name())
+                .collect::<Vec<_>>()
+                .join(", "),
+        }),
     }
+}
+
+/// The model file of a mechanism export: the model judged on the mechanism (the exact one at
+/// the default resolution, the PRB one at the fit's tolerance), its figures and every
+/// flexure's SI model recorded as a mechanism fit records them.
+fn mechanism_model_file(input: &MechExportInput) -> Result<ModelFile, ExportError> {
+    let scene = input.scene;
+    let exact = crate::mech::exact::solve(input.mechanism, crate::beam::Resolution::default())
+        .map_err(|e| ExportError::Eval(format!("the exact mechanism: {e}")))?;
+    let prb = crate::mech::prb::solve(input.mechanism, input.matrix, crate::fit::mech::MECH_TOL)
+        .map_err(|e| ExportError::Eval(e.to_string()))?;
+    let e = crate::mech::figures::compare(
+        &input.mechanism.drives,
+        &prb,
+        &exact,
+        scene.fit.angle_weight,
+        scene.fit.force_weight,
+    )
+    .map_err(|e| ExportError::Eval(e.to_string()))?;
+    let mut file =
+        ModelFile::fitted_mechanism(input.matrix, scene, input.mechanism, "normal", &e.figures);
+    file.name = input.name.clone();
+    file.title = Some(format!(
+        "{} ({}) judged on the mechanism {}",
+        input.name,
+        input.matrix.topology(),
+        scene.name
+    ));
+    Ok(file)
 }
 
 /// The comment the mechanism's MJCF opens with: the model, the scene, the units, how to drive
@@ -169,7 +204,7 @@ fn mechanism_comment(input: &MechExportInput) -> String {
         xml_comment_safe(&input.matrix.topology()),
         env!("CARGO_PKG_VERSION"),
         utc_timestamp(),
-        xml_comment_safe(input.scene_name),
+        xml_comment_safe(&input.scene.name),
         xml_comment_safe(&input.matrix.to_text()),
         xml_comment_safe(&mjcf_mech::describe_drives(input.mechanism)),
     )
