@@ -51,6 +51,11 @@ const SINGULAR: f64 = 1e-5;
 /// Su 3R parallel stage at `(Ax, Ay, B) = (-10, 6, 3)` stalls at 0.7% of its unloaded spread;
 /// the solved points of that design grid, beam and PRB, stay above 13%).
 const NEAR_CRITICAL: f64 = 0.02;
+/// Newton solves (continuation sub-steps, accepted or not) one case of a drive may take.
+/// A healthy case takes one to a few; a path crawling forward in steps near the smallest
+/// (a sliver of progress, the step doubled, rejected, halved again) could otherwise take
+/// millions, so past this the path is reported as not followed rather than left running.
+const ATTEMPTS_PER_CASE: u32 = 100;
 /// No flexure tip moves by more than this (units of its `L`, radians) in one sub-step, so the
 /// path cannot hop to another branch.
 const MAX_TIP_STEP: f64 = 0.3;
@@ -543,7 +548,19 @@ impl<M: FlexureModel> MechSolver<M> {
         for k in 1..=steps {
             let target = k as f64 / steps as f64;
             let mut iterations = 0;
+            let mut attempts = 0u32;
             loop {
+                attempts += 1;
+                if attempts > ATTEMPTS_PER_CASE {
+                    return Err(MechError::NoEquilibrium {
+                        drive: index,
+                        fraction: prev.lambda,
+                        reason: format!(
+                            "continuation took more than {ATTEMPTS_PER_CASE} sub-steps for one \
+                             case without reaching it"
+                        ),
+                    });
+                }
                 // Snap onto the case's fraction when within rounding of it, so the last case
                 // reports the drive's own end values.
                 let lambda = if prev.lambda + dlam >= target - 1e-12 {
