@@ -11,10 +11,13 @@ use std::time::Instant;
 
 use serde::{Deserialize, Serialize};
 
-use crate::beam::{BeamModel, BeamSolution, BeamSolver, Load, Resolution, SolveError, TipPose};
+use crate::beam::{
+    BeamModel, BeamSolution, BeamSolver, Convergence, Load, Resolution, SolveError, TipPose,
+};
 use crate::cancel::CancelToken;
 use crate::fidelity::Fidelity;
 use crate::prb::{PrbCase, PrbError, PrbMatrix, PrbSolver};
+use crate::scene::data::DataTruth;
 use crate::scene::{Accuracy, LoadPath, Scene};
 
 /// The beam's answer for every load case of a scene.
@@ -30,6 +33,9 @@ pub struct Baseline {
     pub resolution: Resolution,
     /// Wall-clock time of the solves.
     pub seconds: f64,
+    /// A data scene's truth (DESIGN §9): each path's measured loads, which the PRB model
+    /// follows row by row (`solutions` then holds the measured tips); `None` for the beam.
+    pub measured: Option<Vec<Vec<Load>>>,
 }
 
 /// Which load path failed, and why.
@@ -43,8 +49,12 @@ pub struct BaselineError {
 }
 
 impl Baseline {
-    /// Solves every case of the scene's beam.
+    /// Solves every case of the scene's beam; a data scene's baseline is its data
+    /// ([`Baseline::from_data`]).
     pub fn compute(scene: &Scene, resolution: Resolution) -> Result<Baseline, BaselineError> {
+        if let Some(truth) = &scene.truth {
+            return Ok(Baseline::from_data(scene.beam.model(), truth));
+        }
         Baseline::for_model(scene.beam.model(), &scene.loads, resolution)
     }
 
@@ -93,7 +103,58 @@ impl Baseline {
             solutions,
             resolution,
             seconds: t0.elapsed().as_secs_f64(),
+            measured: None,
         })
+    }
+
+    /// The baseline of a data scene (DESIGN §9): the measured tips are the truth, and `model`
+    /// (the scene's nominal beam, effects decided) only gives the PRB model its axial
+    /// compliance. Each measured row becomes a solution with the measured tip; its root
+    /// moment is the statics of the measured pose (`beta + a alpha_y - b alpha_x`), and it
+    /// has no shape.
+    pub fn from_data(model: BeamModel, truth: &DataTruth) -> Baseline {
+        let solutions = truth
+            .paths
+            .iter()
+            .flat_map(|p| &p.rows)
+            .map(|r| BeamSolution {
+                load: r.load,
+                tip: r.tip,
+                root_moment: r.load.beta + r.tip.a * r.load.alpha_y - r.tip.b * r.load.alpha_x,
+                shape: Vec::new(),
+                iterations: 0,
+                continuation_steps: 0,
+                rk_steps: 0,
+                convergence: Convergence {
+                    residual: 0.0,
+                    last_update: 0.0,
+                    stability: 1.0,
+                },
+            })
+            .collect();
+        let paths = truth
+            .paths
+            .iter()
+            .filter_map(|p| {
+                p.rows.last().map(|last| LoadPath {
+                    end: last.load,
+                    steps: u32::try_from(p.rows.len()).unwrap_or(u32::MAX),
+                })
+            })
+            .collect();
+        Baseline {
+            model,
+            paths,
+            solutions,
+            resolution: Resolution::default(),
+            seconds: 0.0,
+            measured: Some(truth.loads()),
+        }
+    }
+
+    /// Whether the truth is measured data rather than the beam.
+    pub fn is_measured(&self) -> bool {
+        self.measured.is_some()
     }
 
     /// Load cases in all.
@@ -121,12 +182,16 @@ impl Baseline {
             let beam = &self.solutions[start..end];
             start = end;
             let mut reached = 0;
-            let outcome = solver.solve_path_with(path.end, path.steps, |case| {
+            let mut on_case = |case: PrbCase<'_>| {
                 if let Some(b) = beam.get(reached) {
                     visit(b, &case);
                 }
                 reached += 1;
-            });
+            };
+            let outcome = match self.measured.as_ref().and_then(|m| m.get(i)) {
+                Some(rows) => solver.solve_rows_with(rows, &mut on_case),
+                None => solver.solve_path_with(path.end, path.steps, &mut on_case),
+            };
             if let Err(source) = outcome {
                 let missed = &beam[reached.min(beam.len())..];
                 if on_failure(missed).is_break() {
@@ -141,10 +206,42 @@ impl Baseline {
     }
 }
 
+/// The scene's own beam judged against a data scene's measurements (DESIGN §9: how far the
+/// ideal beam is from the specimen): per row, the beam's tip under the row's load (solved by
+/// continuation from the unloaded beam) against the measured tip, as [`CaseError`]s with the
+/// data in the `beam` slot and the beam theory in the `prb` slot, and their figures. `None`
+/// for a scene without data.
+pub fn beam_against_data(
+    scene: &Scene,
+    resolution: Resolution,
+) -> Result<Option<Evaluation>, BaselineError> {
+    let Some(truth) = &scene.truth else {
+        return Ok(None);
+    };
+    let solver = BeamSolver::new(scene.beam.model(), resolution)
+        .map_err(|source| BaselineError { path: 0, source })?;
+    let mut cases = Vec::with_capacity(truth.row_count());
+    for (i, path) in truth.paths.iter().enumerate() {
+        for row in &path.rows {
+            let beam = solver.solve(row.load).map_err(|source| BaselineError {
+                path: i + 1,
+                source,
+            })?;
+            cases.push(CaseError::new(row.load, row.tip, beam.tip));
+        }
+    }
+    let figures = ErrorFigures::from_cases(&cases, scene.fit.angle_weight);
+    Ok(Some(Evaluation { cases, figures }))
+}
+
 impl Fidelity {
     /// The baseline a fit at this fidelity runs against: the scene's beam at this
     /// fidelity's resolution, over its sampling of the scene's loads.
     pub fn baseline(self, scene: &Scene) -> Result<Baseline, BaselineError> {
+        if let Some(truth) = &scene.truth {
+            // Measured data is what it is: no resolution or sampling to choose.
+            return Ok(Baseline::from_data(scene.beam.model(), truth));
+        }
         Baseline::for_model(
             scene.beam.model(),
             &self.sample(&scene.loads),

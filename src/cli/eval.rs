@@ -15,7 +15,7 @@ use prbfit::scene::{Accuracy, Scene};
 use prbfit::select::EffectsDecision;
 
 use super::args::EvalArgs;
-use super::output::{emit, met, num, safe, DecisionLine, Progress};
+use super::output::{emit, met, num, safe, DecisionLine, Progress, TruthInfo, TruthLine};
 use super::{bad, load_scene, parse_matrix, resolve_scene, scene_model};
 
 /// One model's row, or several under `models` (DESIGN §6).
@@ -144,6 +144,9 @@ pub struct SceneReport {
     models: OneOrMany<ModelRow>,
     scene: String,
     effects_decision: Option<EffectsDecision>,
+    /// A data scene's truth, and the beam's own error against it.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    truth: Option<TruthInfo>,
     baseline_seconds: f64,
     #[serde(skip)]
     cases: usize,
@@ -162,6 +165,7 @@ impl fmt::Display for SceneReport {
             self.cases
         )?;
         write!(f, "{}", DecisionLine(&self.effects_decision))?;
+        write!(f, "{}", TruthLine(&self.truth))?;
         writeln!(
             f,
             "targets: max position error {} L, max angle error {} rad; angle weight {}",
@@ -226,6 +230,14 @@ pub fn run(args: EvalArgs) -> Result<()> {
     let weight = scene.fit.angle_weight;
     let beam = scene.beam.model();
 
+    if let (Some(_), Some(truth)) = (args.load, &scene.truth) {
+        return Err(bad(format!(
+            "--load: \"{}\" is a data scene: its load cases are the rows of {} (judge the \
+             model over them without --load)",
+            safe(&scene.name),
+            safe(&truth.file)
+        )));
+    }
     if let Some(load) = args.load {
         let solver = BeamSolver::new(beam, resolution)
             .map_err(|e| bad(format!("--tol {}: {e}", num(args.tol))))?;
@@ -249,19 +261,22 @@ pub fn run(args: EvalArgs) -> Result<()> {
         return emit(&AtLoadReport(OneOrMany::new(rows)), json);
     }
 
-    // One baseline for every model.
+    // One baseline for every model: the beam, or a data scene's measurements.
     let mut progress = Progress::new("solving the beam");
     let n_paths = scene.loads.len();
-    let baseline = Baseline::solve(
-        scene.beam.model(),
-        &scene.loads,
-        resolution,
-        &CancelToken::new(),
-        &mut |done, cases| {
-            progress.update(|| format!("load path {done}/{n_paths}, {cases} cases"));
-        },
-    )
-    .context("baseline beam")?;
+    let baseline = match &scene.truth {
+        Some(truth) => Baseline::from_data(beam, truth),
+        None => Baseline::solve(
+            beam,
+            &scene.loads,
+            resolution,
+            &CancelToken::new(),
+            &mut |done, cases| {
+                progress.update(|| format!("load path {done}/{n_paths}, {cases} cases"));
+            },
+        )
+        .context("baseline beam")?,
+    };
     progress.finish();
     let mut rows = Vec::new();
     for (name, m) in models {
@@ -278,6 +293,7 @@ pub fn run(args: EvalArgs) -> Result<()> {
         });
     }
     let report = SceneReport {
+        truth: TruthInfo::of(&scene),
         models: OneOrMany::new(rows),
         scene: scene.name.clone(),
         effects_decision: decision,

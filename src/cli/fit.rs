@@ -17,7 +17,7 @@ use prbfit::scene::{Accuracy, Scene};
 use prbfit::select::EffectsDecision;
 
 use super::args::FitArgs;
-use super::output::{emit, met, num, safe, DecisionLine, Progress};
+use super::output::{emit, met, num, safe, DecisionLine, Progress, TruthInfo, TruthLine};
 use super::{bad, load_scene, parse_matrix, resolve_scene, scene_model};
 
 /// What `fit` found.
@@ -35,6 +35,9 @@ pub struct FitOutput {
     fidelity: Fidelity,
     cases: usize,
     effects_decision: Option<EffectsDecision>,
+    /// A data scene's truth, and the beam's own error against it.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    truth: Option<TruthInfo>,
     baseline_seconds: f64,
     seconds: f64,
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -51,6 +54,7 @@ impl fmt::Display for FitOutput {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let m = &self.figures;
         write!(f, "{}", DecisionLine(&self.effects_decision))?;
+        write!(f, "{}", TruthLine(&self.truth))?;
         writeln!(
             f,
             "scene: {} ({} load cases at {} fidelity)",
@@ -180,6 +184,7 @@ pub fn run(args: FitArgs) -> Result<()> {
         fidelity: args.fidelity,
         cases: baseline.case_count(),
         effects_decision: decision,
+        truth: TruthInfo::of(&scene),
         baseline_seconds: baseline.seconds,
         seconds,
         saved: args.output.as_ref().map(|p| p.display().to_string()),

@@ -246,3 +246,69 @@ mod tests {
 
     use std::time::Duration;
 }
+
+/// A data scene's truth as the reports show it (DESIGN §9): the file, its hash, its size, and
+/// the scene's own beam judged against it.
+#[derive(Debug, Serialize)]
+pub struct TruthInfo {
+    /// The data file as the scene names it.
+    data: String,
+    /// SHA-256 of its bytes.
+    sha256: String,
+    /// Rows (load cases) and paths.
+    rows: usize,
+    paths: usize,
+    /// The beam theory's own error against the data (the scene's nominal `[beam]`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    beam_vs_data: Option<prbfit::eval::ErrorFigures>,
+    /// Why the beam could not be judged, when it could not.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    beam_failure: Option<String>,
+}
+
+impl TruthInfo {
+    /// The truth of `scene`, if it is a data scene.
+    pub fn of(scene: &prbfit::scene::Scene) -> Option<TruthInfo> {
+        let truth = scene.truth.as_ref()?;
+        let (beam_vs_data, beam_failure) =
+            match prbfit::eval::beam_against_data(scene, prbfit::beam::Resolution::default()) {
+                Ok(e) => (e.map(|e| e.figures), None),
+                Err(e) => (None, Some(e.to_string())),
+            };
+        Some(TruthInfo {
+            data: truth.file.clone(),
+            sha256: truth.sha256.clone(),
+            rows: truth.row_count(),
+            paths: truth.paths.len(),
+            beam_vs_data,
+            beam_failure,
+        })
+    }
+}
+
+/// The line a report gives a data scene's truth (nothing for a beam scene).
+pub struct TruthLine<'a>(pub &'a Option<TruthInfo>);
+
+impl Display for TruthLine<'_> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let Some(t) = self.0 else { return Ok(()) };
+        writeln!(
+            f,
+            "truth: measured data {} ({} rows in {} path(s), sha256 {}...)",
+            safe(&t.data),
+            t.rows,
+            t.paths,
+            t.sha256.get(..12).unwrap_or(&t.sha256)
+        )?;
+        match (&t.beam_vs_data, &t.beam_failure) {
+            (Some(b), _) => writeln!(
+                f,
+                "the scene's beam against the data: rms pos {:.3e}, max pos {:.3e} L; rms ang \
+                 {:.3e}, max ang {:.3e} rad; J {:.4e}",
+                b.rms_pos_err, b.max_pos_err, b.rms_ang_err, b.max_ang_err, b.objective
+            ),
+            (None, Some(why)) => writeln!(f, "the scene's beam against the data: {}", safe(why)),
+            (None, None) => Ok(()),
+        }
+    }
+}

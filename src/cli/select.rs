@@ -20,7 +20,7 @@ use prbfit::select::{
 };
 
 use super::args::SelectArgs;
-use super::output::{emit, num, safe, DecisionLine, Progress};
+use super::output::{emit, num, safe, DecisionLine, Progress, TruthInfo, TruthLine};
 use super::{load_scene, resolve_scene};
 
 /// The figures' own columns in the text table.
@@ -87,6 +87,9 @@ pub struct SelectOutput<F: Judged = ErrorFigures> {
     scene: String,
     targets: Accuracy,
     effects_decision: Option<EffectsDecision>,
+    /// A data scene's truth, and the beam's own error against it.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    truth: Option<TruthInfo>,
     seconds: f64,
     #[serde(skip)]
     cases: usize,
@@ -115,6 +118,7 @@ impl<F: Judged> SelectOutput<F> {
             scene: scene.name.clone(),
             targets: scene.accuracy,
             effects_decision,
+            truth: TruthInfo::of(scene),
             seconds,
             cases,
             what: if scene.mechanism.is_some() {
@@ -137,6 +141,7 @@ impl<F: Columns> fmt::Display for SelectOutput<F> {
             self.fidelity
         )?;
         write!(f, "{}", DecisionLine(&self.effects_decision))?;
+        write!(f, "{}", TruthLine(&self.truth))?;
         writeln!(f, "{}", F::targets(&self.targets))?;
         writeln!(
             f,

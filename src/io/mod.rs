@@ -26,6 +26,40 @@ impl Scene {
             key: None,
             message: format!("cannot read the scene file: {}", e.reason()),
         })?;
-        Scene::from_toml_str(&text, &origin)
+        let mut scene = Scene::from_toml_str(&text, &origin)?;
+        if let Some(truth) = &scene.truth {
+            let base = path.parent().unwrap_or(Path::new("."));
+            let file = base.join(&truth.file);
+            let (paths, sha256) = read_data(&file, &scene.beam).map_err(|mut e| {
+                if e.line.is_none() && e.origin == file.display().to_string() {
+                    // A file that cannot be read: the scene's key that names it.
+                    e.origin = origin.clone();
+                    e.key = Some("truth.data".into());
+                }
+                e
+            })?;
+            scene.set_measured(paths, sha256);
+        }
+        Ok(scene)
     }
+}
+
+/// Reads and checks a data file (DESIGN §9) with `beam` as the nominal beam: its paths and
+/// the SHA-256 of its bytes (lowercase hex).
+pub fn read_data(
+    file: &Path,
+    beam: &crate::scene::BeamSpec,
+) -> Result<(Vec<crate::scene::data::MeasuredPath>, String), SceneError> {
+    use sha2::Digest;
+    let shown = file.display().to_string();
+    let text = files::read_input(file).map_err(|e| SceneError {
+        origin: shown.clone(),
+        line: None,
+        key: None,
+        message: format!("cannot read the data file {shown}: {}", e.reason()),
+    })?;
+    let hash = sha2::Sha256::digest(text.as_bytes());
+    let hex: String = hash.iter().map(|b| format!("{b:02x}")).collect();
+    let paths = crate::scene::data::parse_csv(&text, &shown, beam)?;
+    Ok((paths, hex))
 }

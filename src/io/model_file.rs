@@ -56,6 +56,10 @@ pub struct FitRecord {
     /// The five figures on the scene.
     #[serde(flatten)]
     pub figures: ErrorFigures,
+    /// Data scenes (DESIGN §9): the data the model was fitted to (its figures are against
+    /// the data); absent when the truth was the beam.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub truth: Option<TruthRecord>,
     /// Mechanism scenes (DESIGN §8): the reaction figures, `J`'s force weight and the model
     /// in SI for every flexure; absent for a cantilever fit.
     #[serde(default, flatten, skip_serializing_if = "Option::is_none")]
@@ -64,6 +68,17 @@ pub struct FitRecord {
     pub prbfit_version: String,
     /// UTC, `YYYY-MM-DDTHH:MM:SSZ`.
     pub created: String,
+}
+
+/// The measured data a model was fitted to or judged on.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct TruthRecord {
+    /// The data file as the scene names it.
+    pub data: String,
+    /// SHA-256 of the file's bytes, lowercase hex.
+    pub sha256: String,
+    /// Rows (load cases) in the file.
+    pub rows: usize,
 }
 
 /// What a fit on a mechanism scene adds to its [`FitRecord`]. The record's own figures are
@@ -178,6 +193,11 @@ impl ModelFile {
                 fidelity: fidelity.to_string(),
                 angle_weight: scene.fit.angle_weight,
                 figures: *figures,
+                truth: scene.truth.as_ref().map(|t| TruthRecord {
+                    data: t.file.clone(),
+                    sha256: t.sha256.clone(),
+                    rows: t.row_count(),
+                }),
                 mechanism: None,
                 prbfit_version: env!("CARGO_PKG_VERSION").to_string(),
                 created: super::files::utc_timestamp(),

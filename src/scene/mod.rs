@@ -6,6 +6,7 @@
 //! [`crate::select::decide_effects`]; code that has not decided it (a scene just read)
 //! treats it as every effect on, the safe superset.
 
+pub mod data;
 mod mechanism;
 
 pub use mechanism::{Attach, Coordinate, Drive, Flexure, Mechanism, COORDINATE_KEYS};
@@ -199,9 +200,34 @@ pub struct Scene {
     /// `None`: the plain cantilever of §5.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub mechanism: Option<Mechanism>,
+    /// A data scene (DESIGN §9): measured load cases and tips are the truth in place of the
+    /// beam (`[truth] data = "file.csv"`); `loads` then holds one path per measured path
+    /// (to its last row, one case per row) for what counts cases. Read by
+    /// [`Scene::from_file`]; a scene parsed from text has the file's name but no rows yet.
+    #[serde(skip)]
+    pub truth: Option<data::DataTruth>,
 }
 
 impl Scene {
+    /// Gives a data scene its measured paths (read by the IO layer) and `sha256`, the file's
+    /// content hash; `loads` becomes one path per measured path, to its last row, one case
+    /// per row.
+    pub fn set_measured(&mut self, paths: Vec<data::MeasuredPath>, sha256: String) {
+        self.loads = paths
+            .iter()
+            .filter_map(|p| {
+                p.rows.last().map(|last| LoadPath {
+                    end: last.load,
+                    steps: u32::try_from(p.rows.len()).unwrap_or(u32::MAX),
+                })
+            })
+            .collect();
+        if let Some(t) = self.truth.as_mut() {
+            t.paths = paths;
+            t.sha256 = sha256;
+        }
+    }
+
     /// The built-in scene.
     #[allow(clippy::expect_used)] // a compiled-in constant, checked by a test
     pub fn builtin() -> Scene {
@@ -245,7 +271,10 @@ impl Scene {
                 out.push_str(&format!("effects = [{}]\n", names.join(", ")));
             }
         }
-        for path in &self.loads {
+        if let Some(t) = &self.truth {
+            out.push_str(&format!("\n[truth]\ndata = {}\n", toml_string(&t.file)));
+        }
+        for path in self.loads.iter().filter(|_| self.truth.is_none()) {
             out.push_str(&format!(
                 "\n[[loads]]\nalpha_x = {:?}\nalpha_y = {:?}\nbeta = {:?}\nsteps = {}\n",
                 path.end.alpha_x, path.end.alpha_y, path.end.beta, path.steps
@@ -327,11 +356,18 @@ struct RawScene {
     accuracy: Option<Spanned<RawAccuracy>>,
     fit: Option<Spanned<RawFit>>,
     prb: Option<Spanned<RawPrb>>,
+    truth: Option<Spanned<RawTruth>>,
     #[serde(default)]
     flexures: Vec<Spanned<mechanism::RawFlexure>>,
     stage: Option<Spanned<mechanism::RawStage>>,
     #[serde(default)]
     drives: Vec<Spanned<mechanism::RawDrive>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawTruth {
+    data: Spanned<String>,
 }
 
 #[derive(Deserialize)]
@@ -587,7 +623,39 @@ impl Validator<'_> {
             }
             Some(self.mechanism(&beam, &raw.flexures, raw.stage.as_ref(), &raw.drives)?)
         };
-        if raw.loads.is_empty() && mechanism.is_none() {
+        let truth = match &raw.truth {
+            None => None,
+            Some(t) => {
+                let file = &t.get_ref().data;
+                if mechanism.is_some() {
+                    return Err(self.error(
+                        t.span(),
+                        "truth",
+                        "measured data as the truth of a mechanism scene is not supported \
+                         yet: give the data for a single flexure (a cantilever scene)"
+                            .into(),
+                    ));
+                }
+                if let Some(first) = raw.loads.first() {
+                    return Err(self.error(
+                        first.span(),
+                        "loads",
+                        "a data scene's load cases are its data file's rows: remove the \
+                         [[loads]] tables"
+                            .into(),
+                    ));
+                }
+                if file.get_ref().trim().is_empty() {
+                    return Err(self.error(file.span(), "truth.data", "an empty file name".into()));
+                }
+                Some(data::DataTruth {
+                    file: file.get_ref().clone(),
+                    sha256: String::new(),
+                    paths: Vec::new(),
+                })
+            }
+        };
+        if raw.loads.is_empty() && mechanism.is_none() && truth.is_none() {
             return Err(SceneError {
                 origin: self.origin.to_string(),
                 line: None,
@@ -664,6 +732,7 @@ impl Validator<'_> {
             fit,
             prb,
             mechanism,
+            truth,
         })
     }
 

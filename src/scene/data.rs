@@ -1,0 +1,374 @@
+//! Measured data as the truth (DESIGN §9): a CSV of load cases and measured tips, read,
+//! checked and converted to the nondimensional form the rest of prbfit works in.
+//!
+//! The file has a header row and one row per load case, in path order (each path grows from
+//! near the unloaded state; the PRB model follows its rows in order). Columns:
+//!
+//! - `path` (optional, an integer): groups rows into paths, each path's rows together;
+//!   absent, the file is one path;
+//! - loads: `fx, fy, mz` (N, N m) or `alpha_x, alpha_y, beta` (nondimensional);
+//! - the measured tip: `x, y` (m, from the clamp, the unloaded beam along +x) and `theta`
+//!   (rad), or `a, b, phi` (units of L, rad).
+//!
+//! SI and nondimensional columns may not be mixed; the scene's `[beam]` (its nominal `L`,
+//! `E`, `I0`) converts SI to nondimensional. Blank lines and lines starting with `#` are
+//! skipped. Every problem is an error naming `file:line:column` and the column's name: a
+//! missing or unknown or repeated column, a field that is not a number (or is NaN or
+//! infinite), a row with too few or too many fields, a path that shrinks (its load
+//! magnitude must grow from row to row) or that comes back after another path, a file
+//! with no rows.
+
+use serde::Serialize;
+
+use crate::beam::{Load, TipPose};
+
+use super::{BeamSpec, SceneError};
+
+/// One measured load case.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct MeasuredRow {
+    /// The file's 1-based line.
+    pub line: usize,
+    /// The load, nondimensional (the scene's nominal beam).
+    pub load: Load,
+    /// The measured tip, nondimensional (units of the nominal `L`, radians).
+    pub tip: TipPose,
+}
+
+/// One measured path: its rows in order.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct MeasuredPath {
+    /// The `path` column's value (1 when the file has no such column).
+    pub id: i64,
+    /// The rows, in the file's order.
+    pub rows: Vec<MeasuredRow>,
+}
+
+/// A data scene's truth: the file as the scene names it, its content hash, and its paths.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct DataTruth {
+    /// The file as the scene's `[truth] data` writes it (relative to the scene file).
+    pub file: String,
+    /// SHA-256 of the file's bytes, lowercase hex (empty until the file is read).
+    pub sha256: String,
+    /// The measured paths (empty until the file is read).
+    pub paths: Vec<MeasuredPath>,
+}
+
+impl DataTruth {
+    /// Rows in all.
+    pub fn row_count(&self) -> usize {
+        self.paths.iter().map(|p| p.rows.len()).sum()
+    }
+
+    /// Every path's loads, in order.
+    pub fn loads(&self) -> Vec<Vec<Load>> {
+        self.paths
+            .iter()
+            .map(|p| p.rows.iter().map(|r| r.load).collect())
+            .collect()
+    }
+}
+
+/// The unit system of a set of columns.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Units {
+    Si,
+    Nondimensional,
+}
+
+/// What a column holds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Column {
+    Path,
+    /// Load component 0..3, in its units.
+    Load(usize, Units),
+    /// Tip component 0..3 (x or a, y or b, theta or phi), in its units.
+    Tip(usize, Units),
+}
+
+fn column_of(name: &str) -> Option<Column> {
+    use Units::{Nondimensional as N, Si};
+    Some(match name {
+        "path" => Column::Path,
+        "fx" => Column::Load(0, Si),
+        "fy" => Column::Load(1, Si),
+        "mz" => Column::Load(2, Si),
+        "alpha_x" => Column::Load(0, N),
+        "alpha_y" => Column::Load(1, N),
+        "beta" => Column::Load(2, N),
+        "x" => Column::Tip(0, Si),
+        "y" => Column::Tip(1, Si),
+        "theta" => Column::Tip(2, Si),
+        "a" => Column::Tip(0, N),
+        "b" => Column::Tip(1, N),
+        "phi" => Column::Tip(2, N),
+        _ => return None,
+    })
+}
+
+const KNOWN: &str = "path, fx, fy, mz, alpha_x, alpha_y, beta, x, y, theta, a, b, phi (DESIGN §9)";
+
+/// A field as an error message quotes it: terminal-safe, at most 40 characters.
+fn shown(field: &str) -> String {
+    let safe = crate::text::sanitize_terminal(field);
+    if safe.chars().count() > 40 {
+        format!("{}...", safe.chars().take(40).collect::<String>())
+    } else {
+        safe.into_owned()
+    }
+}
+
+/// A field of a line with its 1-based character column.
+fn fields(line: &str) -> Vec<(usize, &str)> {
+    let mut out = Vec::new();
+    let mut start = 0;
+    for (i, c) in line.char_indices() {
+        if c == ',' {
+            out.push((start, &line[start..i]));
+            start = i + 1;
+        }
+    }
+    out.push((start, &line[start..]));
+    out.into_iter()
+        .map(|(at, f)| {
+            let lead = f.len() - f.trim_start().len();
+            (line[..at + lead].chars().count() + 1, f.trim())
+        })
+        .collect()
+}
+
+/// Reads the CSV `text` (from the file `origin`) with `beam` as the nominal beam.
+pub fn parse_csv(
+    text: &str,
+    origin: &str,
+    beam: &BeamSpec,
+) -> Result<Vec<MeasuredPath>, SceneError> {
+    let fail = |line: usize, column: usize, key: Option<&str>, message: String| SceneError {
+        origin: format!("{origin}:{line}:{column}"),
+        line: None,
+        key: key.map(str::to_string),
+        message,
+    };
+    let mut lines = text
+        .lines()
+        .enumerate()
+        .map(|(i, l)| (i + 1, l.trim_end_matches('\r')))
+        .filter(|(_, l)| !l.trim().is_empty() && !l.trim_start().starts_with('#'));
+    let Some((header_line, header)) = lines.next() else {
+        return Err(fail(
+            1,
+            1,
+            None,
+            format!("the file is empty: it needs a header row and one row per load case ({KNOWN})"),
+        ));
+    };
+    let header = fields(header);
+    let mut columns: Vec<Column> = Vec::with_capacity(header.len());
+    let mut names: Vec<&str> = Vec::with_capacity(header.len());
+    for &(col, name) in &header {
+        let name_lc = name.to_ascii_lowercase();
+        let Some(c) = column_of(&name_lc) else {
+            return Err(fail(
+                header_line,
+                col,
+                Some(name),
+                format!("unknown column; the columns are {KNOWN}"),
+            ));
+        };
+        if columns.contains(&c) {
+            return Err(fail(
+                header_line,
+                col,
+                Some(name),
+                "a column given twice".into(),
+            ));
+        }
+        columns.push(c);
+        names.push(name);
+    }
+    // One unit system for loads and tips, every component present.
+    let units: Vec<(usize, Units)> = columns
+        .iter()
+        .enumerate()
+        .filter_map(|(i, c)| match c {
+            Column::Load(_, u) | Column::Tip(_, u) => Some((i, *u)),
+            Column::Path => None,
+        })
+        .collect();
+    if let (Some(&(_, first)), Some(&(i, _))) =
+        (units.first(), units.iter().find(|(_, u)| *u != units[0].1))
+    {
+        let (si, nd) = if first == Units::Si {
+            (names[units[0].0], names[i])
+        } else {
+            (names[i], names[units[0].0])
+        };
+        return Err(fail(
+            header_line,
+            header[i].0,
+            Some(names[i]),
+            format!(
+                "mixed units: `{si}` is SI and `{nd}` nondimensional; use fx, fy, mz, x, y, \
+                 theta or alpha_x, alpha_y, beta, a, b, phi throughout"
+            ),
+        ));
+    }
+    let si = units.first().is_none_or(|(_, u)| *u == Units::Si);
+    let wanted: [(&str, Column); 6] = if si {
+        [
+            ("fx", Column::Load(0, Units::Si)),
+            ("fy", Column::Load(1, Units::Si)),
+            ("mz", Column::Load(2, Units::Si)),
+            ("x", Column::Tip(0, Units::Si)),
+            ("y", Column::Tip(1, Units::Si)),
+            ("theta", Column::Tip(2, Units::Si)),
+        ]
+    } else {
+        [
+            ("alpha_x", Column::Load(0, Units::Nondimensional)),
+            ("alpha_y", Column::Load(1, Units::Nondimensional)),
+            ("beta", Column::Load(2, Units::Nondimensional)),
+            ("a", Column::Tip(0, Units::Nondimensional)),
+            ("b", Column::Tip(1, Units::Nondimensional)),
+            ("phi", Column::Tip(2, Units::Nondimensional)),
+        ]
+    };
+    if let Some((name, _)) = wanted.iter().find(|(_, c)| !columns.contains(c)) {
+        return Err(fail(
+            header_line,
+            1,
+            None,
+            format!(
+                "missing column `{name}`: a data file needs every load and tip column of one \
+                 unit system ({})",
+                wanted.map(|w| w.0).join(", ")
+            ),
+        ));
+    }
+    // Nominal scales: SI to nondimensional.
+    let ei = beam.youngs_modulus * beam.second_moment();
+    let l = beam.length;
+    let (force, moment) = if si { (l * l / ei, l / ei) } else { (1.0, 1.0) };
+    let length = if si { 1.0 / l } else { 1.0 };
+
+    let mut paths: Vec<MeasuredPath> = Vec::new();
+    let mut rows_seen = 0;
+    for (line_no, line) in lines {
+        rows_seen += 1;
+        let f = fields(line);
+        if f.len() != columns.len() {
+            return Err(fail(
+                line_no,
+                f.last().map_or(1, |x| x.0),
+                None,
+                format!(
+                    "{} fields where the header has {} columns",
+                    f.len(),
+                    columns.len()
+                ),
+            ));
+        }
+        let mut load = [0.0; 3];
+        let mut tip = [0.0; 3];
+        let mut id = 1_i64;
+        for (k, (&(col, field), c)) in f.iter().zip(&columns).enumerate() {
+            let name = names[k];
+            if *c == Column::Path {
+                id = field.parse::<i64>().map_err(|_| {
+                    fail(
+                        line_no,
+                        col,
+                        Some(name),
+                        format!("not a path number: \"{}\"", shown(field)),
+                    )
+                })?;
+                continue;
+            }
+            let v: f64 = field.parse().map_err(|_| {
+                fail(
+                    line_no,
+                    col,
+                    Some(name),
+                    format!("not a number: \"{}\"", shown(field)),
+                )
+            })?;
+            if !v.is_finite() {
+                return Err(fail(
+                    line_no,
+                    col,
+                    Some(name),
+                    format!("{field} is not a finite number"),
+                ));
+            }
+            match *c {
+                Column::Load(i, _) => load[i] = v * if i == 2 { moment } else { force },
+                Column::Tip(i, _) => tip[i] = if i == 2 { v } else { v * length },
+                Column::Path => {}
+            }
+        }
+        let row = MeasuredRow {
+            line: line_no,
+            load: Load {
+                alpha_x: load[0],
+                alpha_y: load[1],
+                beta: load[2],
+            },
+            tip: TipPose {
+                a: tip[0],
+                b: tip[1],
+                phi: tip[2],
+            },
+        };
+        let same_path = paths.last().is_some_and(|p| p.id == id);
+        if !same_path {
+            if let Some(earlier) = paths.iter().find(|p| p.id == id) {
+                return Err(fail(
+                    line_no,
+                    1,
+                    Some("path"),
+                    format!(
+                        "path {id} comes back after path {} (its rows began at line {}): a \
+                         path's rows must be together, in order",
+                        paths.last().map_or(0, |p| p.id),
+                        earlier.rows[0].line
+                    ),
+                ));
+            }
+            paths.push(MeasuredPath {
+                id,
+                rows: Vec::new(),
+            });
+        }
+        // `paths` has a last element: pushed just above when this row starts a path.
+        if let Some(path) = paths.last_mut() {
+            if let Some(prev) = path.rows.last() {
+                let (before, now) = (prev.load.magnitude(), row.load.magnitude());
+                if now <= before {
+                    return Err(fail(
+                        line_no,
+                        1,
+                        None,
+                        format!(
+                            "path {id} shrinks: its load magnitude {} is not above the previous \
+                             row's {} (line {}); a path's rows must grow from the unloaded state",
+                            crate::text::bounded(now),
+                            crate::text::bounded(before),
+                            prev.line
+                        ),
+                    ));
+                }
+            }
+            path.rows.push(row);
+        }
+    }
+    if rows_seen == 0 {
+        return Err(fail(
+            header_line,
+            1,
+            None,
+            "no data rows after the header: an empty path".into(),
+        ));
+    }
+    Ok(paths)
+}
