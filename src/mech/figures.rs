@@ -273,6 +273,7 @@ mod tests {
             stage_load,
             flexures: Vec::new(),
             iterations: 0,
+            joints: Vec::new(),
         }
     }
 
