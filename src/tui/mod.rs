@@ -1,5 +1,6 @@
-//! The terminal UI: edit the beam, the loads and the PRB matrix; the worker refits live; the
-//! charts show the deformed shapes and the tip errors.
+//! The terminal UI: edit the beam, the loads (or a mechanism's flexures, stage and drives)
+//! and the PRB matrix; the worker refits live; the charts show the deformed shapes and the
+//! errors (on a mechanism, the force–stroke chart and the reaction error).
 //!
 //! - [`app`]: the shared state and the update logic (no terminal), unit-tested;
 //! - [`state`]: each panel's own state: cursor and edit handling;
@@ -277,7 +278,13 @@ fn run_loop(
             Some(Err(_)) => break,
         }
         while let Ok(msg) = worker.messages.try_recv() {
-            let shows_model = matches!(msg, WorkerMsg::Progress { .. } | WorkerMsg::Done { .. });
+            let shows_model = matches!(
+                msg,
+                WorkerMsg::Progress { .. }
+                    | WorkerMsg::Done { .. }
+                    | WorkerMsg::MechProgress { .. }
+                    | WorkerMsg::MechDone { .. }
+            );
             let id = msg.id();
             if app.on_worker(msg) {
                 redraw = true;
@@ -343,11 +350,6 @@ pub fn run_command(app: &mut App, cmd: Command, now: Instant) -> Option<Job> {
             }
         }
         Command::OpenScene(path) => match Scene::from_file(&path) {
-            Ok(scene) if scene.mechanism.is_some() => app.set_error(format!(
-                "not opened: {} is a mechanism scene (DESIGN §8); the UI solves only \
-                 cantilever scenes so far",
-                path.display()
-            )),
             Ok(scene) => {
                 app.set_scene(scene, path.clone(), now);
                 app.set_info(format!("opened {}", path.display()));

@@ -14,6 +14,7 @@ use std::time::{Duration, Instant};
 
 use ratatui::crossterm::event::{KeyCode, KeyEvent, KeyEventKind, KeyModifiers};
 
+use crate::beam::Effects;
 use crate::cancel::CancelToken;
 use crate::fit::{Fidelity, FitReport, StopReason};
 use crate::format::Format;
@@ -26,10 +27,13 @@ use super::keymap::{self, Action, Scope};
 use super::state::beam::{toggled_effect, BeamField, BeamState};
 use super::state::loads::{self, held_forces, Hold, LoadsState};
 use super::state::matrix::MatrixState;
+use super::state::mech::{self as mech_state, MechField, MechState};
 use super::state::select::SelectState;
 pub use super::state::Panel;
 use super::units::trim_number;
-use super::worker::{BaselineView, FitStatus, Job, JobKind, ModelView, WorkerMsg};
+use super::worker::{
+    BaselineView, FitStatus, Job, JobKind, MechBaselineView, MechModelView, ModelView, WorkerMsg,
+};
 
 /// Edits closer together than this are sent as one job.
 pub const DEBOUNCE: Duration = Duration::from_millis(30);
@@ -53,6 +57,8 @@ pub enum EditTarget {
         /// The column.
         col: Column,
     },
+    /// A row of the mechanism panel.
+    Mech(MechField),
 }
 
 /// What a prompt asks for.
@@ -304,6 +310,15 @@ pub struct App {
     pub compare_view: Option<(Arc<BaselineView>, ModelView)>,
     /// The last selection's model (its choice, else the closest row), which `C` offers.
     pub selection_model: Option<(String, PrbMatrix)>,
+    /// A mechanism scene's panel cursor and what its charts show.
+    pub mech_state: MechState,
+    /// A mechanism scene's exact mechanism the shown model was judged on.
+    pub mech_exact: Option<Arc<MechBaselineView>>,
+    /// A mechanism scene's shown model.
+    pub mech_model: Option<MechModelView>,
+    /// A mechanism scene's compared model as judged, with the exact mechanism it was judged
+    /// on.
+    pub mech_compare: Option<(Arc<MechBaselineView>, MechModelView)>,
 }
 
 impl App {
@@ -359,7 +374,38 @@ impl App {
             compare: None,
             compare_view: None,
             selection_model: None,
+            mech_state: MechState::default(),
+            mech_exact: None,
+            mech_model: None,
+            mech_compare: None,
         }
+    }
+
+    /// Whether the scene is a mechanism (DESIGN §8).
+    pub fn is_mechanism(&self) -> bool {
+        self.scene.mechanism.is_some()
+    }
+
+    /// What `auto` effects were decided as, once the worker decided them.
+    pub fn decided_effects(&self) -> Option<Effects> {
+        if self.is_mechanism() {
+            self.mech_exact.as_ref().map(|v| v.effects)
+        } else {
+            self.baseline
+                .as_ref()
+                .filter(|v| v.decision.is_some())
+                .map(|v| v.effects)
+        }
+    }
+
+    /// A mechanism scene's compared model to draw, when it was judged for the compared
+    /// matrix on the exact mechanism the main model is shown with.
+    pub fn shown_mech_compare(&self) -> Option<(&str, &MechModelView)> {
+        let (name, matrix) = self.compare.as_ref()?;
+        let (exact, view) = self.mech_compare.as_ref()?;
+        let shown = self.mech_exact.as_ref()?;
+        let same = Arc::ptr_eq(exact, shown) || **exact == **shown;
+        (same && view.matrix == *matrix).then_some((name.as_str(), view))
     }
 
     /// The compared model to draw: its name and view, when it was judged for the compared
@@ -388,6 +434,7 @@ impl App {
         match self.compare.clone() {
             None => {
                 self.compare_view = None;
+                self.mech_compare = None;
                 self.set_info("compare: none");
                 None
             }
@@ -647,14 +694,18 @@ impl App {
         match action {
             Action::Quit => self.request_quit(),
             Action::Help => self.help = true,
-            Action::NextPanel => self.focus = self.focus.next(),
-            Action::PrevPanel => self.focus = self.focus.prev(),
+            Action::NextPanel => self.focus = self.focus.next(self.is_mechanism()),
+            Action::PrevPanel => self.focus = self.focus.prev(self.is_mechanism()),
             Action::Up => self.move_cursor(0, -1),
             Action::Down => self.move_cursor(0, 1),
             Action::Left => self.move_cursor(-1, 0),
             Action::Right => self.move_cursor(1, 0),
             Action::Edit => self.start_edit(),
             Action::Fit => out.push(self.submit(true)),
+            Action::Selection if self.is_mechanism() => self.set_error(
+                "model selection on a mechanism scene is not in the UI yet (prbfit select \
+                 refuses mechanism scenes too)",
+            ),
             Action::Selection => out.push(self.open_selection()),
             Action::Cancel => self.cancel_fit(),
             Action::ToggleLive => {
@@ -688,6 +739,10 @@ impl App {
                     self.open_prompt(PromptKind::OpenScene, String::new());
                 }
             }
+            Action::Export if self.is_mechanism() => self.set_error(
+                "not exported: exporting a mechanism scene's model is not supported yet \
+                 (prbfit export refuses mechanism scenes too); s saves the scene with it",
+            ),
             Action::Export => self.open_prompt(PromptKind::ExportModel, "model.toml".into()),
             Action::Topology => self.open_prompt(PromptKind::Topology, self.matrix.topology()),
             Action::NextPublished => self.next_published_model(now),
@@ -716,8 +771,20 @@ impl App {
                     Hold::Force => "hold: force (a beam edit keeps Fx, Fy, Mz; the alphas follow)",
                 });
             }
-            Action::PrevPath => self.loads_state.cycle_path(-1, self.scene.loads.len()),
-            Action::NextPath => self.loads_state.cycle_path(1, self.scene.loads.len()),
+            Action::PrevPath | Action::NextPath => {
+                let delta = if action == Action::PrevPath { -1 } else { 1 };
+                match &self.scene.mechanism {
+                    Some(m) => self.mech_state.cycle_drive(delta, m.drives.len()),
+                    None => self.loads_state.cycle_path(delta, self.scene.loads.len()),
+                }
+            }
+            Action::PrevCase | Action::NextCase => {
+                let delta = if action == Action::PrevCase { -1 } else { 1 };
+                let cases = self.shown_drive_cases();
+                self.mech_state.cycle_case(delta, cases);
+            }
+            Action::NextChart => self.mech_state.chart += 1,
+            Action::ToggleKind => self.toggle_kind(now),
             // The selection view's and the text boxes' own keys never reach here.
             Action::SelectLoad
             | Action::SelectStop
@@ -760,11 +827,47 @@ impl App {
     }
 
     fn move_cursor(&mut self, dx: i32, dy: i32) {
+        let mechanism = self.is_mechanism();
         match self.focus {
-            Panel::Beam => self.beam_state.move_by(dy),
+            Panel::Beam => self.beam_state.move_by(dy, mechanism),
             Panel::Loads => self.loads_state.move_by(dx, dy, self.scene.loads.len()),
             Panel::Matrix => self.matrix_state.move_by(dx, dy, self.matrix.len()),
+            Panel::Mechanism => {
+                let rows = self
+                    .scene
+                    .mechanism
+                    .as_ref()
+                    .map_or(0, |m| mech_state::fields(m).len());
+                self.mech_state.move_by(dy, rows);
+                // The charts follow the drive the cursor is on.
+                if let Some(d) = self.mech_field().and_then(MechField::drive) {
+                    if d != self.mech_state.drive {
+                        self.mech_state.drive = d;
+                        self.mech_state.case = None;
+                        self.mech_state.chart = 0;
+                    }
+                }
+            }
         }
+    }
+
+    /// The mechanism panel's selected row.
+    pub fn mech_field(&self) -> Option<MechField> {
+        self.mech_state.field(self.scene.mechanism.as_ref()?)
+    }
+
+    /// The drive the mechanism charts show.
+    pub fn shown_drive(&self) -> usize {
+        let drives = self.scene.mechanism.as_ref().map_or(0, |m| m.drives.len());
+        self.mech_state.shown_drive(drives)
+    }
+
+    /// How many cases the shown drive has in the exact mechanism shown.
+    pub fn shown_drive_cases(&self) -> usize {
+        self.mech_exact
+            .as_ref()
+            .and_then(|v| v.cases.get(self.shown_drive()))
+            .map_or(0, Vec::len)
     }
 
     /// The beam the SI view (`u`) shows the matrix and the loads for, when it is on.
@@ -781,11 +884,14 @@ impl App {
     fn start_edit(&mut self) {
         let (target, text) = match self.focus {
             Panel::Beam => {
-                let f = self.beam_state.field();
-                (
-                    EditTarget::Beam(f),
-                    f.edit_text(&self.scene, self.baseline.as_deref()),
-                )
+                let f = self.beam_state.field(self.is_mechanism());
+                (EditTarget::Beam(f), f.edit_text(&self.scene))
+            }
+            Panel::Mechanism => {
+                let Some((m, f)) = self.scene.mechanism.as_ref().zip(self.mech_field()) else {
+                    return;
+                };
+                (EditTarget::Mech(f), f.edit_text(m))
             }
             Panel::Loads => {
                 let (row, col) = (self.loads_state.row, self.loads_state.col);
@@ -839,11 +945,17 @@ impl App {
                 if self.loads_state.hold == Hold::Force {
                     scene.loads = held_forces(&scene.loads, &self.scene.beam, &scene.beam);
                 }
-                validate_scene(&scene)?;
-                if scene != self.scene {
-                    self.scene = scene;
-                    self.scene_dirty = true;
-                }
+                self.take_scene(scene)?;
+            }
+            EditTarget::Mech(field) => {
+                let m = self
+                    .scene
+                    .mechanism
+                    .as_ref()
+                    .ok_or("not a mechanism scene")?;
+                let mut scene = self.scene.clone();
+                scene.mechanism = Some(field.edited(m, text)?);
+                self.take_scene(scene)?;
             }
             EditTarget::Load { row, col } => {
                 let old = self.scene.loads.get(*row).ok_or("no such load path")?;
@@ -864,6 +976,50 @@ impl App {
             }
         }
         Ok(())
+    }
+
+    /// Takes an edited scene if it obeys the scene file's rules (on a mechanism scene the
+    /// flexures first follow a beam edit: [`mech_state::rebased`]).
+    fn take_scene(&mut self, mut scene: Scene) -> Result<(), String> {
+        if let Some(m) = &scene.mechanism {
+            if scene.beam != self.scene.beam {
+                scene.mechanism = Some(mech_state::rebased(m, &self.scene.beam, &scene.beam));
+            }
+            mech_state::validate(&scene)?;
+        } else {
+            validate_scene(&scene)?;
+        }
+        if scene != self.scene {
+            self.scene = scene;
+            self.scene_dirty = true;
+        }
+        Ok(())
+    }
+
+    /// `p` on the mechanism panel: the selected coordinate prescribed or loaded, or the
+    /// selected flexure's next attachment that makes a valid mechanism.
+    fn toggle_kind(&mut self, now: Instant) {
+        let (Some(m), Some(field)) = (self.scene.mechanism.as_ref(), self.mech_field()) else {
+            return;
+        };
+        let choices = mech_state::toggled(m, field, self.mech_exact.as_deref());
+        if choices.is_empty() {
+            self.set_error("p: on a drive coordinate (x, y, phi) or a flexure's attach row");
+            return;
+        }
+        let mut last_error = String::new();
+        for choice in choices {
+            let mut scene = self.scene.clone();
+            scene.mechanism = Some(choice);
+            match self.take_scene(scene) {
+                Ok(()) => {
+                    self.changed(now);
+                    return;
+                }
+                Err(e) => last_error = e,
+            }
+        }
+        self.set_error(format!("rejected: {last_error} (the old value is kept)"));
     }
 
     /// A topology name or a published model's name.
@@ -915,11 +1071,16 @@ impl App {
 
     /// 1, 2, 3 switch shear, extension, poisson.
     fn toggle_effect(&mut self, which: char, now: Instant) {
-        let e = toggled_effect(&self.scene, self.baseline.as_deref(), which);
-        self.scene.beam.effects = EffectsChoice::Fixed(e);
-        self.scene_dirty = true;
-        self.set_info(format!("effects: {e}"));
-        self.changed(now);
+        let e = toggled_effect(&self.scene, self.decided_effects(), which);
+        let mut scene = self.scene.clone();
+        scene.beam.effects = EffectsChoice::Fixed(e);
+        match self.take_scene(scene) {
+            Ok(()) => {
+                self.set_info(format!("effects: {e}"));
+                self.changed(now);
+            }
+            Err(err) => self.set_error(format!("rejected: {err}")),
+        }
     }
 
     fn toggle_free(&mut self, now: Instant) {
@@ -947,7 +1108,47 @@ impl App {
                 }
                 Err(e) => self.set_error(format!("rejected: {e}")),
             },
+            Panel::Mechanism => self.edit_drives(true, now),
             Panel::Beam => {}
+        }
+    }
+
+    /// `a` / `d` on the mechanism panel: a copy of the selected drive after it, or the
+    /// selected drive deleted (a mechanism keeps at least one).
+    fn edit_drives(&mut self, add: bool, now: Instant) {
+        let Some(m) = self.scene.mechanism.as_ref() else {
+            return;
+        };
+        let Some(d) = self.mech_field().and_then(MechField::drive) else {
+            self.set_error("a / d: on a drive's rows (flexures are added in the scene file)");
+            return;
+        };
+        let mut new = m.clone();
+        if add {
+            new.drives.insert(d + 1, m.drives[d]);
+        } else if m.drives.len() > 1 {
+            new.drives.remove(d);
+        } else {
+            self.set_error("a mechanism needs at least one drive");
+            return;
+        }
+        let mut scene = self.scene.clone();
+        scene.mechanism = Some(new);
+        match self.take_scene(scene) {
+            Ok(()) => {
+                let shown = if add { d + 1 } else { d.saturating_sub(1) };
+                self.mech_state.drive = shown;
+                self.mech_state.case = None;
+                // The cursor to the shown drive's first row.
+                if let Some(m) = &self.scene.mechanism {
+                    self.mech_state.row = mech_state::fields(m)
+                        .iter()
+                        .position(|f| f.drive() == Some(shown))
+                        .unwrap_or(0);
+                }
+                self.changed(now);
+            }
+            Err(e) => self.set_error(format!("rejected: {e}")),
         }
     }
 
@@ -964,6 +1165,7 @@ impl App {
                 Ok(m) => self.replace_matrix(m, now),
                 Err(e) => self.set_error(e),
             },
+            Panel::Mechanism => self.edit_drives(false, now),
             Panel::Beam => {}
         }
     }
@@ -987,6 +1189,11 @@ impl App {
         self.loads_state.row = 0;
         self.baseline = None;
         self.model = None;
+        self.mech_state = MechState::default();
+        self.mech_exact = None;
+        self.mech_model = None;
+        self.mech_compare = None;
+        self.focus = self.focus.on_scene(self.is_mechanism());
         self.refresh(now, fit);
     }
 
