@@ -69,11 +69,19 @@ impl View {
     }
 }
 
-/// Whether a panel is the reaction along the drive's stroke (its abscissa is the stroke of
-/// the same coordinate).
+/// Whether a panel's output is along the drive's input: the reaction of the stroke's own
+/// coordinate, or the motion of the load's.
 fn is_along_stroke(p: &StrokePanel) -> bool {
-    let (disp, _) = COORDINATE_KEYS[p.coordinate.min(2)];
-    p.output == Output::Reaction && p.x_label.starts_with(&format!("stroke {disp} "))
+    let (disp, load) = COORDINATE_KEYS[p.coordinate.min(2)];
+    let input = match p.output {
+        Output::Reaction => format!("stroke {disp} "),
+        Output::Motion => {
+            let mut name = load.to_string();
+            name.replace_range(..1, &load[..1].to_uppercase());
+            format!("load {name} ")
+        }
+    };
+    p.x_label.starts_with(&input)
 }
 
 /// `label` without its unit, and the unit: `reaction Fy (N)` is (`reaction Fy`, `N`).
