@@ -12,8 +12,8 @@
 //! The terminal is restored on quit, on error, on SIGTERM and SIGHUP, and on a panic of the UI
 //! thread (a panic hook);
 //! a panic inside the worker is caught there and shown as a message, and the UI goes on.
-//! With `PRBFIT_TRACE=FILE` the loop writes timings (edit to redrawn chart, frame draws) and
-//! peak memory to FILE, for measuring.
+//! With `PRBFIT_TRACE=FILE` the loop writes timings (edit to redrawn chart, edit to the
+//! job's final chart, frame draws) and peak memory to FILE, for measuring.
 
 pub mod app;
 pub mod keymap;
@@ -98,7 +98,11 @@ fn install_panic_hook() {
 /// Timings for `PRBFIT_TRACE`.
 struct Trace {
     file: std::fs::File,
+    /// The job answering the last accepted edit, and when the edit was accepted: until its
+    /// first chart is drawn.
     edit_at: Option<(u64, Instant)>,
+    /// The same, until the job's final chart (its fit done) is drawn.
+    done_at: Option<(u64, Instant)>,
 }
 
 impl Trace {
@@ -111,6 +115,7 @@ impl Trace {
             .map(|file| Trace {
                 file,
                 edit_at: None,
+                done_at: None,
             })
     }
 
@@ -286,19 +291,27 @@ fn run_loop(
                     | WorkerMsg::MechDone { .. }
             );
             let id = msg.id();
+            let is_done = matches!(msg, WorkerMsg::Done { .. } | WorkerMsg::MechDone { .. });
             if app.on_worker(msg) {
                 redraw = true;
                 if let (Some(t), true) = (&mut trace, shows_model) {
-                    if let Some((edit_id, at)) = t.edit_at {
-                        if edit_id == id {
-                            // Drawn at the top of the next pass: include that frame.
-                            if !draw(terminal, app)? {
-                                return Ok(());
-                            }
-                            let ms = at.elapsed().as_secs_f64() * 1e3;
-                            t.line(format!("edit_to_chart_ms {ms:.3}"));
-                            t.edit_at = None;
+                    let first = t.edit_at.filter(|(edit_id, _)| *edit_id == id);
+                    let last = t.done_at.filter(|(edit_id, _)| *edit_id == id && is_done);
+                    if first.is_some() || last.is_some() {
+                        // Drawn at the top of the next pass: include that frame.
+                        if !draw(terminal, app)? {
+                            return Ok(());
                         }
+                    }
+                    if let Some((_, at)) = first {
+                        let ms = at.elapsed().as_secs_f64() * 1e3;
+                        t.line(format!("edit_to_chart_ms {ms:.3}"));
+                        t.edit_at = None;
+                    }
+                    if let Some((_, at)) = last {
+                        let ms = at.elapsed().as_secs_f64() * 1e3;
+                        t.line(format!("edit_to_done_ms {ms:.3}"));
+                        t.done_at = None;
                     }
                 }
             }
@@ -327,6 +340,7 @@ fn execute_command(app: &mut App, worker: &Worker, cmd: Command, trace: &mut Opt
     if let (Some(t), Some(at)) = (trace.as_mut(), app.edit_accepted_at) {
         // Time from the accepted edit (debounce included) to the chart.
         t.edit_at = Some((job.id, at));
+        t.done_at = Some((job.id, at));
     }
     worker.submit(job);
 }
