@@ -12,10 +12,13 @@ use serde::Serialize;
 
 use crate::beam::{BeamSolution, Effects, Resolution};
 use crate::eval::{evaluate, Baseline, BaselineError, ErrorFigures};
+use crate::fit::mech::{fit_mechanism, MechFitError, MECH_TOL};
 use crate::fit::{fit, CancelToken, Fidelity, FitError, FitOptions};
+use crate::mech::figures::{compare, CompareError, MechFigures};
+use crate::mech::{exact, prb, MechCase, MechError};
 use crate::prb::published;
 use crate::prb::PrbMatrix;
-use crate::scene::{Accuracy, BeamSpec, EffectsChoice, LoadPath, Scene};
+use crate::scene::{Accuracy, BeamSpec, EffectsChoice, LoadPath, Mechanism, Scene};
 
 /// An effect is kept when dropping it moves the tip by more than this fraction of the
 /// scene's accuracy target (position or angle, whichever is nearer its target).
@@ -30,7 +33,11 @@ pub struct EffectImpact {
     pub pos_change: f64,
     /// Largest tip angle change, radians.
     pub ang_change: f64,
-    /// The larger of the two changes as a fraction of its target.
+    /// Mechanism scenes: the largest change of a prescribed coordinate's reaction, as a
+    /// fraction of its largest reaction (DESIGN §8's `e_force`); none on a cantilever.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub force_change: Option<f64>,
+    /// The largest of the changes as a fraction of its target.
     pub fraction_of_target: f64,
     /// Whether the effect stays in the model: its fraction exceeds [`AUTO_FRACTION`], or it
     /// was taken back so the dropped effects together stay under it (extension is also kept
@@ -93,24 +100,57 @@ pub fn decide_effects_cancellable(
 ) -> Result<EffectsDecision, BaselineError> {
     // Each set of effects is solved once, however often the procedure asks for it.
     let mut solved: Vec<(Effects, Vec<BeamSolution>)> = Vec::new();
-    let mut tip_moves = |effects: Effects| -> Result<(f64, f64), BaselineError> {
-        // The index of `e`'s solutions in `solved`, solving them the first time.
-        let mut solve = |e: Effects| -> Result<usize, BaselineError> {
-            if let Some(i) = solved.iter().position(|(k, _)| *k == e) {
-                return Ok(i);
-            }
-            let mut b = *beam;
-            b.effects = EffectsChoice::Fixed(e);
-            solved.push((
-                e,
-                Baseline::solve(b.model(), loads, resolution, cancel, &mut |_, _| {})?.solutions,
-            ));
-            Ok(solved.len() - 1)
-        };
-        let all = solve(Effects::ALL)?;
-        let this = solve(effects)?;
-        Ok(tip_change(&solved[all].1, &solved[this].1))
-    };
+    decide(
+        accuracy,
+        |effects: Effects| -> Result<Change, BaselineError> {
+            // The index of `e`'s solutions in `solved`, solving them the first time.
+            let mut solve = |e: Effects| -> Result<usize, BaselineError> {
+                if let Some(i) = solved.iter().position(|(k, _)| *k == e) {
+                    return Ok(i);
+                }
+                let mut b = *beam;
+                b.effects = EffectsChoice::Fixed(e);
+                solved.push((
+                    e,
+                    Baseline::solve(b.model(), loads, resolution, cancel, &mut |_, _| {})?
+                        .solutions,
+                ));
+                Ok(solved.len() - 1)
+            };
+            let all = solve(Effects::ALL)?;
+            let this = solve(effects)?;
+            let (pos, ang) = tip_change(&solved[all].1, &solved[this].1);
+            Ok(Change {
+                pos,
+                ang,
+                force: None,
+            })
+        },
+    )
+}
+
+/// What dropping effects changes: the largest position (units of L) and angle changes, and
+/// on a mechanism the largest reaction change (a fraction of each coordinate's largest).
+struct Change {
+    pos: f64,
+    ang: f64,
+    force: Option<f64>,
+}
+
+impl Change {
+    /// The largest change as a fraction of its target.
+    fn fraction(&self, accuracy: &Accuracy) -> f64 {
+        let force = self.force.map_or(0.0, |f| f / accuracy.max_force_err);
+        fraction((self.pos, self.ang), accuracy).max(force)
+    }
+}
+
+/// The decision procedure of [`decide_effects`], for any truth: `moves(e)` is what modelling
+/// with the effects `e` instead of all of them changes.
+fn decide<E>(
+    accuracy: &Accuracy,
+    mut moves: impl FnMut(Effects) -> Result<Change, E>,
+) -> Result<EffectsDecision, E> {
     let mut impacts = Vec::new();
     for effect in ["shear", "extension", "poisson"] {
         let mut e = Effects::ALL;
@@ -122,12 +162,13 @@ pub fn decide_effects_cancellable(
             }
             _ => e.poisson = false,
         }
-        let moved = tip_moves(e)?;
-        let frac = fraction(moved, accuracy);
+        let moved = moves(e)?;
+        let frac = moved.fraction(accuracy);
         impacts.push(EffectImpact {
             effect,
-            pos_change: moved.0,
-            ang_change: moved.1,
+            pos_change: moved.pos,
+            ang_change: moved.ang,
+            force_change: moved.force,
             fraction_of_target: frac,
             kept: frac > AUTO_FRACTION,
         });
@@ -142,7 +183,7 @@ pub fn decide_effects_cancellable(
             extension: impacts[1].kept,
             poisson: impacts[2].kept,
         };
-        let together = fraction(tip_moves(effects)?, accuracy);
+        let together = moves(effects)?.fraction(accuracy);
         // The dropped effect that matters most; none when every effect is kept.
         let most_influential_dropped = impacts
             .iter()
@@ -171,12 +212,98 @@ pub fn decide_effects_cancellable(
     }
 }
 
+/// Decides the effects of a mechanism's flexures from the mechanism itself: as
+/// [`decide_effects`], with the exact mechanism (DESIGN §8) as the truth, every flexure whose
+/// effects are `auto` modelled alike, and the change judged where the designer looks: the
+/// stage's motion in its loaded coordinates and the reactions of its prescribed ones.
+pub fn decide_mechanism_effects(
+    mechanism: &Mechanism,
+    accuracy: &Accuracy,
+    resolution: Resolution,
+) -> Result<EffectsDecision, EffectsError> {
+    let with = |e: Effects| {
+        let mut m = mechanism.clone();
+        for f in &mut m.flexures {
+            if f.beam.effects == EffectsChoice::Auto {
+                f.beam.effects = EffectsChoice::Fixed(e);
+            }
+        }
+        m
+    };
+    let mut solved: Vec<(Effects, Vec<Vec<MechCase>>)> = Vec::new();
+    decide(
+        accuracy,
+        |effects: Effects| -> Result<Change, EffectsError> {
+            let mut solve = |e: Effects| -> Result<usize, EffectsError> {
+                if let Some(i) = solved.iter().position(|(k, _)| *k == e) {
+                    return Ok(i);
+                }
+                let cases = exact::solve(&with(e), resolution)
+                    .map_err(|source| EffectsError::Mechanism { effects: e, source })?;
+                solved.push((e, cases));
+                Ok(solved.len() - 1)
+            };
+            let all = solve(Effects::ALL)?;
+            let this = solve(effects)?;
+            let change =
+                compare(&mechanism.drives, &solved[this].1, &solved[all].1, 1.0, 1.0)?.figures;
+            let prescribed = mechanism
+                .drives
+                .iter()
+                .any(|d| d.coordinates.iter().any(|c| c.is_prescribed()));
+            Ok(Change {
+                pos: change.max_pos_err,
+                ang: change.max_ang_err,
+                force: prescribed.then_some(change.max_force_err),
+            })
+        },
+    )
+}
+
+/// Why the effects could not be decided.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum EffectsError {
+    /// The single beam could not be solved.
+    #[error(transparent)]
+    Baseline(#[from] BaselineError),
+    /// The exact mechanism could not be solved with some set of effects.
+    #[error("the exact mechanism with effects [{effects}]: {source}")]
+    Mechanism {
+        /// The effects it was solved with.
+        effects: Effects,
+        /// Why it failed.
+        source: MechError,
+    },
+    /// Two solutions of the mechanism did not pair up (a bug if ever seen).
+    #[error(transparent)]
+    Compare(#[from] CompareError),
+}
+
 /// The scene with `effects = "auto"` replaced by the decided effects (and the decision), or
-/// the scene as it is.
+/// the scene as it is. On a mechanism scene the decision is made on the mechanism
+/// ([`decide_mechanism_effects`]) for every flexure whose effects are `auto`.
 pub fn resolve_effects(
     scene: &Scene,
     resolution: Resolution,
-) -> Result<(Scene, Option<EffectsDecision>), BaselineError> {
+) -> Result<(Scene, Option<EffectsDecision>), EffectsError> {
+    if let Some(mechanism) = &scene.mechanism {
+        let auto = |b: &BeamSpec| b.effects == EffectsChoice::Auto;
+        if !mechanism.flexures.iter().any(|f| auto(&f.beam)) {
+            return Ok((scene.clone(), None));
+        }
+        let decision = decide_mechanism_effects(mechanism, &scene.accuracy, resolution)?;
+        let mut resolved = scene.clone();
+        let fixed = EffectsChoice::Fixed(decision.effects);
+        if let Some(m) = resolved.mechanism.as_mut() {
+            for f in m.flexures.iter_mut().filter(|f| auto(&f.beam)) {
+                f.beam.effects = fixed;
+            }
+        }
+        if auto(&resolved.beam) {
+            resolved.beam.effects = fixed;
+        }
+        return Ok((resolved, Some(decision)));
+    }
     if scene.beam.effects != EffectsChoice::Auto {
         return Ok((scene.clone(), None));
     }
@@ -201,9 +328,46 @@ pub fn joint_dof(m: &PrbMatrix) -> usize {
     m.revolute_count() + m.prismatic_count()
 }
 
+/// Error figures that a selection judges against a scene's targets: the cantilever's
+/// ([`ErrorFigures`], DESIGN §4) or a mechanism's ([`MechFigures`], §8).
+pub trait Judged: Clone + Serialize {
+    /// `J`.
+    fn objective(&self) -> f64;
+    /// Whether every figure is within its target.
+    fn meets(&self, accuracy: &Accuracy) -> bool;
+    /// The worst ratio of a figure to its target (1 = on target).
+    fn target_ratio(&self, accuracy: &Accuracy) -> f64;
+}
+
+impl Judged for ErrorFigures {
+    fn objective(&self) -> f64 {
+        self.objective
+    }
+    fn meets(&self, accuracy: &Accuracy) -> bool {
+        ErrorFigures::meets(self, accuracy)
+    }
+    fn target_ratio(&self, accuracy: &Accuracy) -> f64 {
+        (self.max_pos_err / accuracy.max_pos_err).max(self.max_ang_err / accuracy.max_ang_err)
+    }
+}
+
+impl Judged for MechFigures {
+    fn objective(&self) -> f64 {
+        self.objective
+    }
+    fn meets(&self, accuracy: &Accuracy) -> bool {
+        MechFigures::meets(self, accuracy)
+    }
+    fn target_ratio(&self, accuracy: &Accuracy) -> f64 {
+        (self.max_pos_err / accuracy.max_pos_err)
+            .max(self.max_ang_err / accuracy.max_ang_err)
+            .max(self.max_force_err / accuracy.max_force_err)
+    }
+}
+
 /// One row of the selection table.
 #[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct Rung {
+pub struct Rung<F = ErrorFigures> {
     /// The topology, or the published model's name.
     pub name: String,
     /// The topology name of the matrix (`L-R-R-R`).
@@ -215,13 +379,13 @@ pub struct Rung {
     pub prb: PrbMatrix,
     /// Joint degrees of freedom: revolute plus prismatic joints ([`joint_dof`]).
     pub dof: usize,
-    /// The error figures of the matrix on the selection's baseline (DESIGN §4).
-    pub figures: ErrorFigures,
-    /// Whether the largest position and angle errors are within the scene's targets.
+    /// The error figures of the matrix on the selection's truth (DESIGN §4, §8).
+    pub figures: F,
+    /// Whether every error figure is within the scene's target.
     pub meets_targets: bool,
     /// Worst ratio of an error figure to its target (1 = on target).
     pub target_ratio: f64,
-    /// Time to solve the PRB model for one load case, seconds.
+    /// Time to solve the PRB model for one load case (one mechanism case), seconds.
     pub eval_seconds_per_case: f64,
     /// Fit time (0 for a published model), seconds.
     pub fit_seconds: f64,
@@ -231,30 +395,113 @@ fn as_text<S: serde::Serializer>(m: &PrbMatrix, s: S) -> Result<S::Ok, S::Error>
     s.serialize_str(&m.to_text())
 }
 
+/// A model that could not be judged: its PRB model cannot follow the scene (a 1R asked to
+/// keep its tip angle, a fit that found nothing that follows).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Unfollowed {
+    /// The topology, or the published model's name.
+    pub name: String,
+    /// Why, in a sentence.
+    pub reason: String,
+}
+
 /// The table and the choice.
 #[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct Selection {
+pub struct Selection<F = ErrorFigures> {
     /// Every row judged, simplest first: joint freedoms, then fitted before published, then
     /// `J`.
-    pub rows: Vec<Rung>,
+    pub rows: Vec<Rung<F>>,
     /// Index of the simplest row that meets the targets.
     pub chosen: Option<usize>,
     /// Index of the row nearest the targets (by `target_ratio`).
     pub closest: usize,
     /// The fit preset the ladder was fitted at.
     pub fidelity: Fidelity,
+    /// The models tried that cannot follow the scene, in the order tried.
+    pub unfollowed: Vec<Unfollowed>,
+}
+
+/// A mechanism scene's selection (DESIGN §8's figures, `max_force_err` among the targets).
+pub type MechSelection = Selection<MechFigures>;
+
+/// A row of a mechanism scene's selection.
+pub type MechRung = Rung<MechFigures>;
+
+impl<F: Judged> Rung<F> {
+    fn new(
+        name: String,
+        m: PrbMatrix,
+        published: bool,
+        figures: F,
+        accuracy: &Accuracy,
+        costs: (f64, f64),
+    ) -> Rung<F> {
+        Rung {
+            name,
+            topology: m.topology(),
+            published,
+            dof: joint_dof(&m),
+            meets_targets: figures.meets(accuracy),
+            target_ratio: figures.target_ratio(accuracy),
+            figures,
+            eval_seconds_per_case: costs.0,
+            fit_seconds: costs.1,
+            prb: m,
+        }
+    }
+}
+
+impl<F: Judged> Selection<F> {
+    /// Ranks the rows (simplest first: joint freedoms, then fitted before published, then
+    /// `J`) and picks the simplest that meets the targets.
+    fn ranked(mut rows: Vec<Rung<F>>, unfollowed: Vec<Unfollowed>, fidelity: Fidelity) -> Self {
+        rows.sort_by(|a, b| {
+            (a.dof, a.published)
+                .cmp(&(b.dof, b.published))
+                .then(a.figures.objective().total_cmp(&b.figures.objective()))
+        });
+        let chosen = rows.iter().position(|r| r.meets_targets);
+        let closest = rows
+            .iter()
+            .enumerate()
+            .min_by(|a, b| a.1.target_ratio.total_cmp(&b.1.target_ratio))
+            .map(|(i, _)| i)
+            .unwrap_or(0);
+        Selection {
+            rows,
+            chosen,
+            closest,
+            fidelity,
+            unfollowed,
+        }
+    }
 }
 
 /// The cost of one PRB load case: judging the matrix on the baseline, repeated until 5 ms
 /// have passed, divided by the cases.
 pub fn eval_cost(m: &PrbMatrix, baseline: &Baseline, weight: f64) -> f64 {
+    per_case(baseline.case_count(), || {
+        let _ = evaluate(m, baseline, weight);
+    })
+}
+
+/// Seconds per case of `run`, which does `cases` cases: repeated until 5 ms have passed.
+fn per_case(cases: usize, mut run: impl FnMut()) -> f64 {
     let t0 = Instant::now();
     let mut n = 0u32;
     while n < 3 || t0.elapsed().as_secs_f64() < 0.005 {
-        let _ = evaluate(m, baseline, weight);
+        run();
         n += 1;
     }
-    t0.elapsed().as_secs_f64() / n as f64 / baseline.case_count().max(1) as f64
+    t0.elapsed().as_secs_f64() / n as f64 / cases.max(1) as f64
+}
+
+/// The start of a ladder rung.
+fn ladder_start(topology: &str) -> PrbMatrix {
+    // `ladder` lists only fixed names made of `L`, `R` and `RP` segments, which
+    // `from_topology` always accepts (`ladder_topologies_are_valid` checks every one).
+    #[allow(clippy::expect_used)]
+    PrbMatrix::from_topology(topology).expect("ladder topologies are valid")
 }
 
 /// Fits the ladder and judges the published models on `baseline`; `on_row` sees each row as
@@ -268,74 +515,165 @@ pub fn select(
 ) -> Result<Selection, FitError> {
     let accuracy = scene.accuracy;
     let weight = scene.fit.angle_weight;
-    let rung = |name: String, m: PrbMatrix, published: bool, figures: ErrorFigures, fit_seconds| {
-        let ratio = (figures.max_pos_err / accuracy.max_pos_err)
-            .max(figures.max_ang_err / accuracy.max_ang_err);
-        Rung {
-            name,
-            topology: m.topology(),
-            published,
-            dof: joint_dof(&m),
-            figures,
-            meets_targets: figures.meets(&accuracy),
-            target_ratio: ratio,
-            eval_seconds_per_case: eval_cost(&m, baseline, weight),
-            fit_seconds,
-            prb: m,
-        }
-    };
     let mut rows = Vec::new();
+    let mut unfollowed = Vec::new();
     for topology in ladder(baseline.model.effects) {
         if cancel.is_cancelled() {
             break;
         }
-        // `ladder` lists only fixed names made of `L`, `R` and `RP` segments, which
-        // `from_topology` always accepts (`ladder_topologies_are_valid` checks every one).
-        #[allow(clippy::expect_used)]
-        let start = PrbMatrix::from_topology(topology).expect("ladder topologies are valid");
         let options = FitOptions {
             fidelity,
             angle_weight: weight,
             seed: 1,
         };
         let t0 = Instant::now();
-        let report = fit(baseline, &start, &options, &mut |_| {}, cancel)?;
-        let row = rung(
+        let report = fit(
+            baseline,
+            &ladder_start(topology),
+            &options,
+            &mut |_| {},
+            cancel,
+        )?;
+        let fit_seconds = t0.elapsed().as_secs_f64();
+        let cost = eval_cost(&report.matrix, baseline, weight);
+        let row = Rung::new(
             topology.to_string(),
             report.matrix,
             false,
             report.figures,
-            t0.elapsed().as_secs_f64(),
+            &accuracy,
+            (cost, fit_seconds),
         );
         on_row(&row);
         rows.push(row);
     }
     for model in published::all() {
-        if let Ok(e) = evaluate(&model.prb, baseline, weight) {
-            let row = rung(model.name.clone(), model.prb, true, e.figures, 0.0);
-            on_row(&row);
-            rows.push(row);
+        match evaluate(&model.prb, baseline, weight) {
+            Ok(e) => {
+                let cost = eval_cost(&model.prb, baseline, weight);
+                let row = Rung::new(
+                    model.name,
+                    model.prb,
+                    true,
+                    e.figures,
+                    &accuracy,
+                    (cost, 0.0),
+                );
+                on_row(&row);
+                rows.push(row);
+            }
+            Err(e) => unfollowed.push(Unfollowed {
+                name: model.name,
+                reason: e.to_string(),
+            }),
         }
     }
-    // Simplest first: joint freedoms, then fitted before published, then J.
-    rows.sort_by(|a, b| {
-        (a.dof, a.published)
-            .cmp(&(b.dof, b.published))
-            .then(a.figures.objective.total_cmp(&b.figures.objective))
-    });
-    let chosen = rows.iter().position(|r| r.meets_targets);
-    let closest = rows
+    Ok(Selection::ranked(rows, unfollowed, fidelity))
+}
+
+/// The topologies of a mechanism's ladder: [`ladder`] of the effects of all its flexures
+/// together (extension in any flexure brings the extension-spring variants).
+fn mechanism_ladder(mechanism: &Mechanism) -> Vec<&'static str> {
+    let effects = mechanism
+        .flexures
         .iter()
-        .enumerate()
-        .min_by(|a, b| a.1.target_ratio.total_cmp(&b.1.target_ratio))
-        .map(|(i, _)| i)
-        .unwrap_or(0);
-    Ok(Selection {
-        rows,
-        chosen,
-        closest,
-        fidelity,
-    })
+        .map(|f| f.beam.effects.resolve())
+        .fold(Effects::NONE, |a, e| Effects {
+            shear: a.shear || e.shear,
+            extension: a.extension || e.extension,
+            poisson: a.poisson || e.poisson,
+        });
+    ladder(effects)
+}
+
+/// [`select`] on a mechanism scene (DESIGN §8): the ladder fitted on the mechanism (one
+/// matrix for every flexure, [`fit_mechanism`]) and the published models judged on it,
+/// against `exact` (the exact mechanism's cases, one path per drive) and the scene's targets,
+/// `max_force_err` among them. A topology or published model whose PRB mechanism cannot
+/// follow the drives is listed in [`Selection::unfollowed`]. Cancelled, it returns what it
+/// has.
+pub fn select_mechanism(
+    scene: &Scene,
+    mechanism: &Mechanism,
+    exact: &[Vec<MechCase>],
+    fidelity: Fidelity,
+    cancel: &CancelToken,
+    on_row: &mut dyn FnMut(&MechRung),
+) -> Result<MechSelection, MechFitError> {
+    let accuracy = scene.accuracy;
+    let (weight, force_weight) = (scene.fit.angle_weight, scene.fit.force_weight);
+    let cases: usize = exact.iter().map(Vec::len).sum();
+    let cost = |m: &PrbMatrix| {
+        per_case(cases, || {
+            let _ = prb::solve(mechanism, m, MECH_TOL);
+        })
+    };
+    let mut rows = Vec::new();
+    let mut unfollowed = Vec::new();
+    for topology in mechanism_ladder(mechanism) {
+        if cancel.is_cancelled() {
+            break;
+        }
+        let options = FitOptions {
+            fidelity,
+            angle_weight: weight,
+            seed: 1,
+        };
+        let t0 = Instant::now();
+        let fitted = fit_mechanism(
+            mechanism,
+            exact,
+            &ladder_start(topology),
+            &options,
+            force_weight,
+            &accuracy,
+            &mut |_| {},
+            cancel,
+        );
+        let report = match fitted {
+            Ok(report) => report,
+            Err(MechFitError::NoFeasibleModel(e)) => {
+                unfollowed.push(Unfollowed {
+                    name: topology.to_string(),
+                    reason: format!("no fitted {topology} follows the mechanism: {e}"),
+                });
+                continue;
+            }
+            Err(e) => return Err(e),
+        };
+        let fit_seconds = t0.elapsed().as_secs_f64();
+        let row = Rung::new(
+            topology.to_string(),
+            report.matrix.clone(),
+            false,
+            report.figures,
+            &accuracy,
+            (cost(&report.matrix), fit_seconds),
+        );
+        on_row(&row);
+        rows.push(row);
+    }
+    for model in published::all() {
+        let judged = prb::solve(mechanism, &model.prb, MECH_TOL)
+            .map_err(|e| e.to_string())
+            .and_then(|cases| {
+                compare(&mechanism.drives, &cases, exact, weight, force_weight)
+                    .map_err(|e| e.to_string())
+            });
+        match judged {
+            Ok(e) => {
+                let c = cost(&model.prb);
+                let row = Rung::new(model.name, model.prb, true, e.figures, &accuracy, (c, 0.0));
+                on_row(&row);
+                rows.push(row);
+            }
+            Err(reason) => unfollowed.push(Unfollowed {
+                name: model.name,
+                reason,
+            }),
+        }
+    }
+    Ok(Selection::ranked(rows, unfollowed, fidelity))
 }
 
 #[cfg(test)]

@@ -213,8 +213,11 @@ pub(super) fn named_models(args: &EvalArgs, scene: &Scene) -> Result<Vec<(String
 /// Runs `prbfit eval`.
 pub fn run(args: EvalArgs) -> Result<()> {
     let scene = load_scene(&args.common)?;
-    if let Some(mechanism) = &scene.mechanism {
-        return super::mech::eval(&scene, mechanism, &args);
+    if scene.mechanism.is_some() {
+        let (scene, decision) = resolve_scene(&scene)?;
+        if let Some(mechanism) = &scene.mechanism {
+            return super::mech::eval(&scene, mechanism, decision, &args);
+        }
     }
     let (scene, decision) = resolve_scene(&scene)?;
     let models = named_models(&args, &scene)?;

@@ -99,6 +99,24 @@ pub(super) fn start_matrix(args: &FitArgs, scene: &Scene) -> Result<PrbMatrix> {
     })
 }
 
+/// The format of the model file `-o` names (checked, and refused if it exists without
+/// `--force`, before any time is spent on a fit); none without `-o`.
+pub(super) fn model_file_target(args: &FitArgs) -> Result<Option<Format>> {
+    let Some(path) = &args.output else {
+        return Ok(None);
+    };
+    let format = Format::from_path(path)
+        .filter(|f| f.is_model_file())
+        .ok_or_else(|| {
+            bad(format!(
+                "{}: a model file must end in .toml or .json",
+                path.display()
+            ))
+        })?;
+    check_target(path, args.force)?;
+    Ok(Some(format))
+}
+
 /// A fit's progress on the progress line.
 pub(super) fn show(progress: &mut Progress, p: &FitProgress) {
     progress.update(|| {
@@ -111,27 +129,15 @@ pub(super) fn show(progress: &mut Progress, p: &FitProgress) {
 
 pub fn run(args: FitArgs) -> Result<()> {
     let scene = load_scene(&args.common)?;
-    if let Some(mechanism) = &scene.mechanism {
-        return super::mech::fit(&scene, mechanism, &args);
+    if scene.mechanism.is_some() {
+        let (scene, decision) = resolve_scene(&scene)?;
+        if let Some(mechanism) = &scene.mechanism {
+            return super::mech::fit(&scene, mechanism, decision, &args);
+        }
     }
     let (scene, decision) = resolve_scene(&scene)?;
     let start = start_matrix(&args, &scene)?;
-    let format = match &args.output {
-        Some(path) => {
-            let format = Format::from_path(path)
-                .filter(|f| f.is_model_file())
-                .ok_or_else(|| {
-                    bad(format!(
-                        "{}: a model file must end in .toml or .json",
-                        path.display()
-                    ))
-                })?;
-            // Refuse before spending the time on a fit.
-            check_target(path, args.force)?;
-            Some(format)
-        }
-        None => None,
-    };
+    let format = model_file_target(&args)?;
     let t0 = Instant::now();
     let baseline = args.fidelity.baseline(&scene).context("baseline beam")?;
     let options = FitOptions {

@@ -27,17 +27,21 @@ use prbfit::beam::{BeamSolver, Resolution};
 use prbfit::mech::figures::{compare, MechCaseError, MechFigures};
 use prbfit::mech::{exact, prb, MechCase};
 use prbfit::scene::{Accuracy, Drive, Mechanism, Scene, COORDINATE_KEYS};
+use prbfit::select::EffectsDecision;
 use prbfit::si::MechUnits;
 
 use prbfit::fidelity::Fidelity;
 use prbfit::fit::mech::{fit_mechanism, MechFitError};
 use prbfit::fit::{CancelToken, FitError, FitOptions, StopReason};
+use prbfit::format::Format;
+use prbfit::io::files::write_atomic;
+use prbfit::io::model_file::ModelFile;
 use prbfit::prb::PrbMatrix;
 
 use super::args::{EvalArgs, FitArgs, SolveArgs};
 use super::bad;
 use super::eval::{named_models, OneOrMany};
-use super::output::{emit, met, num, safe, Progress};
+use super::output::{emit, met, num, safe, DecisionLine, Progress};
 
 /// Names of the stage coordinates' loads in the text tables, with their SI unit.
 const LOAD_NAMES: [&str; 3] = ["Fx N", "Fy N", "Mz N m"];
@@ -187,6 +191,7 @@ pub struct SolveReport {
     tol: f64,
     cases: Vec<CaseRow>,
     seconds: f64,
+    effects_decision: Option<EffectsDecision>,
     #[serde(skip)]
     mechanism: Mechanism,
 }
@@ -202,6 +207,7 @@ impl fmt::Display for SolveReport {
             count(self.flexure_count, "flexure"),
             count(self.drives.len(), "drive path")
         )?;
+        write!(f, "{}", DecisionLine(&self.effects_decision))?;
         write!(f, "{}", units_line(&units))?;
         for (info, drive) in self.drives.iter().zip(&self.mechanism.drives) {
             writeln!(f)?;
@@ -275,7 +281,12 @@ fn resolution(mechanism: &Mechanism, tol: f64) -> Result<Resolution> {
 }
 
 /// Runs `prbfit solve` on a mechanism scene.
-pub fn solve(scene: &Scene, mechanism: &Mechanism, args: &SolveArgs) -> Result<()> {
+pub fn solve(
+    scene: &Scene,
+    mechanism: &Mechanism,
+    decision: Option<EffectsDecision>,
+    args: &SolveArgs,
+) -> Result<()> {
     if args.load.is_some() {
         return Err(refuse_flag("--load", scene, LOADS_ARE_DRIVES));
     }
@@ -313,6 +324,7 @@ pub fn solve(scene: &Scene, mechanism: &Mechanism, args: &SolveArgs) -> Result<(
         .flat_map(|(i, path)| path.iter().map(move |c| CaseRow::new(i + 1, c)))
         .collect();
     let report = SolveReport {
+        effects_decision: decision,
         scene: scene.name.clone(),
         flexure_count: mechanism.flexures.len(),
         drives: DriveInfo::all(mechanism),
@@ -394,6 +406,7 @@ pub struct EvalReport {
     /// prescribes the coordinate.
     reaction_scale: [f64; 3],
     baseline_seconds: f64,
+    effects_decision: Option<EffectsDecision>,
     #[serde(skip)]
     accuracy: Accuracy,
     #[serde(skip)]
@@ -496,6 +509,7 @@ impl fmt::Display for EvalReport {
             count(self.drives.len(), "drive path"),
             count(usize::try_from(cases).unwrap_or(usize::MAX), "case")
         )?;
+        write!(f, "{}", DecisionLine(&self.effects_decision))?;
         write!(f, "{}", units_line(&MechUnits::new(&self.mechanism)))?;
         writeln!(
             f,
@@ -548,7 +562,12 @@ impl fmt::Display for EvalReport {
 }
 
 /// Runs `prbfit eval` on a mechanism scene.
-pub fn eval(scene: &Scene, mechanism: &Mechanism, args: &EvalArgs) -> Result<()> {
+pub fn eval(
+    scene: &Scene,
+    mechanism: &Mechanism,
+    decision: Option<EffectsDecision>,
+    args: &EvalArgs,
+) -> Result<()> {
     if args.load.is_some() {
         return Err(refuse_flag("--load", scene, LOADS_ARE_DRIVES));
     }
@@ -618,6 +637,7 @@ pub fn eval(scene: &Scene, mechanism: &Mechanism, args: &EvalArgs) -> Result<()>
         );
     }
     let report = EvalReport {
+        effects_decision: decision,
         models: OneOrMany::new(rows),
         scene: scene.name.clone(),
         drives: DriveInfo::all(mechanism),
@@ -647,6 +667,10 @@ pub struct MechFitOutput {
     cases: usize,
     baseline_seconds: f64,
     seconds: f64,
+    effects_decision: Option<EffectsDecision>,
+    /// The model file written (`-o`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    saved: Option<String>,
     #[serde(skip)]
     scene: String,
     #[serde(skip)]
@@ -665,6 +689,7 @@ impl fmt::Display for MechFitOutput {
             self.cases,
             self.fidelity
         )?;
+        write!(f, "{}", DecisionLine(&self.effects_decision))?;
         writeln!(f, "fitted {}: {}", self.topology, self.matrix)?;
         writeln!(
             f,
@@ -685,6 +710,9 @@ impl fmt::Display for MechFitOutput {
             num(self.accuracy.max_force_err),
             met(self.meets_targets)
         )?;
+        if let Some(path) = &self.saved {
+            writeln!(f, "saved {}", safe(path))?;
+        }
         writeln!(
             f,
             "{}; {} iterations, {} evaluations, {:.1} ms (exact mechanism {:.1} ms)",
@@ -699,14 +727,13 @@ impl fmt::Display for MechFitOutput {
 
 /// Runs `prbfit fit` on a mechanism scene: one matrix for every flexure, fitted to the exact
 /// mechanism along the scene's drives (DESIGN §8's `J`).
-pub fn fit(scene: &Scene, mechanism: &Mechanism, args: &FitArgs) -> Result<()> {
-    if let Some(path) = &args.output {
-        return Err(bad(format!(
-            "-o {}: model files of a mechanism fit are not written yet (its figures include the \
-             reaction error a model file has no place for); the fitted matrix is printed",
-            safe(&path.display().to_string())
-        )));
-    }
+pub fn fit(
+    scene: &Scene,
+    mechanism: &Mechanism,
+    decision: Option<EffectsDecision>,
+    args: &FitArgs,
+) -> Result<()> {
+    let format = super::fit::model_file_target(args)?;
     let start = super::fit::start_matrix(args, scene)?;
     let resolution = resolution(mechanism, Resolution::default().tol)?;
     let t0 = Instant::now();
@@ -729,6 +756,7 @@ pub fn fit(scene: &Scene, mechanism: &Mechanism, args: &FitArgs) -> Result<()> {
         &start,
         &options,
         scene.fit.force_weight,
+        &scene.accuracy,
         &mut |p| super::fit::show(&mut progress, p),
         &CancelToken::new(),
     )
@@ -737,7 +765,23 @@ pub fn fit(scene: &Scene, mechanism: &Mechanism, args: &FitArgs) -> Result<()> {
         other => anyhow::Error::new(other),
     })?;
     progress.finish();
+    if let (Some(path), Some(format)) = (&args.output, format) {
+        let model = ModelFile::fitted_mechanism(
+            &report.matrix,
+            scene,
+            mechanism,
+            &args.fidelity.to_string(),
+            &report.figures,
+        );
+        let text = match format {
+            Format::Json => model.to_json()?,
+            _ => model.to_toml()?,
+        };
+        write_atomic(path, text.as_bytes(), args.force)?;
+    }
     let output = MechFitOutput {
+        saved: args.output.as_ref().map(|p| p.display().to_string()),
+        effects_decision: decision,
         prb: report.matrix.to_text(),
         topology: report.matrix.topology(),
         figures: report.figures,

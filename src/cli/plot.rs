@@ -198,8 +198,11 @@ pub fn run(args: PlotArgs, matches: Option<&ArgMatches>) -> Result<()> {
     // Refuse before spending the time on a baseline.
     check_target(&args.output, args.force)?;
     let scene = load_scene(&args.common)?;
-    if let Some(mechanism) = &scene.mechanism {
-        return run_mechanism(&args, matches, &scene, mechanism, format);
+    if scene.mechanism.is_some() {
+        let (scene, _) = resolve_scene(&scene)?;
+        if let Some(mechanism) = &scene.mechanism {
+            return run_mechanism(&args, matches, &scene, mechanism, format);
+        }
     }
     if !args.kind.has_shapes() && !args.kind.has_errors() {
         return Err(bad(PlotError::KindNotForScene {

@@ -177,8 +177,11 @@ fn beam_model(scene: &Scene, args: &SolveArgs) -> Result<BeamModel> {
 /// Runs `prbfit solve`.
 pub fn run(args: SolveArgs) -> Result<()> {
     let scene = load_scene(&args.common)?;
-    if let Some(mechanism) = &scene.mechanism {
-        return super::mech::solve(&scene, mechanism, &args);
+    if scene.mechanism.is_some() {
+        let (scene, decision) = resolve_scene(&scene)?;
+        if let Some(mechanism) = &scene.mechanism {
+            return super::mech::solve(&scene, mechanism, decision, &args);
+        }
     }
     let (scene, decision) = if args.effects.is_some() {
         (scene, None)

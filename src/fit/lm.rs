@@ -19,6 +19,9 @@ use nalgebra::{DMatrix, DVector};
 pub struct LmOptions {
     /// Stop when an accepted step lowers J by less than this fraction.
     pub ftol: f64,
+    /// Stop as converged once J is at or below this ([`super::Target::objective_floor`]: the
+    /// errors are then a negligible part of the targets); 0 never stops on J alone.
+    pub floor: f64,
     /// Stop when a step moves no parameter by more than this.
     pub xtol: f64,
     /// Most iterations (accepted steps, each with its Jacobian) before the run gives up with
@@ -118,6 +121,9 @@ pub fn minimise(
                 objective = new_objective;
                 lambda = (lambda / 3.0).max(1e-12);
                 on_iteration(iteration, objective, &p);
+                if objective <= options.floor {
+                    return finish(p, objective, iteration, LmStop::Converged);
+                }
                 // Two small steps in a row: converged.
                 if decrease < options.ftol || moved < options.xtol {
                     small_steps += 1;
@@ -169,6 +175,7 @@ mod tests {
             ftol: 1e-14,
             xtol: 1e-12,
             max_iterations: 200,
+            floor: 0.0,
         };
         let out = minimise(
             DVector::from_vec(vec![-1.2, 1.0]),
@@ -184,6 +191,39 @@ mod tests {
         assert!(out.objective < 1e-12);
     }
 
+    /// With a floor, the run stops as converged at the first step at or below it, earlier
+    /// than the tolerances alone would stop it.
+    #[test]
+    fn a_floor_ends_the_run_once_reached() {
+        let res = |p: &DVector<f64>, out: &mut Vec<f64>| {
+            out.clear();
+            out.push(10.0 * (p[1] - p[0] * p[0]));
+            out.push(1.0 - p[0]);
+            true
+        };
+        let run = |floor: f64| {
+            let opts = LmOptions {
+                ftol: 1e-14,
+                xtol: 1e-12,
+                max_iterations: 200,
+                floor,
+            };
+            minimise(
+                DVector::from_vec(vec![-1.2, 1.0]),
+                opts,
+                &mut res.clone(),
+                &mut |_, _, _| {},
+            )
+        };
+        let (full, floored) = (run(0.0), run(1e-4));
+        assert_eq!(floored.stop, LmStop::Converged);
+        assert!(floored.objective <= 1e-4 && floored.objective > full.objective);
+        assert!(
+            floored.iterations < full.iterations,
+            "{floored:?} vs {full:?}"
+        );
+    }
+
     #[test]
     fn cancellation_stops_at_once() {
         let mut calls = 0;
@@ -197,6 +237,7 @@ mod tests {
             ftol: 0.0,
             xtol: 0.0,
             max_iterations: 1000,
+            floor: 0.0,
         };
         let out = minimise(
             DVector::from_vec(vec![0.0]),

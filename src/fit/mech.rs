@@ -13,7 +13,7 @@ use std::time::Instant;
 use crate::mech::figures::{compare, signed_errors, CompareError, MechFigures};
 use crate::mech::{prb, MechCase, MechError};
 use crate::prb::PrbMatrix;
-use crate::scene::Mechanism;
+use crate::scene::{Accuracy, Mechanism};
 
 use super::{search, CancelToken, FitError, FitOptions, FitProgress, FitReport, Target, PENALTY};
 
@@ -31,6 +31,10 @@ pub struct MechTarget<'a> {
     loaded_scale: [f64; 3],
     prescribed_scale: f64,
     cases: usize,
+    /// `J` of errors exactly at the accuracy targets, per kind of error the scene has: the
+    /// smallest of `max_pos_err^2` (some position loaded), `w max_ang_err^2` (the angle
+    /// loaded) and `w_f max_force_err^2` (some coordinate prescribed).
+    target_objective: f64,
 }
 
 impl<'a> MechTarget<'a> {
@@ -41,7 +45,24 @@ impl<'a> MechTarget<'a> {
         exact: &'a [Vec<MechCase>],
         angle_weight: f64,
         force_weight: f64,
+        accuracy: &Accuracy,
     ) -> Result<MechTarget<'a>, CompareError> {
+        let coordinates = || {
+            mechanism
+                .drives
+                .iter()
+                .flat_map(|d| d.coordinates.iter().enumerate())
+        };
+        let mut target_objective = f64::INFINITY;
+        if coordinates().any(|(c, k)| c < 2 && !k.is_prescribed()) {
+            target_objective = target_objective.min(accuracy.max_pos_err.powi(2));
+        }
+        if coordinates().any(|(c, k)| c == 2 && !k.is_prescribed()) && angle_weight > 0.0 {
+            target_objective = target_objective.min(angle_weight * accuracy.max_ang_err.powi(2));
+        }
+        if coordinates().any(|(_, k)| k.is_prescribed()) && force_weight > 0.0 {
+            target_objective = target_objective.min(force_weight * accuracy.max_force_err.powi(2));
+        }
         let reaction_scale = compare(&mechanism.drives, exact, exact, 1.0, 1.0)?.reaction_scale;
         let cases: usize = exact.iter().map(Vec::len).sum();
         let per_case = 1.0 / (cases.max(1) as f64).sqrt();
@@ -52,6 +73,11 @@ impl<'a> MechTarget<'a> {
             loaded_scale: [per_case, per_case, angle_weight.sqrt() * per_case],
             prescribed_scale: force_weight.sqrt() * per_case,
             cases,
+            target_objective: if target_objective.is_finite() {
+                target_objective
+            } else {
+                0.0
+            },
         })
     }
 }
@@ -61,9 +87,15 @@ impl Target for MechTarget<'_> {
         3 * self.cases
     }
 
+    /// Errors at `fraction` of the nearest accuracy target: `fraction^2` times the `J` of
+    /// errors exactly on target.
+    fn objective_floor(&self, fraction: f64) -> f64 {
+        fraction * fraction * self.target_objective
+    }
+
     fn residuals(&self, matrix: &PrbMatrix, out: &mut Vec<f64>) {
         out.clear();
-        let solver = prb::solver(self.mechanism, matrix, MECH_TOL);
+        let solver = prb::solver(self.mechanism, matrix, MECH_TOL).for_trials();
         for (i, (drive, exact)) in self.mechanism.drives.iter().zip(self.exact).enumerate() {
             let path = self.mechanism.nondimensional(drive);
             match solver.solve_drive(&path, drive.steps, i + 1) {
@@ -104,18 +136,28 @@ pub enum MechFitError {
 }
 
 /// Fits the free cells of `start` so that the PRB mechanism follows `exact`, the exact
-/// mechanism's cases along every drive of `mechanism`; `force_weight` is `J`'s `w_f`.
+/// mechanism's cases along every drive of `mechanism`; `force_weight` is `J`'s `w_f`, and
+/// `accuracy` the scene's targets (the polish stops once what it gains is a small part of
+/// them: [`Target::objective_floor`]).
+#[allow(clippy::too_many_arguments)] // the fit's inputs, each its own thing
 pub fn fit_mechanism(
     mechanism: &Mechanism,
     exact: &[Vec<MechCase>],
     start: &PrbMatrix,
     options: &FitOptions,
     force_weight: f64,
+    accuracy: &Accuracy,
     progress: &mut dyn FnMut(&FitProgress),
     cancel: &CancelToken,
 ) -> Result<MechFitReport, MechFitError> {
     let t0 = Instant::now();
-    let target = MechTarget::new(mechanism, exact, options.angle_weight, force_weight)?;
+    let target = MechTarget::new(
+        mechanism,
+        exact,
+        options.angle_weight,
+        force_weight,
+        accuracy,
+    )?;
     let found = search(&target, start, options, progress, cancel)?;
     let cases =
         prb::solve(mechanism, &found.matrix, MECH_TOL).map_err(MechFitError::NoFeasibleModel)?;
@@ -174,7 +216,7 @@ mod tests {
         let su =
             PrbMatrix::parse("0.10,inf,inf; 0.35,3.51,inf; 0.40,2.99,inf; 0.15,2.58,inf").unwrap();
         let (w, w_f) = (0.7, 2.5);
-        let target = MechTarget::new(&m, &exact, w, w_f).unwrap();
+        let target = MechTarget::new(&m, &exact, w, w_f, &Accuracy::default()).unwrap();
         let mut r = Vec::new();
         target.residuals(&su, &mut r);
         assert_eq!(r.len(), target.len());
@@ -188,5 +230,22 @@ mod tests {
             (j - figures.objective).abs() <= 1e-12 * figures.objective,
             "{j} vs {figures:?}"
         );
+
+        // The floor: the nearest target's J. Position and angle are loaded, one coordinate
+        // is prescribed: min(0.1^2, 0.7 * 0.02^2, 2.5 * 0.005^2) = 6.25e-5.
+        let accuracy = Accuracy {
+            max_pos_err: 0.1,
+            max_ang_err: 0.02,
+            max_force_err: 0.005,
+        };
+        let target = MechTarget::new(&m, &exact, w, w_f, &accuracy).unwrap();
+        let floor = target.objective_floor(1e-3);
+        assert!((floor - 1e-6 * 6.25e-5).abs() < 1e-18, "{floor}");
+        // With nothing prescribed and the angle unweighted, only position counts: 0.1^2.
+        let mut loaded = m.clone();
+        loaded.drives[0].coordinates[1] = Loaded(0.5);
+        let exact = exact::solve(&loaded, Resolution::with_tol(1e-10)).unwrap();
+        let target = MechTarget::new(&loaded, &exact, 0.0, w_f, &accuracy).unwrap();
+        assert!((target.objective_floor(1e-3) - 1e-6 * 1e-2).abs() < 1e-18);
     }
 }

@@ -270,9 +270,12 @@ pub fn search(
     }
 
     // Local polish in two rounds: a short one from every candidate, then the full polish
-    // from the best few only, so hopeless candidates cost little.
+    // from the best few only, so hopeless candidates cost little. Once a polish reaches the
+    // target's floor (errors a negligible part of the targets) the search is done.
     let mut best: Option<lm::LmResult> = None;
-    let mut scout = fidelity.lm();
+    let mut polish = fidelity.lm();
+    polish.floor = target.objective_floor(fidelity.floor_fraction());
+    let mut scout = polish;
     scout.max_iterations = SCOUT_ITERATIONS;
     let mut scouted: Vec<lm::LmResult> = Vec::new();
     for round in 0..2 {
@@ -288,14 +291,16 @@ pub fn search(
                 .collect()
         };
         for candidate in starts {
-            if cancel.is_cancelled() {
+            // A polish that reached the floor is as good as any: the rest cannot gain.
+            let at_floor = best.as_ref().is_some_and(|b| b.objective <= polish.floor);
+            if cancel.is_cancelled() || at_floor {
                 break;
             }
             let mut residuals = |p: &DVector<f64>, out: &mut Vec<f64>| objective.residuals(p, out);
             let mut on_iteration = |it: u32, j: f64, p: &DVector<f64>| {
                 tracker.offer("polish", it, j, p, objective.evaluations());
             };
-            let options = if round == 0 { scout } else { fidelity.lm() };
+            let options = if round == 0 { scout } else { polish };
             let run = lm::minimise(candidate, options, &mut residuals, &mut on_iteration);
             iterations += run.iterations;
             if best.as_ref().is_none_or(|b| run.objective < b.objective) {

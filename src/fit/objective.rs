@@ -47,6 +47,13 @@ pub trait Target {
     }
     /// Appends the residuals of `matrix` to `out` (cleared), in a fixed order.
     fn residuals(&self, matrix: &PrbMatrix, out: &mut Vec<f64>);
+    /// The `J` at which a target's errors are `fraction` of its accuracy targets: the polish
+    /// stops once `J` is this low, where what it could still gain is that small a part of
+    /// what the user asked for. 0 (the default): the polish stops on its tolerances alone.
+    fn objective_floor(&self, fraction: f64) -> f64 {
+        let _ = fraction;
+        0.0
+    }
 }
 
 /// The single beam's target (DESIGN §4): three residuals per load case,

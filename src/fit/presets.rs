@@ -25,6 +25,17 @@ impl Fidelity {
         }
     }
 
+    /// The fraction of the accuracy targets below which the polish's progress no longer counts
+    /// ([`super::Target::objective_floor`]): a hundredth at draft, a thousandth at normal;
+    /// none at precise, which polishes as far as its tolerances go.
+    pub(crate) fn floor_fraction(self) -> f64 {
+        match self {
+            Fidelity::Draft => 1e-2,
+            Fidelity::Normal => 1e-3,
+            Fidelity::Precise => 0.0,
+        }
+    }
+
     /// The polish's tolerances and iteration limit.
     pub(crate) fn lm(self) -> LmOptions {
         match self {
@@ -32,16 +43,19 @@ impl Fidelity {
                 ftol: 1e-5,
                 xtol: 1e-6,
                 max_iterations: 40,
+                floor: 0.0,
             },
             Fidelity::Normal => LmOptions {
                 ftol: 1e-9,
                 xtol: 1e-9,
                 max_iterations: 100,
+                floor: 0.0,
             },
             Fidelity::Precise => LmOptions {
                 ftol: 1e-13,
                 xtol: 1e-12,
                 max_iterations: 400,
+                floor: 0.0,
             },
         }
     }

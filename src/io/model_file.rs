@@ -8,8 +8,9 @@ use std::path::Path;
 use serde::{Deserialize, Serialize};
 
 use crate::eval::ErrorFigures;
+use crate::mech::figures::MechFigures;
 use crate::prb::{published, PrbMatrix};
-use crate::scene::{Scene, SceneError};
+use crate::scene::{Mechanism, Scene, SceneError};
 use crate::si::{load_range, si_model, LoadRange, SiModel};
 
 /// A PRB model file. Unknown keys are allowed (richer exports carry more), but what is
@@ -55,10 +56,28 @@ pub struct FitRecord {
     /// The five figures on the scene.
     #[serde(flatten)]
     pub figures: ErrorFigures,
+    /// Mechanism scenes (DESIGN §8): the reaction figures, `J`'s force weight and the model
+    /// in SI for every flexure; absent for a cantilever fit.
+    #[serde(default, flatten, skip_serializing_if = "Option::is_none")]
+    pub mechanism: Option<MechRecord>,
     /// The prbfit that made the file.
     pub prbfit_version: String,
     /// UTC, `YYYY-MM-DDTHH:MM:SSZ`.
     pub created: String,
+}
+
+/// What a fit on a mechanism scene adds to its [`FitRecord`]. The record's own figures are
+/// then the stage's (units of flexure 1's `L`), and its `objective` is §8's `J`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct MechRecord {
+    /// `w_f` in `J`.
+    pub force_weight: f64,
+    /// RMS of the reaction error, a fraction of each prescribed coordinate's largest reaction.
+    pub rms_force_err: f64,
+    /// Largest reaction error.
+    pub max_force_err: f64,
+    /// The matrix in SI for each flexure in order (its own `L` and `E I0`).
+    pub flexure_si: Vec<SiModel>,
 }
 
 impl ModelFile {
@@ -157,12 +176,56 @@ impl ModelFile {
                 fidelity: fidelity.to_string(),
                 angle_weight: scene.fit.angle_weight,
                 figures: *figures,
+                mechanism: None,
                 prbfit_version: env!("CARGO_PKG_VERSION").to_string(),
                 created: super::files::utc_timestamp(),
             }),
             si: Some(si_model(matrix, &scene.beam)),
             load_range: Some(load_range(&scene.beam, &scene.loads)),
         }
+    }
+
+    /// A model fitted on `mechanism` (the mechanism of `scene`), with provenance: the stage
+    /// figures and the reaction figures of DESIGN §8, and the model in SI for every flexure
+    /// (`si` is flexure 1's, which sets the mechanism's units). A mechanism has drives, not a
+    /// cantilever's load range, so `load_range` is absent.
+    pub fn fitted_mechanism(
+        matrix: &PrbMatrix,
+        scene: &Scene,
+        mechanism: &Mechanism,
+        fidelity: &str,
+        figures: &MechFigures,
+    ) -> ModelFile {
+        let flexure_si: Vec<SiModel> = mechanism
+            .flexures
+            .iter()
+            .map(|f| si_model(matrix, &f.beam))
+            .collect();
+        // The stage's five figures of §4 (`objective` is §8's `J`, the reaction term included).
+        let stage = ErrorFigures {
+            rms_pos_err: figures.rms_pos_err,
+            max_pos_err: figures.max_pos_err,
+            rms_ang_err: figures.rms_ang_err,
+            max_ang_err: figures.max_ang_err,
+            objective: figures.objective,
+        };
+        let mut file = ModelFile::fitted(matrix, scene, fidelity, &stage);
+        file.title = Some(format!(
+            "{} fitted to the mechanism {}",
+            matrix.topology(),
+            scene.name
+        ));
+        file.si = flexure_si.first().cloned();
+        file.load_range = None;
+        if let Some(fit) = file.fit.as_mut() {
+            fit.mechanism = Some(MechRecord {
+                force_weight: scene.fit.force_weight,
+                rms_force_err: figures.rms_force_err,
+                max_force_err: figures.max_force_err,
+                flexure_si,
+            });
+        }
+        file
     }
 }
 
@@ -219,6 +282,38 @@ mod tests {
         assert_eq!(back, file);
         let json = file.to_json().unwrap();
         let back: ModelFile = serde_json::from_str(&json).unwrap();
+        assert_eq!(back, file);
+    }
+
+    /// A mechanism fit's record carries the reaction figures and every flexure's SI model,
+    /// and reads back (TOML and JSON) as written.
+    #[test]
+    fn mechanism_fit_records_round_trip() {
+        let path = concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/assets/scenes/parallel-stage.toml"
+        );
+        let scene = Scene::from_file(Path::new(path)).unwrap();
+        let mechanism = scene.mechanism.clone().unwrap();
+        let m = PrbMatrix::parse("0.1,inf,inf; 0.8,3,inf; 0.1,3,inf").unwrap();
+        let figures = MechFigures {
+            rms_pos_err: 1.0,
+            max_pos_err: 2.0,
+            rms_ang_err: 3.0,
+            max_ang_err: 4.0,
+            objective: 5.0,
+            rms_force_err: 6.0,
+            max_force_err: 7.0,
+        };
+        let file = ModelFile::fitted_mechanism(&m, &scene, &mechanism, "normal", &figures);
+        let record = file.fit.as_ref().unwrap().mechanism.as_ref().unwrap();
+        assert_eq!(record.flexure_si.len(), mechanism.flexures.len());
+        assert_eq!(file.si.as_ref(), record.flexure_si.first());
+        assert!(file.load_range.is_none());
+        let text = file.to_toml().unwrap();
+        assert!(text.contains("max_force_err = 7.0"), "{text}");
+        assert_eq!(ModelFile::from_toml_str(&text, "t").unwrap(), file);
+        let back: ModelFile = serde_json::from_str(&file.to_json().unwrap()).unwrap();
         assert_eq!(back, file);
     }
 

@@ -65,7 +65,19 @@ pub struct MechSolver<M> {
     offsets: Vec<usize>,
     /// Flexure unknowns in all (the stage's loaded coordinates follow).
     flexure_unknowns: usize,
+    /// Newton iterations at one point before the step is halved.
+    max_newton: u32,
+    /// The smallest continuation step (a fraction of the drive) before giving up.
+    min_step: f64,
 }
+
+/// Newton iterations per point for a fit's trial models: a healthy model needs three or
+/// four from the secant predictor; one that needs more is about to fail anyway.
+const TRIAL_NEWTON: u32 = 12;
+/// The smallest continuation step of a fit's trial models: they give up on a drive once
+/// they need steps below this fraction of it, so failing trials stay cheap (the
+/// cantilever's trials stop at the same fraction).
+const TRIAL_MIN_STEP: f64 = 1e-3;
 
 /// One evaluation of the whole system at an unknown vector.
 struct System {
@@ -116,7 +128,18 @@ impl<M: FlexureModel> MechSolver<M> {
             tol,
             offsets,
             flexure_unknowns: at,
+            max_newton: MAX_NEWTON,
+            min_step: MIN_STEP,
         }
+    }
+
+    /// The same solver with a fit's trial limits: fewer Newton iterations per point and a
+    /// larger smallest step, so a trial model that struggles fails fast (a fit's model that
+    /// needs more is useless anyway; the fitted model is judged without these limits).
+    pub fn for_trials(mut self) -> MechSolver<M> {
+        self.max_newton = TRIAL_NEWTON;
+        self.min_step = TRIAL_MIN_STEP;
+        self
     }
 
     /// The geometry solved.
@@ -438,7 +461,7 @@ impl<M: FlexureModel> MechSolver<M> {
         // within Newton's last (tiny) step of the solution, so a converged point needs no
         // Jacobian of its own.
         let mut det_sign = None;
-        for iteration in 1..=MAX_NEWTON {
+        for iteration in 1..=self.max_newton {
             let converged = self.converged(&sys.residual, sys.load);
             if let (true, Some(det_sign)) = (converged, det_sign) {
                 return Ok(Converged {
@@ -477,7 +500,8 @@ impl<M: FlexureModel> MechSolver<M> {
             }
         }
         Err(format!(
-            "Newton did not converge in {MAX_NEWTON} iterations"
+            "Newton did not converge in {} iterations",
+            self.max_newton
         ))
     }
 
@@ -564,7 +588,7 @@ impl<M: FlexureModel> MechSolver<M> {
                     Err(reason) => reason,
                 };
                 dlam *= 0.5;
-                if dlam < MIN_STEP {
+                if dlam < self.min_step {
                     // Stuck next to a nearly singular Jacobian: a limit point, where the
                     // path turns back and no equilibrium lies further along the drive.
                     if self.pivot_ratio(drive, &prev) < NEAR_CRITICAL * ratio0 {

@@ -1,0 +1,94 @@
+//! The fit on a mechanism scene (DESIGN §8): a 3R (`L-R-R-R`) fitted on the compliant
+//! slider-crank with its drive in 20 steps (20 cases), at each fidelity, the exact mechanism
+//! included: median wall time, evaluations of `J`, and what the fit reached (`J`, max
+//! reaction error). Target (issue 13): normal fidelity at most 100 ms.
+//!
+//! Then the path of the normal fit: the best `J` against evaluations, to show where the time
+//! goes.
+//!
+//! Run: `cargo bench --bench mech_fit` (release build). Prints tables; asserts nothing.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
+use std::path::Path;
+use std::time::Instant;
+
+use prbfit::beam::Resolution;
+use prbfit::fit::mech::fit_mechanism;
+use prbfit::fit::{CancelToken, Fidelity, FitOptions, FitProgress};
+use prbfit::mech::exact;
+use prbfit::prb::PrbMatrix;
+use prbfit::scene::Scene;
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
+}
+
+fn main() {
+    let mut scene = Scene::from_file(Path::new(&format!(
+        "{}/assets/scenes/slider-crank.toml",
+        env!("CARGO_MANIFEST_DIR")
+    )))
+    .unwrap();
+    let mechanism = scene.mechanism.as_mut().unwrap();
+    mechanism.drives[0].steps = 20;
+    let mechanism = mechanism.clone();
+    let start = PrbMatrix::from_topology("L-R-R-R").unwrap();
+    let run = |fidelity: Fidelity, progress: &mut dyn FnMut(&FitProgress)| {
+        let t0 = Instant::now();
+        let exact = exact::solve(&mechanism, Resolution::default()).unwrap();
+        let options = FitOptions {
+            fidelity,
+            angle_weight: scene.fit.angle_weight,
+            seed: 1,
+        };
+        let report = fit_mechanism(
+            &mechanism,
+            &exact,
+            &start,
+            &options,
+            scene.fit.force_weight,
+            &scene.accuracy,
+            progress,
+            &CancelToken::new(),
+        )
+        .unwrap();
+        (t0.elapsed().as_secs_f64(), report)
+    };
+    println!("3R fit, slider-crank in 20 steps (20 cases), exact mechanism included");
+    println!(
+        "{:<8} {:>10} {:>10} {:>12} {:>11} {:>13}",
+        "fidelity", "median ms", "min ms", "evaluations", "J", "max force err"
+    );
+    for fidelity in [Fidelity::Draft, Fidelity::Normal, Fidelity::Precise] {
+        let runs = if fidelity == Fidelity::Precise { 3 } else { 11 };
+        let mut times = Vec::new();
+        let mut last = None;
+        for _ in 0..runs {
+            let (t, report) = run(fidelity, &mut |_| {});
+            times.push(t);
+            last = Some(report);
+        }
+        let report = last.unwrap();
+        println!(
+            "{:<8} {:>10.1} {:>10.1} {:>12} {:>11.3e} {:>13.3e}",
+            fidelity.to_string(),
+            median(times.clone()) * 1e3,
+            times.iter().cloned().fold(f64::MAX, f64::min) * 1e3,
+            report.evaluations,
+            report.figures.objective,
+            report.figures.max_force_err
+        );
+    }
+    println!("\nnormal fit's path (best J as the evaluations go):");
+    let mut seen = f64::INFINITY;
+    run(Fidelity::Normal, &mut |p| {
+        if p.best_objective < 0.5 * seen {
+            seen = p.best_objective;
+            println!(
+                "  {:>6} evaluations  {:<6} J {:.3e}",
+                p.evaluations, p.phase, p.best_objective
+            );
+        }
+    });
+}
