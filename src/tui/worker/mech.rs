@@ -271,6 +271,7 @@ pub(super) fn run_job(
         &job.matrix,
         &options,
         w_f,
+        &job.scene.accuracy,
         &mut on_progress,
         &job.cancel,
     )
