@@ -328,9 +328,10 @@ fn mechanism_results_follow_the_newest_job() {
     assert!(app.shown_mech_compare().is_some());
 }
 
-/// Export and selection say they cannot do mechanism scenes yet; no job is sent.
+/// Export says it cannot do mechanism scenes yet (no job is sent); selection opens the
+/// mechanism's own view, takes its rows and its choice, and loads the chosen model.
 #[test]
-fn export_and_selection_say_not_yet() {
+fn export_says_not_yet_and_selection_runs_on_the_mechanism() {
     let t0 = Instant::now();
     let mut app = App::new(scene("slider-crank"), None);
     assert!(press(&mut app, 'e', t0).is_empty());
@@ -341,9 +342,46 @@ fn export_and_selection_say_not_yet() {
         .0
         .contains("not supported yet"));
     assert!(app.prompt.is_none());
-    assert!(press(&mut app, 'S', t0).is_empty());
-    assert!(app.select.is_none());
-    assert!(app.message.as_ref().unwrap().0.contains("selection"));
+
+    let worker = Worker::spawn().unwrap();
+    app.fidelity = Fidelity::Draft;
+    let cmds = press(&mut app, 'S', t0);
+    let [Command::Submit(job)] = &cmds[..] else {
+        panic!("{cmds:?}")
+    };
+    assert_eq!(job.kind, JobKind::Select);
+    assert!(app.mech_select.is_some() && app.select.is_none());
+    let id = job.id;
+    worker.submit(job.clone());
+    let mut rows = 0;
+    loop {
+        let msg = worker
+            .messages
+            .recv_timeout(Duration::from_secs(120))
+            .unwrap();
+        assert_eq!(msg.id(), id);
+        let done = matches!(msg, WorkerMsg::MechSelectDone { .. });
+        rows += usize::from(matches!(msg, WorkerMsg::MechSelectRow { .. }));
+        assert!(!matches!(msg, WorkerMsg::Failed { .. }), "{msg:?}");
+        app.on_worker(msg);
+        if done {
+            break;
+        }
+    }
+    let view = app.mech_select.clone().unwrap();
+    assert!(!view.running && rows > 0);
+    // The slider-crank's simplest model meeting its targets is a fitted 1R.
+    let chosen = view.chosen.expect("a model meets the targets");
+    assert_eq!(view.rows[chosen].topology, "L-R");
+    assert!(view.rows[chosen].figures.max_force_err < app.scene.accuracy.max_force_err);
+    assert_eq!(view.selected, chosen);
+    // Enter loads it (judged as the table showed it) and closes the view.
+    let cmds = app.on_key(key(KeyCode::Enter), t0);
+    assert!(cmds.is_empty());
+    assert!(!app.selection_open());
+    assert_eq!(app.matrix, view.rows[chosen].prb);
+    let job = the_job(app.tick(t0 + DEBOUNCE));
+    assert_eq!(job.kind, JobKind::Judge);
 }
 
 /// The case and drive keys move the shape chart and wrap around.

@@ -200,6 +200,7 @@ fn selection_view_120x40() {
         closest: Some(sel.closest),
         selected: sel.chosen.unwrap_or(sel.closest),
         rows: sel.rows,
+        unfollowed: sel.unfollowed,
         knobs: vec![
             knob(
                 "beam resolution",
@@ -492,4 +493,45 @@ fn mechanism_fail_is_red() {
         .find("FAIL")
         .expect("Howell's 1R misses the reaction target") as u16;
     assert_eq!(buf[(fail_x, status_row)].fg, Color::Red);
+}
+
+/// The selection view of a mechanism scene (timings fixed): the fixed-guided segment's ladder
+/// with the reaction error column, and the models that cannot follow it (a 1R cannot keep
+/// its tip angle) listed under the table.
+#[test]
+fn mechanism_selection_view_120x40() {
+    use prbfit::fit::CancelToken;
+    use prbfit::select::select_mechanism;
+    use prbfit::tui::state::select::SelectState;
+    let mut app = judged_mechanism("fixed-guided", "su-3r");
+    let exact = app.mech_exact.clone().unwrap();
+    let mut sel = select_mechanism(
+        &app.scene,
+        &exact.mechanism,
+        &exact.cases,
+        Fidelity::Draft,
+        &CancelToken::new(),
+        &mut |_| {},
+    )
+    .unwrap();
+    for (i, r) in sel.rows.iter_mut().enumerate() {
+        r.eval_seconds_per_case = 1e-6 * (2.0 + i as f64 / 10.0);
+        r.fit_seconds = if r.published {
+            0.0
+        } else {
+            0.02 * (i + 1) as f64
+        };
+    }
+    assert!(
+        sel.unfollowed.iter().any(|u| u.name == "howell-1r"),
+        "{sel:?}"
+    );
+    let mut state = SelectState::new(1);
+    state.on_done(1, sel, Vec::new());
+    app.mech_select = Some(state);
+    let t = render(&app, 120, 40);
+    let text = format!("{}", t.backend());
+    assert!(text.contains("max force"), "{text}");
+    assert!(text.contains("cannot follow the mechanism"), "{text}");
+    insta::assert_snapshot!("mech_select_120x40", t.backend());
 }

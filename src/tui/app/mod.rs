@@ -19,6 +19,7 @@ use crate::cancel::CancelToken;
 use crate::fit::{Fidelity, FitReport, StopReason};
 use crate::format::Format;
 use crate::io::ModelFile;
+use crate::mech::figures::MechFigures;
 use crate::prb::published::NAMES as PUBLISHED;
 use crate::prb::{Column, PrbMatrix};
 use crate::scene::{EffectsChoice, Scene};
@@ -296,6 +297,8 @@ pub struct App {
     next_published: usize,
     /// The selection view, when open.
     pub select: Option<SelectState>,
+    /// The selection view of a mechanism scene, when open.
+    pub mech_select: Option<SelectState<MechFigures>>,
     /// The matrix came from the scene's `[prb] matrix`: the first job judges it as saved.
     model_from_scene: bool,
     /// The density the exported links get (kg/m^3).
@@ -367,6 +370,7 @@ impl App {
             report: None,
             next_published: 0,
             select: None,
+            mech_select: None,
             model_from_scene,
             export_density: DEFAULT_DENSITY,
             export_path: None,
@@ -567,32 +571,74 @@ impl App {
         self.pending.is_some()
     }
 
-    /// Opens the selection view and starts the selection job.
+    /// Opens the selection view (a mechanism scene's on a mechanism scene) and starts the
+    /// selection job.
     fn open_selection(&mut self) -> Command {
         let cmd = self.submit_kind(JobKind::Select);
         let job = self.current_job.as_ref().map_or(0, |(id, _)| *id);
-        self.select = Some(SelectState::new(job));
+        if self.is_mechanism() {
+            self.mech_select = Some(SelectState::new(job));
+        } else {
+            self.select = Some(SelectState::new(job));
+        }
         cmd
+    }
+
+    /// Whether a selection view is open.
+    pub fn selection_open(&self) -> bool {
+        self.select.is_some() || self.mech_select.is_some()
+    }
+
+    /// Whether the open selection's job still runs.
+    fn selection_running(&self) -> bool {
+        self.select.as_ref().is_some_and(|v| v.running)
+            || self.mech_select.as_ref().is_some_and(|v| v.running)
+    }
+
+    /// The open selection's job ended (done, failed, stopped).
+    pub(super) fn selection_stopped(&mut self) {
+        if let Some(v) = &mut self.select {
+            v.running = false;
+        }
+        if let Some(v) = &mut self.mech_select {
+            v.running = false;
+        }
+    }
+
+    /// The model of the row under the open selection's cursor.
+    fn selected_model(&self) -> Option<(String, PrbMatrix)> {
+        let row = |name: &str, m: &PrbMatrix| (name.to_string(), m.clone());
+        match (&self.select, &self.mech_select) {
+            (Some(v), _) => v.selected_row().map(|r| row(&r.name, &r.prb)),
+            (None, Some(v)) => v.selected_row().map(|r| row(&r.name, &r.prb)),
+            (None, None) => None,
+        }
     }
 
     /// Keys while the selection view is open.
     fn select_key(&mut self, key: KeyEvent, now: Instant) -> Vec<Command> {
-        let Some(view) = &mut self.select else {
+        if !self.selection_open() {
             return Vec::new();
-        };
+        }
         match keymap::action(&key, Scope::SELECT) {
-            Some(Action::Up) => view.move_by(-1),
-            Some(Action::Down) => view.move_by(1),
-            Some(Action::SelectStop) if view.running => {
+            Some(a @ (Action::Up | Action::Down)) => {
+                let dy = if a == Action::Up { -1 } else { 1 };
+                if let Some(v) = &mut self.select {
+                    v.move_by(dy);
+                }
+                if let Some(v) = &mut self.mech_select {
+                    v.move_by(dy);
+                }
+            }
+            Some(Action::SelectStop) if self.selection_running() => {
                 if let Some((_, token)) = &self.current_job {
                     token.cancel();
                 }
-                view.running = false;
+                self.selection_stopped();
                 self.set_info("selection cancelled");
             }
             Some(Action::SelectLoad) => {
-                if let Some(row) = view.selected_row() {
-                    let (name, m) = (row.name.clone(), row.prb.clone());
+                if let Some((name, m)) = self.selected_model() {
                     self.close_selection();
                     self.set_info(format!("matrix: {name} from the selection (r fits it)"));
                     self.replace_matrix(m, now);
@@ -611,11 +657,12 @@ impl App {
     }
 
     fn close_selection(&mut self) {
-        if let Some(v) = self.select.take() {
-            if v.running {
-                if let Some((_, token)) = &self.current_job {
-                    token.cancel();
-                }
+        let running = self.selection_running();
+        self.select = None;
+        self.mech_select = None;
+        if running {
+            if let Some((_, token)) = &self.current_job {
+                token.cancel();
             }
         }
     }
@@ -670,7 +717,7 @@ impl App {
             self.help = false;
             return Vec::new();
         }
-        if self.select.is_some() {
+        if self.selection_open() {
             if ctrl_c {
                 self.close_selection();
                 self.request_quit();
@@ -702,10 +749,6 @@ impl App {
             Action::Right => self.move_cursor(1, 0),
             Action::Edit => self.start_edit(),
             Action::Fit => out.push(self.submit(true)),
-            Action::Selection if self.is_mechanism() => self.set_error(
-                "model selection on a mechanism scene is not in the UI yet (prbfit select \
-                 refuses mechanism scenes too)",
-            ),
             Action::Selection => out.push(self.open_selection()),
             Action::Cancel => self.cancel_fit(),
             Action::ToggleLive => {

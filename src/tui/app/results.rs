@@ -125,9 +125,7 @@ impl App {
                 self.set_error(message.clone());
                 self.message_from_worker = true;
                 self.activity = Activity::Failed(message);
-                if let Some(v) = &mut self.select {
-                    v.running = false;
-                }
+                self.selection_stopped();
             }
             // Taken above, whatever its job.
             WorkerMsg::Exported { .. }
@@ -137,6 +135,23 @@ impl App {
                 if let Some(v) = &mut self.select {
                     v.on_row(id, *row);
                 }
+            }
+            WorkerMsg::MechSelectRow { id, row } => {
+                if let Some(v) = &mut self.mech_select {
+                    v.on_row(id, *row);
+                }
+            }
+            WorkerMsg::MechSelectDone { id, selection } => {
+                if let Some(row) = selection
+                    .rows
+                    .get(selection.chosen.unwrap_or(selection.closest))
+                {
+                    self.selection_model = Some((format!("{} (S)", row.name), row.prb.clone()));
+                }
+                if let Some(v) = &mut self.mech_select {
+                    v.on_done(id, *selection, Vec::new());
+                }
+                self.activity = Activity::Idle;
             }
             WorkerMsg::SelectDone {
                 id,

@@ -121,6 +121,9 @@ pub fn draw(frame: &mut Frame, app: &App) {
     if let Some(view) = select::View::new(app) {
         select::draw(frame, rows[1], &view);
     }
+    if let Some(view) = select::View::mechanism(app) {
+        select::draw(frame, rows[1], &view);
+    }
     overlays::draw(frame, area, &overlays::View::new(app));
 }
 

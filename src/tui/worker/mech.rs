@@ -7,7 +7,8 @@
 //! What the charts draw travels with the results: the exact cases and their drawn poses
 //! ([`MechBaselineView`]), the model's cases, errors, figures and poses ([`MechModelView`]).
 //! Every message carries the exact view its model was judged on, as the cantilever's carry
-//! their baseline.
+//! their baseline. A selection job fits the topology ladder on the mechanism
+//! ([`select_mechanism`]) row by row; the trade-off is measured on cantilever scenes only.
 
 use std::sync::Arc;
 use std::time::Instant;
@@ -20,7 +21,7 @@ use crate::mech::pose::{self, Pose};
 use crate::mech::{exact, prb, MechCase};
 use crate::prb::PrbMatrix;
 use crate::scene::{Accuracy, BeamSpec, Mechanism, Scene};
-use crate::select::{resolve_effects, EffectsDecision};
+use crate::select::{resolve_effects, select_mechanism, EffectsDecision};
 
 use super::{FitStatus, Job, JobKind, WorkerMsg};
 
@@ -196,13 +197,31 @@ pub(super) fn run_job(
         JobKind::Export { .. } => {
             return Err("export of a mechanism scene's model is not supported yet".into())
         }
-        JobKind::Select => {
-            return Err("model selection on a mechanism scene is not supported yet".into())
-        }
-        JobKind::Judge | JobKind::Fit | JobKind::Compare => {}
+        JobKind::Judge | JobKind::Fit | JobKind::Compare | JobKind::Select => {}
     }
     let exact = solve_exact(job, cache)?;
     if job.cancel.is_cancelled() {
+        return Ok(());
+    }
+    if job.kind == JobKind::Select {
+        let selection = select_mechanism(
+            &job.scene,
+            &exact.mechanism,
+            &exact.cases,
+            job.fidelity,
+            &job.cancel,
+            &mut |row| {
+                send(WorkerMsg::MechSelectRow {
+                    id: job.id,
+                    row: Box::new(row.clone()),
+                })
+            },
+        )
+        .map_err(|e| format!("selection: {e}"))?;
+        send(WorkerMsg::MechSelectDone {
+            id: job.id,
+            selection: Box::new(selection),
+        });
         return Ok(());
     }
     let (w, w_f) = (job.scene.fit.angle_weight, job.scene.fit.force_weight);

@@ -37,7 +37,9 @@ use crate::fit::mech::MechFitReport;
 use crate::fit::{fit, Fidelity, FitOptions, FitReport};
 use crate::prb::{PrbMatrix, PrbSolver};
 use crate::scene::{Accuracy, BeamSpec, EffectsChoice, LoadPath, Scene};
-use crate::select::{decide_effects_cancellable, select, EffectsDecision, Rung, Selection};
+use crate::select::{
+    decide_effects_cancellable, select, EffectsDecision, MechRung, MechSelection, Rung, Selection,
+};
 use crate::tradeoff::Knob;
 
 use super::latest_job::{Cancellable, LatestJob, Taken};
@@ -230,6 +232,20 @@ pub enum WorkerMsg {
         /// The job's compare model, judged on the same exact mechanism.
         compare: Option<Box<MechModelView>>,
     },
+    /// One row of a mechanism scene's selection, as soon as it is fitted.
+    MechSelectRow {
+        /// The job.
+        id: u64,
+        /// The row.
+        row: Box<MechRung>,
+    },
+    /// A mechanism scene's whole selection.
+    MechSelectDone {
+        /// The job.
+        id: u64,
+        /// The ladder, its choice and the models that cannot follow.
+        selection: Box<MechSelection>,
+    },
     /// A mechanism compare job's model, judged.
     MechCompared {
         /// The job.
@@ -263,7 +279,9 @@ impl WorkerMsg {
             | WorkerMsg::SelectDone { id, .. }
             | WorkerMsg::MechProgress { id, .. }
             | WorkerMsg::MechDone { id, .. }
-            | WorkerMsg::MechCompared { id, .. } => *id,
+            | WorkerMsg::MechCompared { id, .. }
+            | WorkerMsg::MechSelectRow { id, .. }
+            | WorkerMsg::MechSelectDone { id, .. } => *id,
         }
     }
 }
