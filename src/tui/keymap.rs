@@ -285,8 +285,7 @@ pub const KEYMAP: &[Entry] = &[
         bindings: &[code(KeyCode::Enter, Action::Edit)],
         hints: &[
             hint("Enter edit (0.5 mm, 200 GPa)", Scope::BEAM),
-            hint("Enter edit", Scope::LOADS.or(Scope::MATRIX)),
-            hint("Enter edit (15 mm, 30 deg, 2 N)", Scope::MECH),
+            hint("Enter edit", Scope::LOADS.or(Scope::MATRIX).or(Scope::MECH)),
         ],
     },
     Entry {

@@ -1168,7 +1168,10 @@ impl App {
         };
         let mut new = m.clone();
         if add {
-            new.drives.insert(d + 1, m.drives[d]);
+            let Some(&copy) = m.drives.get(d) else {
+                return;
+            };
+            new.drives.insert(d + 1, copy);
         } else if m.drives.len() > 1 {
             new.drives.remove(d);
         } else {
