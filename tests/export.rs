@@ -362,3 +362,66 @@ fn bad_export_requests_exit_2() {
         assert!(!Path::new(&p).exists());
     }
 }
+
+/// A mechanism scene exports as the whole PRB mechanism in MJCF (checked in MuJoCo by
+/// tests/mujoco_mech.rs) and as a model file judged on the mechanism (the figures `eval`
+/// gives); URDF, SDF and CSV are refused as bad input naming what works, and write nothing.
+#[test]
+fn a_mechanism_scene_exports_as_mjcf_and_model_files_only() {
+    let dir = Dir::new("mech");
+    let scene = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/assets/scenes/parallel-stage.toml"
+    );
+    let xml = dir.file("stage.xml");
+    let out = prbfit(&[
+        "export", "--scene", scene, "--model", "su-3r", "-o", &xml, "--json",
+    ]);
+    let report = common::json(&out);
+    assert_eq!(report["format"], "mjcf");
+    let text = std::fs::read_to_string(&xml).unwrap();
+    let doc = roxmltree::Document::parse(&text).expect("well-formed XML");
+    let named = |tag: &str, name: &str| {
+        doc.descendants()
+            .any(|n| n.has_tag_name(tag) && n.attribute("name") == Some(name))
+    };
+    assert!(named("site", "stage") && named("body", "stage"));
+    assert!(named("weld", "f1_clamp") && named("weld", "f2_clamp"));
+    assert!(named("site", "f1_tip") && named("site", "f2_tip"));
+    assert!(
+        text.contains("parallel-guiding stage"),
+        "the header names the scene"
+    );
+    let eval = common::json(&prbfit(&[
+        "eval", "--scene", scene, "--model", "su-3r", "--json",
+    ]));
+    for format in ["toml", "json"] {
+        let p = dir.file(&format!("m.{format}"));
+        common::succeeded(&prbfit(&[
+            "export", "--scene", scene, "--model", "su-3r", "-o", &p,
+        ]));
+        let text = std::fs::read_to_string(&p).unwrap();
+        let model: serde_json::Value = if format == "json" {
+            serde_json::from_str(&text).unwrap()
+        } else {
+            let v: toml::Value = toml::from_str(&text).unwrap();
+            serde_json::to_value(v).unwrap()
+        };
+        assert_eq!(model["name"], "su-3r");
+        assert_eq!(model["fit"]["flexure_si"].as_array().unwrap().len(), 2);
+        // Judged as eval judges (both solve the same mechanisms at the same tolerances).
+        let (a, b) = (
+            model["fit"]["max_pos_err"].as_f64().unwrap(),
+            eval["max_pos_err"].as_f64().unwrap(),
+        );
+        assert!((a - b).abs() <= 1e-6 * b, "{format}: {a} vs {b}");
+    }
+    for format in ["urdf", "sdf", "csv"] {
+        let p = dir.file(&format!("m.{format}"));
+        let out = prbfit(&[
+            "export", "--scene", scene, "--model", "su-3r", "--format", format, "-o", &p,
+        ]);
+        common::assert_input_error(&out, &["--format", "mjcf", format]);
+        assert!(!Path::new(&p).exists(), "{format}: nothing written");
+    }
+}

@@ -1,18 +1,22 @@
-//! `prbfit export`: a model written for another tool.
+//! `prbfit export`: a model written for another tool. On a mechanism scene (DESIGN §8) the
+//! whole PRB mechanism is written (MuJoCo MJCF); other formats are refused as bad input
+//! (exit status 2) naming the ones that work.
 
 use std::fmt;
 
 use anyhow::{Context, Result};
 use serde::Serialize;
 
-use prbfit::export::{export, ExportError, ExportInput};
+use prbfit::export::{export, export_mechanism, ExportError, ExportInput, MechExportInput};
 use prbfit::format::Format;
 use prbfit::io::files::{check_target, write_atomic};
 use prbfit::io::ModelFile;
+use prbfit::prb::PrbMatrix;
+use prbfit::scene::Scene;
 
 use super::args::ExportArgs;
 use super::output::{emit, safe};
-use super::{bad, parse_matrix, resolved_scene, scene_model};
+use super::{bad, load_scene, parse_matrix, resolve_scene, scene_model};
 
 /// What was written.
 #[derive(Debug, Serialize)]
@@ -44,31 +48,33 @@ pub fn run(args: ExportArgs) -> Result<()> {
     // Refuse before spending the time on a baseline: an existing file without --force, a
     // device, a dangling link.
     check_target(&args.output, args.force)?;
-    let (scene, _) = resolved_scene(&args.common, "export")?;
-    let (name, matrix) = match (&args.model, &args.prb) {
-        (Some(m), _) => {
-            let file = ModelFile::load(m)?;
-            (file.name, file.prb)
+    let scene = load_scene(&args.common)?;
+    let (name, matrix) = model(&args, &scene)?;
+    let (scene, _) = resolve_scene(&scene)?;
+    let text = match &scene.mechanism {
+        Some(mechanism) => {
+            let input = MechExportInput {
+                name,
+                matrix: &matrix,
+                scene: &scene,
+                mechanism,
+                density: args.density,
+            };
+            export_mechanism(&input, format).map_err(input_error)?
         }
-        (None, Some(text)) => {
-            let m = parse_matrix("--prb", text)?;
-            (m.topology().to_lowercase(), m)
+        None => {
+            let baseline = args.fidelity.baseline(&scene).context("baseline beam")?;
+            let input = ExportInput {
+                name,
+                matrix: &matrix,
+                scene: &scene,
+                baseline: &baseline,
+                fidelity: args.fidelity.to_string(),
+                density: args.density,
+            };
+            export(&input, format).map_err(input_error)?
         }
-        (None, None) => scene_model(&scene)?,
     };
-    let baseline = args.fidelity.baseline(&scene).context("baseline beam")?;
-    let input = ExportInput {
-        name,
-        matrix: &matrix,
-        scene: &scene,
-        baseline: &baseline,
-        fidelity: args.fidelity.to_string(),
-        density: args.density,
-    };
-    let text = export(&input, format).map_err(|e| match e {
-        ExportError::Density(_) => bad(format!("--density: {e}")),
-        other => anyhow::Error::new(other),
-    })?;
     write_atomic(&args.output, text.as_bytes(), args.force)?;
     let out = ExportOutput {
         output: args.output.display().to_string(),
@@ -77,4 +83,28 @@ pub fn run(args: ExportArgs) -> Result<()> {
         bytes: text.len(),
     };
     emit(&out, args.common.json)
+}
+
+/// The model to export and its name: --model, --prb, or the scene's own.
+fn model(args: &ExportArgs, scene: &Scene) -> Result<(String, PrbMatrix)> {
+    Ok(match (&args.model, &args.prb) {
+        (Some(m), _) => {
+            let file = ModelFile::load(m)?;
+            (file.name, file.prb)
+        }
+        (None, Some(text)) => {
+            let m = parse_matrix("--prb", text)?;
+            (m.topology().to_lowercase(), m)
+        }
+        (None, None) => scene_model(scene)?,
+    })
+}
+
+/// Errors the user can fix by changing a flag are bad input (exit status 2).
+fn input_error(e: ExportError) -> anyhow::Error {
+    match e {
+        ExportError::Density(_) => bad(format!("--density: {e}")),
+        ExportError::MechanismFormat { .. } => bad(format!("--format: {e}")),
+        other => anyhow::Error::new(other),
+    }
 }

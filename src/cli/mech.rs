@@ -358,6 +358,8 @@ pub struct EvalCaseRow {
     pos_err: f64,
     ang_err: f64,
     force_err: f64,
+    /// The largest flexure tip position error, units of that flexure's `L`.
+    tip_err: f64,
 }
 
 impl From<&MechCaseError> for EvalCaseRow {
@@ -374,6 +376,7 @@ impl From<&MechCaseError> for EvalCaseRow {
             pos_err: c.pos_err,
             ang_err: c.ang_err,
             force_err: c.force_err,
+            tip_err: c.tip_err,
         }
     }
 }
@@ -525,16 +528,32 @@ impl fmt::Display for EvalReport {
             self.case_table(f, row)?;
         }
         writeln!(f)?;
+        let w = self
+            .models
+            .rows()
+            .iter()
+            .map(|r| safe(&r.model).chars().count())
+            .fold(12, usize::max);
+        let per_case = 1e6 / (self.mechanism.case_count().max(1) as f64);
         writeln!(
             f,
-            "{:<12} {:>9} {:>9} {:>9} {:>9} {:>9} {:>9} {:>10}  targets",
-            "model", "rms pos", "max pos", "rms ang", "max ang", "rms force", "max force", "J"
+            "{:<w$} {:>9} {:>9} {:>9} {:>9} {:>9} {:>9} {:>10} {:>9} {:>8}  targets",
+            "model",
+            "rms pos",
+            "max pos",
+            "rms ang",
+            "max ang",
+            "rms force",
+            "max force",
+            "J",
+            "max tip",
+            "us/case"
         )?;
         for r in self.models.rows() {
             match (&r.figures, &r.failure) {
                 (Some(m), _) => writeln!(
                     f,
-                    "{:<12} {:>9.2e} {:>9.2e} {:>9.2e} {:>9.2e} {:>9.2e} {:>9.2e} {:>10.3e}  {}",
+                    "{:<w$} {:>9.2e} {:>9.2e} {:>9.2e} {:>9.2e} {:>9.2e} {:>9.2e} {:>10.3e} {:>9.2e} {:>8.1}  {}",
                     safe(&r.model),
                     m.rms_pos_err,
                     m.max_pos_err,
@@ -543,11 +562,13 @@ impl fmt::Display for EvalReport {
                     m.rms_force_err,
                     m.max_force_err,
                     m.objective,
+                    m.max_tip_err,
+                    r.seconds * per_case,
                     met(r.meets_targets)
                 )?,
                 (None, failure) => writeln!(
                     f,
-                    "{:<12} cannot follow the mechanism: {}",
+                    "{:<w$} cannot follow the mechanism: {}",
                     safe(&r.model),
                     failure.as_deref().unwrap_or("no solution")
                 )?,

@@ -161,15 +161,16 @@ fn load_scene(common: &Common) -> Result<Scene> {
 }
 
 /// Mechanism scenes (DESIGN §8) are solved, judged, fitted and selected on by `solve`,
-/// `eval`, `fit` and `select`, drawn by `plot` and edited in the UI; the other commands cannot take them yet: say so (bad input, exit 2) instead of
+/// `eval`, `fit` and `select`, drawn by `plot`, exported by `export` and edited in the UI;
+/// the other commands cannot take them yet: say so (bad input, exit 2) instead of
 /// judging a cantilever that is not there.
 fn refuse_mechanism(scene: &Scene, command: &str) -> Result<()> {
     match &scene.mechanism {
         None => Ok(()),
         Some(m) => Err(bad(format!(
             "\"{}\" is a mechanism scene ({} flexures, {} drive paths): mechanism scenes are \
-             not supported by `{command}` yet (`solve`, `eval`, `fit`, `select`, `plot` and the \
-             UI take them)",
+             not supported by `{command}` yet (`solve`, `eval`, `fit`, `select`, `plot`, \
+             `export` and the UI take them)",
             output::safe(&scene.name),
             m.flexures.len(),
             m.drives.len()

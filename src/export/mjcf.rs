@@ -1,6 +1,9 @@
 //! MuJoCo MJCF: a body per segment, `hinge` joints with `stiffness` and `springref="0"`,
 //! `slide` joints for extension springs (both in the segment's body), gravity off, contacts
 //! off, a `tip` site at the free end. Verified in MuJoCo by `tests/mujoco.rs`.
+//!
+//! The chain's bodies are written by [`write_chain`], which the whole mechanism's MJCF
+//! ([`super::mjcf_mech`]) shares: one chain per flexure, its names prefixed.
 
 use std::fmt::Write as _;
 
@@ -18,41 +21,92 @@ pub fn write(chain: &Chain, comment: &str) -> String {
         "  <default>\n    <geom contype=\"0\" conaffinity=\"0\"/>\n  </default>"
     );
     let _ = writeln!(out, "  <worldbody>");
-    let mut indent = String::from("    ");
+    let placement = ChainPlacement {
+        prefix: "",
+        root: [0.0, 0.0],
+        angle: 0.0,
+    };
+    write_chain(
+        &mut out,
+        chain,
+        &placement,
+        "    ",
+        |out, indent, length| {
+            let _ = writeln!(
+                out,
+                "{indent}<site name=\"tip\" pos=\"{} 0 0\"/>",
+                g(length)
+            );
+        },
+    );
+    let _ = writeln!(out, "  </worldbody>");
+    let _ = writeln!(out, "</mujoco>");
+    out
+}
+
+/// Where a chain sits in the world and how its names are prefixed.
+pub struct ChainPlacement<'a> {
+    /// Put before every body, joint and geom name (`""` for the single chain).
+    pub prefix: &'a str,
+    /// The clamp, m.
+    pub root: [f64; 2],
+    /// The unloaded chain's direction, radians from +x (about +z).
+    pub angle: f64,
+}
+
+/// Writes the nested bodies of `chain` at `placement`, starting at `indent`. `at_tip` writes
+/// what the last segment's body carries at the chain's free end: it gets the output, the
+/// indent inside that body and the last segment's length (the tip's x in that body's frame).
+pub fn write_chain(
+    out: &mut String,
+    chain: &Chain,
+    placement: &ChainPlacement,
+    indent: &str,
+    at_tip: impl FnOnce(&mut String, &str, f64),
+) {
+    let prefix = placement.prefix;
+    let mut indent = indent.to_string();
     let n_segments = chain.segments.len();
+    let mut at_tip = Some(at_tip);
     for (i, seg) in chain.segments.iter().enumerate() {
         let n = seg.index;
-        // Bodies nest: each sits at the end of its parent segment.
-        let pos = if i == 0 {
-            0.0
+        // Bodies nest: each sits at the end of its parent segment; the first at the clamp,
+        // turned by the chain's angle (omitted when zero, so the single chain stays plain).
+        let place = if i == 0 {
+            let [x, y] = placement.root;
+            let mut p = format!("pos=\"{} {} 0\"", g(x), g(y));
+            if placement.angle != 0.0 {
+                let (s, c) = (placement.angle / 2.0).sin_cos();
+                let _ = write!(p, " quat=\"{} 0 0 {}\"", g(c), g(s));
+            }
+            p
         } else {
-            chain.segments[i - 1].length
+            format!("pos=\"{} 0 0\"", g(chain.segments[i - 1].length))
         };
         let _ = writeln!(
             out,
-            "{indent}<body name=\"{}\" pos=\"{} 0 0\">",
-            seg.link(),
-            g(pos)
+            "{indent}<body name=\"{prefix}{}\" {place}>",
+            seg.link()
         );
         let inner = format!("{indent}  ");
         if let Some(k) = seg.hinge {
             let _ = writeln!(
                 out,
-                "{inner}<joint name=\"theta{n}\" type=\"hinge\" axis=\"0 0 1\" stiffness=\"{}\" springref=\"0\"/>",
+                "{inner}<joint name=\"{prefix}theta{n}\" type=\"hinge\" axis=\"0 0 1\" stiffness=\"{}\" springref=\"0\"/>",
                 g(k)
             );
         }
         if let Some(k) = seg.slide {
             let _ = writeln!(
                 out,
-                "{inner}<joint name=\"{}\" type=\"slide\" axis=\"1 0 0\" stiffness=\"{}\" springref=\"0\"/>",
+                "{inner}<joint name=\"{prefix}{}\" type=\"slide\" axis=\"1 0 0\" stiffness=\"{}\" springref=\"0\"/>",
                 seg.slide_joint(),
                 g(k)
             );
         }
         let _ = writeln!(
             out,
-            "{inner}<geom name=\"link{n}\" type=\"box\" pos=\"{} 0 0\" size=\"{} {} {}\" mass=\"{}\"/>",
+            "{inner}<geom name=\"{prefix}link{n}\" type=\"box\" pos=\"{} 0 0\" size=\"{} {} {}\" mass=\"{}\"/>",
             g(seg.length / 2.0),
             g((seg.length / 2.0).max(1e-9 * chain.beam_length)),
             g(chain.thickness / 2.0),
@@ -60,11 +114,9 @@ pub fn write(chain: &Chain, comment: &str) -> String {
             g(seg.mass.mass)
         );
         if i + 1 == n_segments {
-            let _ = writeln!(
-                out,
-                "{inner}<site name=\"tip\" pos=\"{} 0 0\"/>",
-                g(seg.length)
-            );
+            if let Some(f) = at_tip.take() {
+                f(out, &inner, seg.length);
+            }
         }
         indent.push_str("  ");
     }
@@ -72,7 +124,4 @@ pub fn write(chain: &Chain, comment: &str) -> String {
         indent.truncate(indent.len() - 2);
         let _ = writeln!(out, "{indent}</body>");
     }
-    let _ = writeln!(out, "  </worldbody>");
-    let _ = writeln!(out, "</mujoco>");
-    out
 }

@@ -76,6 +76,8 @@ pub struct MechRecord {
     pub rms_force_err: f64,
     /// Largest reaction error.
     pub max_force_err: f64,
+    /// Largest flexure tip position error, units of that flexure's `L`.
+    pub max_tip_err: f64,
     /// The matrix in SI for each flexure in order (its own `L` and `E I0`).
     pub flexure_si: Vec<SiModel>,
 }
@@ -222,6 +224,7 @@ impl ModelFile {
                 force_weight: scene.fit.force_weight,
                 rms_force_err: figures.rms_force_err,
                 max_force_err: figures.max_force_err,
+                max_tip_err: figures.max_tip_err,
                 flexure_si,
             });
         }
@@ -304,6 +307,7 @@ mod tests {
             objective: 5.0,
             rms_force_err: 6.0,
             max_force_err: 7.0,
+            max_tip_err: 8.0,
         };
         let file = ModelFile::fitted_mechanism(&m, &scene, &mechanism, "normal", &figures);
         let record = file.fit.as_ref().unwrap().mechanism.as_ref().unwrap();

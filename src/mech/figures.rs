@@ -51,6 +51,10 @@ pub struct MechFigures {
     pub rms_force_err: f64,
     /// Largest `e_force`.
     pub max_force_err: f64,
+    /// Largest flexure tip position error over every flexure and case, units of that
+    /// flexure's own `L`: how far a PRB flexure's tip is from the beam's even where the
+    /// stage figures cannot see it (a fully prescribed stage). Reported, not in `J`.
+    pub max_tip_err: f64,
 }
 
 impl MechFigures {
@@ -80,6 +84,8 @@ pub struct MechCaseError {
     /// Reaction error over the prescribed coordinates, each as a fraction of that
     /// coordinate's reaction scale, combined as the root of the sum of squares.
     pub force_err: f64,
+    /// The largest flexure tip position error of the case, units of that flexure's `L`.
+    pub tip_err: f64,
 }
 
 /// A PRB mechanism judged against the exact one.
@@ -205,6 +211,12 @@ pub fn compare(
                 pos_err: dx.hypot(dy),
                 ang_err,
                 force_err,
+                tip_err: p
+                    .flexures
+                    .iter()
+                    .zip(&e.flexures)
+                    .map(|(a, b)| (a.tip.a - b.tip.a).hypot(a.tip.b - b.tip.b))
+                    .fold(0.0, f64::max),
             });
         }
     }
@@ -239,8 +251,9 @@ pub fn signed_errors(
 fn figures(cases: &[MechCaseError], angle_weight: f64, force_weight: f64) -> MechFigures {
     let n = cases.len().max(1) as f64;
     let (mut sp, mut sa, mut sf) = (0.0, 0.0, 0.0);
-    let (mut mp, mut ma, mut mf) = (0.0_f64, 0.0_f64, 0.0_f64);
+    let (mut mp, mut ma, mut mf, mut mt) = (0.0_f64, 0.0_f64, 0.0_f64, 0.0_f64);
     for c in cases {
+        mt = mt.max(c.tip_err);
         sp += c.pos_err * c.pos_err;
         sa += c.ang_err * c.ang_err;
         sf += c.force_err * c.force_err;
@@ -256,6 +269,7 @@ fn figures(cases: &[MechCaseError], angle_weight: f64, force_weight: f64) -> Mec
         objective: (sp + angle_weight * sa + force_weight * sf) / n,
         rms_force_err: (sf / n).sqrt(),
         max_force_err: mf,
+        max_tip_err: mt,
     }
 }
 
@@ -315,6 +329,45 @@ mod tests {
         assert_eq!((f.rms_ang_err, f.max_ang_err), (0.0, 0.0));
         // J = mean(e_pos^2 + 2 e_force^2) = (9e-6 + 0.185 + 16e-6 + 0.02) / 2.
         assert!((f.objective - (25e-6 + 0.205) / 2.0).abs() < 1e-15);
+    }
+
+    /// The tip error: per case the largest flexure tip position error, over the cases the
+    /// largest; not part of `J`.
+    #[test]
+    fn tip_error_is_the_worst_flexure_tip() {
+        use crate::beam::{Load, TipPose};
+        use crate::mech::FlexureCase;
+        let with_tips = |mut c: MechCase, tips: &[(f64, f64)]| {
+            c.flexures = tips
+                .iter()
+                .map(|&(a, b)| FlexureCase {
+                    tip: TipPose { a, b, phi: 0.0 },
+                    wrench: Load {
+                        alpha_x: 0.0,
+                        alpha_y: 0.0,
+                        beta: 0.0,
+                    },
+                    load_stable: true,
+                })
+                .collect();
+            c
+        };
+        let stage = [-0.01, 0.15, 0.0];
+        let load = [0.0, 2.0, -0.5];
+        let exact = vec![vec![
+            with_tips(case(0.5, stage, load), &[(0.9, 0.1), (0.9, 0.1)]),
+            with_tips(case(1.0, stage, load), &[(0.8, 0.2), (0.8, 0.2)]),
+        ]];
+        // Case 1: flexure 2 off by (0.003, 0.004) = 0.005; case 2: flexure 1 off by 0.002.
+        let prb = vec![vec![
+            with_tips(case(0.5, stage, load), &[(0.9, 0.1), (0.903, 0.104)]),
+            with_tips(case(1.0, stage, load), &[(0.8, 0.202), (0.8, 0.2)]),
+        ]];
+        let e = compare(&[guided(2)], &prb, &exact, 1.0, 1.0).unwrap();
+        assert!((e.cases[0].tip_err - 0.005).abs() < 1e-12);
+        assert!((e.cases[1].tip_err - 0.002).abs() < 1e-12);
+        assert!((e.figures.max_tip_err - 0.005).abs() < 1e-12);
+        assert_eq!(e.figures.objective, 0.0);
     }
 
     #[test]

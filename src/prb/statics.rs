@@ -422,6 +422,62 @@ impl PrbSolver {
         &self,
         end: Load,
         steps: u32,
+        visit: impl FnMut(PrbCase<'_>),
+    ) -> Result<(), PrbError> {
+        self.follow_with(end, steps.max(1), |lambda| end.scaled(lambda), visit)
+    }
+
+    /// Follows the loads of `rows` in order, from the unloaded chain (measured data, DESIGN
+    /// §9: a specimen's path is the polyline through its rows), handing the case at each row
+    /// to `visit`. Between rows the load moves along the straight line from one row's load to
+    /// the next (from zero to the first), with the same continuation as a proportional path.
+    pub fn solve_rows_with(
+        &self,
+        rows: &[Load],
+        visit: impl FnMut(PrbCase<'_>),
+    ) -> Result<(), PrbError> {
+        let Some(&last) = rows.last() else {
+            return Ok(());
+        };
+        if let Some(bad) = rows.iter().find(|l| !l.is_finite()) {
+            return Err(PrbError::NonFiniteLoad(*bad));
+        }
+        let n = rows.len();
+        let at = |lambda: f64| {
+            let x = lambda * n as f64;
+            // At a row's own fraction (to rounding), the row's load exactly.
+            let nearest = x.round();
+            if (x - nearest).abs() < 1e-9 && nearest >= 1.0 {
+                return rows[(nearest as usize).min(n) - 1];
+            }
+            let k = (x.floor().max(0.0) as usize).min(n - 1);
+            let t = x - k as f64;
+            let from = if k == 0 {
+                Load {
+                    alpha_x: 0.0,
+                    alpha_y: 0.0,
+                    beta: 0.0,
+                }
+            } else {
+                rows[k - 1]
+            };
+            let to = rows[k];
+            Load {
+                alpha_x: from.alpha_x + t * (to.alpha_x - from.alpha_x),
+                alpha_y: from.alpha_y + t * (to.alpha_y - from.alpha_y),
+                beta: from.beta + t * (to.beta - from.beta),
+            }
+        };
+        self.follow_with(last, n as u32, at, visit)
+    }
+
+    /// The continuation of [`Self::solve_path_with`] along any load curve `load_at(lambda)`,
+    /// `lambda` from 0 (unloaded) to 1 (`end`), with cases at `k / steps`.
+    fn follow_with(
+        &self,
+        end: Load,
+        steps: u32,
+        load_at: impl Fn(f64) -> Load,
         mut visit: impl FnMut(PrbCase<'_>),
     ) -> Result<(), PrbError> {
         if !end.is_finite() {
@@ -461,7 +517,7 @@ impl PrbSolver {
                     }
                     None => q.copy_from_slice(&prev_q),
                 }
-                let load = end.scaled(lambda);
+                let load = load_at(lambda);
                 let outcome = self.newton(load, &mut q, &mut ws);
                 let failure = match outcome {
                     Ok((tip, its)) => {
