@@ -328,22 +328,56 @@ fn mechanism_results_follow_the_newest_job() {
     assert!(app.shown_mech_compare().is_some());
 }
 
-/// Export says it cannot do mechanism scenes yet (no job is sent); selection opens the
-/// mechanism's own view, takes its rows and its choice, and loads the chosen model.
+/// `e` exports the PRB mechanism through the worker: MJCF (after the links' density) and the
+/// model file; a format a mechanism has no place in is refused, saying which work. Selection
+/// opens the mechanism's own view, takes its rows and its choice, and loads the chosen model.
 #[test]
-fn export_says_not_yet_and_selection_runs_on_the_mechanism() {
+fn export_and_selection_run_on_the_mechanism() {
+    use prbfit::tui::app::PromptKind;
+    let dir = std::env::temp_dir().join(format!("prbfit-ui-mech-export-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
     let t0 = Instant::now();
     let mut app = App::new(scene("slider-crank"), None);
-    assert!(press(&mut app, 'e', t0).is_empty());
-    assert!(app
-        .message
-        .as_ref()
-        .unwrap()
-        .0
-        .contains("not supported yet"));
-    assert!(app.prompt.is_none());
-
     let worker = Worker::spawn().unwrap();
+    let export = |app: &mut App, file: &str| -> Result<(), String> {
+        press(app, 'e', t0);
+        assert!(matches!(app.prompt, Some((PromptKind::ExportMechanism, _))));
+        let path = dir.join(file);
+        let mut cmds = Vec::new();
+        for _ in 0..40 {
+            app.on_key(key(KeyCode::Backspace), t0);
+        }
+        for c in path.display().to_string().chars() {
+            press(app, c, t0);
+        }
+        cmds.extend(app.on_key(key(KeyCode::Enter), t0));
+        if matches!(app.prompt, Some((PromptKind::ExportDensity, _))) {
+            cmds.extend(app.on_key(key(KeyCode::Enter), t0));
+        }
+        let [cmd] = <[Command; 1]>::try_from(cmds).unwrap();
+        let job = run_command(app, cmd, t0).expect("an export job");
+        worker.submit(job);
+        loop {
+            let msg = worker
+                .messages
+                .recv_timeout(Duration::from_secs(60))
+                .unwrap();
+            if let WorkerMsg::Exported { result, .. } = msg {
+                return result;
+            }
+        }
+    };
+    export(&mut app, "slider.xml").unwrap();
+    let text = std::fs::read_to_string(dir.join("slider.xml")).unwrap();
+    assert!(text.contains("<mujoco"), "{text}");
+    export(&mut app, "slider.toml").unwrap();
+    let text = std::fs::read_to_string(dir.join("slider.toml")).unwrap();
+    assert!(text.contains("max_force_err"), "{text}");
+    let e = export(&mut app, "slider.urdf").unwrap_err();
+    assert!(e.contains("mjcf"), "{e}");
+    std::fs::remove_dir_all(&dir).unwrap();
+
     app.fidelity = Fidelity::Draft;
     let cmds = press(&mut app, 'S', t0);
     let [Command::Submit(job)] = &cmds[..] else {

@@ -71,6 +71,8 @@ pub enum PromptKind {
     OpenScene,
     /// A path to export the model to.
     ExportModel,
+    /// A path to export a mechanism scene's PRB mechanism (or its model file) to.
+    ExportMechanism,
     /// A topology or published model name.
     Topology,
     /// Whether to quit with unsaved work.
@@ -98,6 +100,9 @@ impl PromptKind {
             PromptKind::SaveScene => "save scene to",
             PromptKind::OpenScene => "open scene",
             PromptKind::ExportModel => "export model to (.toml .json .xml/.mjcf .urdf .sdf .csv)",
+            PromptKind::ExportMechanism => {
+                "export the PRB mechanism to (.xml/.mjcf: MuJoCo; .toml .json: model file)"
+            }
             PromptKind::Topology => "topology (e.g. L-R-R-R, L-RP) or howell-1r, su-3r, chen-3r",
             PromptKind::ConfirmQuit => "unsaved changes: quit anyway? (y/n)",
             PromptKind::ConfirmOpen => "unsaved changes: open another scene anyway? (y/n)",
@@ -782,10 +787,9 @@ impl App {
                     self.open_prompt(PromptKind::OpenScene, String::new());
                 }
             }
-            Action::Export if self.is_mechanism() => self.set_error(
-                "not exported: exporting a mechanism scene's model is not supported yet \
-                 (prbfit export refuses mechanism scenes too); s saves the scene with it",
-            ),
+            Action::Export if self.is_mechanism() => {
+                self.open_prompt(PromptKind::ExportMechanism, "mechanism.xml".into())
+            }
             Action::Export => self.open_prompt(PromptKind::ExportModel, "model.toml".into()),
             Action::Topology => self.open_prompt(PromptKind::Topology, self.matrix.topology()),
             Action::NextPublished => self.next_published_model(now),

@@ -193,13 +193,21 @@ pub(super) fn run_job(
     send: &dyn Fn(WorkerMsg),
 ) -> Result<(), String> {
     let t0 = Instant::now();
-    match &job.kind {
-        JobKind::Export { .. } => {
-            return Err("export of a mechanism scene's model is not supported yet".into())
-        }
-        JobKind::Judge | JobKind::Fit | JobKind::Compare | JobKind::Select => {}
-    }
     let exact = solve_exact(job, cache)?;
+    if let JobKind::Export {
+        path,
+        density,
+        overwrite,
+    } = &job.kind
+    {
+        let result = export_file(job, &exact, path, *density, *overwrite);
+        send(WorkerMsg::Exported {
+            id: job.id,
+            path: path.clone(),
+            result,
+        });
+        return Ok(());
+    }
     if job.cancel.is_cancelled() {
         return Ok(());
     }
@@ -305,4 +313,43 @@ pub(super) fn run_job(
         compare,
     });
     Ok(())
+}
+
+/// Writes the job's PRB mechanism (MJCF) or its model judged on the mechanism (TOML, JSON),
+/// in the format the path's extension names; over an existing file only when `overwrite`.
+fn export_file(
+    job: &Job,
+    exact: &MechBaselineView,
+    path: &std::path::Path,
+    density: f64,
+    overwrite: bool,
+) -> Result<(), String> {
+    use crate::export::{export_mechanism, mechanism_formats, MechExportInput};
+    use crate::format::Format;
+    let supported = || {
+        mechanism_formats()
+            .iter()
+            .map(|f| f.name())
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let format = Format::from_path(path).ok_or_else(|| {
+        format!(
+            "{}: name a mechanism export .xml or .mjcf (MuJoCo), .toml or .json ({})",
+            path.display(),
+            supported()
+        )
+    })?;
+    // The scene as solved: its flexures' effects decided.
+    let mut scene = (*job.scene).clone();
+    scene.mechanism = Some(exact.mechanism.clone());
+    let input = MechExportInput {
+        name: format!("{}-mechanism", job.matrix.topology().to_lowercase()),
+        matrix: &job.matrix,
+        scene: &scene,
+        mechanism: &exact.mechanism,
+        density,
+    };
+    let text = export_mechanism(&input, format).map_err(|e| e.to_string())?;
+    crate::io::files::write_atomic(path, text.as_bytes(), overwrite).map_err(super::write_error)
 }
