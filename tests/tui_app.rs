@@ -192,6 +192,7 @@ fn invalid_edits_change_nothing() {
                 app.loads_state.row = row;
                 app.loads_state.col = col;
             }
+            Panel::Mechanism => app.mech_state.row = row,
         }
         edit(&mut app, text, t0);
         assert_eq!(app.scene, scene, "{text}");

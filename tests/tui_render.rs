@@ -200,6 +200,7 @@ fn selection_view_120x40() {
         closest: Some(sel.closest),
         selected: sel.chosen.unwrap_or(sel.closest),
         rows: sel.rows,
+        unfollowed: sel.unfollowed,
         knobs: vec![
             knob(
                 "beam resolution",
@@ -338,4 +339,199 @@ fn control_characters_from_files_are_not_drawn() {
     let text = format!("{}", t.backend());
     assert!(text.contains("?[31mRED?]0;pwned?"), "{text}");
     insta::assert_snapshot!("control_characters_80x24", t.backend());
+}
+
+/// The app on a shipped mechanism scene after a judge job of the published model `model`
+/// (results computed here, deterministic), with the mechanism panel focused on `row`.
+fn judged_mechanism(name: &str, model: &str) -> App {
+    use prbfit::tui::worker::{mech_baseline_view, mech_model_view};
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("assets/scenes")
+        .join(format!("{name}.toml"));
+    let mut app = App::new(Scene::from_file(&path).unwrap(), Some(path));
+    app.matrix = prbfit::io::ModelFile::load(model).unwrap().prb;
+    let exact = mech_baseline_view(&app.scene, Fidelity::Normal).unwrap();
+    let (w, w_f) = (app.scene.fit.angle_weight, app.scene.fit.force_weight);
+    app.mech_model = Some(mech_model_view(&exact, &app.matrix, w, w_f).unwrap());
+    app.mech_exact = Some(Arc::new(exact));
+    app.activity = Activity::Done {
+        seconds: 0.0012,
+        stop: None,
+        iterations: 0,
+        evaluations: 0,
+    };
+    app.focus = Panel::Mechanism;
+    app
+}
+
+/// The slider-crank with Howell's 1R judged: the mechanism panel, every flexure, coupler and
+/// stage in the shape chart, the drive force against the stroke, the reaction error over its
+/// target, and the status line's `force ... FAIL<5`.
+#[test]
+fn mechanism_screen_120x40() {
+    let mut app = judged_mechanism("slider-crank", "howell-1r");
+    app.mech_state.row = 6;
+    let t = render(&app, 120, 40);
+    let text = format!("{}", t.backend());
+    assert!(text.contains("force 5.81% FAIL<5"), "{text}");
+    assert!(text.contains("Fy reaction vs dy"), "{text}");
+    insta::assert_snapshot!("mech_120x40", t.backend());
+}
+
+#[test]
+fn mechanism_screen_80x24() {
+    let app = judged_mechanism("slider-crank", "howell-1r");
+    insta::assert_snapshot!("mech_80x24", render(&app, 80, 24).backend());
+}
+
+/// A mechanism with loaded and prescribed coordinates and two flexures, compared with Su's
+/// 3R: the fixed-guided segment's stage position error and reaction error both on the
+/// status line, the compared model's figures on a second row.
+#[test]
+fn mechanism_compared_120x40() {
+    use prbfit::tui::worker::mech_model_view;
+    let mut app = judged_mechanism("parallel-stage", "chen-3r");
+    let su = prbfit::io::ModelFile::load("su-3r").unwrap().prb;
+    let exact = app.mech_exact.clone().unwrap();
+    app.compare = Some(("su-3r".into(), su.clone()));
+    app.mech_compare = Some((
+        exact.clone(),
+        mech_model_view(&exact, &su, 1.0, 1.0).unwrap(),
+    ));
+    app.focus = Panel::Matrix;
+    app.mech_state.case = Some(3);
+    let t = render(&app, 120, 40);
+    let text = format!("{}", t.backend());
+    assert!(text.contains("compared with su-3r"), "{text}");
+    assert!(text.contains("case 4/8"), "{text}");
+    insta::assert_snapshot!("mech_compare_120x40", t.backend());
+}
+
+/// The mechanism's panels one by one: the mechanism panel, the shape chart, the
+/// force-stroke chart (and its second panel, `F`), the error chart, the status lines.
+#[test]
+fn mechanism_panels_one_by_one() {
+    use prbfit::tui::ui::{mech, mech_errors, mech_shapes, status, strokes};
+    let mut app = judged_mechanism("fixed-guided", "su-3r");
+    app.mech_state.row = 4;
+    insta::assert_snapshot!(
+        "panel_mech",
+        panel(46, 12, |f, a| mech::draw(f, a, &mech::View::new(&app)))
+    );
+    insta::assert_snapshot!(
+        "panel_mech_shapes",
+        panel(74, 20, |f, a| mech_shapes::draw(
+            f,
+            a,
+            &mech_shapes::View::new(&app)
+        ))
+    );
+    insta::assert_snapshot!(
+        "panel_strokes",
+        panel(37, 15, |f, a| strokes::draw(
+            f,
+            a,
+            &strokes::View::new(&app)
+        ))
+    );
+    app.mech_state.chart = 1;
+    insta::assert_snapshot!(
+        "panel_strokes_second",
+        panel(37, 15, |f, a| strokes::draw(
+            f,
+            a,
+            &strokes::View::new(&app)
+        ))
+    );
+    insta::assert_snapshot!(
+        "panel_mech_errors",
+        panel(37, 15, |f, a| mech_errors::draw(
+            f,
+            a,
+            &mech_errors::View::new(&app)
+        ))
+    );
+    insta::assert_snapshot!(
+        "panel_mech_status",
+        panel(120, 4, |f, a| {
+            let row = |y, h| ratatui::layout::Rect::new(a.x, a.y + y, a.width, h);
+            status::draw_title(f, row(0, 1), &status::TitleView::new(&app));
+            status::draw(f, row(1, 2), &status::View::new(&app));
+            status::draw_hints(f, row(3, 1), &status::HintsView::new(&app));
+        })
+    );
+}
+
+/// Before the exact mechanism is solved, and when the PRB mechanism fails: a note, no chart.
+#[test]
+fn mechanism_waiting_and_failed_80x24() {
+    let path =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/fixed-guided.toml");
+    let mut app = App::new(Scene::from_file(&path).unwrap(), None);
+    insta::assert_snapshot!("mech_waiting_80x24", render(&app, 80, 24).backend());
+    app.activity = Activity::Failed(
+        "the PRB mechanism (L-R) cannot follow: the mechanism cannot follow drive 1 even to \
+         first order"
+            .into(),
+    );
+    app.set_error("the PRB mechanism (L-R) cannot follow");
+    let text = format!("{}", render(&app, 80, 24).backend());
+    assert!(text.contains("no result: the PRB mechanism"), "{text}");
+}
+
+/// The reaction verdict is in colour as well as words.
+#[test]
+fn mechanism_fail_is_red() {
+    let app = judged_mechanism("slider-crank", "howell-1r");
+    let t = render(&app, 120, 40);
+    let buf = t.backend().buffer();
+    let status_row = 37;
+    let line: String = (0..120)
+        .map(|x| buf[(x, status_row)].symbol().to_string())
+        .collect();
+    let fail_x = line
+        .find("FAIL")
+        .expect("Howell's 1R misses the reaction target") as u16;
+    assert_eq!(buf[(fail_x, status_row)].fg, Color::Red);
+}
+
+/// The selection view of a mechanism scene (timings fixed): the fixed-guided segment's ladder
+/// with the reaction error column, and the models that cannot follow it (a 1R cannot keep
+/// its tip angle) listed under the table.
+#[test]
+fn mechanism_selection_view_120x40() {
+    use prbfit::fit::CancelToken;
+    use prbfit::select::select_mechanism;
+    use prbfit::tui::state::select::SelectState;
+    let mut app = judged_mechanism("fixed-guided", "su-3r");
+    let exact = app.mech_exact.clone().unwrap();
+    let mut sel = select_mechanism(
+        &app.scene,
+        &exact.mechanism,
+        &exact.cases,
+        Fidelity::Draft,
+        &CancelToken::new(),
+        &mut |_| {},
+    )
+    .unwrap();
+    for (i, r) in sel.rows.iter_mut().enumerate() {
+        r.eval_seconds_per_case = 1e-6 * (2.0 + i as f64 / 10.0);
+        r.fit_seconds = if r.published {
+            0.0
+        } else {
+            0.02 * (i + 1) as f64
+        };
+    }
+    assert!(
+        sel.unfollowed.iter().any(|u| u.name == "howell-1r"),
+        "{sel:?}"
+    );
+    let mut state = SelectState::new(1);
+    state.on_done(1, sel, Vec::new());
+    app.mech_select = Some(state);
+    let t = render(&app, 120, 40);
+    let text = format!("{}", t.backend());
+    assert!(text.contains("max force"), "{text}");
+    assert!(text.contains("cannot follow the mechanism"), "{text}");
+    insta::assert_snapshot!("mech_select_120x40", t.backend());
 }

@@ -9,8 +9,8 @@
 //! the root moment (the tip's compliance). The map has no folds, so a beam held by a
 //! mechanism past its own load-controlled limit point is as regular as any other.
 
-use super::shoot::{root_shot, ShotFailure, TipForce};
-use super::{BeamSolver, CaseContext, Load, SolveError, TipPose};
+use super::shoot::{root_shot, shoot, Samples, Segment, ShotFailure, TipForce};
+use super::{BeamSolver, CaseContext, Load, ShapePoint, SolveError, TipPose};
 use crate::cancel::CancelToken;
 
 /// The beam shot from its clamp under a tip force and a root moment ([`BeamSolver::shoot_root`]).
@@ -51,26 +51,8 @@ impl BeamSolver {
         let mut settings = self.settings(load);
         settings.moment_scale = load.magnitude();
         let force = TipForce { alpha_x, alpha_y };
-        let failure = |reason: &str| SolveError::NoConvergence {
-            load,
-            fraction: 0.0,
-            reason: reason.to_string(),
-        };
-        let (u, _) =
-            root_shot(&self.model, force, m0, settings, &mut case.meter).map_err(|e| match e {
-                ShotFailure::Material(limit) => SolveError::MaterialLimit {
-                    load,
-                    fraction: 0.0,
-                    reason: limit.to_string(),
-                },
-                ShotFailure::StepBudget => failure("the integrator's step size collapsed"),
-                ShotFailure::NonFinite => failure("the shot overflowed"),
-                ShotFailure::OutOfEffort => case.exceeded(load, 0.0),
-                ShotFailure::Cancelled => SolveError::Cancelled {
-                    load,
-                    fraction: 0.0,
-                },
-            })?;
+        let (u, _) = root_shot(&self.model, force, m0, settings, &mut case.meter)
+            .map_err(|e| shot_error(e, load, &case))?;
         // Slots: psi, M, x, y; then d/dM0 (4..8), d/dalpha_x (8..12), d/dalpha_y (12..16).
         let row = |k: usize| [u[8 + k], u[12 + k], u[4 + k]];
         Ok(RootShot {
@@ -82,6 +64,73 @@ impl BeamSolver {
             tip_moment: u[1],
             jacobian: [row(2), row(3), row(0), row(1)],
         })
+    }
+
+    /// The centre line of the beam [`BeamSolver::shoot_root`] shoots: the resolution's
+    /// `shape_points` points evenly spaced along it, root and tip included (units of this
+    /// beam, its clamp at the origin along +x). For drawing a flexure whose tip force and
+    /// root moment a mechanism solved (the tip wrench's `beta + alpha_y a - alpha_x b` is the
+    /// root moment).
+    pub fn root_shape(
+        &self,
+        alpha_x: f64,
+        alpha_y: f64,
+        m0: f64,
+    ) -> Result<Vec<ShapePoint>, SolveError> {
+        let load = Load::new(alpha_x, alpha_y, m0);
+        if !load.is_finite() {
+            return Err(SolveError::NonFiniteLoad(load));
+        }
+        let cancel = CancelToken::new();
+        let mut case = CaseContext::new(self.budget, &self.model, &cancel);
+        let mut settings = self.settings(load);
+        settings.moment_scale = load.magnitude();
+        let segment = Segment {
+            s_start: 0.0,
+            s_end: 1.0,
+            psi: 0.0,
+            moment: m0,
+            origin: (0.0, 0.0),
+        };
+        let mut points = Vec::with_capacity(self.resolution.shape_points);
+        let samples = Samples {
+            points: &mut points,
+            count: self.resolution.shape_points,
+        };
+        let force = TipForce { alpha_x, alpha_y };
+        shoot::<8>(
+            &self.model,
+            force,
+            segment,
+            settings,
+            Some(samples),
+            &mut case.meter,
+        )
+        .map_err(|e| shot_error(e, load, &case))?;
+        Ok(points)
+    }
+}
+
+/// A failed shot from the clamp as the solver reports it.
+fn shot_error(e: ShotFailure, load: Load, case: &CaseContext<'_>) -> SolveError {
+    let failure = |reason: &str| SolveError::NoConvergence {
+        load,
+        fraction: 0.0,
+        reason: reason.to_string(),
+    };
+    match e {
+        ShotFailure::Material(limit) => SolveError::MaterialLimit {
+            load,
+            fraction: 0.0,
+            reason: limit.to_string(),
+        },
+        ShotFailure::StepBudget => failure("the integrator's step size collapsed"),
+        ShotFailure::NonFinite => failure("the shot overflowed"),
+        ShotFailure::OutOfEffort => case.exceeded(load, 0.0),
+        ShotFailure::Cancelled => SolveError::Cancelled {
+            load,
+            fraction: 0.0,
+        },
     }
 }
 
@@ -147,5 +196,28 @@ mod tests {
             loaded.tip
         );
         assert!(shot.stability() > 0.0);
+    }
+
+    /// The drawn centre line is the shot's: it starts at the clamp, ends at the shot's tip,
+    /// and its samples are evenly spaced along the beam.
+    #[test]
+    fn root_shape_ends_at_the_shot_tip() {
+        let solver = stubby_rubber();
+        let (ax, ay, m0) = (-0.6, 2.4, 1.1);
+        let shot = solver.shoot_root(ax, ay, m0).unwrap();
+        let shape = solver.root_shape(ax, ay, m0).unwrap();
+        assert_eq!(shape.len(), solver.resolution.shape_points);
+        let (first, last) = (shape[0], shape[shape.len() - 1]);
+        assert_eq!((first.x, first.y, first.psi), (0.0, 0.0, 0.0));
+        let tip = TipPose {
+            a: last.x,
+            b: last.y,
+            phi: last.psi,
+        };
+        assert!(tip.max_diff(&shot.tip) < 1e-8, "{tip:?} vs {:?}", shot.tip);
+        for (k, p) in shape.iter().enumerate() {
+            let s = k as f64 / (shape.len() - 1) as f64;
+            assert!((p.s - s).abs() < 1e-12);
+        }
     }
 }

@@ -160,15 +160,17 @@ fn load_scene(common: &Common) -> Result<Scene> {
     })
 }
 
-/// Mechanism scenes (DESIGN §8) are solved, judged and fitted by `solve`, `eval` and `fit`,
-/// drawn by `plot` and exported (MJCF) by `export`; the other commands cannot take them yet: say so (bad input, exit 2) instead of
+/// Mechanism scenes (DESIGN §8) are solved, judged, fitted and selected on by `solve`,
+/// `eval`, `fit` and `select`, drawn by `plot`, exported by `export` and edited in the UI;
+/// the other commands cannot take them yet: say so (bad input, exit 2) instead of
 /// judging a cantilever that is not there.
 fn refuse_mechanism(scene: &Scene, command: &str) -> Result<()> {
     match &scene.mechanism {
         None => Ok(()),
         Some(m) => Err(bad(format!(
             "\"{}\" is a mechanism scene ({} flexures, {} drive paths): mechanism scenes are \
-             not supported by `{command}` yet (`solve`, `eval`, `fit`, `plot` and `export` take them)",
+             not supported by `{command}` yet (`solve`, `eval`, `fit`, `select`, `plot`, \
+             `export` and the UI take them)",
             output::safe(&scene.name),
             m.flexures.len(),
             m.drives.len()
@@ -195,7 +197,6 @@ fn tui(path: Option<PathBuf>) -> Result<()> {
         Some(p) => Scene::from_file(p)?,
         None => Scene::builtin(),
     };
-    refuse_mechanism(&scene, "tui")?;
     prbfit::tui::run(scene, path).map_err(|e| bad(format!("{e:#}")))
 }
 

@@ -287,6 +287,7 @@ mod tests {
             stage_load,
             flexures: Vec::new(),
             iterations: 0,
+            joints: Vec::new(),
         }
     }
 

@@ -55,6 +55,7 @@
 pub mod exact;
 pub mod figures;
 pub mod geometry;
+pub mod pose;
 pub mod prb;
 pub mod solve;
 
@@ -94,6 +95,11 @@ pub struct MechCase {
     pub flexures: Vec<FlexureCase>,
     /// Newton iterations spent on this case, sub-steps included.
     pub iterations: u32,
+    /// Per flexure, its model's internal unknowns: a PRB chain's joint coordinates `q`
+    /// (angles, extensions, root first), from which its shape is drawn; empty for the beam,
+    /// whose shape follows from its tip wrench.
+    #[serde(skip)]
+    pub joints: Vec<Vec<f64>>,
 }
 
 /// Why a flexure's tip could not be solved.

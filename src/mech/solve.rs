@@ -672,12 +672,19 @@ impl<M: FlexureModel> MechSolver<M> {
                 }
             })
             .collect();
+        let joints = self
+            .offsets
+            .iter()
+            .zip(&self.models)
+            .map(|(&o, m)| point.x[o + 3..o + 3 + m.internal()].to_vec())
+            .collect();
         MechCase {
             fraction: point.lambda,
             stage: self.pose(drive, point.lambda, &point.x),
             stage_load,
             flexures,
             iterations,
+            joints,
         }
     }
 }

@@ -266,7 +266,6 @@ pub fn figure_from(
             got: models.len(),
         });
     }
-    let units = MechUnits::new(mechanism);
     let followed: Vec<Followed> = models
         .iter()
         .map(|m| follow(mechanism, &m.matrix, tol))
@@ -308,6 +307,35 @@ pub fn figure_from(
         })
         .collect();
 
+    let reached: Vec<&[Vec<MechCase>]> = followed.iter().map(|f| f.drives.as_slice()).collect();
+    let panels = stroke_panels(mechanism, beam, &reached, kind);
+    if panels.is_empty() {
+        return Err(PlotError::NothingToDraw {
+            kind,
+            scene: scene.name.clone(),
+        });
+    }
+    Ok(Figure {
+        kind,
+        title: scene.name.clone(),
+        shapes: None,
+        errors: None,
+        force_stroke: Some(ForceStrokeChart { legend, panels }),
+        unfollowed,
+    })
+}
+
+/// The panels of the force–stroke chart: per drive, its reactions (when `kind` has force),
+/// then its motions (when it has motion), each coordinate whose beam output is not
+/// identically zero; `beam` is the exact mechanism's cases and `models` each model's, one
+/// `Vec` per drive, as far as the model got. The UI draws these too.
+pub fn stroke_panels(
+    mechanism: &Mechanism,
+    beam: &[Vec<MechCase>],
+    models: &[&[Vec<MechCase>]],
+    kind: ChartKind,
+) -> Vec<StrokePanel> {
+    let units = MechUnits::new(mechanism);
     let drive_count = mechanism.drives.len();
     let mut panels = Vec::new();
     for (i, d) in mechanism.drives.iter().enumerate() {
@@ -371,28 +399,15 @@ pub fn figure_from(
                     x_label: x.label.clone(),
                     y_label,
                     beam: curve(beam_cases),
-                    models: followed
+                    models: models
                         .iter()
-                        .map(|f| curve(f.drives.get(i).map_or(&[][..], Vec::as_slice)))
+                        .map(|m| curve(m.get(i).map_or(&[][..], Vec::as_slice)))
                         .collect(),
                 });
             }
         }
     }
-    if panels.is_empty() {
-        return Err(PlotError::NothingToDraw {
-            kind,
-            scene: scene.name.clone(),
-        });
-    }
-    Ok(Figure {
-        kind,
-        title: scene.name.clone(),
-        shapes: None,
-        errors: None,
-        force_stroke: Some(ForceStrokeChart { legend, panels }),
-        unfollowed,
-    })
+    panels
 }
 
 #[cfg(test)]

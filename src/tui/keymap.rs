@@ -47,6 +47,14 @@ pub enum Action {
     PrevPath,
     /// Show the next load path.
     NextPath,
+    /// Mechanism: a drive coordinate prescribed or loaded, or the next attachment.
+    ToggleKind,
+    /// Mechanism: the shape chart's previous case.
+    PrevCase,
+    /// Mechanism: the shape chart's next case.
+    NextCase,
+    /// Mechanism: the force-stroke chart's next panel.
+    NextChart,
     /// Ask for a topology or model name.
     Topology,
     /// Load the next published model.
@@ -131,8 +139,10 @@ impl Scope {
     pub const LOADS: Scope = Scope(2);
     /// The matrix panel.
     pub const MATRIX: Scope = Scope(4);
-    /// Any of the three panels.
-    pub const PANELS: Scope = Scope(7);
+    /// The mechanism panel.
+    pub const MECH: Scope = Scope(32);
+    /// Any of the panels.
+    pub const PANELS: Scope = Scope(1 | 2 | 4 | 32);
     /// The selection view.
     pub const SELECT: Scope = Scope(8);
     /// Text entry: a field's editor or a prompt.
@@ -154,6 +164,7 @@ impl Scope {
             Panel::Beam => Scope::BEAM,
             Panel::Loads => Scope::LOADS,
             Panel::Matrix => Scope::MATRIX,
+            Panel::Mechanism => Scope::MECH,
         }
     }
 }
@@ -274,7 +285,7 @@ pub const KEYMAP: &[Entry] = &[
         bindings: &[code(KeyCode::Enter, Action::Edit)],
         hints: &[
             hint("Enter edit (0.5 mm, 200 GPa)", Scope::BEAM),
-            hint("Enter edit", Scope::LOADS.or(Scope::MATRIX)),
+            hint("Enter edit", Scope::LOADS.or(Scope::MATRIX).or(Scope::MECH)),
         ],
     },
     Entry {
@@ -296,13 +307,21 @@ pub const KEYMAP: &[Entry] = &[
         hints: &[hint("1/2/3 shear/extension/poisson", Scope::BEAM)],
     },
     Entry {
+        keys: "p",
+        does: "mechanism: coordinate prescribed <-> loaded (same end state), attach kind",
+        scope: Scope::MECH,
+        bindings: &[ch('p', Action::ToggleKind)],
+        hints: &[hint("p prescribed/loaded", Scope::MECH)],
+    },
+    Entry {
         keys: "a / d",
-        does: "add / delete a matrix row or a load path",
-        scope: Scope::LOADS.or(Scope::MATRIX),
+        does: "add / delete a matrix row, a load path or a mechanism's drive",
+        scope: Scope::LOADS.or(Scope::MATRIX).or(Scope::MECH),
         bindings: &[ch('a', Action::AddRow), ch('d', Action::DeleteRow)],
         hints: &[
             hint("a/d row", Scope::MATRIX),
             hint("a/d path", Scope::LOADS),
+            hint("a/d drive", Scope::MECH),
         ],
     },
     Entry {
@@ -314,10 +333,27 @@ pub const KEYMAP: &[Entry] = &[
     },
     Entry {
         keys: "[ / ]",
-        does: "previous / next load path in the shape chart",
+        does: "previous / next load path (a mechanism's drive) in the charts",
         scope: ALL,
         bindings: &[ch('[', Action::PrevPath), ch(']', Action::NextPath)],
-        hints: &[hint("[ ] shown path", Scope::LOADS)],
+        hints: &[
+            hint("[ ] shown path", Scope::LOADS),
+            hint("[ ] drive", Scope::MECH),
+        ],
+    },
+    Entry {
+        keys: "< / >",
+        does: "mechanism: previous / next case of the shown drive in the shape chart",
+        scope: ALL,
+        bindings: &[ch('<', Action::PrevCase), ch('>', Action::NextCase)],
+        hints: &[hint("< > case", Scope::MECH)],
+    },
+    Entry {
+        keys: "F",
+        does: "mechanism: the force-stroke chart's next reaction (or motion)",
+        scope: ALL,
+        bindings: &[ch('F', Action::NextChart)],
+        hints: &[hint("F force chart", Scope::MECH)],
     },
     Entry {
         keys: "t",
@@ -523,6 +559,7 @@ mod tests {
             Scope::BEAM,
             Scope::LOADS,
             Scope::MATRIX,
+            Scope::MECH,
             Scope::SELECT,
             Scope::TEXT,
         ] {

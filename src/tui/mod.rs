@@ -1,5 +1,6 @@
-//! The terminal UI: edit the beam, the loads and the PRB matrix; the worker refits live; the
-//! charts show the deformed shapes and the tip errors.
+//! The terminal UI: edit the beam, the loads (or a mechanism's flexures, stage and drives)
+//! and the PRB matrix; the worker refits live; the charts show the deformed shapes and the
+//! errors (on a mechanism, the force–stroke chart and the reaction error).
 //!
 //! - [`app`]: the shared state and the update logic (no terminal), unit-tested;
 //! - [`state`]: each panel's own state: cursor and edit handling;
@@ -11,8 +12,8 @@
 //! The terminal is restored on quit, on error, on SIGTERM and SIGHUP, and on a panic of the UI
 //! thread (a panic hook);
 //! a panic inside the worker is caught there and shown as a message, and the UI goes on.
-//! With `PRBFIT_TRACE=FILE` the loop writes timings (edit to redrawn chart, frame draws) and
-//! peak memory to FILE, for measuring.
+//! With `PRBFIT_TRACE=FILE` the loop writes timings (edit to redrawn chart, edit to the
+//! job's final chart, frame draws) and peak memory to FILE, for measuring.
 
 pub mod app;
 pub mod keymap;
@@ -97,7 +98,11 @@ fn install_panic_hook() {
 /// Timings for `PRBFIT_TRACE`.
 struct Trace {
     file: std::fs::File,
+    /// The job answering the last accepted edit, and when the edit was accepted: until its
+    /// first chart is drawn.
     edit_at: Option<(u64, Instant)>,
+    /// The same, until the job's final chart (its fit done) is drawn.
+    done_at: Option<(u64, Instant)>,
 }
 
 impl Trace {
@@ -110,6 +115,7 @@ impl Trace {
             .map(|file| Trace {
                 file,
                 edit_at: None,
+                done_at: None,
             })
     }
 
@@ -277,21 +283,35 @@ fn run_loop(
             Some(Err(_)) => break,
         }
         while let Ok(msg) = worker.messages.try_recv() {
-            let shows_model = matches!(msg, WorkerMsg::Progress { .. } | WorkerMsg::Done { .. });
+            let shows_model = matches!(
+                msg,
+                WorkerMsg::Progress { .. }
+                    | WorkerMsg::Done { .. }
+                    | WorkerMsg::MechProgress { .. }
+                    | WorkerMsg::MechDone { .. }
+            );
             let id = msg.id();
+            let is_done = matches!(msg, WorkerMsg::Done { .. } | WorkerMsg::MechDone { .. });
             if app.on_worker(msg) {
                 redraw = true;
                 if let (Some(t), true) = (&mut trace, shows_model) {
-                    if let Some((edit_id, at)) = t.edit_at {
-                        if edit_id == id {
-                            // Drawn at the top of the next pass: include that frame.
-                            if !draw(terminal, app)? {
-                                return Ok(());
-                            }
-                            let ms = at.elapsed().as_secs_f64() * 1e3;
-                            t.line(format!("edit_to_chart_ms {ms:.3}"));
-                            t.edit_at = None;
+                    let first = t.edit_at.filter(|(edit_id, _)| *edit_id == id);
+                    let last = t.done_at.filter(|(edit_id, _)| *edit_id == id && is_done);
+                    if first.is_some() || last.is_some() {
+                        // Drawn at the top of the next pass: include that frame.
+                        if !draw(terminal, app)? {
+                            return Ok(());
                         }
+                    }
+                    if let Some((_, at)) = first {
+                        let ms = at.elapsed().as_secs_f64() * 1e3;
+                        t.line(format!("edit_to_chart_ms {ms:.3}"));
+                        t.edit_at = None;
+                    }
+                    if let Some((_, at)) = last {
+                        let ms = at.elapsed().as_secs_f64() * 1e3;
+                        t.line(format!("edit_to_done_ms {ms:.3}"));
+                        t.done_at = None;
                     }
                 }
             }
@@ -320,6 +340,7 @@ fn execute_command(app: &mut App, worker: &Worker, cmd: Command, trace: &mut Opt
     if let (Some(t), Some(at)) = (trace.as_mut(), app.edit_accepted_at) {
         // Time from the accepted edit (debounce included) to the chart.
         t.edit_at = Some((job.id, at));
+        t.done_at = Some((job.id, at));
     }
     worker.submit(job);
 }
@@ -343,11 +364,6 @@ pub fn run_command(app: &mut App, cmd: Command, now: Instant) -> Option<Job> {
             }
         }
         Command::OpenScene(path) => match Scene::from_file(&path) {
-            Ok(scene) if scene.mechanism.is_some() => app.set_error(format!(
-                "not opened: {} is a mechanism scene (DESIGN §8); the UI solves only \
-                 cantilever scenes so far",
-                path.display()
-            )),
             Ok(scene) => {
                 app.set_scene(scene, path.clone(), now);
                 app.set_info(format!("opened {}", path.display()));

@@ -14,10 +14,12 @@ use std::time::{Duration, Instant};
 
 use ratatui::crossterm::event::{KeyCode, KeyEvent, KeyEventKind, KeyModifiers};
 
+use crate::beam::Effects;
 use crate::cancel::CancelToken;
 use crate::fit::{Fidelity, FitReport, StopReason};
 use crate::format::Format;
 use crate::io::ModelFile;
+use crate::mech::figures::MechFigures;
 use crate::prb::published::NAMES as PUBLISHED;
 use crate::prb::{Column, PrbMatrix};
 use crate::scene::{EffectsChoice, Scene};
@@ -26,10 +28,13 @@ use super::keymap::{self, Action, Scope};
 use super::state::beam::{toggled_effect, BeamField, BeamState};
 use super::state::loads::{self, held_forces, Hold, LoadsState};
 use super::state::matrix::MatrixState;
+use super::state::mech::{self as mech_state, MechField, MechState};
 use super::state::select::SelectState;
 pub use super::state::Panel;
 use super::units::trim_number;
-use super::worker::{BaselineView, FitStatus, Job, JobKind, ModelView, WorkerMsg};
+use super::worker::{
+    BaselineView, FitStatus, Job, JobKind, MechBaselineView, MechModelView, ModelView, WorkerMsg,
+};
 
 /// Edits closer together than this are sent as one job.
 pub const DEBOUNCE: Duration = Duration::from_millis(30);
@@ -53,6 +58,8 @@ pub enum EditTarget {
         /// The column.
         col: Column,
     },
+    /// A row of the mechanism panel.
+    Mech(MechField),
 }
 
 /// What a prompt asks for.
@@ -64,6 +71,8 @@ pub enum PromptKind {
     OpenScene,
     /// A path to export the model to.
     ExportModel,
+    /// A path to export a mechanism scene's PRB mechanism (or its model file) to.
+    ExportMechanism,
     /// A topology or published model name.
     Topology,
     /// Whether to quit with unsaved work.
@@ -91,6 +100,9 @@ impl PromptKind {
             PromptKind::SaveScene => "save scene to",
             PromptKind::OpenScene => "open scene",
             PromptKind::ExportModel => "export model to (.toml .json .xml/.mjcf .urdf .sdf .csv)",
+            PromptKind::ExportMechanism => {
+                "export the PRB mechanism to (.xml/.mjcf: MuJoCo; .toml .json: model file)"
+            }
             PromptKind::Topology => "topology (e.g. L-R-R-R, L-RP) or howell-1r, su-3r, chen-3r",
             PromptKind::ConfirmQuit => "unsaved changes: quit anyway? (y/n)",
             PromptKind::ConfirmOpen => "unsaved changes: open another scene anyway? (y/n)",
@@ -290,6 +302,8 @@ pub struct App {
     next_published: usize,
     /// The selection view, when open.
     pub select: Option<SelectState>,
+    /// The selection view of a mechanism scene, when open.
+    pub mech_select: Option<SelectState<MechFigures>>,
     /// The matrix came from the scene's `[prb] matrix`: the first job judges it as saved.
     model_from_scene: bool,
     /// The density the exported links get (kg/m^3).
@@ -304,6 +318,15 @@ pub struct App {
     pub compare_view: Option<(Arc<BaselineView>, ModelView)>,
     /// The last selection's model (its choice, else the closest row), which `C` offers.
     pub selection_model: Option<(String, PrbMatrix)>,
+    /// A mechanism scene's panel cursor and what its charts show.
+    pub mech_state: MechState,
+    /// A mechanism scene's exact mechanism the shown model was judged on.
+    pub mech_exact: Option<Arc<MechBaselineView>>,
+    /// A mechanism scene's shown model.
+    pub mech_model: Option<MechModelView>,
+    /// A mechanism scene's compared model as judged, with the exact mechanism it was judged
+    /// on.
+    pub mech_compare: Option<(Arc<MechBaselineView>, MechModelView)>,
 }
 
 impl App {
@@ -352,6 +375,7 @@ impl App {
             report: None,
             next_published: 0,
             select: None,
+            mech_select: None,
             model_from_scene,
             export_density: DEFAULT_DENSITY,
             export_path: None,
@@ -359,7 +383,38 @@ impl App {
             compare: None,
             compare_view: None,
             selection_model: None,
+            mech_state: MechState::default(),
+            mech_exact: None,
+            mech_model: None,
+            mech_compare: None,
         }
+    }
+
+    /// Whether the scene is a mechanism (DESIGN §8).
+    pub fn is_mechanism(&self) -> bool {
+        self.scene.mechanism.is_some()
+    }
+
+    /// What `auto` effects were decided as, once the worker decided them.
+    pub fn decided_effects(&self) -> Option<Effects> {
+        if self.is_mechanism() {
+            self.mech_exact.as_ref().map(|v| v.effects)
+        } else {
+            self.baseline
+                .as_ref()
+                .filter(|v| v.decision.is_some())
+                .map(|v| v.effects)
+        }
+    }
+
+    /// A mechanism scene's compared model to draw, when it was judged for the compared
+    /// matrix on the exact mechanism the main model is shown with.
+    pub fn shown_mech_compare(&self) -> Option<(&str, &MechModelView)> {
+        let (name, matrix) = self.compare.as_ref()?;
+        let (exact, view) = self.mech_compare.as_ref()?;
+        let shown = self.mech_exact.as_ref()?;
+        let same = Arc::ptr_eq(exact, shown) || **exact == **shown;
+        (same && view.matrix == *matrix).then_some((name.as_str(), view))
     }
 
     /// The compared model to draw: its name and view, when it was judged for the compared
@@ -388,6 +443,7 @@ impl App {
         match self.compare.clone() {
             None => {
                 self.compare_view = None;
+                self.mech_compare = None;
                 self.set_info("compare: none");
                 None
             }
@@ -520,32 +576,74 @@ impl App {
         self.pending.is_some()
     }
 
-    /// Opens the selection view and starts the selection job.
+    /// Opens the selection view (a mechanism scene's on a mechanism scene) and starts the
+    /// selection job.
     fn open_selection(&mut self) -> Command {
         let cmd = self.submit_kind(JobKind::Select);
         let job = self.current_job.as_ref().map_or(0, |(id, _)| *id);
-        self.select = Some(SelectState::new(job));
+        if self.is_mechanism() {
+            self.mech_select = Some(SelectState::new(job));
+        } else {
+            self.select = Some(SelectState::new(job));
+        }
         cmd
+    }
+
+    /// Whether a selection view is open.
+    pub fn selection_open(&self) -> bool {
+        self.select.is_some() || self.mech_select.is_some()
+    }
+
+    /// Whether the open selection's job still runs.
+    fn selection_running(&self) -> bool {
+        self.select.as_ref().is_some_and(|v| v.running)
+            || self.mech_select.as_ref().is_some_and(|v| v.running)
+    }
+
+    /// The open selection's job ended (done, failed, stopped).
+    pub(super) fn selection_stopped(&mut self) {
+        if let Some(v) = &mut self.select {
+            v.running = false;
+        }
+        if let Some(v) = &mut self.mech_select {
+            v.running = false;
+        }
+    }
+
+    /// The model of the row under the open selection's cursor.
+    fn selected_model(&self) -> Option<(String, PrbMatrix)> {
+        let row = |name: &str, m: &PrbMatrix| (name.to_string(), m.clone());
+        match (&self.select, &self.mech_select) {
+            (Some(v), _) => v.selected_row().map(|r| row(&r.name, &r.prb)),
+            (None, Some(v)) => v.selected_row().map(|r| row(&r.name, &r.prb)),
+            (None, None) => None,
+        }
     }
 
     /// Keys while the selection view is open.
     fn select_key(&mut self, key: KeyEvent, now: Instant) -> Vec<Command> {
-        let Some(view) = &mut self.select else {
+        if !self.selection_open() {
             return Vec::new();
-        };
+        }
         match keymap::action(&key, Scope::SELECT) {
-            Some(Action::Up) => view.move_by(-1),
-            Some(Action::Down) => view.move_by(1),
-            Some(Action::SelectStop) if view.running => {
+            Some(a @ (Action::Up | Action::Down)) => {
+                let dy = if a == Action::Up { -1 } else { 1 };
+                if let Some(v) = &mut self.select {
+                    v.move_by(dy);
+                }
+                if let Some(v) = &mut self.mech_select {
+                    v.move_by(dy);
+                }
+            }
+            Some(Action::SelectStop) if self.selection_running() => {
                 if let Some((_, token)) = &self.current_job {
                     token.cancel();
                 }
-                view.running = false;
+                self.selection_stopped();
                 self.set_info("selection cancelled");
             }
             Some(Action::SelectLoad) => {
-                if let Some(row) = view.selected_row() {
-                    let (name, m) = (row.name.clone(), row.prb.clone());
+                if let Some((name, m)) = self.selected_model() {
                     self.close_selection();
                     self.set_info(format!("matrix: {name} from the selection (r fits it)"));
                     self.replace_matrix(m, now);
@@ -564,11 +662,12 @@ impl App {
     }
 
     fn close_selection(&mut self) {
-        if let Some(v) = self.select.take() {
-            if v.running {
-                if let Some((_, token)) = &self.current_job {
-                    token.cancel();
-                }
+        let running = self.selection_running();
+        self.select = None;
+        self.mech_select = None;
+        if running {
+            if let Some((_, token)) = &self.current_job {
+                token.cancel();
             }
         }
     }
@@ -623,7 +722,7 @@ impl App {
             self.help = false;
             return Vec::new();
         }
-        if self.select.is_some() {
+        if self.selection_open() {
             if ctrl_c {
                 self.close_selection();
                 self.request_quit();
@@ -647,8 +746,8 @@ impl App {
         match action {
             Action::Quit => self.request_quit(),
             Action::Help => self.help = true,
-            Action::NextPanel => self.focus = self.focus.next(),
-            Action::PrevPanel => self.focus = self.focus.prev(),
+            Action::NextPanel => self.focus = self.focus.next(self.is_mechanism()),
+            Action::PrevPanel => self.focus = self.focus.prev(self.is_mechanism()),
             Action::Up => self.move_cursor(0, -1),
             Action::Down => self.move_cursor(0, 1),
             Action::Left => self.move_cursor(-1, 0),
@@ -688,6 +787,9 @@ impl App {
                     self.open_prompt(PromptKind::OpenScene, String::new());
                 }
             }
+            Action::Export if self.is_mechanism() => {
+                self.open_prompt(PromptKind::ExportMechanism, "mechanism.xml".into())
+            }
             Action::Export => self.open_prompt(PromptKind::ExportModel, "model.toml".into()),
             Action::Topology => self.open_prompt(PromptKind::Topology, self.matrix.topology()),
             Action::NextPublished => self.next_published_model(now),
@@ -716,8 +818,20 @@ impl App {
                     Hold::Force => "hold: force (a beam edit keeps Fx, Fy, Mz; the alphas follow)",
                 });
             }
-            Action::PrevPath => self.loads_state.cycle_path(-1, self.scene.loads.len()),
-            Action::NextPath => self.loads_state.cycle_path(1, self.scene.loads.len()),
+            Action::PrevPath | Action::NextPath => {
+                let delta = if action == Action::PrevPath { -1 } else { 1 };
+                match &self.scene.mechanism {
+                    Some(m) => self.mech_state.cycle_drive(delta, m.drives.len()),
+                    None => self.loads_state.cycle_path(delta, self.scene.loads.len()),
+                }
+            }
+            Action::PrevCase | Action::NextCase => {
+                let delta = if action == Action::PrevCase { -1 } else { 1 };
+                let cases = self.shown_drive_cases();
+                self.mech_state.cycle_case(delta, cases);
+            }
+            Action::NextChart => self.mech_state.chart += 1,
+            Action::ToggleKind => self.toggle_kind(now),
             // The selection view's and the text boxes' own keys never reach here.
             Action::SelectLoad
             | Action::SelectStop
@@ -760,11 +874,47 @@ impl App {
     }
 
     fn move_cursor(&mut self, dx: i32, dy: i32) {
+        let mechanism = self.is_mechanism();
         match self.focus {
-            Panel::Beam => self.beam_state.move_by(dy),
+            Panel::Beam => self.beam_state.move_by(dy, mechanism),
             Panel::Loads => self.loads_state.move_by(dx, dy, self.scene.loads.len()),
             Panel::Matrix => self.matrix_state.move_by(dx, dy, self.matrix.len()),
+            Panel::Mechanism => {
+                let rows = self
+                    .scene
+                    .mechanism
+                    .as_ref()
+                    .map_or(0, |m| mech_state::fields(m).len());
+                self.mech_state.move_by(dy, rows);
+                // The charts follow the drive the cursor is on.
+                if let Some(d) = self.mech_field().and_then(MechField::drive) {
+                    if d != self.mech_state.drive {
+                        self.mech_state.drive = d;
+                        self.mech_state.case = None;
+                        self.mech_state.chart = 0;
+                    }
+                }
+            }
         }
+    }
+
+    /// The mechanism panel's selected row.
+    pub fn mech_field(&self) -> Option<MechField> {
+        self.mech_state.field(self.scene.mechanism.as_ref()?)
+    }
+
+    /// The drive the mechanism charts show.
+    pub fn shown_drive(&self) -> usize {
+        let drives = self.scene.mechanism.as_ref().map_or(0, |m| m.drives.len());
+        self.mech_state.shown_drive(drives)
+    }
+
+    /// How many cases the shown drive has in the exact mechanism shown.
+    pub fn shown_drive_cases(&self) -> usize {
+        self.mech_exact
+            .as_ref()
+            .and_then(|v| v.cases.get(self.shown_drive()))
+            .map_or(0, Vec::len)
     }
 
     /// The beam the SI view (`u`) shows the matrix and the loads for, when it is on.
@@ -781,11 +931,14 @@ impl App {
     fn start_edit(&mut self) {
         let (target, text) = match self.focus {
             Panel::Beam => {
-                let f = self.beam_state.field();
-                (
-                    EditTarget::Beam(f),
-                    f.edit_text(&self.scene, self.baseline.as_deref()),
-                )
+                let f = self.beam_state.field(self.is_mechanism());
+                (EditTarget::Beam(f), f.edit_text(&self.scene))
+            }
+            Panel::Mechanism => {
+                let Some((m, f)) = self.scene.mechanism.as_ref().zip(self.mech_field()) else {
+                    return;
+                };
+                (EditTarget::Mech(f), f.edit_text(m))
             }
             Panel::Loads => {
                 let (row, col) = (self.loads_state.row, self.loads_state.col);
@@ -839,11 +992,17 @@ impl App {
                 if self.loads_state.hold == Hold::Force {
                     scene.loads = held_forces(&scene.loads, &self.scene.beam, &scene.beam);
                 }
-                validate_scene(&scene)?;
-                if scene != self.scene {
-                    self.scene = scene;
-                    self.scene_dirty = true;
-                }
+                self.take_scene(scene)?;
+            }
+            EditTarget::Mech(field) => {
+                let m = self
+                    .scene
+                    .mechanism
+                    .as_ref()
+                    .ok_or("not a mechanism scene")?;
+                let mut scene = self.scene.clone();
+                scene.mechanism = Some(field.edited(m, text)?);
+                self.take_scene(scene)?;
             }
             EditTarget::Load { row, col } => {
                 let old = self.scene.loads.get(*row).ok_or("no such load path")?;
@@ -864,6 +1023,50 @@ impl App {
             }
         }
         Ok(())
+    }
+
+    /// Takes an edited scene if it obeys the scene file's rules (on a mechanism scene the
+    /// flexures first follow a beam edit: [`mech_state::rebased`]).
+    fn take_scene(&mut self, mut scene: Scene) -> Result<(), String> {
+        if let Some(m) = &scene.mechanism {
+            if scene.beam != self.scene.beam {
+                scene.mechanism = Some(mech_state::rebased(m, &self.scene.beam, &scene.beam));
+            }
+            mech_state::validate(&scene)?;
+        } else {
+            validate_scene(&scene)?;
+        }
+        if scene != self.scene {
+            self.scene = scene;
+            self.scene_dirty = true;
+        }
+        Ok(())
+    }
+
+    /// `p` on the mechanism panel: the selected coordinate prescribed or loaded, or the
+    /// selected flexure's next attachment that makes a valid mechanism.
+    fn toggle_kind(&mut self, now: Instant) {
+        let (Some(m), Some(field)) = (self.scene.mechanism.as_ref(), self.mech_field()) else {
+            return;
+        };
+        let choices = mech_state::toggled(m, field, self.mech_exact.as_deref());
+        if choices.is_empty() {
+            self.set_error("p: on a drive coordinate (x, y, phi) or a flexure's attach row");
+            return;
+        }
+        let mut last_error = String::new();
+        for choice in choices {
+            let mut scene = self.scene.clone();
+            scene.mechanism = Some(choice);
+            match self.take_scene(scene) {
+                Ok(()) => {
+                    self.changed(now);
+                    return;
+                }
+                Err(e) => last_error = e,
+            }
+        }
+        self.set_error(format!("rejected: {last_error} (the old value is kept)"));
     }
 
     /// A topology name or a published model's name.
@@ -915,11 +1118,16 @@ impl App {
 
     /// 1, 2, 3 switch shear, extension, poisson.
     fn toggle_effect(&mut self, which: char, now: Instant) {
-        let e = toggled_effect(&self.scene, self.baseline.as_deref(), which);
-        self.scene.beam.effects = EffectsChoice::Fixed(e);
-        self.scene_dirty = true;
-        self.set_info(format!("effects: {e}"));
-        self.changed(now);
+        let e = toggled_effect(&self.scene, self.decided_effects(), which);
+        let mut scene = self.scene.clone();
+        scene.beam.effects = EffectsChoice::Fixed(e);
+        match self.take_scene(scene) {
+            Ok(()) => {
+                self.set_info(format!("effects: {e}"));
+                self.changed(now);
+            }
+            Err(err) => self.set_error(format!("rejected: {err}")),
+        }
     }
 
     fn toggle_free(&mut self, now: Instant) {
@@ -947,7 +1155,50 @@ impl App {
                 }
                 Err(e) => self.set_error(format!("rejected: {e}")),
             },
+            Panel::Mechanism => self.edit_drives(true, now),
             Panel::Beam => {}
+        }
+    }
+
+    /// `a` / `d` on the mechanism panel: a copy of the selected drive after it, or the
+    /// selected drive deleted (a mechanism keeps at least one).
+    fn edit_drives(&mut self, add: bool, now: Instant) {
+        let Some(m) = self.scene.mechanism.as_ref() else {
+            return;
+        };
+        let Some(d) = self.mech_field().and_then(MechField::drive) else {
+            self.set_error("a / d: on a drive's rows (flexures are added in the scene file)");
+            return;
+        };
+        let mut new = m.clone();
+        if add {
+            let Some(&copy) = m.drives.get(d) else {
+                return;
+            };
+            new.drives.insert(d + 1, copy);
+        } else if m.drives.len() > 1 {
+            new.drives.remove(d);
+        } else {
+            self.set_error("a mechanism needs at least one drive");
+            return;
+        }
+        let mut scene = self.scene.clone();
+        scene.mechanism = Some(new);
+        match self.take_scene(scene) {
+            Ok(()) => {
+                let shown = if add { d + 1 } else { d.saturating_sub(1) };
+                self.mech_state.drive = shown;
+                self.mech_state.case = None;
+                // The cursor to the shown drive's first row.
+                if let Some(m) = &self.scene.mechanism {
+                    self.mech_state.row = mech_state::fields(m)
+                        .iter()
+                        .position(|f| f.drive() == Some(shown))
+                        .unwrap_or(0);
+                }
+                self.changed(now);
+            }
+            Err(e) => self.set_error(format!("rejected: {e}")),
         }
     }
 
@@ -964,6 +1215,7 @@ impl App {
                 Ok(m) => self.replace_matrix(m, now),
                 Err(e) => self.set_error(e),
             },
+            Panel::Mechanism => self.edit_drives(false, now),
             Panel::Beam => {}
         }
     }
@@ -987,6 +1239,11 @@ impl App {
         self.loads_state.row = 0;
         self.baseline = None;
         self.model = None;
+        self.mech_state = MechState::default();
+        self.mech_exact = None;
+        self.mech_model = None;
+        self.mech_compare = None;
+        self.focus = self.focus.on_scene(self.is_mechanism());
         self.refresh(now, fit);
     }
 

@@ -61,7 +61,7 @@ impl App {
                     PromptKind::OpenScene => vec![Command::OpenScene(PathBuf::from(text))],
                     // Exported by the worker from its baseline: no solve on this thread. The
                     // formats with masses ask for the links' density first.
-                    PromptKind::ExportModel => {
+                    PromptKind::ExportModel | PromptKind::ExportMechanism => {
                         let path = PathBuf::from(text);
                         if Format::from_path(&path).is_some_and(has_masses) {
                             self.export_path = Some(path);

@@ -25,6 +25,16 @@ impl App {
             }
             return wanted;
         }
+        if let WorkerMsg::MechCompared { exact, model, .. } = msg {
+            let wanted = self
+                .compare
+                .as_ref()
+                .is_some_and(|(_, m)| *m == model.matrix);
+            if wanted {
+                self.mech_compare = Some((exact, *model));
+            }
+            return wanted;
+        }
         if let WorkerMsg::Exported { path, result, .. } = msg {
             match result {
                 Ok(()) => {
@@ -64,56 +74,84 @@ impl App {
                 ..
             } => {
                 self.take_compare(&baseline, compare);
-                let (stop, iterations, evaluations) = match &report {
-                    Some(r) => (Some(r.stop), r.iterations, r.evaluations),
-                    None => (None, 0, 0),
-                };
-                if let Some(r) = &report {
-                    // The fitted values replace the free cells (not an edit: no refit). They
-                    // are the user's work when the user asked for this fit (`r`, or the live
-                    // refit of an edit); the fit the program started (start-up, open) changes
-                    // nothing the user would lose.
-                    if r.matrix != self.matrix {
-                        self.matrix = r.matrix.clone();
-                        self.model_dirty |= self.current_job_by_user;
-                    }
-                    self.activity = if r.stop == StopReason::Cancelled {
-                        Activity::Cancelled
-                    } else {
-                        Activity::Done {
-                            seconds,
-                            stop,
-                            iterations,
-                            evaluations,
-                        }
-                    };
-                } else {
-                    self.activity = Activity::Done {
-                        seconds,
-                        stop,
-                        iterations,
-                        evaluations,
-                    };
-                }
+                self.finished(
+                    report
+                        .as_ref()
+                        .map(|r| (&r.matrix, r.stop, r.iterations, r.evaluations)),
+                    seconds,
+                );
                 self.report = report.map(|r| *r);
                 self.baseline = Some(baseline);
                 self.model = Some(*model);
+                self.clear_worker_error();
+            }
+            WorkerMsg::MechProgress {
+                exact,
+                model,
+                status,
+                compare,
+                ..
+            } => {
+                if let Some(view) = compare {
+                    self.mech_compare = Some((exact.clone(), *view));
+                }
+                self.mech_exact = Some(exact);
+                self.mech_model = Some(*model);
+                self.activity = Activity::Fitting(status);
+                self.clear_worker_error();
+            }
+            WorkerMsg::MechDone {
+                exact,
+                model,
+                report,
+                seconds,
+                compare,
+                ..
+            } => {
+                if let Some(view) = compare {
+                    self.mech_compare = Some((exact.clone(), *view));
+                }
+                self.finished(
+                    report
+                        .as_ref()
+                        .map(|r| (&r.matrix, r.stop, r.iterations, r.evaluations)),
+                    seconds,
+                );
+                self.mech_exact = Some(exact);
+                self.mech_model = Some(*model);
                 self.clear_worker_error();
             }
             WorkerMsg::Failed { message, .. } => {
                 self.set_error(message.clone());
                 self.message_from_worker = true;
                 self.activity = Activity::Failed(message);
-                if let Some(v) = &mut self.select {
-                    v.running = false;
-                }
+                self.selection_stopped();
             }
             // Taken above, whatever its job.
-            WorkerMsg::Exported { .. } | WorkerMsg::Compared { .. } => {}
+            WorkerMsg::Exported { .. }
+            | WorkerMsg::Compared { .. }
+            | WorkerMsg::MechCompared { .. } => {}
             WorkerMsg::SelectRow { id, row } => {
                 if let Some(v) = &mut self.select {
                     v.on_row(id, *row);
                 }
+            }
+            WorkerMsg::MechSelectRow { id, row } => {
+                if let Some(v) = &mut self.mech_select {
+                    v.on_row(id, *row);
+                }
+            }
+            WorkerMsg::MechSelectDone { id, selection } => {
+                if let Some(row) = selection
+                    .rows
+                    .get(selection.chosen.unwrap_or(selection.closest))
+                {
+                    self.selection_model = Some((format!("{} (S)", row.name), row.prb.clone()));
+                }
+                if let Some(v) = &mut self.mech_select {
+                    v.on_done(id, *selection, Vec::new());
+                }
+                self.activity = Activity::Idle;
             }
             WorkerMsg::SelectDone {
                 id,
@@ -131,6 +169,37 @@ impl App {
             }
         }
         true
+    }
+
+    /// A job finished: a fit's matrix (its stop reason, iterations and evaluations) replaces
+    /// the free cells; the activity says how it ended.
+    fn finished(&mut self, fit: Option<(&PrbMatrix, StopReason, u32, u64)>, seconds: f64) {
+        let Some((matrix, stop, iterations, evaluations)) = fit else {
+            self.activity = Activity::Done {
+                seconds,
+                stop: None,
+                iterations: 0,
+                evaluations: 0,
+            };
+            return;
+        };
+        // The fitted values replace the free cells (not an edit: no refit). They are the
+        // user's work when the user asked for this fit (`r`, or the live refit of an edit);
+        // the fit the program started (start-up, open) changes nothing the user would lose.
+        if *matrix != self.matrix {
+            self.matrix = matrix.clone();
+            self.model_dirty |= self.current_job_by_user;
+        }
+        self.activity = if stop == StopReason::Cancelled {
+            Activity::Cancelled
+        } else {
+            Activity::Done {
+                seconds,
+                stop: Some(stop),
+                iterations,
+                evaluations,
+            }
+        };
     }
 
     /// The compared model a result brought, judged on `baseline`.

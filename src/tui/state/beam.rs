@@ -1,11 +1,11 @@
 //! The beam panel: the beam's dimensions, material and effects, and the scene's accuracy
-//! targets and angle weight, one field per row.
+//! targets and angle weight, one field per row; a mechanism scene adds its reaction target
+//! and force weight (DESIGN §8).
 
 use crate::beam::Effects;
 use crate::scene::{EffectsChoice, Scene};
 
 use super::super::units::{format_quantity, parse_quantity, trim_number, Quantity};
-use super::super::worker::BaselineView;
 use super::step;
 
 /// The rows of the beam panel.
@@ -31,6 +31,10 @@ pub enum BeamField {
     MaxAngErr,
     /// The fit's angle weight.
     AngleWeight,
+    /// A mechanism scene's reaction target (fraction of each coordinate's largest).
+    MaxForceErr,
+    /// A mechanism scene's force weight in the fit.
+    ForceWeight,
 }
 
 impl BeamField {
@@ -48,6 +52,31 @@ impl BeamField {
         BeamField::AngleWeight,
     ];
 
+    /// A mechanism scene's fields: the cantilever's and the reaction target and weight.
+    pub const MECHANISM: [BeamField; 12] = [
+        BeamField::Length,
+        BeamField::Width,
+        BeamField::Thickness,
+        BeamField::YoungsModulus,
+        BeamField::PoissonRatio,
+        BeamField::ShearCoefficient,
+        BeamField::Effects,
+        BeamField::MaxPosErr,
+        BeamField::MaxAngErr,
+        BeamField::MaxForceErr,
+        BeamField::AngleWeight,
+        BeamField::ForceWeight,
+    ];
+
+    /// The fields of a scene (a mechanism scene when `mechanism`), in display order.
+    pub fn of(mechanism: bool) -> &'static [BeamField] {
+        if mechanism {
+            &BeamField::MECHANISM
+        } else {
+            &BeamField::ALL
+        }
+    }
+
     /// The row's label.
     pub fn label(self) -> &'static str {
         match self {
@@ -61,6 +90,8 @@ impl BeamField {
             BeamField::MaxPosErr => "pos target",
             BeamField::MaxAngErr => "ang target",
             BeamField::AngleWeight => "ang weight",
+            BeamField::MaxForceErr => "force tgt",
+            BeamField::ForceWeight => "frc weight",
         }
     }
 
@@ -72,8 +103,9 @@ impl BeamField {
         }
     }
 
-    /// The text the field shows. `baseline` tells what `auto` effects were decided as.
-    pub fn text(self, scene: &Scene, baseline: Option<&BaselineView>) -> String {
+    /// The text the field shows. `decided` is what `auto` effects were decided as, once
+    /// they were.
+    pub fn text(self, scene: &Scene, decided: Option<Effects>) -> String {
         let b = &scene.beam;
         match self {
             BeamField::Length => format_quantity(b.length, Quantity::Length),
@@ -86,8 +118,8 @@ impl BeamField {
                 None => format!("auto ({})", trim_number(b.kappa(), 4)),
             },
             BeamField::Effects => match b.effects {
-                EffectsChoice::Auto => match baseline.filter(|v| v.decision.is_some()) {
-                    Some(v) => format!("auto ({})", v.effects),
+                EffectsChoice::Auto => match decided {
+                    Some(e) => format!("auto ({e})"),
                     None => "auto (deciding...)".into(),
                 },
                 EffectsChoice::Fixed(e) => e.to_string(),
@@ -103,17 +135,24 @@ impl BeamField {
                 trim_number(scene.accuracy.max_ang_err.to_degrees(), 4)
             ),
             BeamField::AngleWeight => trim_number(scene.fit.angle_weight, 6),
+            BeamField::MaxForceErr => format!(
+                "{} ({}% of max)",
+                trim_number(scene.accuracy.max_force_err, 6),
+                trim_number(scene.accuracy.max_force_err * 100.0, 4)
+            ),
+            BeamField::ForceWeight => trim_number(scene.fit.force_weight, 6),
         }
     }
 
     /// The text its editor starts with (what the file would say, without decorations).
-    pub fn edit_text(self, scene: &Scene, baseline: Option<&BaselineView>) -> String {
+    pub fn edit_text(self, scene: &Scene) -> String {
         match self {
             BeamField::ShearCoefficient if scene.beam.shear_coefficient.is_none() => "auto".into(),
             BeamField::Effects => scene.beam.effects.to_string(),
             BeamField::MaxPosErr => trim_number(scene.accuracy.max_pos_err, 6),
             BeamField::MaxAngErr => trim_number(scene.accuracy.max_ang_err, 6),
-            _ => self.text(scene, baseline),
+            BeamField::MaxForceErr => trim_number(scene.accuracy.max_force_err, 6),
+            _ => self.text(scene, None),
         }
     }
 
@@ -144,6 +183,8 @@ impl BeamField {
                     BeamField::MaxPosErr => scene.accuracy.max_pos_err = v,
                     BeamField::MaxAngErr => scene.accuracy.max_ang_err = v,
                     BeamField::AngleWeight => scene.fit.angle_weight = v,
+                    BeamField::MaxForceErr => scene.accuracy.max_force_err = v,
+                    BeamField::ForceWeight => scene.fit.force_weight = v,
                     // Parsed as a list above.
                     BeamField::Effects => {}
                 }
@@ -156,28 +197,29 @@ impl BeamField {
 /// The beam panel's cursor.
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
 pub struct BeamState {
-    /// The selected row, an index into [`BeamField::ALL`].
+    /// The selected row, an index into [`BeamField::of`] the scene.
     pub row: usize,
 }
 
 impl BeamState {
-    /// The selected field.
-    pub fn field(&self) -> BeamField {
-        BeamField::ALL[self.row.min(BeamField::ALL.len() - 1)]
+    /// The selected field (of a mechanism scene's fields when `mechanism`).
+    pub fn field(&self, mechanism: bool) -> BeamField {
+        let fields = BeamField::of(mechanism);
+        fields[self.row.min(fields.len() - 1)]
     }
 
-    /// Moves the cursor `dy` rows.
-    pub fn move_by(&mut self, dy: i32) {
-        self.row = step(self.row, dy, BeamField::ALL.len());
+    /// Moves the cursor `dy` rows (among a mechanism scene's fields when `mechanism`).
+    pub fn move_by(&mut self, dy: i32, mechanism: bool) {
+        self.row = step(self.row, dy, BeamField::of(mechanism).len());
     }
 }
 
 /// The effects after `1`, `2` or `3` switched shear, extension or Poisson, starting from what
-/// the beam uses now (`auto` as decided, when known). Poisson needs extension, so they move
+/// the beam uses now (`auto` as `decided`, when known). Poisson needs extension, so they move
 /// together where they must.
-pub fn toggled_effect(scene: &Scene, baseline: Option<&BaselineView>, which: char) -> Effects {
-    let mut e = match (scene.beam.effects, baseline) {
-        (EffectsChoice::Auto, Some(v)) => v.effects,
+pub fn toggled_effect(scene: &Scene, decided: Option<Effects>, which: char) -> Effects {
+    let mut e = match (scene.beam.effects, decided) {
+        (EffectsChoice::Auto, Some(e)) => e,
         (choice, _) => choice.resolve(),
     };
     match which {

@@ -6,12 +6,14 @@
 //! - [`beam`]: the beam's fields and the scene's targets;
 //! - [`loads`]: the load-path table;
 //! - [`matrix`]: the PRB matrix table (nondimensional or SI), gamma rebalancing;
+//! - [`mech`]: a mechanism scene's flexures, stage and drives, in place of the load paths;
 //! - [`select`]: the model-selection view;
 //! - [`text`]: the text box of the editors and prompts (cursor, readline keys).
 
 pub mod beam;
 pub mod loads;
 pub mod matrix;
+pub mod mech;
 pub mod select;
 pub mod text;
 
@@ -24,24 +26,44 @@ pub enum Panel {
     Loads,
     /// The PRB matrix.
     Matrix,
+    /// A mechanism scene's flexures, stage and drives (in place of the load paths).
+    Mechanism,
 }
 
 impl Panel {
-    /// The panel Tab moves to.
-    pub fn next(self) -> Panel {
+    /// The panel in the middle of the left column: the load paths, or on a mechanism scene
+    /// the mechanism.
+    pub fn middle(mechanism: bool) -> Panel {
+        if mechanism {
+            Panel::Mechanism
+        } else {
+            Panel::Loads
+        }
+    }
+
+    /// The panel Tab moves to (on a mechanism scene when `mechanism`).
+    pub fn next(self, mechanism: bool) -> Panel {
         match self {
-            Panel::Beam => Panel::Loads,
-            Panel::Loads => Panel::Matrix,
+            Panel::Beam => Panel::middle(mechanism),
+            Panel::Loads | Panel::Mechanism => Panel::Matrix,
             Panel::Matrix => Panel::Beam,
         }
     }
 
-    /// The panel Shift-Tab moves to.
-    pub fn prev(self) -> Panel {
+    /// The panel Shift-Tab moves to (on a mechanism scene when `mechanism`).
+    pub fn prev(self, mechanism: bool) -> Panel {
         match self {
             Panel::Beam => Panel::Matrix,
-            Panel::Loads => Panel::Beam,
-            Panel::Matrix => Panel::Loads,
+            Panel::Loads | Panel::Mechanism => Panel::Beam,
+            Panel::Matrix => Panel::middle(mechanism),
+        }
+    }
+
+    /// The panel to focus on a scene of the other kind: the middle panel changes with it.
+    pub fn on_scene(self, mechanism: bool) -> Panel {
+        match self {
+            Panel::Loads | Panel::Mechanism => Panel::middle(mechanism),
+            p => p,
         }
     }
 }

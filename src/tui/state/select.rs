@@ -1,18 +1,21 @@
 //! The model-selection view: the ladder's table (rows arrive as they are fitted), its choice
-//! and the trade-off measurements, with a cursor over the rows.
+//! and the trade-off measurements, with a cursor over the rows. On a mechanism scene the rows
+//! carry the mechanism's figures (`SelectState<MechFigures>`) and the models that cannot
+//! follow the mechanism are listed instead of the trade-off.
 
-use crate::select::{Rung, Selection};
+use crate::eval::ErrorFigures;
+use crate::select::{Rung, Selection, Unfollowed};
 use crate::tradeoff::Knob;
 
 use super::step;
 
-/// The selection view's state.
+/// The selection view's state; `F` is the figures of the scene's kind.
 #[derive(Debug, Clone, PartialEq)]
-pub struct SelectState {
+pub struct SelectState<F = ErrorFigures> {
     /// The selection job whose rows these are.
     pub job: u64,
     /// The rows so far.
-    pub rows: Vec<Rung>,
+    pub rows: Vec<Rung<F>>,
     /// The simplest row meeting the targets, once known.
     pub chosen: Option<usize>,
     /// The row closest to the targets, once known.
@@ -23,11 +26,13 @@ pub struct SelectState {
     pub selected: usize,
     /// The job still runs.
     pub running: bool,
+    /// The models tried that cannot follow the scene, once known.
+    pub unfollowed: Vec<Unfollowed>,
 }
 
-impl SelectState {
+impl<F> SelectState<F> {
     /// An empty view for selection job `job`, running.
-    pub fn new(job: u64) -> SelectState {
+    pub fn new(job: u64) -> SelectState<F> {
         SelectState {
             job,
             rows: Vec::new(),
@@ -36,6 +41,7 @@ impl SelectState {
             knobs: Vec::new(),
             selected: 0,
             running: true,
+            unfollowed: Vec::new(),
         }
     }
 
@@ -45,7 +51,7 @@ impl SelectState {
     }
 
     /// A row of job `job` arrived; rows of another job are dropped.
-    pub fn on_row(&mut self, job: u64, row: Rung) -> bool {
+    pub fn on_row(&mut self, job: u64, row: Rung<F>) -> bool {
         if job != self.job {
             return false;
         }
@@ -54,10 +60,11 @@ impl SelectState {
     }
 
     /// The whole selection of job `job` arrived; the cursor goes to its choice.
-    pub fn on_done(&mut self, job: u64, selection: Selection, knobs: Vec<Knob>) -> bool {
+    pub fn on_done(&mut self, job: u64, selection: Selection<F>, knobs: Vec<Knob>) -> bool {
         if job != self.job {
             return false;
         }
+        self.unfollowed = selection.unfollowed;
         self.rows = selection.rows;
         self.chosen = selection.chosen;
         self.closest = Some(selection.closest);
@@ -68,7 +75,7 @@ impl SelectState {
     }
 
     /// The row under the cursor.
-    pub fn selected_row(&self) -> Option<&Rung> {
+    pub fn selected_row(&self) -> Option<&Rung<F>> {
         self.rows.get(self.selected)
     }
 }

@@ -32,10 +32,10 @@ impl View {
         View {
             focused: app.focus == Panel::Beam,
             slenderness: app.scene.beam.slenderness(),
-            rows: BeamField::ALL
+            rows: BeamField::of(app.is_mechanism())
                 .iter()
                 .map(|&f| {
-                    let text = f.text(&app.scene, app.baseline.as_deref());
+                    let text = f.text(&app.scene, app.decided_effects());
                     let (text, editing) = shown(app, &EditTarget::Beam(f), text);
                     (f.label(), text, editing)
                 })

@@ -7,6 +7,9 @@
 //! line with the fit's figures against the scene's targets, a message line; a key-hint line. Below
 //! [`MIN_WIDTH`] x [`MIN_HEIGHT`] only a "too small" note is drawn.
 //!
+//! A mechanism scene (DESIGN §8) has the mechanism panel in place of the load paths, and on
+//! the right the mechanism's shapes over its force–stroke chart and its error chart.
+//!
 //! Text that came from outside (a scene's name, file paths, error messages) is drawn through
 //! [`sanitize_terminal`], so a file cannot send escape sequences to the terminal.
 
@@ -14,10 +17,14 @@ pub mod beam;
 pub mod errors;
 pub mod loads;
 pub mod matrix;
+pub mod mech;
+pub mod mech_errors;
+pub mod mech_shapes;
 pub mod overlays;
 pub mod select;
 pub mod shapes;
 pub mod status;
+pub mod strokes;
 
 use std::borrow::Cow;
 
@@ -114,16 +121,26 @@ pub fn draw(frame: &mut Frame, app: &App) {
     if let Some(view) = select::View::new(app) {
         select::draw(frame, rows[1], &view);
     }
+    if let Some(view) = select::View::mechanism(app) {
+        select::draw(frame, rows[1], &view);
+    }
     overlays::draw(frame, area, &overlays::View::new(app));
 }
 
 fn draw_left(frame: &mut Frame, area: Rect, app: &App) {
     // The matrix first (all its rows if it can), then at least four lines of loads; the beam
     // panel takes the rest and scrolls to its selected field when short.
+    let mechanism = app.is_mechanism();
     let matrix_height =
         (app.matrix.len() as u16 + 3).clamp(4, area.height.saturating_sub(9).max(4));
-    let beam_height =
-        (BeamField::ALL.len() as u16 + 2).min(area.height.saturating_sub(matrix_height + 4).max(3));
+    let rest = area.height.saturating_sub(matrix_height);
+    // A mechanism's panel needs room too: the beam panel takes at most half of what is left.
+    let beam_room = if mechanism {
+        rest / 2
+    } else {
+        rest.saturating_sub(4)
+    };
+    let beam_height = (BeamField::of(mechanism).len() as u16 + 2).min(beam_room.max(3));
     let parts = Layout::default()
         .direction(Direction::Vertical)
         .constraints([
@@ -133,7 +150,11 @@ fn draw_left(frame: &mut Frame, area: Rect, app: &App) {
         ])
         .split(area);
     beam::draw(frame, parts[0], &beam::View::new(app));
-    loads::draw(frame, parts[1], &loads::View::new(app));
+    if mechanism {
+        mech::draw(frame, parts[1], &mech::View::new(app));
+    } else {
+        loads::draw(frame, parts[1], &loads::View::new(app));
+    }
     matrix::draw(frame, parts[2], &matrix::View::new(app));
 }
 
@@ -142,11 +163,17 @@ fn draw_right(frame: &mut Frame, area: Rect, app: &App) {
         .direction(Direction::Vertical)
         .constraints([Constraint::Percentage(58), Constraint::Percentage(42)])
         .split(area);
-    shapes::draw(frame, parts[0], &shapes::View::new(app));
     let charts = Layout::default()
         .direction(Direction::Horizontal)
         .constraints([Constraint::Percentage(50), Constraint::Percentage(50)])
         .split(parts[1]);
+    if app.is_mechanism() {
+        mech_shapes::draw(frame, parts[0], &mech_shapes::View::new(app));
+        strokes::draw(frame, charts[0], &strokes::View::new(app));
+        mech_errors::draw(frame, charts[1], &mech_errors::View::new(app));
+        return;
+    }
+    shapes::draw(frame, parts[0], &shapes::View::new(app));
     errors::draw(
         frame,
         charts[0],

@@ -1,5 +1,7 @@
 //! The model-selection view: the topology ladder's table (rows as they are fitted, the
-//! chosen or closest marked) over the speed/accuracy trade-off chart.
+//! chosen or closest marked) over the speed/accuracy trade-off chart. On a mechanism scene
+//! the table has the reaction error beside the stage's position and angle errors
+//! ([`Columns`]), and the models that cannot follow the mechanism are listed under it.
 
 use ratatui::layout::{Constraint, Direction, Layout, Rect};
 use ratatui::style::{Color, Modifier, Style};
@@ -10,6 +12,8 @@ use ratatui::widgets::{
 };
 use ratatui::Frame;
 
+use crate::eval::ErrorFigures;
+use crate::mech::figures::MechFigures;
 use crate::scene::Accuracy;
 
 use super::super::app::App;
@@ -17,11 +21,51 @@ use super::super::state::select::SelectState;
 use super::super::units::trim_number;
 use super::{sanitize_terminal, Palette, PATH_COLORS};
 
-/// What the selection view draws.
+/// The figure columns of a selection table: their headers, widths and cells.
+pub trait Columns {
+    /// A mechanism's figures (its selection lists the models that cannot follow it, not the
+    /// trade-off).
+    const MECHANISM: bool;
+    /// The headers, after `model`, `topology` and `dof`.
+    const HEADERS: &'static [&'static str];
+    /// Their widths.
+    const WIDTHS: &'static [u16];
+    /// The row's cells.
+    fn cells(&self) -> Vec<String>;
+}
+
+impl Columns for ErrorFigures {
+    const MECHANISM: bool = false;
+    const HEADERS: &'static [&'static str] = &["J", "max pos", "max ang"];
+    const WIDTHS: &'static [u16] = &[10, 8, 9];
+    fn cells(&self) -> Vec<String> {
+        vec![
+            format!("{:.3e}", self.objective),
+            format!("{}%", trim_number(self.max_pos_err * 100.0, 3)),
+            format!("{}deg", trim_number(self.max_ang_err.to_degrees(), 3)),
+        ]
+    }
+}
+
+impl Columns for MechFigures {
+    const MECHANISM: bool = true;
+    const HEADERS: &'static [&'static str] = &["J", "max force", "max pos", "max ang"];
+    const WIDTHS: &'static [u16] = &[10, 10, 8, 9];
+    fn cells(&self) -> Vec<String> {
+        vec![
+            format!("{:.3e}", self.objective),
+            format!("{}%", trim_number(self.max_force_err * 100.0, 3)),
+            format!("{}%", trim_number(self.max_pos_err * 100.0, 3)),
+            format!("{}deg", trim_number(self.max_ang_err.to_degrees(), 3)),
+        ]
+    }
+}
+
+/// What the selection view draws; `F` is the figures of the scene's kind.
 #[derive(Debug, Clone)]
-pub struct View<'a> {
+pub struct View<'a, F = ErrorFigures> {
     /// The rows, the choice, the trade-off and the cursor.
-    pub state: &'a SelectState,
+    pub state: &'a SelectState<F>,
     /// The scene's targets.
     pub accuracy: Accuracy,
     /// Colours.
@@ -39,13 +83,28 @@ impl<'a> View<'a> {
     }
 }
 
-/// Draws the selection view: the ladder table over the trade-off chart.
-pub fn draw(frame: &mut Frame, area: Rect, v: &View) {
+impl<'a> View<'a, MechFigures> {
+    /// The selection view of a mechanism scene, when open.
+    pub fn mechanism(app: &'a App) -> Option<View<'a, MechFigures>> {
+        Some(View {
+            state: app.mech_select.as_ref()?,
+            accuracy: app.scene.accuracy,
+            pal: Palette { mono: app.mono },
+        })
+    }
+}
+
+/// Draws the selection view: the ladder table over the trade-off chart (on a mechanism
+/// scene, over the models that cannot follow it).
+pub fn draw<F: Columns>(frame: &mut Frame, area: Rect, v: &View<'_, F>) {
     let (view, pal) = (v.state, v.pal);
+    let mechanism = F::MECHANISM;
     frame.render_widget(Clear, area);
     let state = if view.running {
         if view.rows.is_empty() {
             "fitting the ladder..."
+        } else if mechanism {
+            "fitting the ladder on the mechanism..."
         } else {
             "fitting / measuring the trade-off..."
         }
@@ -63,9 +122,14 @@ pub fn draw(frame: &mut Frame, area: Rect, v: &View) {
         ])
         .split(area);
     let acc = &v.accuracy;
-    let header = Row::new(vec![
-        "model", "topology", "dof", "J", "max pos", "max ang", "us/case", "fit ms", "targets",
-    ])
+    let header = Row::new(
+        ["model", "topology", "dof"]
+            .iter()
+            .chain(F::HEADERS)
+            .chain(&["us/case", "fit ms", "targets"])
+            .copied()
+            .collect::<Vec<_>>(),
+    )
     .style(Style::default().add_modifier(Modifier::BOLD));
     let rows: Vec<Row> = view
         .rows
@@ -85,45 +149,31 @@ pub fn draw(frame: &mut Frame, area: Rect, v: &View) {
             } else {
                 Style::default()
             };
-            Row::new(vec![
+            let mut cells = vec![
                 Cell::from(sanitize_terminal(&r.name).into_owned()),
                 Cell::from(r.topology.clone()),
                 Cell::from(r.dof.to_string()),
-                Cell::from(format!("{:.3e}", r.figures.objective)),
-                Cell::from(format!(
-                    "{}%",
-                    trim_number(r.figures.max_pos_err * 100.0, 3)
-                )),
-                Cell::from(format!(
-                    "{}deg",
-                    trim_number(r.figures.max_ang_err.to_degrees(), 3)
-                )),
+            ];
+            cells.extend(r.figures.cells().into_iter().map(Cell::from));
+            cells.extend([
                 Cell::from(format!("{:.2}", r.eval_seconds_per_case * 1e6)),
                 Cell::from(format!("{:.0}", r.fit_seconds * 1e3)),
                 Cell::from(Span::styled(
                     format!("{verdict}{mark}"),
                     pal.pass(r.meets_targets),
                 )),
-            ])
-            .style(style)
+            ]);
+            Row::new(cells).style(style)
         })
         .collect();
-    let table = Table::new(
-        rows,
-        [
-            Constraint::Length(11),
-            Constraint::Length(11),
-            Constraint::Length(4),
-            Constraint::Length(10),
-            Constraint::Length(8),
-            Constraint::Length(9),
-            Constraint::Length(8),
-            Constraint::Length(7),
-            Constraint::Min(8),
-        ],
-    )
-    .header(header)
-    .block(
+    let widths: Vec<Constraint> = [11, 11, 4]
+        .iter()
+        .chain(F::WIDTHS)
+        .chain(&[8, 7])
+        .map(|&w| Constraint::Length(w))
+        .chain(std::iter::once(Constraint::Min(8)))
+        .collect();
+    let table = Table::new(rows, widths).header(header).block(
         Block::default()
             .borders(Borders::ALL)
             .border_style(pal.fg(Color::Cyan))
@@ -131,6 +181,10 @@ pub fn draw(frame: &mut Frame, area: Rect, v: &View) {
     );
     let mut tstate = TableState::default().with_selected(Some(view.selected));
     frame.render_stateful_widget(table, parts[0], &mut tstate);
+    if mechanism {
+        draw_unfollowed(frame, parts[1], view);
+        return;
+    }
 
     // The trade-off: log10 time against log10 error, one line per knob.
     let block = Block::default().borders(Borders::ALL).title(format!(
@@ -198,4 +252,39 @@ pub fn draw(frame: &mut Frame, area: Rect, v: &View) {
         )
         .hidden_legend_constraints((Constraint::Ratio(1, 2), Constraint::Ratio(1, 2)));
     frame.render_widget(chart, parts[1]);
+}
+
+/// A mechanism selection's lower part: the models that cannot follow the mechanism and why
+/// (the trade-off is measured on cantilever scenes only).
+fn draw_unfollowed<F>(frame: &mut Frame, area: Rect, view: &SelectState<F>) {
+    let block = Block::default()
+        .borders(Borders::ALL)
+        .title(" Models that cannot follow the mechanism ");
+    let text = if view.unfollowed.is_empty() {
+        if view.running {
+            "fitting...".to_string()
+        } else {
+            "none: every model tried follows the mechanism (the speed/accuracy trade-off is \
+             measured on cantilever scenes)"
+                .to_string()
+        }
+    } else {
+        view.unfollowed
+            .iter()
+            .map(|u| {
+                format!(
+                    "{}: {}",
+                    sanitize_terminal(&u.name),
+                    sanitize_terminal(&u.reason)
+                )
+            })
+            .collect::<Vec<_>>()
+            .join("\n")
+    };
+    frame.render_widget(
+        Paragraph::new(text)
+            .wrap(ratatui::widgets::Wrap { trim: true })
+            .block(block),
+        area,
+    );
 }

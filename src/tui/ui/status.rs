@@ -11,7 +11,8 @@ use ratatui::Frame;
 
 use crate::eval::ErrorFigures;
 use crate::fit::Fidelity;
-use crate::scene::Accuracy;
+use crate::mech::figures::MechFigures;
+use crate::scene::{Accuracy, Mechanism};
 
 use super::super::app::{Activity, App, Tone};
 use super::super::keymap;
@@ -68,15 +69,40 @@ pub fn draw_title(frame: &mut Frame, area: Rect, view: &TitleView) {
     frame.render_widget(Paragraph::new(Line::from(spans)), area);
 }
 
+/// A model's figures as the status line shows them.
+#[derive(Debug, Clone, Copy)]
+pub enum Figures<'a> {
+    /// A cantilever's: J, tip position and angle errors.
+    Beam(&'a ErrorFigures),
+    /// A mechanism's (DESIGN §8): J, and of the reaction, stage position and stage angle
+    /// errors those the drives have (`shown`: force, position, angle).
+    Mech(&'a MechFigures, [bool; 3]),
+}
+
+/// Which of a mechanism's errors exist: force (some drive prescribes a coordinate),
+/// position (some drive loads `x` or `y`), angle (some drive loads `phi`).
+pub fn mech_errors_shown(m: &Mechanism) -> [bool; 3] {
+    let any = |f: &dyn Fn(usize, bool) -> bool| {
+        m.drives
+            .iter()
+            .any(|d| (0..3).any(|c| f(c, d.coordinates[c].is_prescribed())))
+    };
+    [
+        any(&|_, prescribed| prescribed),
+        any(&|c, prescribed| c < 2 && !prescribed),
+        any(&|c, prescribed| c == 2 && !prescribed),
+    ]
+}
+
 /// What the status line draws.
 #[derive(Debug, Clone)]
 pub struct View<'a> {
     /// The last message (file paths and errors inside are sanitized when drawn).
     pub message: Option<(&'a str, Tone)>,
     /// The shown model's figures.
-    pub figures: Option<&'a ErrorFigures>,
+    pub figures: Option<Figures<'a>>,
     /// The model compared against: its name and figures on the same baseline.
-    pub compare: Option<(&'a str, &'a ErrorFigures)>,
+    pub compare: Option<(&'a str, Figures<'a>)>,
     /// The scene's targets.
     pub accuracy: Accuracy,
     /// What the worker is doing.
@@ -88,10 +114,27 @@ pub struct View<'a> {
 impl<'a> View<'a> {
     /// The status line of `app`.
     pub fn new(app: &'a App) -> View<'a> {
+        let (figures, compare) = match &app.scene.mechanism {
+            Some(m) => {
+                let shown = mech_errors_shown(m);
+                (
+                    app.mech_model
+                        .as_ref()
+                        .map(|v| Figures::Mech(&v.figures, shown)),
+                    app.shown_mech_compare()
+                        .map(|(n, v)| (n, Figures::Mech(&v.figures, shown))),
+                )
+            }
+            None => (
+                app.model.as_ref().map(|m| Figures::Beam(&m.figures)),
+                app.shown_compare()
+                    .map(|(n, v)| (n, Figures::Beam(&v.figures))),
+            ),
+        };
         View {
             message: app.message.as_ref().map(|(m, t)| (m.as_str(), *t)),
-            figures: app.model.as_ref().map(|m| &m.figures),
-            compare: app.shown_compare().map(|(n, v)| (n, &v.figures)),
+            figures,
+            compare,
             accuracy: app.scene.accuracy,
             activity: &app.activity,
             pal: Palette { mono: app.mono },
@@ -105,26 +148,58 @@ pub fn height(view: &View) -> u16 {
     2 + u16::from(view.compare.is_some())
 }
 
-/// `J | pos ..% PASS<.. | ang ..deg PASS<.. | ` for figures `f` against `acc`.
-fn figure_spans(f: &ErrorFigures, acc: &Accuracy, pal: Palette) -> Vec<Span<'static>> {
-    let pos_ok = f.max_pos_err <= acc.max_pos_err;
-    let ang_ok = f.max_ang_err <= acc.max_ang_err;
+/// `J | pos ..% PASS<.. | ang ..deg PASS<.. | ` for figures `f` against `acc`; a
+/// mechanism's reaction error first, `force ..% FAIL<..`, and only the errors its drives
+/// have.
+fn figure_spans(f: Figures, acc: &Accuracy, pal: Palette) -> Vec<Span<'static>> {
     let verdict = |ok: bool| Span::styled(if ok { "PASS" } else { "FAIL" }, pal.pass(ok));
-    vec![
-        Span::raw(format!(" J {:.3e} | pos ", f.objective)),
-        Span::raw(format!("{}%L ", trim_number(f.max_pos_err * 100.0, 3))),
-        verdict(pos_ok),
-        Span::raw(format!(
-            "<{} | ang {}deg ",
+    let (objective, pos, ang, force, shown) = match f {
+        Figures::Beam(f) => (
+            f.objective,
+            f.max_pos_err,
+            f.max_ang_err,
+            0.0,
+            [false, true, true],
+        ),
+        Figures::Mech(f, shown) => (
+            f.objective,
+            f.max_pos_err,
+            f.max_ang_err,
+            f.max_force_err,
+            shown,
+        ),
+    };
+    let mut spans = vec![Span::raw(format!(" J {objective:.3e} | "))];
+    let mut figure = |name: &str, value: String, ok: bool, target: String| {
+        spans.push(Span::raw(format!("{name} {value} ")));
+        spans.push(verdict(ok));
+        spans.push(Span::raw(format!("<{target} | ")));
+    };
+    if shown[0] {
+        figure(
+            "force",
+            format!("{}%", trim_number(force * 100.0, 3)),
+            force <= acc.max_force_err,
+            trim_number(acc.max_force_err * 100.0, 3),
+        );
+    }
+    if shown[1] {
+        figure(
+            "pos",
+            format!("{}%L", trim_number(pos * 100.0, 3)),
+            pos <= acc.max_pos_err,
             trim_number(acc.max_pos_err * 100.0, 3),
-            trim_number(f.max_ang_err.to_degrees(), 3)
-        )),
-        verdict(ang_ok),
-        Span::raw(format!(
-            "<{} | ",
-            trim_number(acc.max_ang_err.to_degrees(), 3)
-        )),
-    ]
+        );
+    }
+    if shown[2] {
+        figure(
+            "ang",
+            format!("{}deg", trim_number(ang.to_degrees(), 3)),
+            ang <= acc.max_ang_err,
+            trim_number(acc.max_ang_err.to_degrees(), 3),
+        );
+    }
+    spans
 }
 
 /// Draws the status lines: the figures and the activity, the compared model's figures (when

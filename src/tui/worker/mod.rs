@@ -14,6 +14,13 @@
 //!
 //! A failure in a job (a load the beam cannot reach, even a panic) becomes a `Failed`
 //! message; the worker then waits for the next job.
+//!
+//! Mechanism scenes (DESIGN §8) take their own path ([`mech`]): the exact mechanism in place
+//! of the baseline, its own messages (`Mech*`) with views of mechanisms.
+
+mod mech;
+
+pub use mech::{mech_baseline_view, mech_model_view, CaseErrors, MechBaselineView, MechModelView};
 
 use std::borrow::Cow;
 use std::panic::{catch_unwind, AssertUnwindSafe};
@@ -26,10 +33,13 @@ use crate::beam::Effects;
 use crate::beam::Load;
 use crate::cancel::CancelToken;
 use crate::eval::{Baseline, CaseError, ErrorFigures};
+use crate::fit::mech::MechFitReport;
 use crate::fit::{fit, Fidelity, FitOptions, FitReport};
 use crate::prb::{PrbMatrix, PrbSolver};
 use crate::scene::{Accuracy, BeamSpec, EffectsChoice, LoadPath, Scene};
-use crate::select::{decide_effects_cancellable, select, EffectsDecision, Rung, Selection};
+use crate::select::{
+    decide_effects_cancellable, select, EffectsDecision, MechRung, MechSelection, Rung, Selection,
+};
 use crate::tradeoff::Knob;
 
 use super::latest_job::{Cancellable, LatestJob, Taken};
@@ -194,6 +204,57 @@ pub enum WorkerMsg {
         /// Written, or why not.
         result: Result<(), String>,
     },
+    /// A mechanism job's starting matrix judged (before any fitting), or the best so far.
+    MechProgress {
+        /// The job.
+        id: u64,
+        /// The exact mechanism the model was judged on.
+        exact: Arc<MechBaselineView>,
+        /// The model.
+        model: Box<MechModelView>,
+        /// How far the fit has got.
+        status: FitStatus,
+        /// The job's compare model, judged on the same exact mechanism.
+        compare: Option<Box<MechModelView>>,
+    },
+    /// A mechanism job's final model.
+    MechDone {
+        /// The job.
+        id: u64,
+        /// The exact mechanism the model was judged on.
+        exact: Arc<MechBaselineView>,
+        /// The model.
+        model: Box<MechModelView>,
+        /// The fit's report (none for a judge job).
+        report: Option<Box<MechFitReport>>,
+        /// Time the job took.
+        seconds: f64,
+        /// The job's compare model, judged on the same exact mechanism.
+        compare: Option<Box<MechModelView>>,
+    },
+    /// One row of a mechanism scene's selection, as soon as it is fitted.
+    MechSelectRow {
+        /// The job.
+        id: u64,
+        /// The row.
+        row: Box<MechRung>,
+    },
+    /// A mechanism scene's whole selection.
+    MechSelectDone {
+        /// The job.
+        id: u64,
+        /// The ladder, its choice and the models that cannot follow.
+        selection: Box<MechSelection>,
+    },
+    /// A mechanism compare job's model, judged.
+    MechCompared {
+        /// The job.
+        id: u64,
+        /// The exact mechanism it was judged on.
+        exact: Arc<MechBaselineView>,
+        /// The model.
+        model: Box<MechModelView>,
+    },
     /// The whole selection and the trade-off measurements.
     SelectDone {
         /// The job.
@@ -215,7 +276,12 @@ impl WorkerMsg {
             | WorkerMsg::Compared { id, .. }
             | WorkerMsg::SelectRow { id, .. }
             | WorkerMsg::Exported { id, .. }
-            | WorkerMsg::SelectDone { id, .. } => *id,
+            | WorkerMsg::SelectDone { id, .. }
+            | WorkerMsg::MechProgress { id, .. }
+            | WorkerMsg::MechDone { id, .. }
+            | WorkerMsg::MechCompared { id, .. }
+            | WorkerMsg::MechSelectRow { id, .. }
+            | WorkerMsg::MechSelectDone { id, .. } => *id,
         }
     }
 }
@@ -324,17 +390,21 @@ struct Solved {
 
 fn worker_loop(jobs: &LatestJob<Job>, out: &Sender<WorkerMsg>) {
     let mut cache: Option<Solved> = None;
+    let mut mech_cache: Option<mech::Solved> = None;
     while let Some(taken) = jobs.take() {
         if taken.job.cancel.is_cancelled() {
             continue;
         }
         let id = taken.job.id;
-        let outcome = catch_unwind(AssertUnwindSafe(|| run_job(&taken, jobs, &mut cache, out)));
+        let outcome = catch_unwind(AssertUnwindSafe(|| {
+            run_job(&taken, jobs, &mut cache, &mut mech_cache, out)
+        }));
         let failure = match outcome {
             Ok(Ok(())) => None,
             Ok(Err(message)) => Some(message),
             Err(panic) => {
                 cache = None;
+                mech_cache = None;
                 let what = panic
                     .downcast_ref::<&str>()
                     .map(|s| s.to_string())
@@ -469,6 +539,7 @@ fn run_job(
     taken: &Taken<Job>,
     jobs: &LatestJob<Job>,
     cache: &mut Option<Solved>,
+    mech_cache: &mut Option<mech::Solved>,
     out: &Sender<WorkerMsg>,
 ) -> Result<(), String> {
     let job = &taken.job;
@@ -480,6 +551,9 @@ fn run_job(
             let _ = out.send(msg);
         }
     };
+    if job.scene.mechanism.is_some() {
+        return mech::run_job(job, mech_cache, &send);
+    }
     let solved = solve_baseline(job, cache)?;
     let baseline = &solved.baseline;
     match &job.kind {

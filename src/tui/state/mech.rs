@@ -1,0 +1,660 @@
+//! The mechanism panel (DESIGN §8): one row per editable value of a mechanism scene — each
+//! flexure's root, angle, attachment and coupler end, the stage point, each drive's three
+//! stage coordinates (prescribed or loaded) and its steps — and what the charts show of it
+//! (the drive, the case, the force–stroke panel).
+//!
+//! Values are shown and typed in the mechanism's display units ([`MechUnits`]: mm under a
+//! metre-long flexure 1, else m; degrees; N; N m); a bare number is in those units, a number
+//! with a unit (`0.02 m`, `0.5 rad`, `3 mN`) in its own. A coordinate shows its file key:
+//! `dx`, `dy`, `dphi` when prescribed, `Fx`, `Fy`, `Mz` when loaded.
+//!
+//! Edits never leave an invalid mechanism: each returns a new [`Mechanism`], which the app
+//! checks by the scene file's own rules ([`validate`]) before taking it. Two edits carry
+//! what a designer would expect along: a coupler whose stage end sat on the stage point stays
+//! on it when the stage point moves, and a beam edit reaches every flexure that does not
+//! override that value ([`rebased`]).
+
+use crate::scene::{
+    Attach, BeamSpec, Coordinate, Flexure, Mechanism, Scene, COORDINATE_KEYS, MAX_STEPS,
+};
+use crate::si::MechUnits;
+
+use super::super::units::{parse_quantity, trim_number, Quantity};
+use super::super::worker::MechBaselineView;
+use super::step;
+
+/// One editable value of a mechanism.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum MechField {
+    /// Flexure `i`'s clamp (m).
+    Root(usize),
+    /// Flexure `i`'s unloaded direction.
+    Angle(usize),
+    /// How flexure `i`'s tip meets the stage.
+    Attach(usize),
+    /// Flexure `i`'s coupler end on the stage (only for `link`).
+    Coupler(usize),
+    /// The stage point `P`.
+    StagePoint,
+    /// Drive `drive`'s stage coordinate `c` (0 x, 1 y, 2 phi).
+    Coordinate {
+        /// The drive (from 0).
+        drive: usize,
+        /// The coordinate.
+        c: usize,
+    },
+    /// Drive `i`'s steps.
+    Steps(usize),
+}
+
+/// The rows of the panel for `m`, in order.
+pub fn fields(m: &Mechanism) -> Vec<MechField> {
+    let mut out = Vec::new();
+    for (i, f) in m.flexures.iter().enumerate() {
+        out.extend([
+            MechField::Root(i),
+            MechField::Angle(i),
+            MechField::Attach(i),
+        ]);
+        if matches!(f.attach, Attach::Link { .. }) {
+            out.push(MechField::Coupler(i));
+        }
+    }
+    out.push(MechField::StagePoint);
+    for d in 0..m.drives.len() {
+        out.extend((0..3).map(|c| MechField::Coordinate { drive: d, c }));
+        out.push(MechField::Steps(d));
+    }
+    out
+}
+
+/// Names of the stage coordinates in the panel.
+const AXES: [&str; 3] = ["x", "y", "phi"];
+
+impl MechField {
+    /// The group the row belongs to, as its first row names it: `flexure 1`, `stage`,
+    /// `drive 2`.
+    pub fn group(self) -> String {
+        match self {
+            MechField::Root(i) | MechField::Angle(i) | MechField::Attach(i) => {
+                format!("flexure {}", i + 1)
+            }
+            MechField::Coupler(i) => format!("flexure {}", i + 1),
+            MechField::StagePoint => "stage".into(),
+            MechField::Coordinate { drive, .. } | MechField::Steps(drive) => {
+                format!("drive {}", drive + 1)
+            }
+        }
+    }
+
+    /// The row's label.
+    pub fn label(self) -> &'static str {
+        match self {
+            MechField::Root(_) => "root",
+            MechField::Angle(_) => "angle",
+            MechField::Attach(_) => "attach",
+            MechField::Coupler(_) => "coupler",
+            MechField::StagePoint => "point",
+            MechField::Coordinate { c, .. } => AXES[c.min(2)],
+            MechField::Steps(_) => "steps",
+        }
+    }
+
+    /// The drive the row belongs to, if any.
+    pub fn drive(self) -> Option<usize> {
+        match self {
+            MechField::Coordinate { drive, .. } | MechField::Steps(drive) => Some(drive),
+            _ => None,
+        }
+    }
+
+    /// The text the row shows.
+    pub fn text(self, m: &Mechanism) -> String {
+        let u = MechUnits::new(m);
+        let flexure = |i: usize| m.flexures.get(i);
+        match self {
+            MechField::Root(i) => flexure(i).map_or_else(String::new, |f| point_text(f.root, &u)),
+            MechField::Angle(i) => flexure(i).map_or_else(String::new, |f| {
+                format!("{} deg", trim_number(f.angle.to_degrees(), 6))
+            }),
+            MechField::Attach(i) => flexure(i).map_or_else(String::new, |f| match f.attach {
+                Attach::Link { to } => format!(
+                    "link, coupler {} {}",
+                    trim_number(dist(f.tip(), to) * u.per_metre, 4),
+                    u.distance
+                ),
+                a => attach_name(&a).to_string(),
+            }),
+            MechField::Coupler(i) => match flexure(i).map(|f| f.attach) {
+                Some(Attach::Link { to }) => point_text(to, &u),
+                _ => String::new(),
+            },
+            MechField::StagePoint => point_text(m.stage_point, &u),
+            MechField::Coordinate { drive, c } => match m.drives.get(drive) {
+                Some(d) => {
+                    let k = d.coordinates[c.min(2)];
+                    format!("{} = {}", key_name(c, k), value_text(c, k, &u))
+                }
+                None => String::new(),
+            },
+            MechField::Steps(drive) => m
+                .drives
+                .get(drive)
+                .map_or_else(String::new, |d| d.steps.to_string()),
+        }
+    }
+
+    /// The text its editor starts with.
+    pub fn edit_text(self, m: &Mechanism) -> String {
+        let u = MechUnits::new(m);
+        match self {
+            MechField::Attach(i) => m
+                .flexures
+                .get(i)
+                .map(|f| attach_name(&f.attach).to_string())
+                .unwrap_or_default(),
+            MechField::Coordinate { drive, c } => m
+                .drives
+                .get(drive)
+                .map(|d| value_text(c, d.coordinates[c.min(2)], &u))
+                .unwrap_or_default(),
+            f => f.text(m),
+        }
+    }
+
+    /// `m` with this row set from `text`; an error (and nothing changed) if the text is not
+    /// a value of the row's kind. The whole mechanism is checked by the caller
+    /// ([`validate`]).
+    pub fn edited(self, m: &Mechanism, text: &str) -> Result<Mechanism, String> {
+        let u = MechUnits::new(m);
+        let mut out = m.clone();
+        let no_flexure = || "no such flexure".to_string();
+        match self {
+            MechField::Root(i) => {
+                out.flexures.get_mut(i).ok_or_else(no_flexure)?.root =
+                    parse_point(text, &u).map_err(|e| format!("root: {e}"))?;
+            }
+            MechField::Angle(i) => {
+                out.flexures.get_mut(i).ok_or_else(no_flexure)?.angle =
+                    parse_angle(text).map_err(|e| format!("angle: {e}"))?;
+            }
+            MechField::Attach(i) => {
+                let attach = match text.trim() {
+                    "clamped" => Attach::Clamped,
+                    "pinned" => Attach::Pinned,
+                    "link" => Attach::Link {
+                        to: match m.flexures.get(i).map(|f| f.attach) {
+                            Some(Attach::Link { to }) => to,
+                            _ => m.stage_point,
+                        },
+                    },
+                    other => {
+                        return Err(format!(
+                            "attach: expected clamped, pinned or link, got `{other}`"
+                        ))
+                    }
+                };
+                out.flexures.get_mut(i).ok_or_else(no_flexure)?.attach = attach;
+            }
+            MechField::Coupler(i) => {
+                let f = out.flexures.get_mut(i).ok_or_else(no_flexure)?;
+                if !matches!(f.attach, Attach::Link { .. }) {
+                    return Err("only a flexure attached by a link has a coupler".into());
+                }
+                f.attach = Attach::Link {
+                    to: parse_point(text, &u).map_err(|e| format!("coupler: {e}"))?,
+                };
+            }
+            MechField::StagePoint => {
+                let p = parse_point(text, &u).map_err(|e| format!("stage point: {e}"))?;
+                out = moved_stage_point(m, p);
+            }
+            MechField::Coordinate { drive, c } => {
+                let d = out.drives.get_mut(drive).ok_or("no such drive")?;
+                let c = c.min(2);
+                let name = key_name(c, d.coordinates[c]);
+                let v = parse_value(c, d.coordinates[c], text, &u)
+                    .map_err(|e| format!("{name}: {e}"))?;
+                d.coordinates[c] = match d.coordinates[c] {
+                    Coordinate::Prescribed(_) => Coordinate::Prescribed(v),
+                    Coordinate::Loaded(_) => Coordinate::Loaded(v),
+                };
+            }
+            MechField::Steps(drive) => {
+                let d = out.drives.get_mut(drive).ok_or("no such drive")?;
+                let steps: i64 = text
+                    .trim()
+                    .parse()
+                    .map_err(|_| format!("steps: `{}` is not a whole number", text.trim()))?;
+                if !(1..=MAX_STEPS).contains(&steps) {
+                    return Err(format!("steps must be 1 to {MAX_STEPS}"));
+                }
+                d.steps = steps as u32;
+            }
+        }
+        Ok(out)
+    }
+}
+
+/// The choices `p` offers on a row, in the order it tries them: the other attachments
+/// (clamped, pinned, link, round again), or the coordinate of the other kind. A prescribed
+/// coordinate becomes the load that holds the exact mechanism where the drive took it (its
+/// reaction at the drive's end), a loaded one the motion that load caused, so the drive's
+/// end state stays where it was; with no exact solution yet, zero.
+pub fn toggled(
+    m: &Mechanism,
+    field: MechField,
+    exact: Option<&MechBaselineView>,
+) -> Vec<Mechanism> {
+    match field {
+        MechField::Attach(i) => {
+            let Some(f) = m.flexures.get(i) else {
+                return Vec::new();
+            };
+            let order = ["clamped", "pinned", "link"];
+            let now = order
+                .iter()
+                .position(|n| *n == attach_name(&f.attach))
+                .unwrap_or(0);
+            (1..order.len())
+                .filter_map(|k| {
+                    MechField::Attach(i)
+                        .edited(m, order[(now + k) % order.len()])
+                        .ok()
+                })
+                .collect()
+        }
+        MechField::Coordinate { drive, c } => {
+            let c = c.min(2);
+            let Some(d) = m.drives.get(drive) else {
+                return Vec::new();
+            };
+            // The exact mechanism at the drive's end, in SI.
+            let end = exact
+                .filter(|v| v.mechanism.drives.get(drive) == Some(d))
+                .and_then(|v| v.cases.get(drive))
+                .and_then(|cases| cases.last());
+            let (l, _) = m.scale();
+            let u = MechUnits::new(m);
+            let mut out = m.clone();
+            out.drives[drive].coordinates[c] = match d.coordinates[c] {
+                Coordinate::Prescribed(_) => {
+                    Coordinate::Loaded(end.map_or(0.0, |e| e.stage_load[c] * u.load(c)))
+                }
+                Coordinate::Loaded(_) => Coordinate::Prescribed(end.map_or(0.0, |e| {
+                    if c == 2 {
+                        e.stage[c]
+                    } else {
+                        e.stage[c] * l
+                    }
+                })),
+            };
+            vec![out]
+        }
+        _ => Vec::new(),
+    }
+}
+
+/// `m` with the stage point at `p`; couplers whose stage end sat on the old stage point
+/// stay on it.
+pub fn moved_stage_point(m: &Mechanism, p: [f64; 2]) -> Mechanism {
+    let mut out = m.clone();
+    let old = m.stage_point;
+    for f in &mut out.flexures {
+        if let Attach::Link { to } = &mut f.attach {
+            if *to == old {
+                *to = p;
+            }
+        }
+    }
+    out.stage_point = p;
+    out
+}
+
+/// `m` after the scene's beam went from `old` to `new`: every flexure value that was the
+/// scene's (not overridden) follows it, the shear coefficient and the effects always do (a
+/// flexure cannot override them); the stage point follows flexure 1's unloaded tip when it
+/// sat on it, and couplers ending on the stage point follow that.
+pub fn rebased(m: &Mechanism, old: &BeamSpec, new: &BeamSpec) -> Mechanism {
+    let tip_before = m.flexures.first().map(Flexure::tip);
+    let mut out = m.clone();
+    for f in &mut out.flexures {
+        let b = &mut f.beam;
+        for (mine, was, now) in [
+            (&mut b.length, old.length, new.length),
+            (&mut b.width, old.width, new.width),
+            (&mut b.thickness, old.thickness, new.thickness),
+            (
+                &mut b.youngs_modulus,
+                old.youngs_modulus,
+                new.youngs_modulus,
+            ),
+            (&mut b.poisson_ratio, old.poisson_ratio, new.poisson_ratio),
+        ] {
+            if *mine == was {
+                *mine = now;
+            }
+        }
+        b.shear_coefficient = new.shear_coefficient;
+        b.effects = new.effects;
+    }
+    match (tip_before, out.flexures.first().map(Flexure::tip)) {
+        (Some(before), Some(after)) if before == m.stage_point && before != after => {
+            moved_stage_point(&out, after)
+        }
+        _ => out,
+    }
+}
+
+/// Checks a mechanism scene by the rules its file obeys: the scene's own
+/// ([`Scene::validate`]) and the mechanism's (a coupler of zero length, two flexures on one
+/// line, a drive that goes nowhere, too many cases), read back from the scene's TOML.
+pub fn validate(scene: &Scene) -> Result<(), String> {
+    let name = |e: crate::scene::SceneError| match e.key {
+        Some(key) => format!("{key}: {}", e.message),
+        None => e.message,
+    };
+    scene.validate().map_err(name)?;
+    Scene::from_toml_str(&scene.to_toml(), &scene.name)
+        .map(|_| ())
+        .map_err(name)
+}
+
+/// The mechanism panel's cursor and what the mechanism charts show.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct MechState {
+    /// The selected row, an index into [`fields`].
+    pub row: usize,
+    /// The drive the charts show (from 0).
+    pub drive: usize,
+    /// The case of that drive the shape chart shows (from 0); `None`: the last, the drive's
+    /// end.
+    pub case: Option<usize>,
+    /// The force–stroke panel shown when the chart has room for only one.
+    pub chart: usize,
+}
+
+impl MechState {
+    /// Moves the cursor `dy` rows among `rows`.
+    pub fn move_by(&mut self, dy: i32, rows: usize) {
+        self.row = step(self.row, dy, rows);
+    }
+
+    /// The selected row of `m`.
+    pub fn field(&self, m: &Mechanism) -> Option<MechField> {
+        let f = fields(m);
+        f.get(self.row.min(f.len().saturating_sub(1))).copied()
+    }
+
+    /// The shown drive, within `drives`.
+    pub fn shown_drive(&self, drives: usize) -> usize {
+        self.drive.min(drives.saturating_sub(1))
+    }
+
+    /// `[` and `]`: the previous or next drive, wrapping; the shape chart goes to its end.
+    pub fn cycle_drive(&mut self, delta: i32, drives: usize) {
+        let n = drives.max(1) as i64;
+        self.drive = (self.shown_drive(drives) as i64 + delta as i64).rem_euclid(n) as usize;
+        self.case = None;
+        self.chart = 0;
+    }
+
+    /// The shown case of a drive with `cases` cases (none when it has none).
+    pub fn shown_case(&self, cases: usize) -> Option<usize> {
+        let last = cases.checked_sub(1)?;
+        Some(self.case.map_or(last, |c| c.min(last)))
+    }
+
+    /// `<` and `>`: the previous or next case of the shown drive, wrapping.
+    pub fn cycle_case(&mut self, delta: i32, cases: usize) {
+        if let Some(now) = self.shown_case(cases) {
+            let n = cases as i64;
+            self.case = Some((now as i64 + delta as i64).rem_euclid(n) as usize);
+        }
+    }
+}
+
+/// `flexure.attach` as the scene file names it.
+pub fn attach_name(a: &Attach) -> &'static str {
+    match a {
+        Attach::Clamped => "clamped",
+        Attach::Pinned => "pinned",
+        Attach::Link { .. } => "link",
+    }
+}
+
+/// The file key of coordinate `c` of kind `k`, capitalised for loads: `dy`, `Fy`.
+pub fn key_name(c: usize, k: Coordinate) -> String {
+    let (disp, load) = COORDINATE_KEYS[c.min(2)];
+    if k.is_prescribed() {
+        disp.to_string()
+    } else {
+        let mut s = load.to_string();
+        s.replace_range(..1, &load[..1].to_uppercase());
+        s
+    }
+}
+
+/// A coordinate's end value in display units, with its unit: `15 mm`, `0 deg`, `2.5 N`.
+fn value_text(c: usize, k: Coordinate, u: &MechUnits) -> String {
+    let unit = match (k.is_prescribed(), c == 2) {
+        (true, true) => "deg",
+        (true, false) => u.distance,
+        (false, true) => "N m",
+        (false, false) => "N",
+    };
+    format!("{} {unit}", trim_number(u.input(c, k), 6))
+}
+
+/// A point in display units: `67.68, -17.68 mm`.
+fn point_text(p: [f64; 2], u: &MechUnits) -> String {
+    format!(
+        "{}, {} {}",
+        trim_number(p[0] * u.per_metre, 5),
+        trim_number(p[1] * u.per_metre, 5),
+        u.distance
+    )
+}
+
+fn dist(a: [f64; 2], b: [f64; 2]) -> f64 {
+    (a[0] - b[0]).hypot(a[1] - b[1])
+}
+
+/// A length typed in the panel, m: bare numbers are in the display unit.
+fn parse_length(text: &str, u: &MechUnits) -> Result<f64, String> {
+    match text.trim().parse::<f64>() {
+        Ok(v) if v.is_finite() => Ok(v / u.per_metre),
+        Ok(_) => Err(format!("`{}` is not a finite number", text.trim())),
+        Err(_) => parse_quantity(text, Quantity::Length),
+    }
+}
+
+/// `x, y` with an optional unit after either number (one after `y` applies to a bare `x`).
+fn parse_point(text: &str, u: &MechUnits) -> Result<[f64; 2], String> {
+    let parts: Vec<&str> = text.split(',').collect();
+    let [x, y] = parts.as_slice() else {
+        return Err(format!(
+            "type x, y (e.g. `50, -10` in {} or `0.05, -0.01 m`)",
+            u.distance
+        ));
+    };
+    let y_value = parse_length(y, u)?;
+    let x_value = match x.trim().parse::<f64>() {
+        // A bare x takes y's unit: "50, -10 mm".
+        Ok(v) if v.is_finite() => {
+            let unit = y.trim().trim_start_matches(|ch: char| {
+                ch.is_ascii_digit() || matches!(ch, '.' | '-' | '+' | 'e' | 'E')
+            });
+            if unit.trim().is_empty() {
+                v / u.per_metre
+            } else {
+                parse_quantity(&format!("{v} {}", unit.trim()), Quantity::Length)?
+            }
+        }
+        _ => parse_length(x, u)?,
+    };
+    Ok([x_value, y_value])
+}
+
+/// An angle typed in degrees (bare or `deg`) or radians (`rad`), returned in radians.
+fn parse_angle(text: &str) -> Result<f64, String> {
+    let t = text.trim();
+    let (number, radians) = if let Some(n) = t.strip_suffix("rad") {
+        (n, true)
+    } else if let Some(n) = t.strip_suffix("deg").or_else(|| t.strip_suffix('°')) {
+        (n, false)
+    } else {
+        (t, false)
+    };
+    let v = parse_quantity(number, Quantity::Plain)?;
+    Ok(if radians { v } else { v.to_radians() })
+}
+
+/// A coordinate's end value typed in display units (mm, deg, N, N m) or with its own unit,
+/// returned in SI (m, rad, N, N m).
+fn parse_value(c: usize, k: Coordinate, text: &str, u: &MechUnits) -> Result<f64, String> {
+    match (k.is_prescribed(), c == 2) {
+        (true, false) => parse_length(text, u),
+        (true, true) => parse_angle(text),
+        (false, rotation) => {
+            let t = text.trim();
+            let units: &[(&str, f64)] = if rotation {
+                &[
+                    ("N mm", 1e-3),
+                    ("Nmm", 1e-3),
+                    ("N m", 1.0),
+                    ("Nm", 1.0),
+                    ("N·m", 1.0),
+                ]
+            } else {
+                &[("mN", 1e-3), ("kN", 1e3), ("N", 1.0)]
+            };
+            let (number, factor) = units
+                .iter()
+                .find_map(|(unit, f)| t.strip_suffix(unit).map(|n| (n, *f)))
+                .unwrap_or((t, 1.0));
+            Ok(parse_quantity(number, Quantity::Plain)? * factor)
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used)]
+
+    use super::*;
+
+    fn slider_crank() -> Scene {
+        Scene::from_toml_str(
+            include_str!("../../../assets/scenes/slider-crank.toml"),
+            "slider-crank",
+        )
+        .unwrap()
+    }
+
+    #[test]
+    fn rows_and_texts_of_the_slider_crank() {
+        let s = slider_crank();
+        let m = s.mechanism.as_ref().unwrap();
+        let rows = fields(m);
+        assert_eq!(rows.len(), 4 + 1 + 4, "{rows:?}");
+        assert_eq!(MechField::Root(0).text(m), "0, 0 mm");
+        assert_eq!(MechField::Attach(0).text(m), "link, coupler 25 mm");
+        assert_eq!(MechField::Attach(0).edit_text(m), "link");
+        assert_eq!(MechField::Coupler(0).text(m), "67.678, -17.678 mm");
+        assert_eq!(
+            MechField::Coordinate { drive: 0, c: 1 }.text(m),
+            "dy = 15 mm"
+        );
+        assert_eq!(
+            MechField::Coordinate { drive: 0, c: 2 }.text(m),
+            "dphi = 0 deg"
+        );
+        assert_eq!(MechField::Steps(0).text(m), "10");
+    }
+
+    #[test]
+    fn typed_values_take_the_display_units_unless_given_their_own() {
+        let s = slider_crank();
+        let m = s.mechanism.as_ref().unwrap();
+        let dy = MechField::Coordinate { drive: 0, c: 1 };
+        let e = dy.edited(m, "20").unwrap();
+        assert_eq!(e.drives[0].coordinates[1], Coordinate::Prescribed(0.02));
+        let e = dy.edited(m, "0.01 m").unwrap();
+        assert_eq!(e.drives[0].coordinates[1], Coordinate::Prescribed(0.01));
+        let e = MechField::Root(0).edited(m, "1, 2 cm").unwrap();
+        assert!((e.flexures[0].root[0] - 0.01).abs() < 1e-15);
+        assert!((e.flexures[0].root[1] - 0.02).abs() < 1e-15);
+        let e = MechField::Angle(0).edited(m, "90").unwrap();
+        assert!((e.flexures[0].angle - std::f64::consts::FRAC_PI_2).abs() < 1e-15);
+        for (field, bad) in [
+            (dy, "fast"),
+            (MechField::Root(0), "3"),
+            (MechField::Root(0), "1, 2, 3"),
+            (MechField::Angle(0), "nan"),
+            (MechField::Attach(0), "glued"),
+            (MechField::Steps(0), "0"),
+            (MechField::Steps(0), "2.5"),
+        ] {
+            assert!(field.edited(m, bad).is_err(), "{field:?} took {bad:?}");
+        }
+    }
+
+    #[test]
+    fn a_coupler_on_the_stage_point_follows_it() {
+        let s = slider_crank();
+        let m = s.mechanism.as_ref().unwrap();
+        let e = MechField::StagePoint.edited(m, "70, -20").unwrap();
+        assert_eq!(e.flexures[0].attach, Attach::Link { to: e.stage_point });
+        assert!((e.stage_point[0] - 0.07).abs() < 1e-15);
+    }
+
+    #[test]
+    fn toggling_a_coordinate_keeps_the_end_state_and_validation_catches_bad_ones() {
+        let mut s = slider_crank();
+        let m = s.mechanism.clone().unwrap();
+        let dy = MechField::Coordinate { drive: 0, c: 1 };
+        let toggled = toggled(&m, dy, None);
+        assert_eq!(toggled[0].drives[0].coordinates[1], Coordinate::Loaded(0.0));
+        // With every coordinate zero the drive goes nowhere: the file's rule refuses it.
+        s.mechanism = Some(toggled[0].clone());
+        let e = validate(&s).unwrap_err();
+        assert!(e.contains("goes nowhere"), "{e}");
+        // A coupler ending on the flexure's own tip has zero length.
+        let mut bad = m.clone();
+        bad.flexures[0].attach = Attach::Link {
+            to: bad.flexures[0].tip(),
+        };
+        s.mechanism = Some(bad);
+        assert!(validate(&s).unwrap_err().contains("zero length"));
+    }
+
+    #[test]
+    fn a_beam_edit_reaches_the_flexures_that_do_not_override_it() {
+        let s = slider_crank();
+        let m = s.mechanism.as_ref().unwrap();
+        let mut new = s.beam;
+        new.length = 0.06;
+        new.thickness = 0.0006;
+        let r = rebased(m, &s.beam, &new);
+        assert_eq!(r.flexures[0].beam.length, 0.06);
+        assert_eq!(r.flexures[0].beam.thickness, 0.0006);
+        // The slider is not flexure 1's tip: it stays.
+        assert_eq!(r.stage_point, m.stage_point);
+    }
+
+    #[test]
+    fn cases_and_drives_wrap() {
+        let mut st = MechState::default();
+        assert_eq!(st.shown_case(10), Some(9));
+        st.cycle_case(1, 10);
+        assert_eq!(st.shown_case(10), Some(0));
+        st.cycle_case(-1, 10);
+        assert_eq!(st.shown_case(10), Some(9));
+        assert_eq!(st.shown_case(0), None);
+        st.cycle_drive(1, 2);
+        assert_eq!((st.drive, st.case), (1, None));
+        st.cycle_drive(1, 2);
+        assert_eq!(st.drive, 0);
+    }
+}

@@ -1,0 +1,102 @@
+//! The mechanism panel: a mechanism scene's flexures, stage point and drives, one value per
+//! row, in place of the load paths (DESIGN §8).
+
+use ratatui::layout::{Constraint, Rect};
+use ratatui::style::{Color, Style};
+use ratatui::text::Span;
+use ratatui::widgets::{Cell, Row, Table, TableState};
+use ratatui::Frame;
+
+use super::super::app::{App, EditTarget, Panel};
+use super::super::state::mech::fields;
+use super::{panel_block, shown, Palette};
+
+/// What the mechanism panel draws.
+#[derive(Debug, Clone, PartialEq)]
+pub struct View {
+    /// The panel has the focus.
+    pub focused: bool,
+    /// The title: how many flexures and drives.
+    pub title: String,
+    /// Per row: its group (on the group's first row only), label, text (or editor), and
+    /// whether it is being edited.
+    pub rows: Vec<(String, &'static str, String, bool)>,
+    /// The selected row.
+    pub selected: usize,
+    /// Colours.
+    pub pal: Palette,
+}
+
+impl View {
+    /// The mechanism panel of `app` (empty on a cantilever scene).
+    pub fn new(app: &App) -> View {
+        let mut rows = Vec::new();
+        let mut title = " Mechanism ".to_string();
+        if let Some(m) = &app.scene.mechanism {
+            let plural =
+                |n: usize, what: &str| format!("{n} {what}{}", if n == 1 { "" } else { "s" });
+            title = format!(
+                " Mechanism  {} · {} ",
+                plural(m.flexures.len(), "flexure"),
+                plural(m.drives.len(), "drive")
+            );
+            let mut last_group = String::new();
+            for f in fields(m) {
+                let group = f.group();
+                let (text, editing) = shown(app, &EditTarget::Mech(f), f.text(m));
+                let head = if group == last_group {
+                    String::new()
+                } else {
+                    group.clone()
+                };
+                last_group = group;
+                rows.push((head, f.label(), text, editing));
+            }
+        }
+        View {
+            focused: app.focus == Panel::Mechanism,
+            title,
+            selected: app.mech_state.row.min(rows.len().saturating_sub(1)),
+            rows,
+            pal: Palette { mono: app.mono },
+        }
+    }
+}
+
+/// Draws the mechanism panel.
+pub fn draw(frame: &mut Frame, area: Rect, view: &View) {
+    let pal = view.pal;
+    let block = panel_block(view.title.as_str(), view.focused, pal).title_bottom(Span::styled(
+        " dx dy dphi prescribed · Fx Fy Mz loaded ",
+        pal.fg(Color::DarkGray),
+    ));
+    let rows: Vec<Row> = view
+        .rows
+        .iter()
+        .enumerate()
+        .map(|(i, (group, label, text, editing))| {
+            let style = if *editing || (view.focused && view.selected == i) {
+                pal.selected()
+            } else {
+                Style::default()
+            };
+            Row::new(vec![
+                Cell::from(group.clone()),
+                Cell::from(*label),
+                Cell::from(Span::styled(text.clone(), style)),
+            ])
+        })
+        .collect();
+    let table = Table::new(
+        rows,
+        [
+            Constraint::Length(10),
+            Constraint::Length(8),
+            Constraint::Min(10),
+        ],
+    )
+    .column_spacing(0)
+    .block(block);
+    let mut state = TableState::default().with_selected(Some(view.selected));
+    frame.render_stateful_widget(table, area, &mut state);
+}
