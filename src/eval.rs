@@ -218,20 +218,185 @@ pub fn beam_against_data(
     let Some(truth) = &scene.truth else {
         return Ok(None);
     };
-    let solver = BeamSolver::new(scene.beam.model(), resolution)
+    beam_against_rows(&scene.beam, truth, 1.0, resolution, scene.fit.angle_weight).map(Some)
+}
+
+/// [`beam_against_data`] for `beam` (which may differ from the nominal beam the rows were
+/// converted with): the rows' nondimensional loads are multiplied by `load_scale`, the
+/// nominal `E I0` over this beam's, so that they stay the same physical loads.
+fn beam_against_rows(
+    beam: &crate::scene::BeamSpec,
+    truth: &DataTruth,
+    load_scale: f64,
+    resolution: Resolution,
+    angle_weight: f64,
+) -> Result<Evaluation, BaselineError> {
+    let solver = BeamSolver::new(beam.model(), resolution)
         .map_err(|source| BaselineError { path: 0, source })?;
     let mut cases = Vec::with_capacity(truth.row_count());
     for (i, path) in truth.paths.iter().enumerate() {
         for row in &path.rows {
-            let beam = solver.solve(row.load).map_err(|source| BaselineError {
+            let load = row.load.scaled(load_scale);
+            let solved = solver.solve(load).map_err(|source| BaselineError {
                 path: i + 1,
                 source,
             })?;
-            cases.push(CaseError::new(row.load, row.tip, beam.tip));
+            cases.push(CaseError::new(row.load, row.tip, solved.tip));
         }
     }
-    let figures = ErrorFigures::from_cases(&cases, scene.fit.angle_weight);
-    Ok(Some(Evaluation { cases, figures }))
+    let figures = ErrorFigures::from_cases(&cases, angle_weight);
+    Ok(Evaluation { cases, figures })
+}
+
+/// A beam parameter [`calibrate`] can fit to measured data.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum BeamParam {
+    /// `E`, Pa: scales the bending stiffness (a rig's `E` is never the catalogue's).
+    YoungsModulus,
+    /// `t0`, m: scales the bending stiffness as its cube and the slenderness.
+    Thickness,
+}
+
+impl BeamParam {
+    /// The scene key's name.
+    pub fn name(self) -> &'static str {
+        match self {
+            BeamParam::YoungsModulus => "youngs_modulus",
+            BeamParam::Thickness => "thickness",
+        }
+    }
+
+    /// From the scene key's name.
+    pub fn from_name(name: &str) -> Option<BeamParam> {
+        match name {
+            "youngs_modulus" | "E" => Some(BeamParam::YoungsModulus),
+            "thickness" => Some(BeamParam::Thickness),
+            _ => None,
+        }
+    }
+
+    fn get(self, beam: &crate::scene::BeamSpec) -> f64 {
+        match self {
+            BeamParam::YoungsModulus => beam.youngs_modulus,
+            BeamParam::Thickness => beam.thickness,
+        }
+    }
+
+    fn set(self, beam: &mut crate::scene::BeamSpec, v: f64) {
+        match self {
+            BeamParam::YoungsModulus => beam.youngs_modulus = v,
+            BeamParam::Thickness => beam.thickness = v,
+        }
+    }
+}
+
+/// One beam parameter fitted to a data scene's measurements.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Calibration {
+    /// Which parameter.
+    pub param: BeamParam,
+    /// The scene's value (SI).
+    pub nominal: f64,
+    /// The fitted value (SI).
+    pub value: f64,
+    /// The beam against the data with the nominal value.
+    pub nominal_figures: ErrorFigures,
+    /// The beam against the data with the fitted value: the residual.
+    pub figures: ErrorFigures,
+    /// The fit ended at the edge of the searched range (a factor of [`CALIBRATION_RANGE`]
+    /// either way of the nominal value): the data wants a value further out, or the beam
+    /// cannot explain it.
+    pub at_edge: bool,
+    /// Beam solves of every row (evaluations of `J`).
+    pub evaluations: u32,
+}
+
+/// [`calibrate`] searches within this factor of the nominal value, either way.
+pub const CALIBRATION_RANGE: f64 = 4.0;
+
+/// Fits `param` of the scene's beam to its measured data: the value that minimises the
+/// beam's `J` against the data (golden-section search on the logarithm of the value, within
+/// [`CALIBRATION_RANGE`] of the nominal one, to a relative 1e-9; the nominal value is kept
+/// if nothing searched does better). Trial values whose beam
+/// cannot reach every row count as worse than any that can.
+///
+/// # Errors
+/// The scene has no data, or the beam with the nominal value cannot reach its rows.
+pub fn calibrate(
+    scene: &Scene,
+    param: BeamParam,
+    resolution: Resolution,
+) -> Result<Calibration, CalibrateError> {
+    let truth = scene.truth.as_ref().ok_or(CalibrateError::NoData)?;
+    let nominal_beam = scene.beam;
+    let nominal = param.get(&nominal_beam);
+    let ei0 = nominal_beam.youngs_modulus * nominal_beam.second_moment();
+    let w = scene.fit.angle_weight;
+    let mut evaluations = 0u32;
+    let mut judge = |v: f64| -> Result<Evaluation, BaselineError> {
+        evaluations += 1;
+        let mut beam = nominal_beam;
+        param.set(&mut beam, v);
+        let scale = ei0 / (beam.youngs_modulus * beam.second_moment());
+        beam_against_rows(&beam, truth, scale, resolution, w)
+    };
+    let nominal_figures = judge(nominal).map_err(CalibrateError::Nominal)?.figures;
+    let mut cost = |log_v: f64| judge(log_v.exp()).map_or(f64::INFINITY, |e| e.figures.objective);
+    let (mut lo, mut hi) = (
+        (nominal / CALIBRATION_RANGE).ln(),
+        (nominal * CALIBRATION_RANGE).ln(),
+    );
+    let g = (5.0_f64.sqrt() - 1.0) / 2.0;
+    let mut x1 = hi - g * (hi - lo);
+    let mut x2 = lo + g * (hi - lo);
+    let (mut f1, mut f2) = (cost(x1), cost(x2));
+    while hi - lo > 1e-9 {
+        if f1 <= f2 {
+            hi = x2;
+            (x2, f2) = (x1, f1);
+            x1 = hi - g * (hi - lo);
+            f1 = cost(x1);
+        } else {
+            lo = x1;
+            (x1, f1) = (x2, f2);
+            x2 = lo + g * (hi - lo);
+            f2 = cost(x2);
+        }
+    }
+    let mut best = 0.5 * (lo + hi);
+    let edge = CALIBRATION_RANGE.ln() - 1e-3;
+    let mut figures = judge(best.exp()).map_err(CalibrateError::Nominal)?.figures;
+    if nominal_figures.objective <= figures.objective {
+        (best, figures) = (nominal.ln(), nominal_figures);
+    }
+    let value = if best == nominal.ln() {
+        nominal
+    } else {
+        best.exp()
+    };
+    Ok(Calibration {
+        param,
+        nominal,
+        value,
+        nominal_figures,
+        figures,
+        at_edge: (best - nominal.ln()).abs() > edge,
+        evaluations,
+    })
+}
+
+/// Why a calibration has no answer.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum CalibrateError {
+    /// The scene's truth is the beam itself.
+    #[error(
+        "the scene has no measured data to calibrate against (add [truth] data = \"file.csv\")"
+    )]
+    NoData,
+    /// The beam cannot reach the data's loads.
+    #[error("the beam cannot reach the measured loads: {0}")]
+    Nominal(BaselineError),
 }
 
 impl Fidelity {

@@ -41,6 +41,8 @@ pub enum Command {
     Export(ExportArgs),
     /// Draw the UI's charts for reports: deformed shapes and tip errors, as SVG or PNG.
     Plot(PlotArgs),
+    /// Fit one beam parameter (E or the thickness) to a data scene's measurements.
+    Calibrate(CalibrateArgs),
     /// Open the terminal UI (the default with no command) on a scene file or the built-in one.
     Tui {
         /// Scene file (TOML); default: the built-in scene.
@@ -141,6 +143,16 @@ pub struct SelectArgs {
     /// draft, normal or precise.
     #[arg(long, value_name = "LEVEL", default_value = "normal", value_parser = Fidelity::from_str)]
     pub fidelity: Fidelity,
+}
+
+/// `prbfit calibrate`.
+#[derive(Args)]
+pub struct CalibrateArgs {
+    #[command(flatten)]
+    pub common: Common,
+    /// The beam parameter fitted: youngs_modulus or thickness.
+    #[arg(long, value_name = "NAME", default_value = "youngs_modulus")]
+    pub param: String,
 }
 
 /// `prbfit tradeoff`.

@@ -7,6 +7,7 @@
 //! written. A closed stdout pipe ends the program quietly with status 0.
 
 mod args;
+mod calibrate;
 mod eval;
 mod export;
 mod fit;
@@ -66,6 +67,7 @@ pub fn run() -> ExitCode {
         Some(Command::Tradeoff(args)) => tradeoff::run(args),
         Some(Command::Export(args)) => export::run(args),
         Some(Command::Plot(args)) => plot::run(args, matches.subcommand_matches("plot")),
+        Some(Command::Calibrate(args)) => calibrate::run(args),
         Some(Command::Tui { scene }) => tui(scene),
         None => tui(None),
     };
@@ -178,6 +180,20 @@ fn refuse_mechanism(scene: &Scene, command: &str) -> Result<()> {
     }
 }
 
+/// Commands that have nothing to say about measured data refuse a data scene (DESIGN §9),
+/// naming what does work on it, instead of solving the nominal beam as if it were the truth.
+fn refuse_data(scene: &Scene, command: &str, why: &str) -> Result<()> {
+    match &scene.truth {
+        None => Ok(()),
+        Some(t) => Err(bad(format!(
+            "\"{}\" is a data scene (its truth is {}): `{command}` {why}; eval, fit, select \
+             and export work on it (eval shows the beam's own error against the data)",
+            output::safe(&scene.name),
+            output::safe(&t.file)
+        ))),
+    }
+}
+
 /// The scene with `effects = "auto"` decided, and the decision.
 fn resolve_scene(scene: &Scene) -> Result<(Scene, Option<EffectsDecision>)> {
     resolve_effects(scene, Resolution::default()).context("deciding the beam effects")
@@ -197,6 +213,14 @@ fn tui(path: Option<PathBuf>) -> Result<()> {
         Some(p) => Scene::from_file(p)?,
         None => Scene::builtin(),
     };
+    if let Some(truth) = &scene.truth {
+        return Err(bad(format!(
+            "\"{}\" is a data scene (its truth is {}): the UI does not show measured data yet; \
+             use prbfit eval, fit or select on it",
+            output::safe(&scene.name),
+            output::safe(&truth.file)
+        )));
+    }
     prbfit::tui::run(scene, path).map_err(|e| bad(format!("{e:#}")))
 }
 

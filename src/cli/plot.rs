@@ -198,6 +198,11 @@ pub fn run(args: PlotArgs, matches: Option<&ArgMatches>) -> Result<()> {
     // Refuse before spending the time on a baseline.
     check_target(&args.output, args.force)?;
     let scene = load_scene(&args.common)?;
+    super::refuse_data(
+        &scene,
+        "plot",
+        "does not draw measured data yet (its charts need the beam's shapes)",
+    )?;
     if scene.mechanism.is_some() {
         let (scene, _) = resolve_scene(&scene)?;
         if let Some(mechanism) = &scene.mechanism {

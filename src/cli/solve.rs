@@ -177,6 +177,11 @@ fn beam_model(scene: &Scene, args: &SolveArgs) -> Result<BeamModel> {
 /// Runs `prbfit solve`.
 pub fn run(args: SolveArgs) -> Result<()> {
     let scene = load_scene(&args.common)?;
+    super::refuse_data(
+        &scene,
+        "solve",
+        "solves the beam along [[loads]], and a data scene's loads are its rows",
+    )?;
     if scene.mechanism.is_some() {
         let (scene, decision) = resolve_scene(&scene)?;
         if let Some(mechanism) = &scene.mechanism {

@@ -54,6 +54,12 @@ impl fmt::Display for TradeoffOutput {
 /// Runs `prbfit tradeoff`.
 pub fn run(args: TradeoffArgs) -> Result<()> {
     let (scene, decision) = resolved_scene(&args.common, "tradeoff")?;
+    super::refuse_data(
+        &scene,
+        "tradeoff",
+        "measures the beam solver's resolution and the load sampling, which measured data \
+         does not have (time the fit's presets with fit --fidelity draft|normal|precise)",
+    )?;
     let start = PrbMatrix::from_topology(&args.topology)
         .map_err(|e| bad(format!("--topology {}: {e}", args.topology)))?;
     let knobs = measure(&scene, &start, &CancelToken::new())?;

@@ -364,6 +364,11 @@ pub fn run_command(app: &mut App, cmd: Command, now: Instant) -> Option<Job> {
             }
         }
         Command::OpenScene(path) => match Scene::from_file(&path) {
+            Ok(scene) if scene.truth.is_some() => app.set_error(format!(
+                "not opened: {} is a data scene (DESIGN §9); the UI does not show measured \
+                 data yet: use prbfit eval, fit or select on it",
+                path.display()
+            )),
             Ok(scene) => {
                 app.set_scene(scene, path.clone(), now);
                 app.set_info(format!("opened {}", path.display()));

@@ -1,0 +1,432 @@
+//! Data scenes (DESIGN §9): measured load cases and tips as the truth.
+//!
+//! - Round trip: data written from prbfit's own beam and read back as the truth gives the
+//!   beam scene's figures and fit. The data are the beam's tips printed with 17 significant
+//!   digits, so the figures agree to the beam solver's own tolerance (tips good to 1e-8 at
+//!   the default `tol = 1e-9`, `Resolution::claimed_tip_error`).
+//! - Noise: data with 0.1% L Gaussian noise are fitted without chasing the noise.
+//! - Calibration recovers the E and the thickness the data were made with.
+//! - Every malformed file is exit status 2 naming file:line:column.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
+mod common;
+
+use common::{assert_input_error, json, prbfit, succeeded, Scratch};
+use prbfit::beam::{BeamSolver, Load, Resolution};
+use prbfit::scene::Scene;
+
+/// The built-in scene's beam and targets, with `[truth] data = "{csv}"` in place of its loads
+/// and `E = {e}` as the nominal modulus.
+fn data_scene(csv: &str, e: f64, thickness: f64) -> String {
+    format!(
+        r#"name = "measured flexure"
+[beam]
+length = 0.05
+width = 0.01
+thickness = {thickness:?}
+youngs_modulus = {e:?}
+poisson_ratio = 0.3
+effects = "none"
+
+[truth]
+data = "{csv}"
+"#
+    )
+}
+
+/// The same beam as a beam scene with the built-in scene's four load paths.
+fn beam_scene() -> String {
+    let builtin = Scene::builtin();
+    let mut s = builtin.clone();
+    s.beam.effects = prbfit::scene::EffectsChoice::Fixed(prbfit::beam::Effects::NONE);
+    s.name = "beam flexure".into();
+    s.to_toml()
+}
+
+/// The beam's tips over the built-in scene's cases for a beam of modulus `e` and thickness
+/// `t` (effects off), as CSV rows: SI (`fx, fy, mz, x, y, theta`) or nondimensional, with
+/// `noise(path, row, component)` added to the tip (units of L and radians).
+fn beam_csv(e: f64, t: f64, si: bool, noise: &mut dyn FnMut() -> f64) -> String {
+    let builtin = Scene::builtin();
+    let mut beam = builtin.beam;
+    beam.youngs_modulus = e;
+    beam.thickness = t;
+    beam.effects = prbfit::scene::EffectsChoice::Fixed(prbfit::beam::Effects::NONE);
+    let solver = BeamSolver::new(beam.model(), Resolution::default()).unwrap();
+    let ei = e * beam.second_moment();
+    let (l, force, moment) = (beam.length, ei / beam.length.powi(2), ei / beam.length);
+    let mut out = if si {
+        String::from("path,fx,fy,mz,x,y,theta\n")
+    } else {
+        String::from("path,alpha_x,alpha_y,beta,a,b,phi\n")
+    };
+    for (i, path) in builtin.loads.iter().enumerate() {
+        for sol in solver.solve_path(path.end, path.steps).unwrap() {
+            let (ld, tip) = (sol.load, sol.tip);
+            let (a, b, phi) = (tip.a + noise(), tip.b + noise(), tip.phi + noise());
+            if si {
+                out.push_str(&format!(
+                    "{},{:?},{:?},{:?},{:?},{:?},{:?}\n",
+                    i + 1,
+                    ld.alpha_x * force,
+                    ld.alpha_y * force,
+                    ld.beta * moment,
+                    a * l,
+                    b * l,
+                    phi
+                ));
+            } else {
+                out.push_str(&format!(
+                    "{},{:?},{:?},{:?},{:?},{:?},{:?}\n",
+                    i + 1,
+                    ld.alpha_x,
+                    ld.alpha_y,
+                    ld.beta,
+                    a,
+                    b,
+                    phi
+                ));
+            }
+        }
+    }
+    out
+}
+
+fn no_noise() -> f64 {
+    0.0
+}
+
+/// The figures of `prbfit eval --json` as (rms pos, max pos, rms ang, max ang, J).
+fn figures(v: &serde_json::Value) -> [f64; 5] {
+    [
+        "rms_pos_err",
+        "max_pos_err",
+        "rms_ang_err",
+        "max_ang_err",
+        "objective",
+    ]
+    .map(|k| v[k].as_f64().unwrap())
+}
+
+#[test]
+fn data_from_the_beam_gives_the_beam_scenes_figures_and_fit() {
+    let dir = Scratch::new("data-round-trip");
+    let beam = dir.write("beam.toml", &beam_scene());
+    let reference = json(&prbfit(&[
+        "eval", "--scene", &beam, "--model", "su-3r", "--json",
+    ]));
+    for si in [false, true] {
+        dir.write("own.csv", &beam_csv(200e9, 0.0005, si, &mut no_noise));
+        let scene = dir.write("own.toml", &data_scene("own.csv", 200e9, 0.0005));
+        let v = json(&prbfit(&[
+            "eval", "--scene", &scene, "--model", "su-3r", "--json",
+        ]));
+        assert_eq!(v["truth"]["rows"], 20, "{v}");
+        // The beam's own error against data made from it: the solver's tolerance.
+        assert!(v["truth"]["beam_vs_data"]["max_pos_err"].as_f64().unwrap() < 1e-8);
+        for (a, b) in figures(&v).iter().zip(figures(&reference)) {
+            assert!(
+                (a - b).abs() <= 1e-8 * (1.0 + b.abs()),
+                "si {si}: {a} vs {b}"
+            );
+        }
+    }
+    // The same fit: a 2R fitted to the data and to the beam, judged on the beam scene.
+    let fit = |scene: &str| {
+        json(&prbfit(&[
+            "fit",
+            "--scene",
+            scene,
+            "--topology",
+            "2R",
+            "--json",
+        ]))
+    };
+    let (on_data, on_beam) = (fit(&dir.file("own.toml")), fit(&beam));
+    let (jd, jb) = (
+        on_data["objective"].as_f64().unwrap(),
+        on_beam["objective"].as_f64().unwrap(),
+    );
+    // The fit's normal baseline and the data differ by the beam's tolerance (1e-8 on tips),
+    // which moves J = mean(e^2) by O(1e-8 sqrt(J)).
+    assert!((jd - jb).abs() <= 1e-7 * jb.sqrt(), "{jd} vs {jb}");
+}
+
+/// A small deterministic Gaussian source (xorshift and Box-Muller): the test needs noise,
+/// not a random crate.
+struct Gauss(u64);
+
+impl Gauss {
+    fn uniform(&mut self) -> f64 {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 7;
+        self.0 ^= self.0 << 17;
+        ((self.0 >> 11) as f64 + 0.5) / (1u64 << 53) as f64
+    }
+    fn next(&mut self, sigma: f64) -> f64 {
+        let (u, v) = (self.uniform(), self.uniform());
+        sigma * (-2.0 * u.ln()).sqrt() * (2.0 * std::f64::consts::PI * v).cos()
+    }
+}
+
+/// Noise of 0.1% L on every tip coordinate (and 1e-3 rad on the angle): a 3R fitted to the
+/// noisy data is judged against the noiseless beam. Seven free cells fitted to 60 residuals
+/// average the noise down by about `sqrt(7/60)`, so the fitted model's error against the
+/// truth grows by about `1e-3 sqrt(7/60) = 3.4e-4` L rms over the noiseless fit's, well under
+/// the noise itself; a model that chased the noise would sit about `1e-3` L from the truth.
+#[test]
+fn noisy_data_fit_without_chasing_the_noise() {
+    let dir = Scratch::new("data-noise");
+    let mut g = Gauss(0x9e37_79b9_7f4a_7c15);
+    dir.write(
+        "noisy.csv",
+        &beam_csv(200e9, 0.0005, false, &mut || g.next(1e-3)),
+    );
+    let noisy = dir.write("noisy.toml", &data_scene("noisy.csv", 200e9, 0.0005));
+    let beam = dir.write("beam.toml", &beam_scene());
+    let fit = |scene: &str| {
+        json(&prbfit(&[
+            "fit",
+            "--scene",
+            scene,
+            "--topology",
+            "3R",
+            "--json",
+        ]))
+    };
+    let (on_noisy, on_beam) = (fit(&noisy), fit(&beam));
+    // The residual against the noisy data: the model's own error and the noise together.
+    let residual = on_noisy["rms_pos_err"].as_f64().unwrap();
+    // Both fitted models judged against the noiseless beam.
+    let judged = |m: &serde_json::Value| {
+        json(&prbfit(&[
+            "eval",
+            "--scene",
+            &beam,
+            "--prb",
+            m["prb"].as_str().unwrap(),
+            "--json",
+        ]))["rms_pos_err"]
+            .as_f64()
+            .unwrap()
+    };
+    let (noisy_truth, clean_truth) = (judged(&on_noisy), judged(&on_beam));
+    eprintln!(
+        "noise 1e-3 L: residual against the noisy data {residual:.3e} L rms; against the \
+         noiseless truth {noisy_truth:.3e} (the noiseless fit's {clean_truth:.3e})"
+    );
+    // The noise (sqrt(2) 1e-3 L rms in position) adds to the model's own error, in quadrature
+    // less what seven parameters absorb: the residual is at least the noiseless fit's.
+    let expected = (clean_truth.powi(2) + 2e-6 * (1.0 - 7.0 / 60.0)).sqrt();
+    assert!(
+        (residual - expected).abs() < 0.3 * expected,
+        "{residual} vs about {expected}"
+    );
+    assert!(
+        noisy_truth < clean_truth + 0.7e-3,
+        "{noisy_truth} vs {clean_truth}"
+    );
+}
+
+/// `calibrate` recovers the modulus and the thickness the data were made with from a
+/// nominal beam 10% and 4% off (to the golden-section search's 1e-9 in the logarithm, well
+/// inside 1e-6), and its residual is the solver's tolerance.
+#[test]
+fn calibration_recovers_the_beam_the_data_came_from() {
+    let dir = Scratch::new("data-calibrate");
+    dir.write("si.csv", &beam_csv(200e9, 0.0005, true, &mut no_noise));
+    let off_e = dir.write("e.toml", &data_scene("si.csv", 180e9, 0.0005));
+    let v = json(&prbfit(&["calibrate", "--scene", &off_e, "--json"]));
+    let e = v["value"].as_f64().unwrap();
+    assert!((e / 200e9 - 1.0).abs() < 1e-6, "{v}");
+    assert!(v["figures"]["max_pos_err"].as_f64().unwrap() < 1e-7, "{v}");
+    assert!(
+        v["nominal_figures"]["max_pos_err"].as_f64().unwrap() > 1e-2,
+        "{v}"
+    );
+    let off_t = dir.write("t.toml", &data_scene("si.csv", 200e9, 0.00052));
+    let v = json(&prbfit(&[
+        "calibrate",
+        "--scene",
+        &off_t,
+        "--param",
+        "thickness",
+        "--json",
+    ]));
+    let t = v["value"].as_f64().unwrap();
+    assert!((t / 0.0005 - 1.0).abs() < 1e-6, "{v}");
+    assert_input_error(
+        &prbfit(&["calibrate", "--scene", &off_t, "--param", "width"]),
+        &["--param", "youngs_modulus"],
+    );
+    assert_input_error(&prbfit(&["calibrate"]), &["no measured data"]);
+}
+
+/// A fitted model file records the data it was fitted to: its name and its SHA-256.
+#[test]
+fn model_files_name_the_data_and_its_hash() {
+    use sha2::Digest;
+    let dir = Scratch::new("data-provenance");
+    let csv = beam_csv(200e9, 0.0005, false, &mut no_noise);
+    dir.write("own.csv", &csv);
+    let scene = dir.write("own.toml", &data_scene("own.csv", 200e9, 0.0005));
+    let model = dir.file("m.toml");
+    succeeded(&prbfit(&[
+        "fit",
+        "--scene",
+        &scene,
+        "--topology",
+        "1R",
+        "-o",
+        &model,
+    ]));
+    let m: toml::Value = toml::from_str(&std::fs::read_to_string(&model).unwrap()).unwrap();
+    let hash: String = sha2::Sha256::digest(csv.as_bytes())
+        .iter()
+        .map(|b| format!("{b:02x}"))
+        .collect();
+    assert_eq!(m["fit"]["truth"]["data"].as_str(), Some("own.csv"));
+    assert_eq!(m["fit"]["truth"]["sha256"].as_str(), Some(hash.as_str()));
+    assert_eq!(m["fit"]["truth"]["rows"].as_integer(), Some(20));
+    // select works on the data too, and names it.
+    let v = json(&prbfit(&[
+        "select",
+        "--scene",
+        &scene,
+        "--fidelity",
+        "draft",
+        "--json",
+    ]));
+    assert_eq!(v["truth"]["sha256"].as_str(), Some(hash.as_str()));
+    assert!(!v["rows"].as_array().unwrap().is_empty());
+    // Commands with nothing to say about data say so.
+    for cmd in ["solve", "tradeoff"] {
+        assert_input_error(&prbfit(&[cmd, "--scene", &scene]), &["data scene", cmd]);
+    }
+    assert_input_error(
+        &prbfit(&[
+            "eval", "--scene", &scene, "--model", "su-3r", "--load", "0,1,0",
+        ]),
+        &["--load", "own.csv"],
+    );
+}
+
+/// Every malformed data file: exit status 2, naming the file, the line and the column.
+#[test]
+fn bad_data_files_name_file_line_and_column() {
+    let dir = Scratch::new("data-bad");
+    let scene = dir.write("s.toml", &data_scene("d.csv", 200e9, 0.0005));
+    let head = "path,alpha_x,alpha_y,beta,a,b,phi\n";
+    let good = "1,0,1,0,0.94,0.30,0.46\n";
+    let cases: &[(&str, String, &[&str])] = &[
+        ("empty", String::new(), &["d.csv:1:1", "empty"]),
+        (
+            "header only",
+            head.to_string(),
+            &["d.csv:1:1", "no data rows"],
+        ),
+        (
+            "missing column",
+            "alpha_x,alpha_y,beta,a,b\n0,1,0,0.9,0.3\n".into(),
+            &["d.csv:1:1", "missing column `phi`"],
+        ),
+        (
+            "unknown column",
+            "path,alpha_x,alpha_y,beta,a,b,phi,fz\n".into(),
+            &["d.csv:1:35", "fz", "unknown column"],
+        ),
+        (
+            "mixed units",
+            "path,fx,fy,mz,a,b,phi\n1,0,1,0,0.9,0.3,0.4\n".into(),
+            &["d.csv:1:", "mixed units"],
+        ),
+        (
+            "not a number",
+            format!("{head}{good}1,0,2,0,0.8,zero,0.78\n"),
+            &["d.csv:3:13", "b", "not a number"],
+        ),
+        (
+            "NaN",
+            format!("{head}1,0,NaN,0,0.9,0.3,0.4\n"),
+            &["d.csv:2:5", "alpha_y", "not a finite number"],
+        ),
+        (
+            "too few fields",
+            format!("{head}1,0,1,0,0.9,0.3\n"),
+            &["d.csv:2:", "6 fields", "7 columns"],
+        ),
+        (
+            "shrinking path",
+            format!("{head}{good}1,0,0.5,0,0.98,0.15,0.24\n"),
+            &["d.csv:3:1", "path 1 shrinks", "line 2"],
+        ),
+        (
+            "path comes back",
+            format!("{head}{good}2,0,0,1,0.9,0.3,1.0\n1,0,2,0,0.8,0.5,0.78\n"),
+            &["d.csv:4:1", "path 1 comes back"],
+        ),
+        (
+            "bad path number",
+            format!("{head}one,0,1,0,0.9,0.3,0.4\n"),
+            &["d.csv:2:1", "not a path number"],
+        ),
+    ];
+    for (what, text, must) in cases {
+        dir.write("d.csv", text);
+        let out = prbfit(&["eval", "--scene", &scene, "--model", "su-3r"]);
+        let err = String::from_utf8_lossy(&out.stderr).to_string();
+        assert_eq!(out.status.code(), Some(2), "{what}: {err}");
+        for m in *must {
+            assert!(err.contains(m), "{what}: {err:?} lacks {m:?}");
+        }
+    }
+    // A file that is not there, and a directory.
+    std::fs::remove_file(dir.file("d.csv")).unwrap();
+    assert_input_error(
+        &prbfit(&["eval", "--scene", &scene, "--model", "su-3r"]),
+        &["s.toml", "truth.data", "d.csv"],
+    );
+    std::fs::create_dir(dir.file("d.csv")).unwrap();
+    assert_input_error(
+        &prbfit(&["fit", "--scene", &scene, "--topology", "1R"]),
+        &["s.toml", "truth.data", "d.csv"],
+    );
+}
+
+/// The loads of measured data need not be proportional: a path whose rows turn (a force,
+/// then a moment added on top) is followed row by row, and the PRB model's tips at the rows
+/// are its solutions at the rows' own loads (checked against single solves from rest,
+/// which reach the same branch for these moderate loads).
+#[test]
+fn a_turning_path_is_followed_row_by_row() {
+    let dir = Scratch::new("data-turn");
+    let rows = [
+        (0.0, 1.0, 0.0),
+        (0.0, 2.0, 0.0),
+        (0.0, 2.0, 0.5),
+        (0.0, 2.0, 1.0),
+    ];
+    let mut csv = String::from("alpha_x,alpha_y,beta,a,b,phi\n");
+    let solver = BeamSolver::new(Scene::builtin().beam.model(), Resolution::default()).unwrap();
+    for (ax, ay, b) in rows {
+        let tip = solver.solve(Load::new(ax, ay, b)).unwrap().tip;
+        csv.push_str(&format!(
+            "{ax},{ay},{b},{:?},{:?},{:?}\n",
+            tip.a, tip.b, tip.phi
+        ));
+    }
+    dir.write("turn.csv", &csv);
+    let scene = dir.write("turn.toml", &data_scene("turn.csv", 200e9, 0.0005));
+    let v = json(&prbfit(&[
+        "eval", "--scene", &scene, "--model", "su-3r", "--json",
+    ]));
+    let cases = v["cases"].as_array().unwrap();
+    assert_eq!(cases.len(), 4);
+    let su = prbfit::prb::published::by_name("su-3r").unwrap().prb;
+    let prb = prbfit::prb::PrbSolver::new(&su, 0.0);
+    for (c, (ax, ay, b)) in cases.iter().zip(rows) {
+        let alone = prb.solve(Load::new(ax, ay, b)).unwrap().tip;
+        let a = c["a"].as_f64().unwrap();
+        assert!((a - alone.a).abs() < 1e-8, "{c} vs {alone:?}");
+    }
+}
