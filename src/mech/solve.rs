@@ -51,11 +51,13 @@ const SINGULAR: f64 = 1e-5;
 /// Su 3R parallel stage at `(Ax, Ay, B) = (-10, 6, 3)` stalls at 0.7% of its unloaded spread;
 /// the solved points of that design grid, beam and PRB, stay above 13%).
 const NEAR_CRITICAL: f64 = 0.02;
-/// Newton solves (continuation sub-steps, accepted or not) one case of a drive may take.
-/// A healthy case takes one to a few; a path crawling forward in steps near the smallest
-/// (a sliver of progress, the step doubled, rejected, halved again) could otherwise take
-/// millions, so past this the path is reported as not followed rather than left running.
-const ATTEMPTS_PER_CASE: u32 = 100;
+/// Rejected continuation sub-steps one case of a drive may have. A healthy case has none
+/// or a few; a steep one more (the fixed-guided segment's last ninth of a 0.9 L stroke, where
+/// the force climbs steeply, has 67); a path that keeps failing in steps near the smallest
+/// (a sliver of progress, then rejected again: a steel flexure stretched along its axis, past
+/// the root shot's force range) could otherwise crawl for minutes, so past this the path is
+/// reported as not followed rather than left running.
+const REJECTIONS_PER_CASE: u32 = 200;
 /// No flexure tip moves by more than this (units of its `L`, radians) in one sub-step, so the
 /// path cannot hop to another branch.
 const MAX_TIP_STEP: f64 = 0.3;
@@ -545,19 +547,19 @@ impl<M: FlexureModel> MechSolver<M> {
         let mut prev2: Option<(f64, Vec<f64>)> = None;
         let mut out = Vec::with_capacity(steps as usize);
         let mut dlam = 1.0 / steps as f64;
+        let mut rejected = false;
         for k in 1..=steps {
             let target = k as f64 / steps as f64;
             let mut iterations = 0;
-            let mut attempts = 0u32;
+            let mut rejections = 0u32;
             loop {
-                attempts += 1;
-                if attempts > ATTEMPTS_PER_CASE {
+                if rejections > REJECTIONS_PER_CASE {
                     return Err(MechError::NoEquilibrium {
                         drive: index,
                         fraction: prev.lambda,
                         reason: format!(
-                            "continuation took more than {ATTEMPTS_PER_CASE} sub-steps for one \
-                             case without reaching it"
+                            "continuation rejected more than {REJECTIONS_PER_CASE} sub-steps \
+                             of one case without reaching it"
                         ),
                     });
                 }
@@ -593,7 +595,14 @@ impl<M: FlexureModel> MechSolver<M> {
                             }
                             prev2 = Some((prev.lambda, std::mem::take(&mut prev.x)));
                             prev = c.point;
-                            dlam = (2.0 * dlam).min(1.0 / steps as f64);
+                            // Grow the step only after two successes in a row: right after a
+                            // rejection the step that worked is kept, so a hard stretch is
+                            // crossed at the step it allows instead of by doubling into a
+                            // rejection at every other sub-step.
+                            if !rejected {
+                                dlam = (2.0 * dlam).min(1.0 / steps as f64);
+                            }
+                            rejected = false;
                             if lambda >= target {
                                 out.push(self.case(drive, &prev, iterations));
                                 break;
@@ -605,6 +614,8 @@ impl<M: FlexureModel> MechSolver<M> {
                     Err(reason) => reason,
                 };
                 dlam *= 0.5;
+                rejected = true;
+                rejections += 1;
                 if dlam < self.min_step {
                     // Stuck next to a nearly singular Jacobian: a limit point, where the
                     // path turns back and no equilibrium lies further along the drive.
