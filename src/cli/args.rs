@@ -6,6 +6,7 @@ use std::str::FromStr;
 use clap::{Args, Parser, Subcommand};
 
 use prbfit::beam::{Load, Resolution};
+use prbfit::fea::Section;
 use prbfit::fidelity::Fidelity;
 use prbfit::format::Format;
 use prbfit::plot::ChartKind;
@@ -41,6 +42,9 @@ pub enum Command {
     Export(ExportArgs),
     /// Draw the UI's charts for reports: deformed shapes and tip errors, as SVG or PNG.
     Plot(PlotArgs),
+    /// FEA of the scene's beam with CalculiX (ccx) along the scene's load paths, written as
+    /// measured-data CSV (DESIGN §9), the beam beside it.
+    Fea(FeaArgs),
     /// Open the terminal UI (the default with no command) on a scene file or the built-in one.
     Tui {
         /// Scene file (TOML); default: the built-in scene.
@@ -219,4 +223,32 @@ pub struct PlotArgs {
     /// The load path whose deformed shapes are drawn (1-based; cantilever scenes only).
     #[arg(long, value_name = "N", default_value_t = 1)]
     pub path: usize,
+}
+
+/// `prbfit fea`.
+#[derive(Args)]
+pub struct FeaArgs {
+    #[command(flatten)]
+    pub common: Common,
+    /// The CSV to write (DESIGN §9: path,fx,fy,mz,x,y,theta in SI).
+    #[arg(short = 'o', long = "output", value_name = "FILE")]
+    pub output: PathBuf,
+    /// Mesh density: elements along the beam (through the thickness and across the width in
+    /// proportion, at least one).
+    #[arg(long, value_name = "N", default_value_t = 40)]
+    pub mesh: u32,
+    /// plane-stress (the beam of DESIGN §2), plane-strain (a very wide section) or solid
+    /// (the 3D strip).
+    #[arg(long, value_name = "MODEL", default_value = "plane-stress", value_parser = Section::from_str)]
+    pub section: Section,
+    /// Where to write the CalculiX deck (one per load path, numbered -pathK when there are
+    /// several); default: beside the output, with extension .inp.
+    #[arg(long, value_name = "FILE.inp")]
+    pub deck: Option<PathBuf>,
+    /// Overwrite the output and the decks if they exist.
+    #[arg(long)]
+    pub force: bool,
+    /// Time limit of each CalculiX run (one per load path), seconds.
+    #[arg(long, value_name = "SECONDS", default_value_t = 900)]
+    pub timeout: u64,
 }

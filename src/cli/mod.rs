@@ -9,6 +9,7 @@
 mod args;
 mod eval;
 mod export;
+mod fea;
 mod fit;
 mod mech;
 mod output;
@@ -66,6 +67,7 @@ pub fn run() -> ExitCode {
         Some(Command::Tradeoff(args)) => tradeoff::run(args),
         Some(Command::Export(args)) => export::run(args),
         Some(Command::Plot(args)) => plot::run(args, matches.subcommand_matches("plot")),
+        Some(Command::Fea(args)) => fea::run(args),
         Some(Command::Tui { scene }) => tui(scene),
         None => tui(None),
     };
