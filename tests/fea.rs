@@ -203,6 +203,7 @@ const VARIANTS: [(&str, Effects); 5] = [
             shear: true,
             extension: true,
             poisson: true,
+            plane_strain: false,
         },
     ),
     (
@@ -211,6 +212,7 @@ const VARIANTS: [(&str, Effects); 5] = [
             shear: true,
             extension: true,
             poisson: false,
+            plane_strain: false,
         },
     ),
     (
@@ -219,6 +221,7 @@ const VARIANTS: [(&str, Effects); 5] = [
             shear: false,
             extension: true,
             poisson: true,
+            plane_strain: false,
         },
     ),
     (
@@ -227,6 +230,7 @@ const VARIANTS: [(&str, Effects); 5] = [
             shear: true,
             extension: false,
             poisson: false,
+            plane_strain: false,
         },
     ),
     (
@@ -235,6 +239,7 @@ const VARIANTS: [(&str, Effects); 5] = [
             shear: false,
             extension: false,
             poisson: false,
+            plane_strain: false,
         },
     ),
 ];

@@ -71,7 +71,8 @@ pub struct SolveArgs {
     /// One tip load, nondimensional: alpha_x, alpha_y, beta.
     #[arg(long, value_name = "AX,AY,BETA", value_parser = Load::parse, allow_hyphen_values = true)]
     pub load: Option<Load>,
-    /// Beam effects: a comma-separated list of shear, extension, poisson; or none; or all.
+    /// Beam effects: a comma-separated list of shear, extension, poisson, plane_strain; or
+    /// none; or all (shear, extension, poisson).
     #[arg(long, value_name = "LIST|none")]
     pub effects: Option<String>,
     /// Slenderness L/t0 (overrides the scene's beam).
