@@ -12,7 +12,7 @@ use std::time::Instant;
 
 use serde::Serialize;
 
-use crate::beam::plate::{anticlastic_fraction, ashwell_lambda, ends_fraction};
+use crate::beam::plate::{anticlastic_fraction, ashwell_lambda, combined_fraction, ends_fraction};
 use crate::beam::{BeamSolution, Effects, Resolution};
 use crate::eval::{evaluate, Baseline, BaselineError, ErrorFigures};
 use crate::fit::mech::{fit_mechanism, MechFitError, MECH_TOL};
@@ -70,12 +70,12 @@ pub struct EffectsDecision {
 }
 
 /// Where a scene's section lies between the narrow beam (plane stress) and the plate (plane
-/// strain), by the criterion of [`crate::beam::plate`]: per load case the plate fraction is
-/// the larger of the ends' ([`ends_fraction`]) and the anticlastic one (Searle's parameter
-/// `b^2 / (R t)` at each point of the beam, Ashwell's solution, averaged along the beam with
-/// the weight `M(s)^2` of the bending compliance); the scene's is their mean over the cases,
-/// and the section is *wide* when that is at least 1/2: plane strain is then the nearer
-/// limit.
+/// strain), by the criterion of [`crate::beam::plate`]: per load case the plate fraction
+/// combines ([`combined_fraction`]) the ends' ([`ends_fraction`]) and the anticlastic one
+/// (Searle's parameter `b^2 / (R t)` at each point of the beam, Ashwell's solution, averaged
+/// along the beam with the weight `M(s)^2` of the bending compliance); the scene's is their
+/// mean over the cases, and the section is *wide* when that is at least 1/2: plane strain is
+/// then the nearer limit.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct PlateCriterion {
     /// `w0 / t0`.
@@ -115,7 +115,7 @@ pub fn plate_criterion(beam: &BeamSpec, solutions: &[BeamSolution]) -> PlateCrit
             weight += w;
         }
         let anticlastic = if weight > 0.0 { weighted / weight } else { 0.0 };
-        sum += ends.max(anticlastic);
+        sum += combined_fraction(ends, anticlastic);
     }
     let plate_fraction = if solutions.is_empty() {
         ends
