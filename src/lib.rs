@@ -4,6 +4,7 @@
 //! - [`beam`]: the large-deflection baseline beam (DESIGN §2),
 //! - [`eval`]: a PRB model judged against the beam over a scene (DESIGN §4),
 //! - [`export`]: model files, MuJoCo, URDF, SDF and CSV,
+//! - [`fea`]: the beam as a CalculiX model along the scene's loads (DESIGN §9),
 //! - [`fit`]: optimal PRB parameters for any topology (DESIGN §4),
 //! - [`plot`]: charts for reports (deformed shapes, tip errors) as SVG or PNG,
 //! - [`prb`]: the PRB matrix, topology names, kinematics and statics (DESIGN §3),
@@ -17,6 +18,7 @@ pub mod beam;
 pub mod cancel;
 pub mod eval;
 pub mod export;
+pub mod fea;
 pub mod fidelity;
 pub mod fit;
 pub mod format;

@@ -2,7 +2,9 @@
 //! the most effective PRB model for each situation", made automatic and measured):
 //!
 //! - [`decide_effects`]: which of shear, extension and Poisson change the beam's tip by more
-//!   than [`AUTO_FRACTION`] of the scene's accuracy targets; only those are kept.
+//!   than [`AUTO_FRACTION`] of the scene's accuracy targets; only those are kept. Plane
+//!   strain (the wide section's limit) is judged the same way once [`plate_criterion`] has
+//!   said the section is nearer the plate than the narrow beam.
 //! - [`select`]: fits a ladder of topologies in order of complexity, judges the published
 //!   models as they are, and picks the simplest model that meets the targets.
 
@@ -10,6 +12,7 @@ use std::time::Instant;
 
 use serde::Serialize;
 
+use crate::beam::plate::{anticlastic_fraction, ashwell_lambda, combined_fraction, ends_fraction};
 use crate::beam::{BeamSolution, Effects, Resolution};
 use crate::eval::{evaluate, Baseline, BaselineError, ErrorFigures};
 use crate::fit::mech::{fit_mechanism, MechFitError, MECH_TOL};
@@ -27,7 +30,9 @@ pub const AUTO_FRACTION: f64 = 0.1;
 /// What dropping one effect does to the tip.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct EffectImpact {
-    /// The effect dropped: `shear`, `extension` (which drops Poisson too) or `poisson`.
+    /// The effect dropped: `shear`, `extension` (which drops Poisson too), `poisson`, or
+    /// `plane_strain` (switched to the other limit: off for a wide section, on for a narrow
+    /// one, where it is never kept).
     pub effect: &'static str,
     /// Largest tip position change over the scene's cases, units of L.
     pub pos_change: f64,
@@ -50,13 +55,81 @@ pub struct EffectImpact {
 pub struct EffectsDecision {
     /// The effects the scene's beam is modelled with.
     pub effects: Effects,
-    /// What dropping each effect alone does, in the order shear, extension, poisson.
+    /// What dropping each effect alone does, in the order shear, extension, poisson,
+    /// plane_strain.
     pub impacts: Vec<EffectImpact>,
+    /// Whether the section is wide (nearer plane strain than the narrow beam), and why;
+    /// `None` where it is not judged (mechanism scenes: plane strain only when named).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub plate: Option<PlateCriterion>,
     /// The tip change of dropping every dropped effect together (checked, not assumed), as a
     /// fraction of the target.
     pub dropped_together_fraction: f64,
     /// The fraction of the target above which an effect is kept ([`AUTO_FRACTION`]).
     pub threshold: f64,
+}
+
+/// Where a scene's section lies between the narrow beam (plane stress) and the plate (plane
+/// strain), by the criterion of [`crate::beam::plate`]: per load case the plate fraction
+/// combines ([`combined_fraction`]) the ends' ([`ends_fraction`]) and the anticlastic one
+/// (Searle's parameter `b^2 / (R t)` at each point of the beam, Ashwell's solution, averaged
+/// along the beam with the weight `M(s)^2` of the bending compliance); the scene's is their
+/// mean over the cases, and the section is *wide* when that is at least 1/2: plane strain is
+/// then the nearer limit.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct PlateCriterion {
+    /// `w0 / t0`.
+    pub width_over_thickness: f64,
+    /// `w0 / L`.
+    pub width_over_length: f64,
+    /// The ends' plate fraction.
+    pub ends_fraction: f64,
+    /// Searle's parameter `w0^2 / (R t0)` at the scene's largest curvature.
+    pub largest_searle: f64,
+    /// The mean plate fraction over the cases (0: beam, 1: plate).
+    pub plate_fraction: f64,
+    /// `plate_fraction >= 1/2`.
+    pub wide: bool,
+}
+
+/// The plate criterion of `beam` under the cases `solutions` (solved as a narrow beam).
+pub fn plate_criterion(beam: &BeamSpec, solutions: &[BeamSolution]) -> PlateCriterion {
+    let (w_t, w_l) = (beam.width / beam.thickness, beam.width / beam.length);
+    let ends = ends_fraction(w_l, w_t);
+    let nu = beam.poisson_ratio;
+    let mut largest_searle = 0.0_f64;
+    let mut sum = 0.0;
+    for s in solutions {
+        let (ax, ay, be) = (s.load.alpha_x, s.load.alpha_y, s.load.beta);
+        // The bending moment (E I0 / L) at each shape point is the curvature there times L;
+        // Searle's parameter is w0^2 / (R t0) = (w0 / t0) (w0 / L) (L / R).
+        let (mut weighted, mut weight) = (0.0, 0.0);
+        let n = s.shape.len();
+        for (i, p) in s.shape.iter().enumerate() {
+            let m = be + ay * (s.tip.a - p.x) - ax * (s.tip.b - p.y);
+            let searle = w_t * w_l * m.abs();
+            largest_searle = largest_searle.max(searle);
+            // Trapezoid weights over the uniformly spaced points.
+            let w = if i == 0 || i + 1 == n { 0.5 } else { 1.0 } * m * m;
+            weighted += w * anticlastic_fraction(ashwell_lambda(searle, nu));
+            weight += w;
+        }
+        let anticlastic = if weight > 0.0 { weighted / weight } else { 0.0 };
+        sum += combined_fraction(ends, anticlastic);
+    }
+    let plate_fraction = if solutions.is_empty() {
+        ends
+    } else {
+        sum / solutions.len() as f64
+    };
+    PlateCriterion {
+        width_over_thickness: w_t,
+        width_over_length: w_l,
+        ends_fraction: ends,
+        largest_searle,
+        plate_fraction,
+        wide: plate_fraction >= 0.5,
+    }
 }
 
 /// Largest tip change between two solves of the same cases, as (position, angle).
@@ -100,33 +173,40 @@ pub fn decide_effects_cancellable(
 ) -> Result<EffectsDecision, BaselineError> {
     // Each set of effects is solved once, however often the procedure asks for it.
     let mut solved: Vec<(Effects, Vec<BeamSolution>)> = Vec::new();
-    decide(
+    let solve = |solved: &mut Vec<(Effects, Vec<BeamSolution>)>,
+                 e: Effects|
+     -> Result<usize, BaselineError> {
+        if let Some(i) = solved.iter().position(|(k, _)| *k == e) {
+            return Ok(i);
+        }
+        let mut b = *beam;
+        b.effects = EffectsChoice::Fixed(e);
+        solved.push((
+            e,
+            Baseline::solve(b.model(), loads, resolution, cancel, &mut |_, _| {})?.solutions,
+        ));
+        Ok(solved.len() - 1)
+    };
+    // The plate criterion on the narrow beam with every refinement.
+    let narrow = solve(&mut solved, Effects::ALL)?;
+    let plate = plate_criterion(beam, &solved[narrow].1);
+    let full = Effects::ALL.with_plane_strain(plate.wide);
+    let mut decision = decide(
         accuracy,
+        full,
         |effects: Effects| -> Result<Change, BaselineError> {
-            // The index of `e`'s solutions in `solved`, solving them the first time.
-            let mut solve = |e: Effects| -> Result<usize, BaselineError> {
-                if let Some(i) = solved.iter().position(|(k, _)| *k == e) {
-                    return Ok(i);
-                }
-                let mut b = *beam;
-                b.effects = EffectsChoice::Fixed(e);
-                solved.push((
-                    e,
-                    Baseline::solve(b.model(), loads, resolution, cancel, &mut |_, _| {})?
-                        .solutions,
-                ));
-                Ok(solved.len() - 1)
-            };
-            let all = solve(Effects::ALL)?;
-            let this = solve(effects)?;
-            let (pos, ang) = tip_change(&solved[all].1, &solved[this].1);
+            let reference = solve(&mut solved, full)?;
+            let this = solve(&mut solved, effects)?;
+            let (pos, ang) = tip_change(&solved[reference].1, &solved[this].1);
             Ok(Change {
                 pos,
                 ang,
                 force: None,
             })
         },
-    )
+    )?;
+    decision.plate = Some(plate);
+    Ok(decision)
 }
 
 /// What dropping effects changes: the largest position (units of L) and angle changes, and
@@ -146,31 +226,36 @@ impl Change {
 }
 
 /// The decision procedure of [`decide_effects`], for any truth: `moves(e)` is what modelling
-/// with the effects `e` instead of all of them changes.
+/// with the effects `e` instead of `full` changes. `full` has every refinement on, and plane
+/// strain when the section is wide; for a narrow one plane strain's impact is what switching
+/// it on would change, and it is never kept.
 fn decide<E>(
     accuracy: &Accuracy,
+    full: Effects,
     mut moves: impl FnMut(Effects) -> Result<Change, E>,
 ) -> Result<EffectsDecision, E> {
     let mut impacts = Vec::new();
-    for effect in ["shear", "extension", "poisson"] {
-        let mut e = Effects::ALL;
+    for effect in ["shear", "extension", "poisson", "plane_strain"] {
+        let mut e = full;
         match effect {
             "shear" => e.shear = false,
             "extension" => {
                 e.extension = false;
                 e.poisson = false;
             }
-            _ => e.poisson = false,
+            "poisson" => e.poisson = false,
+            _ => e.plane_strain = !full.plane_strain,
         }
         let moved = moves(e)?;
         let frac = moved.fraction(accuracy);
+        let possible = effect != "plane_strain" || full.plane_strain;
         impacts.push(EffectImpact {
             effect,
             pos_change: moved.pos,
             ang_change: moved.ang,
             force_change: moved.force,
             fraction_of_target: frac,
-            kept: frac > AUTO_FRACTION,
+            kept: possible && frac > AUTO_FRACTION,
         });
     }
     // Poisson acts through extension: keeping Poisson keeps extension.
@@ -182,13 +267,15 @@ fn decide<E>(
             shear: impacts[0].kept,
             extension: impacts[1].kept,
             poisson: impacts[2].kept,
+            plane_strain: impacts[3].kept,
         };
         let together = moves(effects)?.fraction(accuracy);
-        // The dropped effect that matters most; none when every effect is kept.
+        // The dropped effect that matters most; none when every effect is kept. Plane strain
+        // on a narrow section is not dropped but wrong, and never taken back.
         let most_influential_dropped = impacts
             .iter()
             .enumerate()
-            .filter(|(_, i)| !i.kept)
+            .filter(|(k, i)| !i.kept && (*k != 3 || full.plane_strain))
             .max_by(|a, b| a.1.fraction_of_target.total_cmp(&b.1.fraction_of_target))
             .map(|(k, _)| k);
         match most_influential_dropped {
@@ -204,6 +291,7 @@ fn decide<E>(
                 return Ok(EffectsDecision {
                     effects,
                     impacts,
+                    plate: None,
                     dropped_together_fraction: together,
                     threshold: AUTO_FRACTION,
                 })
@@ -231,8 +319,10 @@ pub fn decide_mechanism_effects(
         m
     };
     let mut solved: Vec<(Effects, Vec<Vec<MechCase>>)> = Vec::new();
+    // Plane strain is not judged on mechanisms (their flexures take it when named).
     decide(
         accuracy,
+        Effects::ALL,
         |effects: Effects| -> Result<Change, EffectsError> {
             let mut solve = |e: Effects| -> Result<usize, EffectsError> {
                 if let Some(i) = solved.iter().position(|(k, _)| *k == e) {
@@ -582,6 +672,7 @@ fn mechanism_ladder(mechanism: &Mechanism) -> Vec<&'static str> {
             shear: a.shear || e.shear,
             extension: a.extension || e.extension,
             poisson: a.poisson || e.poisson,
+            plane_strain: a.plane_strain || e.plane_strain,
         });
     ladder(effects)
 }

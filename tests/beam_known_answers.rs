@@ -217,3 +217,51 @@ fn elliptic_closed_form_transverse_force() {
         );
     }
 }
+
+/// Plane strain (a wide section) is the narrow beam with the plate modulus E / (1 - nu^2) in
+/// bending and stretching and the same shear modulus: under a pure moment every curvature is
+/// scaled by 1 - nu^2, so the elastica's closed form holds with beta (1 - nu^2); under a
+/// small transverse force the bending part of the deflection shrinks by 1 - nu^2 and the
+/// shear part does not; a pull stretches 1 - nu^2 as far.
+#[test]
+fn plane_strain_is_the_plate_modulus() {
+    let nu = 0.3;
+    let plate = 1.0 - nu * nu;
+    let wide = Effects::parse_list("plane_strain").unwrap();
+    let solver = BeamSolver::new(
+        BeamModel::new(50.0, nu, None, wide).unwrap(),
+        Resolution::with_tol(1e-11),
+    )
+    .unwrap();
+    let beta = 2.0;
+    let tip = solver.solve(Load::new(0.0, 0.0, beta)).unwrap().tip;
+    let turn = beta * plate;
+    assert!((tip.phi - turn).abs() < 1e-9, "phi {}", tip.phi);
+    assert!((tip.a - turn.sin() / turn).abs() < 1e-9, "a {}", tip.a);
+    assert!(
+        (tip.b - (1.0 - turn.cos()) / turn).abs() < 1e-9,
+        "b {}",
+        tip.b
+    );
+
+    let all = Effects::parse_list("all,plane_strain").unwrap();
+    let model = BeamModel::new(10.0, nu, None, all).unwrap();
+    let solver = BeamSolver::new(model, Resolution::with_tol(1e-11)).unwrap();
+    let f = 1e-6;
+    let tip = solver.solve(Load::new(0.0, f, 0.0)).unwrap().tip;
+    let expected_b = plate * f / 3.0 + f * model.shear_compliance();
+    assert!(
+        ((tip.b - expected_b) / expected_b).abs() < 1e-6,
+        "b {} vs {expected_b}",
+        tip.b
+    );
+    let t = 1e-3;
+    let tip = solver.solve(Load::new(t, 0.0, 0.0)).unwrap().tip;
+    let expected = plate * t * model.axial_compliance();
+    assert!(
+        ((tip.a - 1.0 - expected) / expected).abs() < 1e-4,
+        "stretch {} vs {expected}",
+        tip.a - 1.0
+    );
+    assert!((model.plate_factor() - 1.0 / plate).abs() < 1e-15);
+}

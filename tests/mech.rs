@@ -351,6 +351,7 @@ fn clamped_flexure_pushed_past_euler_reports_the_bifurcation() {
         shear: false,
         extension: true,
         poisson: false,
+        plane_strain: false,
     });
     let m = mechanism(
         vec![f],
@@ -690,6 +691,7 @@ fn stubby_and_hair_thin_stages_small_motion() {
                 shear: false,
                 extension: true,
                 poisson: false,
+                plane_strain: false,
             },
         ),
     ] {

@@ -48,6 +48,7 @@
 
 mod band;
 mod model;
+pub mod plate;
 pub mod root;
 mod shoot;
 
@@ -1034,7 +1035,7 @@ impl BeamSolver {
 fn segment_count(model: &BeamModel, end: Load) -> usize {
     let force = end.alpha_x.hypot(end.alpha_y);
     let tension = match model.axial_strain(force) {
-        Ok((eps, _, p)) => (1.0 + eps.max(0.0)) / p.powi(4),
+        Ok((eps, _, p)) => (1.0 + eps.max(0.0)) * model.plate_compliance() / p.powi(4),
         // A force the material cannot carry fails on the path anyway.
         Err(_) => 1.0,
     };

@@ -12,6 +12,13 @@
 //! In units of `E I0 / L^2` for forces, `E A0 = 1 / c_e` with `c_e = I0 / (A0 L^2) =
 //! 1 / (12 (L/t0)^2)` and `kappa G A0 = 1 / c_s` with `c_s = c_e 2 (1 + nu) / kappa`.
 //!
+//! With plane strain on (a wide section, see [`Effects::plane_strain`]) the bending and axial
+//! stiffnesses take the plate modulus `E / (1 - nu^2)`: the curvature `M / (E I)` and the
+//! axial strain are multiplied by `1 - nu^2`; the shear modulus `G` is unchanged, and so is
+//! the Poisson shrink law below (an approximation: in plane strain only the thickness
+//! shrinks, by `nu / (1 - nu)` of the strain; the shrink is a second-order effect either way).
+//! The PRB matrix keeps the nominal scale `E I0 / L`, `E A0 / L`.
+//!
 //! With Poisson on, `eps (1 - nu eps)^2 = c_e N` is solved for `eps` by a bracketed Newton
 //! iteration. The left side peaks at `eps = 1 / (3 nu)` (value `4 / (27 nu)`): a tension above
 //! that has no equilibrium in this material law (the section necks), and a compression that
@@ -30,6 +37,12 @@ pub struct Effects {
     pub extension: bool,
     /// The section shrinks with the axial strain (needs `extension`).
     pub poisson: bool,
+    /// Plane strain: the plate modulus `E / (1 - nu^2)` in bending and stretching, for a
+    /// section so wide it cannot curl across (no anticlastic curvature). Not a refinement of
+    /// the narrow beam but its other limit: a strip is between the two, and
+    /// [`crate::select::plate_criterion`] says which it is nearer.
+    #[serde(default)]
+    pub plane_strain: bool,
 }
 
 impl Effects {
@@ -38,15 +51,27 @@ impl Effects {
         shear: false,
         extension: false,
         poisson: false,
+        plane_strain: false,
     };
-    /// Every effect on.
+    /// Every refinement of the narrow beam on: shear, extension and Poisson. Plane strain is
+    /// not one (it is the wide section's limit, named on its own), so it stays off.
     pub const ALL: Effects = Effects {
         shear: true,
         extension: true,
         poisson: true,
+        plane_strain: false,
     };
 
-    /// Parses `none`, `all` or a comma-separated list such as `shear,extension`.
+    /// These effects with plane strain switched to `on`.
+    pub const fn with_plane_strain(self, on: bool) -> Effects {
+        Effects {
+            plane_strain: on,
+            ..self
+        }
+    }
+
+    /// Parses `none`, `all` (shear, extension and Poisson) or a comma-separated list such as
+    /// `shear,extension` or `all,plane_strain`.
     pub fn parse_list(text: &str) -> Result<Effects, ModelError> {
         let trimmed = text.trim();
         match trimmed {
@@ -56,6 +81,10 @@ impl Effects {
         }
         let mut effects = Effects::NONE;
         for word in trimmed.split(',').map(str::trim) {
+            if word == "all" {
+                effects = Effects::ALL.with_plane_strain(effects.plane_strain);
+                continue;
+            }
             effects.set(word)?;
         }
         effects.validate()?;
@@ -68,6 +97,7 @@ impl Effects {
             "shear" => self.shear = true,
             "extension" => self.extension = true,
             "poisson" => self.poisson = true,
+            "plane_strain" => self.plane_strain = true,
             other => return Err(ModelError::UnknownEffect(other.to_string())),
         }
         Ok(())
@@ -92,6 +122,9 @@ impl Effects {
         }
         if self.poisson {
             out.push("poisson");
+        }
+        if self.plane_strain {
+            out.push("plane_strain");
         }
         out
     }
@@ -123,8 +156,11 @@ pub enum ModelError {
     /// number.
     #[error("shear coefficient kappa must be a finite number > 0, got {}", crate::text::bounded(*.0))]
     ShearCoefficient(f64),
-    /// An effect name other than `shear`, `extension` or `poisson` (the name given).
-    #[error("unknown effect `{0}` (expected shear, extension, poisson, none or all)")]
+    /// An effect name other than `shear`, `extension`, `poisson` or `plane_strain` (the name
+    /// given).
+    #[error(
+        "unknown effect `{0}` (expected shear, extension, poisson, plane_strain, none or all)"
+    )]
     UnknownEffect(String),
     /// `poisson` is on without `extension`: the section shrinks with the axial strain, which
     /// is zero without extension.
@@ -160,6 +196,9 @@ pub struct BeamModel {
     c_e: f64,
     /// `E I0 / (kappa G A0 L^2)`: shear compliance.
     c_s: f64,
+    /// `E / E_eff`: `1 - nu^2` with plane strain, else 1; scales the bending and axial
+    /// compliances.
+    plate: f64,
 }
 
 impl BeamModel {
@@ -188,6 +227,11 @@ impl BeamModel {
     fn from_valid(slenderness: f64, nu: f64, kappa: f64, effects: Effects) -> BeamModel {
         let c_e = 1.0 / (12.0 * slenderness * slenderness);
         let c_s = c_e * 2.0 * (1.0 + nu) / kappa;
+        let plate = if effects.plane_strain {
+            1.0 - nu * nu
+        } else {
+            1.0
+        };
         BeamModel {
             slenderness,
             nu,
@@ -195,6 +239,7 @@ impl BeamModel {
             effects,
             c_e,
             c_s,
+            plate,
         }
     }
 
@@ -204,9 +249,22 @@ impl BeamModel {
         BeamModel::from_valid(100.0, 0.3, cowper_kappa(0.3), Effects::NONE)
     }
 
-    /// Axial compliance `I0 / (A0 L^2) = 1 / (12 (L/t0)^2)`.
+    /// Axial compliance `I0 / (A0 L^2) = 1 / (12 (L/t0)^2)` at the nominal modulus (the
+    /// scale of the PRB matrix's `k_ex`; plane strain divides the beam's by
+    /// [`BeamModel::plate_factor`]).
     pub fn axial_compliance(&self) -> f64 {
         self.c_e
+    }
+
+    /// `E_eff / E`: `1 / (1 - nu^2)` with plane strain, else 1.
+    pub fn plate_factor(&self) -> f64 {
+        1.0 / self.plate
+    }
+
+    /// `E / E_eff`, the factor on the curvature and the axial strain.
+    #[inline(always)]
+    pub(crate) fn plate_compliance(&self) -> f64 {
+        self.plate
     }
 
     /// Shear compliance `E I0 / (kappa G A0 L^2)`.
@@ -223,7 +281,7 @@ impl BeamModel {
         } else {
             0.0
         };
-        let stiffness = if self.effects.poisson { p.powi(4) } else { 1.0 };
+        let stiffness = if self.effects.poisson { p.powi(4) } else { 1.0 } / self.plate;
         Some((eps, gamma, stiffness))
     }
 
@@ -233,13 +291,14 @@ impl BeamModel {
         if !self.effects.extension {
             return Ok((0.0, 0.0, 1.0));
         }
-        let rhs = self.c_e * n;
+        let c_e = self.c_e * self.plate;
+        let rhs = c_e * n;
         let (eps, de_dn, p) = if self.effects.poisson && self.nu > 0.0 {
             let (eps, deps_dr) =
                 solve_poisson(self.nu, rhs).ok_or(MaterialLimit::Necked { axial_force: n })?;
-            (eps, self.c_e * deps_dr, 1.0 - self.nu * eps)
+            (eps, c_e * deps_dr, 1.0 - self.nu * eps)
         } else {
-            (rhs, self.c_e, 1.0)
+            (rhs, c_e, 1.0)
         };
         if 1.0 + eps <= 0.0 {
             return Err(MaterialLimit::Crushed { axial_force: n });
@@ -371,6 +430,14 @@ mod tests {
             Effects::parse_list("poisson"),
             Err(ModelError::PoissonWithoutExtension)
         );
+        let wide = Effects::parse_list("all, plane_strain").unwrap();
+        assert_eq!(wide, Effects::ALL.with_plane_strain(true));
+        assert_eq!(wide.to_string(), "shear,extension,poisson,plane_strain");
+        assert_eq!(
+            Effects::parse_list("plane_strain,all").unwrap(),
+            Effects::ALL.with_plane_strain(true)
+        );
+        const { assert!(!Effects::ALL.plane_strain) };
         assert!(matches!(
             Effects::parse_list("shear,twist"),
             Err(ModelError::UnknownEffect(w)) if w == "twist"

@@ -144,6 +144,7 @@ mod tests {
             shear: true,
             extension: true,
             poisson: true,
+            plane_strain: false,
         };
         let model = BeamModel::new(4.0, 0.49, None, effects).unwrap();
         BeamSolver::new(model, Resolution::with_tol(1e-10)).unwrap()

@@ -111,10 +111,11 @@ fn rhs<const N: usize>(
     // One division for every power of 1/p below.
     let inv_p = if model.effects.poisson { 1.0 / p } else { 1.0 };
     let inv_p2 = inv_p * inv_p;
+    let plate = model.plate_compliance();
     let (p_psi, bend_compliance) = if model.effects.poisson {
-        (-model.nu * eps_psi, inv_p2 * inv_p2)
+        (-model.nu * eps_psi, plate * inv_p2 * inv_p2)
     } else {
-        (0.0, 1.0)
+        (0.0, plate)
     };
     let (gamma, gamma_psi) = if model.effects.shear {
         let c_s = model.shear_compliance();

@@ -6,6 +6,7 @@ use std::str::FromStr;
 use clap::{Args, Parser, Subcommand};
 
 use prbfit::beam::{Load, Resolution};
+use prbfit::fea::Section;
 use prbfit::fidelity::Fidelity;
 use prbfit::format::Format;
 use prbfit::plot::ChartKind;
@@ -43,6 +44,9 @@ pub enum Command {
     Plot(PlotArgs),
     /// Fit one beam parameter (E or the thickness) to a data scene's measurements.
     Calibrate(CalibrateArgs),
+    /// FEA of the scene's beam with CalculiX (ccx) along the scene's load paths, written as
+    /// measured-data CSV (DESIGN §9), the beam beside it.
+    Fea(FeaArgs),
     /// Open the terminal UI (the default with no command) on a scene file or the built-in one.
     Tui {
         /// Scene file (TOML); default: the built-in scene.
@@ -69,7 +73,8 @@ pub struct SolveArgs {
     /// One tip load, nondimensional: alpha_x, alpha_y, beta.
     #[arg(long, value_name = "AX,AY,BETA", value_parser = Load::parse, allow_hyphen_values = true)]
     pub load: Option<Load>,
-    /// Beam effects: a comma-separated list of shear, extension, poisson; or none; or all.
+    /// Beam effects: a comma-separated list of shear, extension, poisson, plane_strain; or
+    /// none; or all (shear, extension, poisson).
     #[arg(long, value_name = "LIST|none")]
     pub effects: Option<String>,
     /// Slenderness L/t0 (overrides the scene's beam).
@@ -231,4 +236,32 @@ pub struct PlotArgs {
     /// The load path whose deformed shapes are drawn (1-based; cantilever scenes only).
     #[arg(long, value_name = "N", default_value_t = 1)]
     pub path: usize,
+}
+
+/// `prbfit fea`.
+#[derive(Args)]
+pub struct FeaArgs {
+    #[command(flatten)]
+    pub common: Common,
+    /// The CSV to write (DESIGN §9: path,fx,fy,mz,x,y,theta in SI).
+    #[arg(short = 'o', long = "output", value_name = "FILE")]
+    pub output: PathBuf,
+    /// Mesh density: elements along the beam (through the thickness and across the width in
+    /// proportion, at least one).
+    #[arg(long, value_name = "N", default_value_t = 40)]
+    pub mesh: u32,
+    /// plane-stress (the beam of DESIGN §2), plane-strain (a very wide section) or solid
+    /// (the 3D strip).
+    #[arg(long, value_name = "MODEL", default_value = "plane-stress", value_parser = Section::from_str)]
+    pub section: Section,
+    /// Where to write the CalculiX deck (one per load path, numbered -pathK when there are
+    /// several); default: beside the output, with extension .inp.
+    #[arg(long, value_name = "FILE.inp")]
+    pub deck: Option<PathBuf>,
+    /// Overwrite the output and the decks if they exist.
+    #[arg(long)]
+    pub force: bool,
+    /// Time limit of each CalculiX run (one per load path), seconds.
+    #[arg(long, value_name = "SECONDS", default_value_t = 900)]
+    pub timeout: u64,
 }

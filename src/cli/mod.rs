@@ -10,6 +10,7 @@ mod args;
 mod calibrate;
 mod eval;
 mod export;
+mod fea;
 mod fit;
 mod mech;
 mod output;
@@ -68,6 +69,7 @@ pub fn run() -> ExitCode {
         Some(Command::Export(args)) => export::run(args),
         Some(Command::Plot(args)) => plot::run(args, matches.subcommand_matches("plot")),
         Some(Command::Calibrate(args)) => calibrate::run(args),
+        Some(Command::Fea(args)) => fea::run(args),
         Some(Command::Tui { scene }) => tui(scene),
         None => tui(None),
     };

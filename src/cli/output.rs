@@ -82,10 +82,13 @@ pub struct DecisionLine<'a>(pub &'a Option<EffectsDecision>);
 impl Display for DecisionLine<'_> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let Some(d) = self.0 else { return Ok(()) };
+        // A narrow section's plane strain is not a dropped refinement but the wrong limit:
+        // said apart, with the criterion.
+        let wide = d.plate.as_ref().is_none_or(|p| p.wide);
         let part = |kept: bool| {
             d.impacts
                 .iter()
-                .filter(|i| i.kept == kept)
+                .filter(|i| i.kept == kept && (i.effect != "plane_strain" || wide))
                 .map(|i| {
                     format!(
                         "{} ({:.1}% of target)",
@@ -96,14 +99,31 @@ impl Display for DecisionLine<'_> {
                 .collect::<Vec<_>>()
                 .join(", ")
         };
-        writeln!(
+        write!(
             f,
             "effects auto: kept [{}]; dropped [{}] (together {:.1}% of target; threshold {:.0}%)",
             part(true),
             part(false),
             d.dropped_together_fraction * 100.0,
             d.threshold * 100.0
-        )
+        )?;
+        match &d.plate {
+            Some(p) if !p.wide => writeln!(
+                f,
+                "; section narrow (plate fraction {:.2} < 0.5, w0/L = {}, largest Searle w0^2/(R t0) = {}): no plane strain",
+                p.plate_fraction,
+                num(p.width_over_length),
+                num(p.largest_searle)
+            ),
+            Some(p) => writeln!(
+                f,
+                "; section wide (plate fraction {:.2} >= 0.5, w0/L = {}, largest Searle w0^2/(R t0) = {})",
+                p.plate_fraction,
+                num(p.width_over_length),
+                num(p.largest_searle)
+            ),
+            None => writeln!(f),
+        }
     }
 }
 

@@ -754,6 +754,7 @@ mod tests {
                 shear: true,
                 extension: true,
                 poisson: true,
+                plane_strain: false,
             }),
         };
         let flexure = |root: [f64; 2], deg: f64, attach, b| Flexure {

@@ -772,7 +772,8 @@ impl Validator<'_> {
         let key = "beam.effects";
         let fail = |message: String| self.error(spanned.span(), key, message);
         let expected = "expected \"auto\", \"none\", \"all\" or a list such as \
-                        [\"shear\", \"extension\"]";
+                        [\"shear\", \"extension\"] (names: shear, extension, poisson, \
+                        plane_strain)";
         match spanned.get_ref() {
             toml::Value::String(w) if w == "auto" => Ok(EffectsChoice::Auto),
             toml::Value::String(w) if w == "none" => Ok(EffectsChoice::Fixed(Effects::NONE)),

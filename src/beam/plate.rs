@@ -1,0 +1,163 @@
+//! How far a wide section is from the narrow beam (plane stress, `E I`) towards the plate
+//! (plane strain, `E I / (1 - nu^2)`): the *plate fraction* `phi`, 0 for the beam and 1 for
+//! the plate, the share of the stiffening `nu^2 / (1 - nu^2)` a section shows.
+//!
+//! A bent strip curls across its width (anticlastic curvature, `-nu` times the curvature
+//! along it) as a narrow beam does; whatever stops it from curling makes it stiffer, up to the
+//! plate modulus. Two things do:
+//!
+//! - **Large curvature** (Searle 1908; Ashwell 1950): the curl across a width `b` lifts the
+//!   edges by about `nu b^2 / (8 R)`, and the longitudinal fibres there, stretched and
+//!   squeezed by that lift times the curvature `1 / R`, pull the section flat. Only the
+//!   parameter `b^2 / (R t)` (Searle's) matters: the curl is an elastic-foundation problem
+//!   `D w'''' + E t w / R^2 = 0` across the width with free edges, whose solution gives the
+//!   bending stiffness `E I (1 - nu^2 Phi(lambda)) / (1 - nu^2)` with
+//!   `lambda = (3 (1 - nu^2))^(1/4) sqrt(b^2 / (R t)) / 2` and `Phi = <g''^2>`, the mean
+//!   square of the curl's curvature normalised by its free-edge value
+//!   ([`anticlastic_fraction`] is `1 - Phi`). Beam-like below `b^2 / (R t)` of about 1,
+//!   plate-like above about 20. A. D. S. Searle, *Experimental Elasticity*, Cambridge 1908;
+//!   G. D. Ashwell, "The anticlastic curvature of rectangular beams and plates", J. Royal
+//!   Aeronautical Society 54 (1950) 708-715.
+//! - **The ends**: a clamp, and the rigid body bolted to the tip, hold the section flat, and
+//!   the flattening fades over a length of the order of the width, so even at small loads a
+//!   strip as wide as a good part of its length is stiffer; a thick section (width a few
+//!   thicknesses) is less of a plate and stiffens less. [`ends_fraction`]
+//!   `= 1 - exp(-0.92 (b / L) (1 - exp(-b / (2.8 t))))` is a fit to prbfit's own 3D FEA
+//!   (`prbfit fea --section solid`, C3D20R, clamped root and rigid tip, tip rotation under a
+//!   small transverse force `alpha_y = 0.1`), no literature giving it: measured plate
+//!   fractions (fit in brackets)
+//!
+//!   | b / t | b / L | nu   | measured | fit  |
+//!   |-------|-------|------|----------|------|
+//!   | 10    | 0.25  | 0.3  | 0.20     | 0.20 |
+//!   | 10    | 0.33  | 0.3  | 0.27     | 0.26 |
+//!   | 10    | 0.67  | 0.3  | 0.47     | 0.45 |
+//!   | 10    | 0.67  | 0.49 | 0.51     | 0.45 |
+//!   | 30    | 2     | 0.3  | 0.83     | 0.84 |
+//!   | 3.3   | 0.83  | 0.3  | 0.41     | 0.41 |
+//!   | 3.3   | 0.83  | 0.49 | 0.42     | 0.41 |
+//!
+//! The anticlastic part is averaged along the beam with the weight of the bending compliance
+//! `M(s)^2` (the curvature varies along a beam under a tip force), and the two parts are
+//! combined by [`combined_fraction`]: the mean of the larger of the two (which the 3D FEA
+//! shows to underestimate, by up to 0.13) and of the two as independent restraints,
+//! `1 - (1 - a)(1 - b)` (which overestimates, by up to 0.12). Measured on the strips of the
+//! table under tip moments (`tests/fea.rs` prints it):
+//!
+//! | b / t | b / L | beta | measured | max  | independent | combined |
+//! |-------|-------|------|----------|------|-------------|----------|
+//! | 10    | 0.25  | 1.5  | 0.39     | 0.29 | 0.43        | 0.36     |
+//! | 10    | 0.67  | 0.75 | 0.58     | 0.45 | 0.67        | 0.56     |
+//! | 10    | 0.67  | 1.5  | 0.68     | 0.64 | 0.80        | 0.72     |
+//! | 30    | 2     | 1.5  | 0.89     | 0.88 | 0.98        | 0.93     |
+
+/// The plate fraction the ends give a strip of width `b`, thickness `t` and length `L` (a
+/// fit to 3D FEA, see the module docs).
+pub fn ends_fraction(width_over_length: f64, width_over_thickness: f64) -> f64 {
+    let plate_like = 1.0 - (-width_over_thickness.max(0.0) / 2.8).exp();
+    1.0 - (-0.92 * width_over_length.max(0.0) * plate_like).exp()
+}
+
+/// The plate fraction of a load case from its ends' and anticlastic fractions: the mean of
+/// their maximum and of `1 - (1 - ends)(1 - anticlastic)` (fitted to 3D FEA, see the module
+/// docs). Either alone is returned as it is when the other is zero.
+pub fn combined_fraction(ends: f64, anticlastic: f64) -> f64 {
+    let independent = 1.0 - (1.0 - ends) * (1.0 - anticlastic);
+    0.5 * (ends.max(anticlastic) + independent)
+}
+
+/// Ashwell's `lambda` for Searle's parameter `b^2 / (R t)` and Poisson's ratio `nu`.
+pub fn ashwell_lambda(searle: f64, nu: f64) -> f64 {
+    (3.0 * (1.0 - nu * nu)).powf(0.25) * searle.max(0.0).sqrt() / 2.0
+}
+
+/// The plate fraction `1 - Phi(lambda)` of a strip bent to a uniform curvature, from the
+/// anticlastic curl's solution `g = A cosh(l e) cos(l e) + B sinh(l e) sin(l e)` across the
+/// half-width `e in [0, 1]` with the free-edge conditions `g''(1) = 1`, `g'''(1) = 0`.
+/// `Phi = <g''^2>` (by parts from the curl's equation); beyond `lambda = 15` its boundary-layer
+/// form `3 / (4 lambda)` (the two agree to 1e-5 there).
+pub fn anticlastic_fraction(lambda: f64) -> f64 {
+    if lambda.is_nan() || lambda <= 1e-3 {
+        return 0.0;
+    }
+    if lambda > 15.0 {
+        return 1.0 - 0.75 / lambda;
+    }
+    let l = lambda;
+    // Second and third derivatives of C = cosh cos and S = sinh sin at l e.
+    let d23 = |e: f64| {
+        let (ch, sh) = ((l * e).cosh(), (l * e).sinh());
+        let (s, c) = (l * e).sin_cos();
+        let c2 = -2.0 * l * l * sh * s;
+        let s2 = 2.0 * l * l * ch * c;
+        let c3 = -2.0 * l * l * l * (ch * s + sh * c);
+        let s3 = 2.0 * l * l * l * (sh * c - ch * s);
+        (c2, s2, c3, s3)
+    };
+    let (c2, s2, c3, s3) = d23(1.0);
+    // [c2 s2; c3 s3] [A; B] = [1; 0].
+    let det = c2 * s3 - s2 * c3;
+    let (a, b) = (s3 / det, -c3 / det);
+    // Composite Simpson over [0, 1]: g'' is smooth and varies on the scale 1 / lambda > 1/15.
+    let n = 400;
+    let h = 1.0 / n as f64;
+    let mut sum = 0.0;
+    for k in 0..=n {
+        let (c2, s2, _, _) = d23(k as f64 * h);
+        let g2 = a * c2 + b * s2;
+        let w = if k == 0 || k == n {
+            1.0
+        } else if k % 2 == 1 {
+            4.0
+        } else {
+            2.0
+        };
+        sum += w * g2 * g2;
+    }
+    let phi = sum * h / 3.0;
+    (1.0 - phi).clamp(0.0, 1.0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_limits_are_the_beam_and_the_plate() {
+        assert_eq!(anticlastic_fraction(0.0), 0.0);
+        assert!(anticlastic_fraction(0.1) < 1e-4);
+        assert!(anticlastic_fraction(1000.0) > 0.999);
+        assert_eq!(ends_fraction(0.0, 10.0), 0.0);
+        assert!(ends_fraction(10.0, 100.0) > 0.9998);
+        // The fitted table of the module docs.
+        for (b_t, b_l, fit) in [
+            (10.0, 0.25, 0.20),
+            (10.0, 2.0 / 3.0, 0.45),
+            (30.0, 2.0, 0.84),
+            (10.0 / 3.0, 0.8333, 0.41),
+        ] {
+            assert!((ends_fraction(b_l, b_t) - fit).abs() < 0.006, "{b_t} {b_l}");
+        }
+    }
+
+    #[test]
+    fn quadrature_meets_the_boundary_layer_form() {
+        // Both sides of the switch at lambda = 15 agree.
+        let below = anticlastic_fraction(14.999);
+        let above = anticlastic_fraction(15.001);
+        assert!((below - above).abs() < 1e-5, "{below} vs {above}");
+        // Values checked against an independent solution (Gauss-Legendre, 200 points, of
+        // <g''> - 4 lambda^4 <g^2>).
+        for (lambda, expected) in [(1.0, 0.1489), (1.5, 0.4421), (2.0, 0.6341), (4.0, 0.8119)] {
+            let got = anticlastic_fraction(lambda);
+            assert!((got - expected).abs() < 1e-4, "lambda {lambda}: {got}");
+        }
+        // Monotone.
+        let mut last = 0.0;
+        for k in 1..200 {
+            let v = anticlastic_fraction(k as f64 * 0.1);
+            assert!(v >= last - 1e-12, "at {}", k as f64 * 0.1);
+            last = v;
+        }
+    }
+}

@@ -1,0 +1,252 @@
+//! `prbfit fea`: the scene's beam as a CalculiX model along the scene's load paths, written
+//! as DESIGN §9's CSV (and the decks beside it), with the beam of §2 alongside for comparison.
+
+use std::fmt;
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+use anyhow::{Context, Result};
+use serde::Serialize;
+
+use prbfit::beam::{Load, Resolution, TipPose};
+use prbfit::eval::Baseline;
+use prbfit::fea::{self, Ccx, CcxError, FeaCase, FeaError, Mesh, Section};
+use prbfit::io::files::{check_target, write_atomic};
+use prbfit::select::EffectsDecision;
+
+use super::args::FeaArgs;
+use super::output::{emit, safe, DecisionLine, Progress};
+use super::{bad, load_scene, resolve_scene};
+
+/// One case: the load, the FEA tip and the beam's, in units of L.
+#[derive(Debug, Serialize)]
+struct Case {
+    path: usize,
+    load: Load,
+    /// `[Fx, Fy, Mz]`, N, N, N m.
+    load_si: [f64; 3],
+    fea: TipPose,
+    beam: TipPose,
+    /// `|(a, b)_FEA - (a, b)_beam|`, units of L.
+    pos_diff: f64,
+    /// `phi_FEA - phi_beam`, rad.
+    ang_diff: f64,
+}
+
+/// What `prbfit fea` did.
+#[derive(Debug, Serialize)]
+struct FeaReport {
+    scene: String,
+    output: String,
+    decks: Vec<String>,
+    section: Section,
+    mesh: Mesh,
+    /// The beam the FEA is compared with (the scene's effects, decided if `auto`).
+    beam_effects: Vec<&'static str>,
+    effects_decision: Option<EffectsDecision>,
+    cases: Vec<Case>,
+    max_pos_diff: f64,
+    max_ang_diff: f64,
+    ccx_seconds: f64,
+    seconds: f64,
+}
+
+impl fmt::Display for FeaReport {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        writeln!(f, "scene: {}", safe(&self.scene))?;
+        writeln!(
+            f,
+            "CalculiX: {} model, {} C3D20R elements (along x through x across); beam beside it: \
+             effects [{}]",
+            self.section,
+            self.mesh,
+            self.beam_effects.join(",")
+        )?;
+        write!(f, "{}", DecisionLine(&self.effects_decision))?;
+        writeln!(
+            f,
+            "{:>4} {:>8} {:>8} {:>8} | {:>10} {:>10} {:>10} | {:>10} {:>10}",
+            "path",
+            "alpha_x",
+            "alpha_y",
+            "beta",
+            "a FEA",
+            "b FEA",
+            "phi FEA",
+            "pos diff",
+            "ang diff"
+        )?;
+        for c in &self.cases {
+            writeln!(
+                f,
+                "{:>4} {:>8.4} {:>8.4} {:>8.4} | {:>10.6} {:>10.6} {:>10.6} | {:>10.2e} {:>10.2e}",
+                c.path,
+                c.load.alpha_x,
+                c.load.alpha_y,
+                c.load.beta,
+                c.fea.a,
+                c.fea.b,
+                c.fea.phi,
+                c.pos_diff,
+                c.ang_diff
+            )?;
+        }
+        writeln!(
+            f,
+            "FEA vs beam: max position difference {:.3e} L, max angle difference {:.3e} rad",
+            self.max_pos_diff, self.max_ang_diff
+        )?;
+        for d in &self.decks {
+            writeln!(f, "deck: {}", safe(d))?;
+        }
+        writeln!(
+            f,
+            "wrote {} ({} cases; ccx {:.1} s, all {:.1} s)",
+            safe(&self.output),
+            self.cases.len(),
+            self.ccx_seconds,
+            self.seconds
+        )
+    }
+}
+
+/// Where path `k` (1-based) of `n` goes: `deck` itself for one path, else `deck` with
+/// `-path{k}` before its extension.
+fn deck_path(deck: &Path, k: usize, n: usize) -> PathBuf {
+    if n == 1 {
+        return deck.to_path_buf();
+    }
+    let stem = deck
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "deck".into());
+    let ext = deck
+        .extension()
+        .map(|e| format!(".{}", e.to_string_lossy()))
+        .unwrap_or_default();
+    deck.with_file_name(format!("{stem}-path{k}{ext}"))
+}
+
+/// Runs `prbfit fea`.
+pub fn run(args: FeaArgs) -> Result<()> {
+    let t0 = Instant::now();
+    let scene = load_scene(&args.common)?;
+    if scene.mechanism.is_some() {
+        return Err(bad(format!(
+            "\"{}\": {}",
+            safe(&scene.name),
+            FeaError::Mechanism
+        )));
+    }
+    if args.timeout == 0 {
+        return Err(bad("--timeout: must be at least 1 second"));
+    }
+    let mesh = Mesh::for_beam(args.mesh, &scene.beam, args.section)
+        .map_err(|e| bad(format!("--mesh {}: {e}", args.mesh)))?;
+    let deck_base = args
+        .deck
+        .clone()
+        .unwrap_or_else(|| args.output.with_extension("inp"));
+    let n = scene.loads.len();
+    let deck_files: Vec<PathBuf> = (1..=n).map(|k| deck_path(&deck_base, k, n)).collect();
+    // Refuse every file before any work: an existing output or deck without --force.
+    check_target(&args.output, args.force)?;
+    for d in &deck_files {
+        if d == &args.output {
+            return Err(bad(format!(
+                "--deck {}: the deck would overwrite the CSV output",
+                d.display()
+            )));
+        }
+        check_target(d, args.force)?;
+    }
+    let decks = fea::scene_decks(&scene, &mesh, args.section)?;
+    for (file, text) in deck_files.iter().zip(&decks) {
+        write_atomic(file, text.as_bytes(), args.force)?;
+    }
+    let deck_names: Vec<String> = deck_files.iter().map(|d| d.display().to_string()).collect();
+    let ccx = match Ccx::find() {
+        Ok(c) => c,
+        Err(e @ CcxError::NotInstalled) => {
+            anyhow::bail!("{e}; the deck was written to {}", deck_names.join(", "))
+        }
+        Err(e) => return Err(e.into()),
+    };
+    let mut progress = Progress::new("fea");
+    let mut ccx_seconds = 0.0;
+    let fea_cases = fea::solve_scene(
+        &scene,
+        &mesh,
+        args.section,
+        &ccx,
+        Duration::from_secs(args.timeout),
+        &mut |path, seconds| {
+            ccx_seconds += seconds;
+            progress.update(|| format!("load path {path}/{n} solved"));
+        },
+    )
+    .with_context(|| format!("the FEA (decks: {})", deck_names.join(", ")))?;
+    progress.finish();
+    write_atomic(&args.output, fea::csv(&fea_cases).as_bytes(), args.force)?;
+
+    let (resolved, decision) = resolve_scene(&scene)?;
+    let baseline =
+        Baseline::compute(&resolved, Resolution::default()).context("the beam beside the FEA")?;
+    let cases = compare(&fea_cases, &baseline, scene.beam.length);
+    let max = |f: fn(&Case) -> f64| cases.iter().map(f).fold(0.0, f64::max);
+    let report = FeaReport {
+        scene: scene.name.clone(),
+        output: args.output.display().to_string(),
+        decks: deck_names,
+        section: args.section,
+        mesh,
+        beam_effects: baseline.model.effects.names(),
+        effects_decision: decision,
+        max_pos_diff: max(|c| c.pos_diff),
+        max_ang_diff: max(|c| c.ang_diff.abs()),
+        cases,
+        ccx_seconds,
+        seconds: t0.elapsed().as_secs_f64(),
+    };
+    emit(&report, args.common.json)
+}
+
+/// Pairs each FEA case with the beam's solution of the same case.
+fn compare(fea_cases: &[FeaCase], baseline: &Baseline, length: f64) -> Vec<Case> {
+    fea_cases
+        .iter()
+        .zip(&baseline.solutions)
+        .map(|(c, s)| {
+            let tip = TipPose {
+                a: c.x / length,
+                b: c.y / length,
+                phi: c.theta,
+            };
+            Case {
+                path: c.path,
+                load: c.load,
+                load_si: c.load_si,
+                fea: tip,
+                beam: s.tip,
+                pos_diff: (tip.a - s.tip.a).hypot(tip.b - s.tip.b),
+                ang_diff: tip.phi - s.tip.phi,
+            }
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn decks_of_several_paths_are_numbered() {
+        let d = Path::new("out/data.inp");
+        assert_eq!(deck_path(d, 1, 1), PathBuf::from("out/data.inp"));
+        assert_eq!(deck_path(d, 2, 3), PathBuf::from("out/data-path2.inp"));
+        assert_eq!(
+            deck_path(Path::new("deck"), 1, 2),
+            PathBuf::from("deck-path1")
+        );
+    }
+}

@@ -1,0 +1,300 @@
+//! The CalculiX input deck of a scene's beam: a pure function of the beam, the mesh, the
+//! section model and the SI tip loads of one load path.
+//!
+//! The beam is a slab of 20-node bricks with reduced integration (C3D20R), `along` elements
+//! over the length `L`, `through` over the thickness `t0` and `across` over the modelled width.
+//! Nodes are numbered contiguously, length fastest, then thickness, then width; the tip's
+//! reference node and rotation node come last. See the module docs of [`crate::fea`] for why
+//! the bricks and not CalculiX's own plane elements.
+
+use std::fmt::Write as _;
+
+use super::{Mesh, Section};
+use crate::scene::BeamSpec;
+
+/// The name of the node set whose displacement is the tip position.
+pub const REF_SET: &str = "NREF";
+/// The name of the node set whose first three "displacements" are the tip's rotation vector.
+pub const ROT_SET: &str = "NROT";
+
+/// The brick's 20 nodes in CalculiX's order, as offsets in half-element steps
+/// (x along the length, y through the thickness, z across the width): the eight corners,
+/// the four mid-edge nodes of the face z = 0, those of z = 1, then the four edges along z.
+const BRICK: [(usize, usize, usize); 20] = [
+    (0, 0, 0),
+    (2, 0, 0),
+    (2, 2, 0),
+    (0, 2, 0),
+    (0, 0, 2),
+    (2, 0, 2),
+    (2, 2, 2),
+    (0, 2, 2),
+    (1, 0, 0),
+    (2, 1, 0),
+    (1, 2, 0),
+    (0, 1, 0),
+    (1, 0, 2),
+    (2, 1, 2),
+    (1, 2, 2),
+    (0, 1, 2),
+    (0, 0, 1),
+    (2, 0, 1),
+    (2, 2, 1),
+    (0, 2, 1),
+];
+
+/// The grid of a mesh: node positions in half-element steps and their numbers.
+struct Grid {
+    nx: usize,
+    ny: usize,
+    nz: usize,
+    /// Node number of each grid point (0 where no brick uses it: a face or body centre).
+    ids: Vec<usize>,
+    count: usize,
+}
+
+impl Grid {
+    fn new(mesh: &Mesh) -> Grid {
+        let (nx, ny, nz) = (
+            2 * mesh.along as usize + 1,
+            2 * mesh.through as usize + 1,
+            2 * mesh.across as usize + 1,
+        );
+        let mut ids = vec![0; nx * ny * nz];
+        let mut count = 0;
+        for k in 0..nz {
+            for j in 0..ny {
+                for i in 0..nx {
+                    // A 20-node brick has no node with two or three odd coordinates.
+                    let odd = (i % 2) + (j % 2) + (k % 2);
+                    if odd <= 1 {
+                        count += 1;
+                        ids[(k * ny + j) * nx + i] = count;
+                    }
+                }
+            }
+        }
+        Grid {
+            nx,
+            ny,
+            nz,
+            ids,
+            count,
+        }
+    }
+
+    fn id(&self, i: usize, j: usize, k: usize) -> usize {
+        self.ids[(k * self.ny + j) * self.nx + i]
+    }
+
+    /// Every node as `(id, i, j, k)`, in number order.
+    fn nodes(&self) -> impl Iterator<Item = (usize, usize, usize, usize)> + '_ {
+        (0..self.nz).flat_map(move |k| {
+            (0..self.ny).flat_map(move |j| {
+                (0..self.nx).filter_map(move |i| {
+                    let id = self.id(i, j, k);
+                    (id > 0).then_some((id, i, j, k))
+                })
+            })
+        })
+    }
+}
+
+/// The material constants CalculiX is given: `(E, nu)` of the bricks. Plane stress is
+/// modelled as plane strain with `E* = E (1 + 2 nu) / (1 + nu)^2`, `nu* = nu / (1 + nu)`,
+/// whose in-plane law is exactly plane stress's with `E, nu` (the same condensed matrix
+/// `E / (1 - nu^2) [1, nu; nu, 1]` and shear modulus `E / (2 (1 + nu))`; the identity holds
+/// for the Green strain / second Piola-Kirchhoff law of a geometrically nonlinear run too).
+pub fn material(beam: &BeamSpec, section: Section) -> (f64, f64) {
+    let (e, nu) = (beam.youngs_modulus, beam.poisson_ratio);
+    match section {
+        Section::PlaneStress => (e * (1.0 + 2.0 * nu) / (1.0 + nu).powi(2), nu / (1.0 + nu)),
+        Section::PlaneStrain | Section::Solid => (e, nu),
+    }
+}
+
+/// The width the slab models (m) and the fraction of the beam's loads it carries: the whole
+/// width in the plane models, half of it (a symmetry plane at the middle) in the solid one.
+pub fn modelled_width(beam: &BeamSpec, section: Section) -> (f64, f64) {
+    match section {
+        Section::PlaneStress | Section::PlaneStrain => (beam.width, 1.0),
+        Section::Solid => (beam.width / 2.0, 0.5),
+    }
+}
+
+/// The deck for one load path: one `*STEP` per case, each taking the tip load from the
+/// previous case's to `loads[k]` (SI: `[Fx, Fy, Mz]` in N, N, N m), starting unloaded.
+pub fn deck(beam: &BeamSpec, mesh: &Mesh, section: Section, loads: &[[f64; 3]]) -> String {
+    let grid = Grid::new(mesh);
+    let (width, share) = modelled_width(beam, section);
+    let (l, t) = (beam.length, beam.thickness);
+    let (ex, ey, ez) = (grid.nx - 1, grid.ny - 1, grid.nz - 1);
+    let reference = grid.count + 1;
+    let rotation = grid.count + 2;
+    let mut out = String::new();
+    // `write!` to a String cannot fail; the results are ignored throughout.
+    let _ = writeln!(
+        out,
+        "** prbfit: {} model of a cantilever, L = {l:e} m, t0 = {t:e} m, w0 = {:e} m\n\
+         ** {} x {} x {} C3D20R bricks (length x thickness x modelled width {width:e} m)\n\
+         *HEADING\nprbfit beam\n*NODE",
+        section.name(),
+        beam.width,
+        mesh.along,
+        mesh.through,
+        mesh.across
+    );
+    for (id, i, j, k) in grid.nodes() {
+        let x = l * i as f64 / ex as f64;
+        let y = -t / 2.0 + t * j as f64 / ey as f64;
+        let z = width * k as f64 / ez as f64;
+        let _ = writeln!(out, "{id}, {x:.12e}, {y:.12e}, {z:.12e}");
+    }
+    let _ = writeln!(
+        out,
+        "{reference}, {l:.12e}, 0, 0\n{rotation}, {l:.12e}, 0, 0"
+    );
+    let _ = writeln!(out, "*ELEMENT, TYPE=C3D20R, ELSET=EBEAM");
+    let mut element = 0;
+    for ez_ in 0..mesh.across as usize {
+        for ey_ in 0..mesh.through as usize {
+            for ex_ in 0..mesh.along as usize {
+                element += 1;
+                let ids: Vec<String> = BRICK
+                    .iter()
+                    .map(|&(a, b, c)| grid.id(2 * ex_ + a, 2 * ey_ + b, 2 * ez_ + c).to_string())
+                    .collect();
+                // At most 16 entries on a line: the first 15 nodes, then the other 5.
+                let _ = writeln!(
+                    out,
+                    "{element}, {},\n{}",
+                    ids[..15].join(", "),
+                    ids[15..].join(", ")
+                );
+            }
+        }
+    }
+    let set = |out: &mut String, name: &str, ids: Vec<usize>| {
+        let _ = writeln!(out, "*NSET, NSET={name}");
+        for chunk in ids.chunks(16) {
+            let line: Vec<String> = chunk.iter().map(ToString::to_string).collect();
+            let _ = writeln!(out, "{},", line.join(", "));
+        }
+    };
+    let nodes: Vec<(usize, usize, usize, usize)> = grid.nodes().collect();
+    let pick = |f: &dyn Fn(usize, usize) -> bool| -> Vec<usize> {
+        nodes
+            .iter()
+            .filter(|&&(_, i, _, k)| f(i, k))
+            .map(|&(id, ..)| id)
+            .collect()
+    };
+    set(&mut out, "NROOT", pick(&|i, _| i == 0));
+    set(&mut out, "NTIP", pick(&|i, _| i == ex));
+    // Out of the plane: the plane models hold every node in its plane (plane strain, and
+    // plane stress through its equivalent material); the solid holds its symmetry plane.
+    // Root and tip nodes are held by the clamp and the rigid tip instead.
+    let inner = |i: usize| i > 0 && i < ex;
+    let held = match section {
+        Section::PlaneStress | Section::PlaneStrain => pick(&|i, _| inner(i)),
+        Section::Solid => pick(&|i, k| inner(i) && k == 0),
+    };
+    set(&mut out, "NPLANE", held);
+    set(&mut out, REF_SET, vec![reference]);
+    set(&mut out, ROT_SET, vec![rotation]);
+    let (e, nu) = material(beam, section);
+    // CalculiX reads at most 20 characters a field: 13 digits in scientific notation.
+    let _ = writeln!(
+        out,
+        "*MATERIAL, NAME=MBEAM\n*ELASTIC\n{e:.12e}, {nu:.12e}\n\
+         *SOLID SECTION, ELSET=EBEAM, MATERIAL=MBEAM\n\
+         *BOUNDARY\nNROOT, 1, 3\nNPLANE, 3, 3\n{REF_SET}, 3, 3\n{ROT_SET}, 1, 2\n\
+         *RIGID BODY, NSET=NTIP, REF NODE={reference}, ROT NODE={rotation}"
+    );
+    for load in loads {
+        let [fx, fy, mz] = load.map(|v| v * share);
+        let _ = writeln!(
+            out,
+            "*STEP, NLGEOM, INC=1000\n\
+             *STATIC\n1.0, 1.0, 1e-5, 1.0\n\
+             *CONTROLS, PARAMETERS=TIME INCREMENTATION\n8, 16, 9, 200, 10, 4, 0, 5\n\
+             *CONTROLS, PARAMETERS=FIELD\n1e-7, 1e-6\n\
+             *CLOAD\n{reference}, 1, {fx:.12e}\n{reference}, 2, {fy:.12e}\n{rotation}, 3, {mz:.12e}\n\
+             *NODE PRINT, NSET={REF_SET}\nU\n*NODE PRINT, NSET={ROT_SET}\nU\n*END STEP"
+        );
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::Scene;
+
+    fn mesh(along: u32, through: u32, across: u32) -> Mesh {
+        Mesh {
+            along,
+            through,
+            across,
+        }
+    }
+
+    #[test]
+    fn a_brick_has_twenty_nodes_and_the_grid_counts_them() {
+        // One brick: 8 corners + 12 edges.
+        assert_eq!(Grid::new(&mesh(1, 1, 1)).count, 20);
+        // n bricks in a row share faces of 8 nodes: 20 n - 8 (n - 1).
+        assert_eq!(Grid::new(&mesh(5, 1, 1)).count, 20 * 5 - 8 * 4);
+    }
+
+    #[test]
+    fn the_deck_holds_the_beam_the_loads_and_the_rigid_tip() {
+        let scene = Scene::builtin();
+        let text = deck(
+            &scene.beam,
+            &mesh(4, 1, 1),
+            Section::PlaneStress,
+            &[[1.0, 2.0, 3.0], [2.0, 4.0, 6.0]],
+        );
+        assert_eq!(text.matches("*STEP, NLGEOM").count(), 2);
+        assert_eq!(text.matches("*END STEP").count(), 2);
+        assert!(text.contains("*ELEMENT, TYPE=C3D20R"));
+        // 4 bricks; 4 x 20 - 3 x 8 = 56 nodes; the reference and rotation nodes follow.
+        assert!(text.contains("REF NODE=57, ROT NODE=58"), "{text}");
+        assert!(text.contains("57, 2, 4.000000000000e0"), "{text}");
+        assert!(text.contains("58, 3, 6.000000000000e0"), "{text}");
+        // Plane stress through its plane-strain equivalent.
+        let nu = scene.beam.poisson_ratio;
+        assert!(
+            text.contains(&format!("{:.12e}", nu / (1.0 + nu))),
+            "{text}"
+        );
+        let root = text.split("*NSET, NSET=NROOT\n").nth(1).unwrap();
+        let root_ids: Vec<&str> = root
+            .split('*')
+            .next()
+            .unwrap()
+            .split([',', '\n', ' '])
+            .filter(|s| !s.is_empty())
+            .collect();
+        // The clamped face of one brick column: 8 nodes (corners and mid-edges, no centre).
+        assert_eq!(root_ids.len(), 8, "{root_ids:?}");
+    }
+
+    #[test]
+    fn the_solid_models_half_the_width_and_carries_half_the_load() {
+        let scene = Scene::builtin();
+        let text = deck(
+            &scene.beam,
+            &mesh(2, 1, 2),
+            Section::Solid,
+            &[[0.0, 2.0, 0.0]],
+        );
+        let (_, share) = modelled_width(&scene.beam, Section::Solid);
+        assert_eq!(share, 0.5);
+        assert!(text.contains(", 2, 1.000000000000e0"), "{text}");
+        // The widest node sits at half the width.
+        let half = format!("{:.12e}", scene.beam.width / 2.0);
+        assert!(text.contains(&half), "{text}");
+    }
+}
