@@ -15,7 +15,7 @@
 //! A failure in a job (a load the beam cannot reach, even a panic) becomes a `Failed`
 //! message; the worker then waits for the next job.
 //!
-//! Mechanism scenes (DESIGN §8) take their own path ([`mech`]): the exact mechanism in place
+//! Mechanism scenes (DESIGN §8) take their own path (`worker/mech.rs`): the exact mechanism in place
 //! of the baseline, its own messages (`Mech*`) with views of mechanisms.
 
 mod mech;
