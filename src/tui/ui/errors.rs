@@ -146,11 +146,24 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View) {
                 .data(&neg_target),
         );
     }
+    render_chart(frame, area, (datasets, block), "load", unit, yb);
+}
+
+/// An error chart (the cantilever's and the mechanism's): `x_title` from 0 to 1 of each
+/// path, the error in `unit` within `yb`, no legend (the panel's title names the series).
+pub(super) fn render_chart(
+    frame: &mut Frame,
+    area: Rect,
+    (datasets, block): (Vec<Dataset<'_>>, Block<'_>),
+    x_title: &str,
+    unit: &str,
+    yb: [f64; 2],
+) {
     let chart = Chart::new(datasets)
         .block(block)
         .x_axis(
             Axis::default()
-                .title("load")
+                .title(x_title)
                 .bounds([0.0, 1.0])
                 .labels(["0", "1"]),
         )

@@ -4,17 +4,16 @@
 //! shows the stage position error (% of flexure 1's `L`) against `max_pos_err` instead. The
 //! compared model as grey dots under the model's lines.
 
-use ratatui::layout::{Constraint, Rect};
+use ratatui::layout::Rect;
 use ratatui::style::Color;
 use ratatui::symbols::Marker;
-use ratatui::widgets::{Axis, Block, Borders, Chart, Dataset, GraphType, Paragraph};
+use ratatui::widgets::{Block, Borders, Dataset, GraphType, Paragraph};
 use ratatui::Frame;
 
 use crate::plot::errors::bounds;
 use crate::scene::Accuracy;
 
 use super::super::app::App;
-use super::super::units::trim_number;
 use super::super::worker::{CaseErrors, MechBaselineView, MechModelView};
 use super::{Palette, PATH_COLORS};
 
@@ -154,20 +153,5 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View) {
                 .data(&target_line),
         );
     }
-    let chart = Chart::new(datasets)
-        .block(block)
-        .x_axis(
-            Axis::default()
-                .title("drive")
-                .bounds([0.0, 1.0])
-                .labels(["0", "1"]),
-        )
-        .y_axis(
-            Axis::default()
-                .title(unit)
-                .bounds(yb)
-                .labels([trim_number(yb[0], 2), trim_number(yb[1], 2)]),
-        )
-        .hidden_legend_constraints((Constraint::Ratio(0, 1), Constraint::Ratio(0, 1)));
-    frame.render_widget(chart, area);
+    super::errors::render_chart(frame, area, (datasets, block), "drive", unit, yb);
 }
