@@ -58,6 +58,7 @@ pub fn run(args: ExportArgs) -> Result<()> {
                 matrix: &matrix,
                 scene: &scene,
                 mechanism,
+                fidelity: args.fidelity,
                 density: args.density,
             };
             export_mechanism(&input, format).map_err(input_error)?

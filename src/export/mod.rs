@@ -111,6 +111,9 @@ pub struct MechExportInput<'a> {
     pub scene: &'a Scene,
     /// The scene's mechanism.
     pub mechanism: &'a Mechanism,
+    /// The fidelity whose resolution the exact mechanism is solved at (model files record
+    /// it).
+    pub fidelity: crate::fidelity::Fidelity,
     /// kg/m^3, for masses.
     pub density: f64,
 }
@@ -154,11 +157,11 @@ pub fn export_mechanism(input: &MechExportInput, format: Format) -> Result<Strin
 }
 
 /// The model file of a mechanism export: the model judged on the mechanism (the exact one at
-/// the default resolution, the PRB one at the fit's tolerance), its figures and every
+/// the export's fidelity's resolution, the PRB one at the fit's tolerance), its figures and every
 /// flexure's SI model recorded as a mechanism fit records them.
 fn mechanism_model_file(input: &MechExportInput) -> Result<ModelFile, ExportError> {
     let scene = input.scene;
-    let exact = crate::mech::exact::solve(input.mechanism, crate::beam::Resolution::default())
+    let exact = crate::mech::exact::solve(input.mechanism, input.fidelity.resolution())
         .map_err(|e| ExportError::Eval(format!("the exact mechanism: {e}")))?;
     let prb = crate::mech::prb::solve(input.mechanism, input.matrix, crate::fit::mech::MECH_TOL)
         .map_err(|e| ExportError::Eval(e.to_string()))?;
@@ -170,8 +173,13 @@ fn mechanism_model_file(input: &MechExportInput) -> Result<ModelFile, ExportErro
         scene.fit.force_weight,
     )
     .map_err(|e| ExportError::Eval(e.to_string()))?;
-    let mut file =
-        ModelFile::fitted_mechanism(input.matrix, scene, input.mechanism, "normal", &e.figures);
+    let mut file = ModelFile::fitted_mechanism(
+        input.matrix,
+        scene,
+        input.mechanism,
+        &input.fidelity.to_string(),
+        &e.figures,
+    );
     file.name = input.name.clone();
     file.title = Some(format!(
         "{} ({}) judged on the mechanism {}",

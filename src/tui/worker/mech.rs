@@ -348,6 +348,7 @@ fn export_file(
         matrix: &job.matrix,
         scene: &scene,
         mechanism: &exact.mechanism,
+        fidelity: job.fidelity,
         density,
     };
     let text = export_mechanism(&input, format).map_err(|e| e.to_string())?;
