@@ -12,7 +12,7 @@ use std::time::Instant;
 
 use serde::Serialize;
 
-use crate::beam::plate::{anticlastic_fraction, ashwell_lambda, combined_fraction, ends_fraction};
+use crate::beam::plate::{case_fraction, ends_fraction};
 use crate::beam::{BeamSolution, Effects, Resolution};
 use crate::eval::{evaluate, Baseline, BaselineError, ErrorFigures};
 use crate::fit::mech::{fit_mechanism, MechFitError, MECH_TOL};
@@ -31,8 +31,7 @@ pub const AUTO_FRACTION: f64 = 0.1;
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct EffectImpact {
     /// The effect dropped: `shear`, `extension` (which drops Poisson too), `poisson`, or
-    /// `plane_strain` (switched to the other limit: off for a wide section, on for a narrow
-    /// one, where it is never kept).
+    /// `plane_strain` (the plate stiffening of the section's width).
     pub effect: &'static str,
     /// Largest tip position change over the scene's cases, units of L.
     pub pos_change: f64,
@@ -58,8 +57,9 @@ pub struct EffectsDecision {
     /// What dropping each effect alone does, in the order shear, extension, poisson,
     /// plane_strain.
     pub impacts: Vec<EffectImpact>,
-    /// Whether the section is wide (nearer plane strain than the narrow beam), and why;
-    /// `None` where it is not judged (mechanism scenes: plane strain only when named).
+    /// Where the section lies between the narrow beam and the plate (the plate fraction the
+    /// plane-strain effect uses, case by case); `None` on mechanism scenes, whose flexures
+    /// take their ends' fraction.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub plate: Option<PlateCriterion>,
     /// The tip change of dropping every dropped effect together (checked, not assumed), as a
@@ -71,11 +71,11 @@ pub struct EffectsDecision {
 
 /// Where a scene's section lies between the narrow beam (plane stress) and the plate (plane
 /// strain), by the criterion of [`crate::beam::plate`]: per load case the plate fraction
-/// combines ([`combined_fraction`]) the ends' ([`ends_fraction`]) and the anticlastic one
-/// (Searle's parameter `b^2 / (R t)` at each point of the beam, Ashwell's solution, averaged
-/// along the beam with the weight `M(s)^2` of the bending compliance); the scene's is their
-/// mean over the cases, and the section is *wide* when that is at least 1/2: plane strain is
-/// then the nearer limit.
+/// combines the ends' ([`ends_fraction`]) and the anticlastic one (Searle's parameter
+/// `b^2 / (R t)` at each point of the beam, Ashwell's solution, averaged along the beam with
+/// the weight `M(s)^2` of the bending compliance; [`case_fraction`]); the scene's is their
+/// mean over the cases, and the section is *wide* when that is at least 1/2. The plane-strain
+/// effect stiffens each case by its own fraction, `E / (1 - nu^2 phi)`.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct PlateCriterion {
     /// `w0 / t0`.
@@ -96,26 +96,12 @@ pub struct PlateCriterion {
 pub fn plate_criterion(beam: &BeamSpec, solutions: &[BeamSolution]) -> PlateCriterion {
     let (w_t, w_l) = (beam.width / beam.thickness, beam.width / beam.length);
     let ends = ends_fraction(w_l, w_t);
-    let nu = beam.poisson_ratio;
     let mut largest_searle = 0.0_f64;
     let mut sum = 0.0;
     for s in solutions {
-        let (ax, ay, be) = (s.load.alpha_x, s.load.alpha_y, s.load.beta);
-        // The bending moment (E I0 / L) at each shape point is the curvature there times L;
-        // Searle's parameter is w0^2 / (R t0) = (w0 / t0) (w0 / L) (L / R).
-        let (mut weighted, mut weight) = (0.0, 0.0);
-        let n = s.shape.len();
-        for (i, p) in s.shape.iter().enumerate() {
-            let m = be + ay * (s.tip.a - p.x) - ax * (s.tip.b - p.y);
-            let searle = w_t * w_l * m.abs();
-            largest_searle = largest_searle.max(searle);
-            // Trapezoid weights over the uniformly spaced points.
-            let w = if i == 0 || i + 1 == n { 0.5 } else { 1.0 } * m * m;
-            weighted += w * anticlastic_fraction(ashwell_lambda(searle, nu));
-            weight += w;
-        }
-        let anticlastic = if weight > 0.0 { weighted / weight } else { 0.0 };
-        sum += combined_fraction(ends, anticlastic);
+        let (fraction, searle) = case_fraction(w_t, beam.slenderness(), beam.poisson_ratio, s);
+        largest_searle = largest_searle.max(searle);
+        sum += fraction;
     }
     let plate_fraction = if solutions.is_empty() {
         ends
@@ -190,7 +176,7 @@ pub fn decide_effects_cancellable(
     // The plate criterion on the narrow beam with every refinement.
     let narrow = solve(&mut solved, Effects::ALL)?;
     let plate = plate_criterion(beam, &solved[narrow].1);
-    let full = Effects::ALL.with_plane_strain(plate.wide);
+    let full = Effects::ALL.with_plane_strain(true);
     let mut decision = decide(
         accuracy,
         full,
@@ -226,9 +212,8 @@ impl Change {
 }
 
 /// The decision procedure of [`decide_effects`], for any truth: `moves(e)` is what modelling
-/// with the effects `e` instead of `full` changes. `full` has every refinement on, and plane
-/// strain when the section is wide; for a narrow one plane strain's impact is what switching
-/// it on would change, and it is never kept.
+/// with the effects `e` instead of `full` changes. `full` has every refinement on, plane
+/// strain (the plate stiffening of the section's width) included.
 fn decide<E>(
     accuracy: &Accuracy,
     full: Effects,
@@ -244,18 +229,17 @@ fn decide<E>(
                 e.poisson = false;
             }
             "poisson" => e.poisson = false,
-            _ => e.plane_strain = !full.plane_strain,
+            _ => e.plane_strain = false,
         }
         let moved = moves(e)?;
         let frac = moved.fraction(accuracy);
-        let possible = effect != "plane_strain" || full.plane_strain;
         impacts.push(EffectImpact {
             effect,
             pos_change: moved.pos,
             ang_change: moved.ang,
             force_change: moved.force,
             fraction_of_target: frac,
-            kept: possible && frac > AUTO_FRACTION,
+            kept: frac > AUTO_FRACTION,
         });
     }
     // Poisson acts through extension: keeping Poisson keeps extension.
@@ -270,12 +254,11 @@ fn decide<E>(
             plane_strain: impacts[3].kept,
         };
         let together = moves(effects)?.fraction(accuracy);
-        // The dropped effect that matters most; none when every effect is kept. Plane strain
-        // on a narrow section is not dropped but wrong, and never taken back.
+        // The dropped effect that matters most; none when every effect is kept.
         let most_influential_dropped = impacts
             .iter()
             .enumerate()
-            .filter(|(k, i)| !i.kept && (*k != 3 || full.plane_strain))
+            .filter(|(_, i)| !i.kept)
             .max_by(|a, b| a.1.fraction_of_target.total_cmp(&b.1.fraction_of_target))
             .map(|(k, _)| k);
         match most_influential_dropped {
@@ -319,10 +302,13 @@ pub fn decide_mechanism_effects(
         m
     };
     let mut solved: Vec<(Effects, Vec<Vec<MechCase>>)> = Vec::new();
-    // Plane strain is not judged on mechanisms (their flexures take it when named).
+    // A flexure's plate stiffening in a mechanism is its ends' (`BeamModel::with_width_ratio`):
+    // the anticlastic part is load dependent, and the mechanism solver does not follow each
+    // flexure's own load path case by case.
+    let full = Effects::ALL.with_plane_strain(true);
     decide(
         accuracy,
-        Effects::ALL,
+        full,
         |effects: Effects| -> Result<Change, EffectsError> {
             let mut solve = |e: Effects| -> Result<usize, EffectsError> {
                 if let Some(i) = solved.iter().position(|(k, _)| *k == e) {
@@ -333,7 +319,7 @@ pub fn decide_mechanism_effects(
                 solved.push((e, cases));
                 Ok(solved.len() - 1)
             };
-            let all = solve(Effects::ALL)?;
+            let all = solve(full)?;
             let this = solve(effects)?;
             let change =
                 compare(&mechanism.drives, &solved[this].1, &solved[all].1, 1.0, 1.0)?.figures;

@@ -464,3 +464,107 @@ fn the_wide_strip_is_fitted_to_its_fea_not_to_the_beam() {
     // Between the narrow beam (1) and the plate (1 / (1 - 0.3^2) = 1.099).
     assert!(ratio > 1.01 && ratio < 1.099, "{c}");
 }
+
+/// Issue 14 item 5 on the shipped 3D FEA of the wide strip (10 t wide, 1.5 w long): the
+/// narrow beam (plane stress) is too soft and the plate (`E / (1 - nu^2)`) too stiff, by
+/// several times the scene's targets; the plane-strain effect with the section's plate
+/// fraction (`E / (1 - nu^2 phi)`, `phi` from the ends and each case's curvature) meets them.
+/// The rest is the criterion's error (its `phi` within 0.1 of the 3D FEA's, `tests/fea.rs`:
+/// 0.9 % in stiffness) and the FEA mesh's.
+#[test]
+fn plane_strain_with_the_plate_fraction_closes_the_wide_strips_gap() {
+    use prbfit::beam::{BeamModel, Effects};
+    use prbfit::scene::EffectsChoice;
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/assets/scenes/wide-strip-fea.toml"
+    );
+    let scene = Scene::from_file(std::path::Path::new(path)).unwrap();
+    let truth = scene.truth.clone().unwrap();
+    let wide = Effects::ALL.with_plane_strain(true);
+    let mut spec = scene.beam;
+    spec.effects = EffectsChoice::Fixed(wide);
+    let interpolated = spec.model();
+    let narrow = scene.beam.model();
+    // No width: the unboundedly wide section, the plate limit.
+    let plate = BeamModel::new(spec.slenderness(), spec.poisson_ratio, None, wide).unwrap();
+    assert_eq!(plate.plate_fraction(), 1.0);
+    assert!(interpolated.plate_fraction() > 0.3 && interpolated.plate_fraction() < 0.6);
+    let against = |model: BeamModel| {
+        let solver = BeamSolver::new(model, Resolution::default()).unwrap();
+        let (mut pos, mut ang) = (0.0_f64, 0.0_f64);
+        for row in truth.paths.iter().flat_map(|p| &p.rows) {
+            let tip = solver.solve(row.load).unwrap().tip;
+            pos = pos.max((tip.a - row.tip.a).hypot(tip.b - row.tip.b));
+            ang = ang.max((tip.phi - row.tip.phi).abs());
+        }
+        (pos, ang)
+    };
+    let (n, p, i) = (against(narrow), against(plate), against(interpolated));
+    println!("beam against the 3D FEA: max pos (L), max ang (rad)");
+    println!("  plane stress        {:.3e} {:.3e}", n.0, n.1);
+    println!("  plate E/(1-nu^2)    {:.3e} {:.3e}", p.0, p.1);
+    println!("  E/(1-nu^2 phi)      {:.3e} {:.3e}", i.0, i.1);
+    let a = scene.accuracy;
+    let meets = |(pos, ang): (f64, f64)| pos <= a.max_pos_err && ang <= a.max_ang_err;
+    assert!(!meets(n) && !meets(p), "{n:?} {p:?}");
+    assert!(meets(i), "{i:?}");
+    // Within the criterion's 0.9 % stiffness error of the FEA: at most a fifth of the
+    // narrow beam's 4.6-6.5 % gap.
+    assert!(i.0 < n.0 / 5.0 && i.0 < p.0 / 3.0, "{i:?} {n:?} {p:?}");
+}
+
+/// The slender steel leaf of `assets/scenes/steel-flexure.toml` (40 mm long, 8 mm wide,
+/// 0.3 mm thick) by 3D FEA under a transverse force and a tip moment. The fixture was written
+/// by `prbfit fea --section solid --mesh 40` (CalculiX 2.20, 81 s) on that beam with the
+/// paths `alpha_y = 2` and `beta = 1.5`, two steps each; 2D plane stress on the same mesh is
+/// within 7.9e-4 L of the narrow beam. The 3D strip is 2.4-5.5 % stiffer: the narrow beam
+/// misses the scene's targets by several times, the beam with the plane-strain effect meets
+/// them, which is why `effects = "auto"` keeps plane strain on this scene.
+#[test]
+fn the_steel_leaf_needs_plane_strain_by_3d_fea() {
+    let dir = Scratch::new("steel-leaf-fea");
+    std::fs::copy(
+        concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/tests/fixtures/steel-flexure-fea.csv"
+        ),
+        dir.file("fea.csv"),
+    )
+    .unwrap();
+    let beam_against_fea = |effects: &str| {
+        let scene = dir.file("leaf.toml");
+        std::fs::write(
+            &scene,
+            format!(
+                "name = \"steel leaf, 3D FEA\"\n[beam]\nlength = 0.04\nwidth = 0.008\n\
+                 thickness = 0.0003\nyoungs_modulus = 200e9\npoisson_ratio = 0.29\n\
+                 effects = {effects}\n[truth]\ndata = \"fea.csv\"\n[accuracy]\n\
+                 max_pos_err = 0.005\nmax_ang_err = 0.01\n"
+            ),
+        )
+        .unwrap();
+        let v = json(&prbfit(&[
+            "eval",
+            "--scene",
+            &scene,
+            "--model",
+            "howell-1r",
+            "--json",
+        ]));
+        let beam = &v["truth"]["beam_vs_data"];
+        (
+            beam["max_pos_err"].as_f64().unwrap(),
+            beam["max_ang_err"].as_f64().unwrap(),
+        )
+    };
+    let narrow = beam_against_fea("[\"shear\", \"extension\", \"poisson\"]");
+    let wide = beam_against_fea("[\"shear\", \"extension\", \"poisson\", \"plane_strain\"]");
+    println!("narrow beam against the 3D FEA: {narrow:?}; with plane strain: {wide:?}");
+    assert!(
+        narrow.0 > 5.0 * 0.005 && narrow.1 > 5.0 * 0.01,
+        "{narrow:?}"
+    );
+    // Within the 2D mesh's own 7.9e-4 L plus the criterion's 1 % of stiffness.
+    assert!(wide.0 < 0.005 && wide.1 < 0.01, "{wide:?}");
+}

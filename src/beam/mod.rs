@@ -553,6 +553,9 @@ const SEGMENT_GROWTH: f64 = 3.0;
 /// Enough segments for `sqrt(alpha)` up to about 12000 (`alpha` ~ 1.5e8). The banded Newton
 /// system makes a segment cost little more than the integration steps it holds.
 const MAX_SEGMENTS: usize = 4096;
+/// Shape points of the narrow-beam solutions that give a wide section's cases their plate
+/// fractions (the moment is averaged along the beam over them).
+const PLATE_SHAPE_POINTS: usize = 41;
 
 impl BeamSolver {
     /// A solver for `model` at `resolution`, with the default [`EffortBudget`]; fails with
@@ -583,8 +586,41 @@ impl BeamSolver {
         load: Load,
         cancel: &CancelToken,
     ) -> Result<BeamSolution, SolveError> {
+        if let Some(narrow) = self.plate_refined() {
+            let (_, last) = narrow.follow_path(load, 1, cancel)?;
+            return self.with_case_plate(&last).solve_cancellable(load, cancel);
+        }
         let (_, last) = self.follow_path(load, 1, cancel)?;
         Ok(last)
+    }
+
+    /// With plane strain on a section of known width, the narrow-beam solver whose solutions
+    /// give each case its plate fraction ([`plate::case_fraction`]); `None` otherwise.
+    fn plate_refined(&self) -> Option<BeamSolver> {
+        let m = &self.model;
+        if !m.effects.plane_strain || m.width_ratio().is_none() {
+            return None;
+        }
+        let narrow = m.narrow();
+        Some(BeamSolver {
+            model: narrow,
+            resolution: Resolution {
+                shape_points: self.resolution.shape_points.max(PLATE_SHAPE_POINTS),
+                ..self.resolution
+            },
+            budget: self.budget,
+        })
+    }
+
+    /// This solver with the plate fraction of the case whose narrow-beam solution is
+    /// `narrow`, and no width (so that it solves with that fraction as it is).
+    fn with_case_plate(&self, narrow: &BeamSolution) -> BeamSolver {
+        let m = &self.model;
+        let width_ratio = m.width_ratio().unwrap_or(f64::INFINITY);
+        let (phi, _) = plate::case_fraction(width_ratio, m.slenderness, m.nu, narrow);
+        let mut model = m.with_plate_fraction(phi);
+        model.forget_width();
+        BeamSolver { model, ..*self }
     }
 
     /// Solves the proportional path to `end`, returning the cases at `k / steps`,
@@ -602,6 +638,16 @@ impl BeamSolver {
         steps: u32,
         cancel: &CancelToken,
     ) -> Result<Vec<BeamSolution>, SolveError> {
+        if let Some(narrow) = self.plate_refined() {
+            // Each case at its own plate fraction, solved from the unloaded beam along the
+            // same ray (so on the branch the path follows).
+            let (mut cases, last) = narrow.follow_path(end, steps, cancel)?;
+            cases.push(last);
+            return cases
+                .iter()
+                .map(|c| self.with_case_plate(c).solve_cancellable(c.load, cancel))
+                .collect();
+        }
         let (mut out, last) = self.follow_path(end, steps, cancel)?;
         out.push(last);
         Ok(out)
@@ -719,6 +765,21 @@ impl BeamSolver {
                         // least 0.9 of it: the step size cannot collapse here.
                         dlam = next.min(1.0);
                         if lambda >= target {
+                            // Newton's last update reached the tip linearly but not the
+                            // shape sampled on its last shot: one more shot from the updated
+                            // nodes samples the shape of the solution returned.
+                            let tip_tol = self.resolution.tol * load.magnitude().min(1.0);
+                            let result = if result.convergence.last_update > tip_tol {
+                                match self.newton(load, result.nodes.clone(), case) {
+                                    Ok(again) => {
+                                        shots += again.shots;
+                                        again
+                                    }
+                                    Err(_) => result,
+                                }
+                            } else {
+                                result
+                            };
                             let solution = BeamSolution {
                                 load,
                                 tip: result.tip,

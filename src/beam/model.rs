@@ -13,8 +13,10 @@
 //! 1 / (12 (L/t0)^2)` and `kappa G A0 = 1 / c_s` with `c_s = c_e 2 (1 + nu) / kappa`.
 //!
 //! With plane strain on (a wide section, see [`Effects::plane_strain`]) the bending and axial
-//! stiffnesses take the plate modulus `E / (1 - nu^2)`: the curvature `M / (E I)` and the
-//! axial strain are multiplied by `1 - nu^2`; the shear modulus `G` is unchanged, and so is
+//! stiffnesses take the modulus `E / (1 - nu^2 phi)`, `phi` the section's plate fraction
+//! (1: the plate modulus `E / (1 - nu^2)`; see [`crate::beam::plate`]): the curvature
+//! `M / (E I)` and the axial strain are multiplied by `1 - nu^2 phi`; the shear modulus `G`
+//! is unchanged, and so is
 //! the Poisson shrink law below (an approximation: in plane strain only the thickness
 //! shrinks, by `nu / (1 - nu)` of the strain; the shrink is a second-order effect either way).
 //! The PRB matrix keeps the nominal scale `E I0 / L`, `E A0 / L`.
@@ -37,10 +39,12 @@ pub struct Effects {
     pub extension: bool,
     /// The section shrinks with the axial strain (needs `extension`).
     pub poisson: bool,
-    /// Plane strain: the plate modulus `E / (1 - nu^2)` in bending and stretching, for a
-    /// section so wide it cannot curl across (no anticlastic curvature). Not a refinement of
-    /// the narrow beam but its other limit: a strip is between the two, and
-    /// [`crate::select::plate_criterion`] says which it is nearer.
+    /// Plane strain: the plate stiffening of a wide section, the modulus `E / (1 - nu^2 phi)`
+    /// in bending and stretching. `phi`, the plate fraction, is 1 for a section so wide it
+    /// cannot curl across (no anticlastic curvature: the plate modulus `E / (1 - nu^2)`), 0
+    /// for the narrow beam, and in between for a strip: the ends' share from `w0 / t0` and
+    /// `w0 / L`, raised case by case by the anticlastic share of its curvature
+    /// ([`crate::beam::plate`], checked against 3D FEA).
     #[serde(default)]
     pub plane_strain: bool,
 }
@@ -196,8 +200,14 @@ pub struct BeamModel {
     c_e: f64,
     /// `E I0 / (kappa G A0 L^2)`: shear compliance.
     c_s: f64,
-    /// `E / E_eff`: `1 - nu^2` with plane strain, else 1; scales the bending and axial
-    /// compliances.
+    /// `w0 / t0`, when known ([`BeamModel::with_width_ratio`]): with plane strain, the plate
+    /// fraction comes from it (the ends) and from each case's curvature (the anticlastic
+    /// curl), see [`crate::beam::plate`]. Unknown: an unboundedly wide section.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    width_ratio: Option<f64>,
+    /// The plate fraction `phi` in use (0 without plane strain).
+    plate_fraction: f64,
+    /// `E / E_eff = 1 - nu^2 phi`; scales the bending and axial compliances.
     plate: f64,
 }
 
@@ -227,11 +237,6 @@ impl BeamModel {
     fn from_valid(slenderness: f64, nu: f64, kappa: f64, effects: Effects) -> BeamModel {
         let c_e = 1.0 / (12.0 * slenderness * slenderness);
         let c_s = c_e * 2.0 * (1.0 + nu) / kappa;
-        let plate = if effects.plane_strain {
-            1.0 - nu * nu
-        } else {
-            1.0
-        };
         BeamModel {
             slenderness,
             nu,
@@ -239,8 +244,70 @@ impl BeamModel {
             effects,
             c_e,
             c_s,
-            plate,
+            width_ratio: None,
+            plate_fraction: 0.0,
+            plate: 1.0,
         }
+        .with_plate_fraction(1.0)
+    }
+
+    /// The same beam with a section `w0 / t0` wide: with plane strain its plate fraction is
+    /// then the ends' ([`crate::beam::plate::ends_fraction`]), which a load path raises case
+    /// by case by the anticlastic part ([`crate::beam::BeamSolver`] does). A ratio that is not
+    /// a positive number leaves the beam as it is.
+    pub fn with_width_ratio(self, width_over_thickness: f64) -> BeamModel {
+        if !(width_over_thickness.is_finite() && width_over_thickness > 0.0) {
+            return self;
+        }
+        let ends = super::plate::ends_fraction(
+            width_over_thickness / self.slenderness,
+            width_over_thickness,
+        );
+        BeamModel {
+            width_ratio: Some(width_over_thickness),
+            ..self
+        }
+        .with_plate_fraction(ends)
+    }
+
+    /// The same beam with the plate fraction `phi` (clamped to `[0, 1]`): the modulus is
+    /// `E / (1 - nu^2 phi)` with plane strain on, `E` without it (`phi` is then 0).
+    pub fn with_plate_fraction(self, phi: f64) -> BeamModel {
+        let phi = if self.effects.plane_strain && !phi.is_nan() {
+            phi.clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        BeamModel {
+            plate_fraction: phi,
+            plate: 1.0 - self.nu * self.nu * phi,
+            ..self
+        }
+    }
+
+    /// The same beam without plane strain (plane stress, the narrow beam).
+    pub(crate) fn narrow(&self) -> BeamModel {
+        BeamModel {
+            effects: self.effects.with_plane_strain(false),
+            ..*self
+        }
+        .with_plate_fraction(0.0)
+    }
+
+    /// Drops the width, keeping the plate fraction in use.
+    pub(crate) fn forget_width(&mut self) {
+        self.width_ratio = None;
+    }
+
+    /// `w0 / t0`, when the model was given it.
+    pub fn width_ratio(&self) -> Option<f64> {
+        self.width_ratio
+    }
+
+    /// The plate fraction in use: 0 without plane strain; with it, 1 for an unboundedly wide
+    /// section, else the ends' or (once a path has set it) the case's.
+    pub fn plate_fraction(&self) -> f64 {
+        self.plate_fraction
     }
 
     /// The inextensible, shear-rigid elastica (slenderness and nu are then irrelevant).
@@ -256,7 +323,7 @@ impl BeamModel {
         self.c_e
     }
 
-    /// `E_eff / E`: `1 / (1 - nu^2)` with plane strain, else 1.
+    /// `E_eff / E`: `1 / (1 - nu^2 phi)` with plane strain (`phi` the plate fraction), else 1.
     pub fn plate_factor(&self) -> f64 {
         1.0 / self.plate
     }

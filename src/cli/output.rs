@@ -82,13 +82,10 @@ pub struct DecisionLine<'a>(pub &'a Option<EffectsDecision>);
 impl Display for DecisionLine<'_> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let Some(d) = self.0 else { return Ok(()) };
-        // A narrow section's plane strain is not a dropped refinement but the wrong limit:
-        // said apart, with the criterion.
-        let wide = d.plate.as_ref().is_none_or(|p| p.wide);
         let part = |kept: bool| {
             d.impacts
                 .iter()
-                .filter(|i| i.kept == kept && (i.effect != "plane_strain" || wide))
+                .filter(|i| i.kept == kept)
                 .map(|i| {
                     format!(
                         "{} ({:.1}% of target)",
@@ -108,17 +105,12 @@ impl Display for DecisionLine<'_> {
             d.threshold * 100.0
         )?;
         match &d.plate {
-            Some(p) if !p.wide => writeln!(
-                f,
-                "; section narrow (plate fraction {:.2} < 0.5, w0/L = {}, largest Searle w0^2/(R t0) = {}): no plane strain",
-                p.plate_fraction,
-                num(p.width_over_length),
-                num(p.largest_searle)
-            ),
             Some(p) => writeln!(
                 f,
-                "; section wide (plate fraction {:.2} >= 0.5, w0/L = {}, largest Searle w0^2/(R t0) = {})",
+                "; section {} (mean plate fraction {:.2}, w0/t0 = {}, w0/L = {}, largest Searle w0^2/(R t0) = {})",
+                if p.wide { "wide" } else { "narrow" },
                 p.plate_fraction,
+                num(p.width_over_thickness),
                 num(p.width_over_length),
                 num(p.largest_searle)
             ),

@@ -163,15 +163,18 @@ fn beam_model(scene: &Scene, args: &SolveArgs) -> Result<BeamModel> {
         (None, Some(_)) => scene.beam.shear_coefficient,
         (None, None) => Some(base.kappa),
     };
-    BeamModel::new(slenderness, nu, kappa, effects).map_err(|e| {
-        let flag = match e {
-            ModelError::Slenderness(_) => "--slenderness",
-            ModelError::PoissonRatio(_) => "--nu",
-            ModelError::ShearCoefficient(_) => "--kappa",
-            ModelError::UnknownEffect(_) | ModelError::PoissonWithoutExtension => "--effects",
-        };
-        bad(format!("{flag}: {e}"))
-    })
+    BeamModel::new(slenderness, nu, kappa, effects)
+        .map_err(|e| {
+            let flag = match e {
+                ModelError::Slenderness(_) => "--slenderness",
+                ModelError::PoissonRatio(_) => "--nu",
+                ModelError::ShearCoefficient(_) => "--kappa",
+                ModelError::UnknownEffect(_) | ModelError::PoissonWithoutExtension => "--effects",
+            };
+            bad(format!("{flag}: {e}"))
+        })
+        // The section's width in thicknesses stays the scene's (plane strain's plate fraction).
+        .map(|m| m.with_width_ratio(scene.beam.width / scene.beam.thickness))
 }
 
 /// Runs `prbfit solve`.

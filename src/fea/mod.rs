@@ -18,8 +18,8 @@
 //!   expanded plane elements does not converge under `NLGEOM` (ccx: "linear MPCs and
 //!   nonlinear MPCs depend on each other"; no increment converged under a tip moment).
 //! - **Plane strain** ([`Section::PlaneStrain`]): the same slab with the true `E, nu`: the
-//!   limit of a section much wider than the beam is long or curved, which the beam models
-//!   with [`crate::beam::Effects::plane_strain`].
+//!   limit of a section much wider than the beam is long or curved (the beam's
+//!   [`crate::beam::Effects::plane_strain`] at plate fraction 1).
 //! - **Solid** ([`Section::Solid`]): the true 3D strip, half its width modelled with a
 //!   symmetry plane at the middle, several bricks across: where the real plate effect of a
 //!   wide section lies between the two plane limits.

@@ -125,6 +125,7 @@ impl BeamSpec {
             self.effects.resolve(),
         )
         .expect("a validated scene describes a valid beam")
+        .with_width_ratio(self.width / self.thickness)
     }
 }
 
