@@ -209,10 +209,15 @@ pub struct Scene {
 }
 
 impl Scene {
-    /// Gives a data scene its measured paths (read by the IO layer) and `sha256`, the file's
-    /// content hash; `loads` becomes one path per measured path, to its last row, one case
-    /// per row.
-    pub fn set_measured(&mut self, paths: Vec<data::MeasuredPath>, sha256: String) {
+    /// Gives a data scene its measured paths (read by the IO layer, in `units`) and `sha256`,
+    /// the file's content hash; `loads` becomes one path per measured path, to its last row,
+    /// one case per row.
+    pub fn set_measured(
+        &mut self,
+        paths: Vec<data::MeasuredPath>,
+        units: data::Units,
+        sha256: String,
+    ) {
         self.loads = paths
             .iter()
             .filter_map(|p| {
@@ -224,6 +229,7 @@ impl Scene {
             .collect();
         if let Some(t) = self.truth.as_mut() {
             t.paths = paths;
+            t.units = units;
             t.sha256 = sha256;
         }
     }
@@ -651,6 +657,7 @@ impl Validator<'_> {
                 Some(data::DataTruth {
                     file: file.get_ref().clone(),
                     sha256: String::new(),
+                    units: data::Units::default(),
                     paths: Vec::new(),
                 })
             }
