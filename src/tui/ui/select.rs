@@ -109,6 +109,8 @@ pub fn draw<F: Columns>(frame: &mut Frame, area: Rect, v: &View<'_, F>) {
             "fitting the ladder..."
         } else if mechanism {
             "fitting the ladder on the mechanism..."
+        } else if v.data {
+            "fitting the ladder on the data..."
         } else {
             "fitting / measuring the trade-off..."
         }
