@@ -55,7 +55,7 @@ impl App {
         ));
     }
 
-    /// `h` on a data scene: the rows' units decide what a beam edit keeps.
+    /// `H` on a data scene: the rows' units decide what a beam edit keeps.
     pub(super) fn data_hold_message(&mut self) {
         let Some(t) = &self.scene.truth else {
             return;

@@ -7,9 +7,10 @@
 //! measured row, and the scene's beam against the data is a second, grey line per path
 //! (named with the PRB's on the bottom border).
 
+use crate::eval::CaseError;
 use crate::plot::errors::bounds;
 use ratatui::layout::{Constraint, Rect};
-use ratatui::style::{Color, Style};
+use ratatui::style::Color;
 use ratatui::symbols::Marker;
 use ratatui::text::{Line, Span};
 use ratatui::widgets::{Axis, Block, Borders, Chart, Dataset, GraphType, Paragraph};
@@ -21,7 +22,6 @@ use super::super::app::App;
 use super::super::units::trim_number;
 use super::super::worker::{BaselineView, ModelView};
 use super::{Palette, PATH_COLORS};
-use crate::eval::CaseError;
 
 /// Which error a chart shows.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -120,7 +120,7 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View) {
             legend.push(Span::styled("─", pal.fg(Color::Gray)));
         }
         legend.push(Span::raw(" "));
-        block = block.title_bottom(Line::from(legend).style(Style::default()));
+        block = block.title_bottom(Line::from(legend));
     }
     let (Some(model), Some(baseline)) = (view.model, view.baseline) else {
         frame.render_widget(Paragraph::new("").block(block), area);

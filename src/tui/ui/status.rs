@@ -18,7 +18,7 @@ use crate::scene::{Accuracy, Mechanism};
 use super::super::app::{Activity, App, Tone};
 use super::super::keymap;
 use super::super::units::trim_number;
-use super::{sanitize_terminal, Palette};
+use super::{sanitize_terminal, Palette, MEASURED_COLOR};
 
 /// What the title line draws.
 #[derive(Debug, Clone)]
@@ -103,8 +103,6 @@ pub struct DataLine<'a> {
     pub file: &'a str,
     /// The first characters of its SHA-256.
     pub sha256: &'a str,
-    /// Rows in the file.
-    pub rows: usize,
     /// The beam theory's figures against the data, or why it has none; `None` until the
     /// worker has solved it.
     pub beam: Option<Result<ErrorFigures, &'a str>>,
@@ -156,7 +154,6 @@ impl<'a> View<'a> {
         let data = app.scene.truth.as_ref().map(|t| DataLine {
             file: &t.file,
             sha256: t.sha256.get(..HASH_PREFIX).unwrap_or(&t.sha256),
-            rows: t.row_count(),
             beam: measured.map(|m| match &m.beam {
                 Ok(b) => Ok(b.figures(app.scene.fit.angle_weight)),
                 Err(why) => Err(why.as_str()),
@@ -269,7 +266,7 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View) {
         lines.push(Line::from(spans));
     }
     if let Some(d) = &view.data {
-        lines.push(data_line(d, &view.accuracy, pal));
+        lines.push(data_line(d, &view.accuracy, view.activity, pal));
     }
     if let Some((m, tone)) = view.message {
         let style = match tone {
@@ -286,14 +283,14 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View) {
 
 /// ` data FILE sha256 HASH · beam vs data: J .. | pos .. | ang .. |`: which data the
 /// scene is judged on, and how far the beam theory (grey in the charts) is from it.
-fn data_line(d: &DataLine, acc: &Accuracy, pal: Palette) -> Line<'static> {
+fn data_line(d: &DataLine, acc: &Accuracy, activity: &Activity, pal: Palette) -> Line<'static> {
     let mut spans = vec![Span::styled(
         format!(
             " data {} sha256 {} · beam vs data:",
             sanitize_terminal(d.file),
             d.sha256
         ),
-        pal.fg(Color::Magenta),
+        pal.fg(MEASURED_COLOR),
     )];
     match &d.beam {
         Some(Ok(f)) => spans.extend(figure_spans(Figures::Beam(f), acc, pal)),
@@ -301,6 +298,8 @@ fn data_line(d: &DataLine, acc: &Accuracy, pal: Palette) -> Line<'static> {
             format!(" none: {}", sanitize_terminal(why)),
             pal.fg(Color::DarkGray),
         )),
+        // The worker sends the beam with the job's first result: a job that failed has none.
+        None if matches!(activity, Activity::Failed(_)) => spans.push(Span::raw(" no result")),
         None => spans.push(Span::raw(" solving...")),
     }
     Line::from(spans)
