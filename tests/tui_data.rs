@@ -485,8 +485,9 @@ fn selection_on_data_has_no_tradeoff() {
 
 /// A data file with a path of one row, and a row the beam cannot reach within its effort
 /// budget (alpha_y = 1e9 from rest: the solver gives up near 4e8), which the PRB follows
-/// row by row (its links just line up with the force): the PRB is judged on the rows, the
-/// beam beside the data is absent and says why, and every size draws.
+/// row by row (its links just line up with the force), and a path of one row at rest: the
+/// PRB is judged on the rows, the beam beside the data is absent and says why, every size
+/// draws, and the beam can still be edited.
 #[test]
 fn one_row_paths_and_a_beam_that_cannot_reach_the_data() {
     let dir = Scratch::new("ui-data-edge");
@@ -497,7 +498,8 @@ fn one_row_paths_and_a_beam_that_cannot_reach_the_data() {
          2,0,1,0,0.95,0.3,0.5\n\
          2,0,1e3,0,0.1,0.95,1.5\n\
          2,0,1e6,0,0.01,1,1.57\n\
-         2,0,1e9,0,0,1,1.57\n",
+         2,0,1e9,0,0,1,1.57\n\
+         3,0,0,0,1,0,0\n",
     );
     let scene = dir.write(
         "edge.toml",
@@ -506,7 +508,7 @@ fn one_row_paths_and_a_beam_that_cannot_reach_the_data() {
          [truth]\ndata = \"edge.csv\"\n",
     );
     let mut app = app_on(Path::new(&scene));
-    assert_eq!(app.load_rows(), 5);
+    assert_eq!(app.load_rows(), 6);
     let worker = Worker::spawn().unwrap();
     let msg = {
         let job = job_of(Some(app.submit(false)));
@@ -523,7 +525,7 @@ fn one_row_paths_and_a_beam_that_cannot_reach_the_data() {
         .clone()
         .unwrap_err();
     assert!(why.contains("line 6 of edge.csv"), "{why}");
-    assert_eq!(app.model.as_ref().unwrap().cases.len(), 5);
+    assert_eq!(app.model.as_ref().unwrap().cases.len(), 6);
     for (w, h) in [(120, 40), (80, 24), (60, 20), (30, 10)] {
         let screen = render(&app, w, h);
         if w == 120 {
@@ -538,11 +540,23 @@ fn one_row_paths_and_a_beam_that_cannot_reach_the_data() {
             );
         }
     }
-    for (row, path) in [(0, 0), (1, 1), (4, 1)] {
+    for (row, path) in [(0, 0), (1, 1), (4, 1), (5, 2)] {
         app.loads_state.row = row;
         assert_eq!(app.shown_path(), path);
         render(&app, 120, 40);
     }
+    // A path of one row at rest (allowed in a data file, not in a [[loads]] table) does
+    // not stop beam edits.
+    let t0 = Instant::now();
+    app.focus = Panel::Beam;
+    app.beam_state.row = BeamField::of(false)
+        .iter()
+        .position(|&f| f == BeamField::Thickness)
+        .unwrap();
+    edit(&mut app, "0.6 mm", t0);
+    assert!(app.message.is_none(), "{:?}", app.message);
+    assert_eq!(app.scene.beam.thickness, 0.6e-3);
+    assert!(matches!(app.tick(t0 + DEBOUNCE), Some(Command::Submit(_))));
 }
 
 /// From a data scene to a mechanism scene and back (each opened over the other, each

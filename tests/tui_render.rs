@@ -671,3 +671,23 @@ fn data_panels_one_by_one() {
         ))
     );
 }
+
+/// Before the worker's first answer the data line says the beam is being solved; after a
+/// failed job (no result came) it says so instead, and nothing else about the data changes.
+#[test]
+fn data_line_before_and_after_a_failure() {
+    let path =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/wide-strip-fea.toml");
+    let mut app = App::new(Scene::from_file(&path).unwrap(), Some(path));
+    let text = format!("{}", render(&app, 120, 40).backend());
+    assert!(
+        text.contains("data wide-strip-fea.csv sha256 1d3b0fb1 · beam vs data: solving..."),
+        "{text}"
+    );
+    app.activity = Activity::Failed("the PRB model fails".into());
+    let text = format!("{}", render(&app, 120, 40).backend());
+    assert!(
+        text.contains("data wide-strip-fea.csv sha256 1d3b0fb1 · beam vs data: no result"),
+        "{text}"
+    );
+}
