@@ -7,6 +7,8 @@
 //! - Noise: data with 0.1% L Gaussian noise are fitted without chasing the noise.
 //! - Calibration recovers the E and the thickness the data were made with.
 //! - Every malformed file is exit status 2 naming file:line:column.
+//! - A beam edit (the UI) converts SI rows again: rebased rows are the rows read with the
+//!   edited beam.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
 mod common;
@@ -567,4 +569,71 @@ fn the_steel_leaf_needs_plane_strain_by_3d_fea() {
     );
     // Within the 2D mesh's own 7.9e-4 L plus the criterion's 1 % of stiffness.
     assert!(wide.0 < 0.005 && wide.1 < 0.01, "{wide:?}");
+}
+
+/// The UI converts a data scene's rows again when its nominal beam is edited
+/// (`DataTruth::rebased`): SI rows rebased from one beam to another are the rows read with
+/// the other, to a few ulps (two scale ratios multiplied against one scale); nondimensional
+/// rows are the same on any beam; a path that would shrink on the other beam (the load
+/// magnitude adds force and moment terms, which scale differently) is refused, as reading
+/// the file with that beam refuses it.
+#[test]
+fn rebased_rows_are_the_rows_read_with_the_other_beam() {
+    use prbfit::scene::data::{parse_csv, DataTruth, Units};
+    let truth = |csv: &str, beam| {
+        let (paths, units) = parse_csv(csv, "t.csv", beam).unwrap();
+        DataTruth {
+            file: "t.csv".into(),
+            sha256: String::new(),
+            units,
+            paths,
+        }
+    };
+    let a = Scene::builtin().beam;
+    let mut b = a;
+    b.youngs_modulus *= 1.3;
+    b.length *= 0.8;
+    b.thickness *= 1.1;
+    let si = "path,fx,fy,mz,x,y,theta\n\
+              1,1,2,0.01,0.049,0.004,0.1\n\
+              1,2,4,0.02,0.047,0.008,0.2\n\
+              2,0,0,0.05,0.048,0.01,0.3\n";
+    let on_a = truth(si, &a);
+    assert_eq!(on_a.units, Units::Si);
+    let rebased = on_a.rebased(&a, &b).unwrap();
+    let on_b = truth(si, &b);
+    assert_ne!(on_a.paths, on_b.paths, "the beams convert differently");
+    let close = |x: f64, y: f64| (x - y).abs() <= 4.0 * f64::EPSILON * x.abs().max(y.abs());
+    for (p, q) in rebased.paths.iter().zip(&on_b.paths) {
+        assert_eq!((p.id, p.rows.len()), (q.id, q.rows.len()));
+        for (r, s) in p.rows.iter().zip(&q.rows) {
+            assert_eq!(r.line, s.line);
+            for (x, y) in [
+                (r.load.alpha_x, s.load.alpha_x),
+                (r.load.alpha_y, s.load.alpha_y),
+                (r.load.beta, s.load.beta),
+                (r.tip.a, s.tip.a),
+                (r.tip.b, s.tip.b),
+                (r.tip.phi, s.tip.phi),
+            ] {
+                assert!(close(x, y), "line {}: {x} rebased, {y} read", r.line);
+            }
+        }
+    }
+
+    let nd = "alpha_x,alpha_y,beta,a,b,phi\n0,1,0,0.9,0.3,0.5\n0,2,0,0.8,0.5,0.8\n";
+    let on_a = truth(nd, &a);
+    assert_eq!(on_a.units, Units::Nondimensional);
+    assert_eq!(on_a.rebased(&a, &b).unwrap(), on_a);
+
+    // Row 2 grows on a long beam (its force counts with L^2, the moment with L) and shrinks
+    // on a short one.
+    let (mut long, mut short) = (a, a);
+    long.length = 0.1;
+    short.length = 0.01;
+    let mixed = "fx,fy,mz,x,y,theta\n0,0,1,0.09,0.02,0.3\n0,15,0.2,0.08,0.03,0.4\n";
+    let on_long = truth(mixed, &long);
+    assert!(parse_csv(mixed, "t.csv", &short).is_err());
+    let err = on_long.rebased(&long, &short).unwrap_err();
+    assert!(err.contains("shrinks at line 3"), "{err}");
 }

@@ -535,3 +535,159 @@ fn mechanism_selection_view_120x40() {
     assert!(text.contains("cannot follow the mechanism"), "{text}");
     insta::assert_snapshot!("mech_select_120x40", t.backend());
 }
+
+/// The app on the shipped data scene (DESIGN §9: the wide strip's 3D FEA as the truth)
+/// after a judge job of Su's 3R, with results computed here as the worker computes them
+/// (the data as the baseline, the scene's beam solved at the measured loads beside it).
+fn judged_data_app() -> App {
+    use prbfit::fit::CancelToken;
+    use prbfit::tui::worker::measured_view;
+    let path =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/wide-strip-fea.toml");
+    let mut app = App::new(Scene::from_file(&path).unwrap(), Some(path));
+    let baseline = Fidelity::Normal.baseline(&app.scene).unwrap();
+    let mut view = baseline_view(&baseline, None);
+    view.measured = Some(
+        measured_view(
+            app.scene.truth.as_ref().unwrap(),
+            &app.scene.beam,
+            Fidelity::Normal.resolution(),
+            &CancelToken::new(),
+        )
+        .unwrap(),
+    );
+    app.baseline = Some(Arc::new(view));
+    app.model = Some(model_view(&app.matrix, &baseline, 1.0).unwrap());
+    app.activity = Activity::Done {
+        seconds: 0.0042,
+        stop: None,
+        iterations: 0,
+        evaluations: 0,
+    };
+    app
+}
+
+/// The data scene: the measured tips (×) over the beam's and the PRB's shapes with the
+/// legend on the chart's bottom border, the PRB's errors against the data marked at every
+/// row with the beam's own beside them, the rows read-only in place of the load paths, and
+/// the data line (file, hash, the beam against the data) under the figures.
+#[test]
+fn data_scene_120x40() {
+    let app = judged_data_app();
+    let t = render(&app, 120, 40);
+    let text = format!("{}", t.backend());
+    for needle in [
+        "Deformed shapes, data path 1 of 2",
+        "measured ×  beam ─  PRB ─o",
+        "PRB • beam ─",
+        "Data rows (read-only)",
+        "data wide-strip-fea.csv sha256 1d3b0fb1 · beam vs data: J 1.115e-3 | pos 2.59%L FAIL",
+    ] {
+        assert!(text.contains(needle), "`{needle}` missing:\n{text}");
+    }
+    // Path 1's four measured tips, each a marker of its own.
+    assert_eq!(
+        text.matches('×').count(),
+        4 + 1,
+        "four tips and the legend:\n{text}"
+    );
+    insta::assert_snapshot!("data_120x40", t.backend());
+}
+
+#[test]
+fn data_scene_80x24() {
+    let mut app = judged_data_app();
+    // The second path (pure moment): `]` from the first.
+    app.on_key(
+        ratatui::crossterm::event::KeyEvent::new(
+            ratatui::crossterm::event::KeyCode::Char(']'),
+            ratatui::crossterm::event::KeyModifiers::NONE,
+        ),
+        std::time::Instant::now(),
+    );
+    let t = render(&app, 80, 24);
+    let text = format!("{}", t.backend());
+    for needle in [
+        "data path 2 of 2",
+        "measured ×  beam ─  PRB ─o",
+        "data wide-strip-fea.csv sha256 1d3b0fb1",
+    ] {
+        assert!(text.contains(needle), "`{needle}` missing:\n{text}");
+    }
+    insta::assert_snapshot!("data_80x24", t.backend());
+}
+
+/// The measured markers and the data line are in the data's colour (magenta), the beam's
+/// legend in the beam's grey; under NO_COLOR nothing is coloured.
+#[test]
+fn data_colours() {
+    let app = judged_data_app();
+    let t = render(&app, 120, 40);
+    let buf = t.backend().buffer();
+    let cells: Vec<(u16, u16)> = (0..40)
+        .flat_map(|y| (46..120).map(move |x| (x, y)))
+        .filter(|&(x, y)| buf[(x, y)].symbol() == "×")
+        .collect();
+    assert_eq!(cells.len(), 5, "four tips and the legend");
+    for (x, y) in cells {
+        assert_eq!(buf[(x, y)].fg, Color::Magenta, "× at ({x}, {y})");
+    }
+    let data_row = 37;
+    assert_eq!(buf[(1, data_row)].symbol(), "d");
+    assert_eq!(buf[(1, data_row)].fg, Color::Magenta);
+    let mut mono = judged_data_app();
+    mono.mono = true;
+    let t = render(&mono, 120, 40);
+    assert!(t
+        .backend()
+        .buffer()
+        .content()
+        .iter()
+        .all(|c| c.fg == Color::Reset && c.bg == Color::Reset));
+}
+
+/// The data scene's own panels: the rows (focused, in SI), the shapes and an error chart.
+#[test]
+fn data_panels_one_by_one() {
+    use prbfit::tui::ui::{errors, rows, shapes};
+    let mut app = judged_data_app();
+    app.focus = Panel::Loads;
+    app.loads_state.row = 5;
+    app.matrix_state.si = true;
+    insta::assert_snapshot!(
+        "panel_data_rows",
+        panel(46, 9, |f, a| rows::draw(f, a, &rows::View::new(&app)))
+    );
+    insta::assert_snapshot!(
+        "panel_data_shapes",
+        panel(74, 20, |f, a| shapes::draw(f, a, &shapes::View::new(&app)))
+    );
+    insta::assert_snapshot!(
+        "panel_data_errors_position",
+        panel(37, 15, |f, a| errors::draw(
+            f,
+            a,
+            &errors::View::new(&app, errors::ErrorKind::Position)
+        ))
+    );
+}
+
+/// Before the worker's first answer the data line says the beam is being solved; after a
+/// failed job (no result came) it says so instead, and nothing else about the data changes.
+#[test]
+fn data_line_before_and_after_a_failure() {
+    let path =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/wide-strip-fea.toml");
+    let mut app = App::new(Scene::from_file(&path).unwrap(), Some(path));
+    let text = format!("{}", render(&app, 120, 40).backend());
+    assert!(
+        text.contains("data wide-strip-fea.csv sha256 1d3b0fb1 · beam vs data: solving..."),
+        "{text}"
+    );
+    app.activity = Activity::Failed("the PRB model fails".into());
+    let text = format!("{}", render(&app, 120, 40).backend());
+    assert!(
+        text.contains("data wide-strip-fea.csv sha256 1d3b0fb1 · beam vs data: no result"),
+        "{text}"
+    );
+}

@@ -572,6 +572,68 @@ fn slider_crank_howell_fails_then_fitted_passes() {
     wait_exit(&session, "quit the slider-crank");
 }
 
+/// Issue 14.3: the shipped data scene (the wide strip's 3D FEA) opens in the UI: the data
+/// line names the file and its hash, the measured tips are markers over the shapes with
+/// their legend, the start-up fit against the rows ends with the CLI's `fit` figure (the same
+/// start, seed and fidelity give the same fit), and the rows are read-only.
+#[test]
+fn a_data_scene_opens_with_its_markers_and_is_fitted() {
+    if !have_tmux("a_data_scene_opens_with_its_markers_and_is_fitted") {
+        return;
+    }
+    let session = format!("prbfit-data-{}", std::process::id());
+    let scene = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/assets/scenes/wide-strip-fea.toml"
+    );
+    start_ui(&session, &["tui", scene]);
+    let screen = wait_for(&session, "the start-up fit against the data", |s| {
+        finished(s) && !s.contains("judged ·") && objective(s).is_some()
+    });
+    for needle in [
+        "wide steel strip, 3D FEA",
+        "data wide-strip-fea.csv sha256 1d3b0fb1 · beam vs data: J 1.115e-3",
+        "Deformed shapes, data path 1 of 2",
+        "measured ×  beam ─  PRB ─o",
+        "Data rows (read-only)",
+    ] {
+        assert!(screen.contains(needle), "`{needle}` missing:\n{screen}");
+    }
+    // Path 1's four measured tips (and the legend's mark).
+    assert_eq!(screen.matches('×').count(), 5, "{screen}");
+    // The CLI's fit from the UI's start (Su's 3R).
+    let su = prbfit::io::ModelFile::load("su-3r").unwrap().prb.to_text();
+    let out = Command::new(env!("CARGO_BIN_EXE_prbfit"))
+        .args(["fit", "--scene", scene, "--prb", &su, "--json"])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let cli: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let j = cli["objective"].as_f64().unwrap();
+    assert_eq!(objective(&screen).unwrap(), format!("{j:.3e}"), "{screen}");
+    // Fitted to the FEA, the 3R meets the strip's targets (README: 4.1e-3 L, 2.3e-3 rad).
+    let status = screen
+        .lines()
+        .find(|l| l.trim_start().starts_with("J "))
+        .unwrap();
+    assert!(
+        status.contains("PASS<0.5") && status.contains("PASS<0.573"),
+        "{screen}"
+    );
+    // The rows cannot be edited.
+    keys(&session, &["Tab", "Tab", "Enter"]);
+    wait_for(&session, "the read-only message", |s| {
+        s.contains("read-only: a data scene's loads are the rows of wide-strip-fea.csv")
+    });
+    // Nothing was edited: q quits at once.
+    keys(&session, &["q"]);
+    wait_exit(&session, "quit the data scene");
+}
+
 /// The median of `values` (none when empty).
 fn median(mut values: Vec<f64>) -> Option<f64> {
     values.sort_by(f64::total_cmp);

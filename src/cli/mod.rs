@@ -188,8 +188,9 @@ fn refuse_data(scene: &Scene, command: &str, why: &str) -> Result<()> {
     match &scene.truth {
         None => Ok(()),
         Some(t) => Err(bad(format!(
-            "\"{}\" is a data scene (its truth is {}): `{command}` {why}; eval, fit, select \
-             and export work on it (eval shows the beam's own error against the data)",
+            "\"{}\" is a data scene (its truth is {}): `{command}` {why}; eval, fit, select, \
+             export and the UI (prbfit tui) work on it (eval shows the beam's own error against \
+             the data)",
             output::safe(&scene.name),
             output::safe(&t.file)
         ))),
@@ -215,14 +216,6 @@ fn tui(path: Option<PathBuf>) -> Result<()> {
         Some(p) => Scene::from_file(p)?,
         None => Scene::builtin(),
     };
-    if let Some(truth) = &scene.truth {
-        return Err(bad(format!(
-            "\"{}\" is a data scene (its truth is {}): the UI does not show measured data yet; \
-             use prbfit eval, fit or select on it",
-            output::safe(&scene.name),
-            output::safe(&truth.file)
-        )));
-    }
     prbfit::tui::run(scene, path).map_err(|e| bad(format!("{e:#}")))
 }
 

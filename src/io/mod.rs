@@ -30,7 +30,7 @@ impl Scene {
         if let Some(truth) = &scene.truth {
             let base = path.parent().unwrap_or(Path::new("."));
             let file = base.join(&truth.file);
-            let (paths, sha256) = read_data(&file, &scene.beam).map_err(|mut e| {
+            let (paths, units, sha256) = read_data(&file, &scene.beam).map_err(|mut e| {
                 if e.line.is_none() && e.origin == file.display().to_string() {
                     // A file that cannot be read: the scene's key that names it.
                     e.origin = origin.clone();
@@ -38,18 +38,25 @@ impl Scene {
                 }
                 e
             })?;
-            scene.set_measured(paths, sha256);
+            scene.set_measured(paths, units, sha256);
         }
         Ok(scene)
     }
 }
 
-/// Reads and checks a data file (DESIGN §9) with `beam` as the nominal beam: its paths and
-/// the SHA-256 of its bytes (lowercase hex).
+/// Reads and checks a data file (DESIGN §9) with `beam` as the nominal beam: its paths, the
+/// unit system of its columns and the SHA-256 of its bytes (lowercase hex).
 pub fn read_data(
     file: &Path,
     beam: &crate::scene::BeamSpec,
-) -> Result<(Vec<crate::scene::data::MeasuredPath>, String), SceneError> {
+) -> Result<
+    (
+        Vec<crate::scene::data::MeasuredPath>,
+        crate::scene::data::Units,
+        String,
+    ),
+    SceneError,
+> {
     use sha2::Digest;
     let shown = file.display().to_string();
     let text = files::read_input(file).map_err(|e| SceneError {
@@ -60,6 +67,6 @@ pub fn read_data(
     })?;
     let hash = sha2::Sha256::digest(text.as_bytes());
     let hex: String = hash.iter().map(|b| format!("{b:02x}")).collect();
-    let paths = crate::scene::data::parse_csv(&text, &shown, beam)?;
-    Ok((paths, hex))
+    let (paths, units) = crate::scene::data::parse_csv(&text, &shown, beam)?;
+    Ok((paths, units, hex))
 }

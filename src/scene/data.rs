@@ -44,13 +44,17 @@ pub struct MeasuredPath {
     pub rows: Vec<MeasuredRow>,
 }
 
-/// A data scene's truth: the file as the scene names it, its content hash, and its paths.
+/// A data scene's truth: the file as the scene names it, its content hash, its units and its
+/// paths.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct DataTruth {
     /// The file as the scene's `[truth] data` writes it (relative to the scene file).
     pub file: String,
     /// SHA-256 of the file's bytes, lowercase hex (empty until the file is read).
     pub sha256: String,
+    /// The file's unit system: SI rows were converted with the scene's nominal beam
+    /// (nondimensional until the file is read: no rows, nothing converted).
+    pub units: Units,
     /// The measured paths (empty until the file is read).
     pub paths: Vec<MeasuredPath>,
 }
@@ -68,13 +72,68 @@ impl DataTruth {
             .map(|p| p.rows.iter().map(|r| r.load).collect())
             .collect()
     }
+
+    /// The same data with `to` as the nominal beam in place of `from`, the beam its rows were
+    /// converted with: what reading the file again with `to` gives. SI rows keep their
+    /// newtons and metres, so their nondimensional loads and tips follow the beam (`alpha`
+    /// with `L^2 / (E I0)`, `beta` with `L / (E I0)`, the tip with `1 / L`; the angle stays);
+    /// nondimensional rows are the same on any beam.
+    ///
+    /// # Errors
+    /// A path that no longer grows from row to row on `to` (the load magnitude sums force
+    /// and moment terms, which scale differently): the file would not open with that beam.
+    pub fn rebased(&self, from: &BeamSpec, to: &BeamSpec) -> Result<DataTruth, String> {
+        let mut out = self.clone();
+        if self.units == Units::Nondimensional {
+            return Ok(out);
+        }
+        let (f0, m0, l0) = nominal_scales(from);
+        let (f1, m1, l1) = nominal_scales(to);
+        let (force, moment, length) = (f1 / f0, m1 / m0, l1 / l0);
+        for path in &mut out.paths {
+            for row in &mut path.rows {
+                row.load = Load {
+                    alpha_x: row.load.alpha_x * force,
+                    alpha_y: row.load.alpha_y * force,
+                    beta: row.load.beta * moment,
+                };
+                row.tip = TipPose {
+                    a: row.tip.a * length,
+                    b: row.tip.b * length,
+                    phi: row.tip.phi,
+                };
+            }
+            for pair in path.rows.windows(2) {
+                if pair[1].load.magnitude() <= pair[0].load.magnitude() {
+                    return Err(format!(
+                        "with this beam, path {} of {} shrinks at line {} (its nondimensional \
+                         load magnitude is not above line {}'s): the file would not open with it",
+                        path.id, self.file, pair[1].line, pair[0].line
+                    ));
+                }
+            }
+        }
+        Ok(out)
+    }
 }
 
-/// The unit system of a set of columns.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Units {
+/// The unit system of a data file's load and tip columns.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Units {
+    /// `fx, fy, mz` (N, N m), `x, y` (m) and `theta`: converted with the scene's nominal beam.
     Si,
+    /// `alpha_x, alpha_y, beta`, `a, b` (units of L) and `phi`: the same on any beam.
+    #[default]
     Nondimensional,
+}
+
+/// What one newton, one newton metre and one metre are, nondimensional, on `beam`:
+/// `L^2 / (E I0)`, `L / (E I0)` and `1 / L` (DESIGN §1).
+fn nominal_scales(beam: &BeamSpec) -> (f64, f64, f64) {
+    let ei = beam.youngs_modulus * beam.second_moment();
+    let l = beam.length;
+    (l * l / ei, l / ei, 1.0 / l)
 }
 
 /// What a column holds.
@@ -138,12 +197,13 @@ fn fields(line: &str) -> Vec<(usize, &str)> {
         .collect()
 }
 
-/// Reads the CSV `text` (from the file `origin`) with `beam` as the nominal beam.
+/// Reads the CSV `text` (from the file `origin`) with `beam` as the nominal beam: its paths,
+/// and the unit system its columns are in.
 pub fn parse_csv(
     text: &str,
     origin: &str,
     beam: &BeamSpec,
-) -> Result<Vec<MeasuredPath>, SceneError> {
+) -> Result<(Vec<MeasuredPath>, Units), SceneError> {
     let fail = |line: usize, column: usize, key: Option<&str>, message: String| SceneError {
         origin: format!("{origin}:{line}:{column}"),
         line: None,
@@ -247,10 +307,11 @@ pub fn parse_csv(
         ));
     }
     // Nominal scales: SI to nondimensional.
-    let ei = beam.youngs_modulus * beam.second_moment();
-    let l = beam.length;
-    let (force, moment) = if si { (l * l / ei, l / ei) } else { (1.0, 1.0) };
-    let length = if si { 1.0 / l } else { 1.0 };
+    let (force, moment, length) = if si {
+        nominal_scales(beam)
+    } else {
+        (1.0, 1.0, 1.0)
+    };
 
     let mut paths: Vec<MeasuredPath> = Vec::new();
     let mut rows_seen = 0;
@@ -370,5 +431,6 @@ pub fn parse_csv(
             "no data rows after the header: an empty path".into(),
         ));
     }
-    Ok(paths)
+    let units = if si { Units::Si } else { Units::Nondimensional };
+    Ok((paths, units))
 }

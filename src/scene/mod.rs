@@ -210,10 +210,15 @@ pub struct Scene {
 }
 
 impl Scene {
-    /// Gives a data scene its measured paths (read by the IO layer) and `sha256`, the file's
-    /// content hash; `loads` becomes one path per measured path, to its last row, one case
-    /// per row.
-    pub fn set_measured(&mut self, paths: Vec<data::MeasuredPath>, sha256: String) {
+    /// Gives a data scene its measured paths (read by the IO layer, in `units`) and `sha256`,
+    /// the file's content hash; `loads` becomes one path per measured path, to its last row,
+    /// one case per row.
+    pub fn set_measured(
+        &mut self,
+        paths: Vec<data::MeasuredPath>,
+        units: data::Units,
+        sha256: String,
+    ) {
         self.loads = paths
             .iter()
             .filter_map(|p| {
@@ -225,6 +230,7 @@ impl Scene {
             .collect();
         if let Some(t) = self.truth.as_mut() {
             t.paths = paths;
+            t.units = units;
             t.sha256 = sha256;
         }
     }
@@ -529,7 +535,14 @@ impl Scene {
         if self.loads.is_empty() && self.mechanism.is_none() {
             return Err(fail("loads".into(), NO_LOADS.into()));
         }
-        for (i, p) in self.loads.iter().enumerate() {
+        // A data scene's paths are its file's rows, which its reader checks (a path may be one
+        // row at rest, which a [[loads]] table may not).
+        for (i, p) in self
+            .loads
+            .iter()
+            .enumerate()
+            .filter(|_| self.truth.is_none())
+        {
             let key = |field: &str| format!("loads[{}].{field}", i + 1);
             check(&key("alpha_x"), rules::finite(p.end.alpha_x))?;
             check(&key("alpha_y"), rules::finite(p.end.alpha_y))?;
@@ -652,6 +665,7 @@ impl Validator<'_> {
                 Some(data::DataTruth {
                     file: file.get_ref().clone(),
                     sha256: String::new(),
+                    units: data::Units::default(),
                     paths: Vec::new(),
                 })
             }

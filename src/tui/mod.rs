@@ -353,9 +353,18 @@ pub fn run_command(app: &mut App, cmd: Command, now: Instant) -> Option<Job> {
         Command::Submit(job) => return Some(job),
         Command::SaveScene { path, overwrite } => {
             let overwrite = overwrite || app.scene_path.as_deref() == Some(path.as_path());
-            let text = app.scene_to_save().to_toml();
+            let mut scene = app.scene_to_save();
+            // A data scene names its file relative to the scene file: from elsewhere, the
+            // same file by another path.
+            if let Some(t) = scene.truth.as_mut() {
+                t.file = data_file_from(app.scene_path.as_deref(), &t.file, &path);
+            }
+            let text = scene.to_toml();
             match write_atomic(&path, text.as_bytes(), overwrite) {
-                Ok(()) => app.saved(path),
+                Ok(()) => {
+                    app.scene.truth = scene.truth;
+                    app.saved(path);
+                }
                 Err(WriteError::Exists(_)) => app.ask_overwrite(Command::SaveScene {
                     path,
                     overwrite: true,
@@ -364,11 +373,6 @@ pub fn run_command(app: &mut App, cmd: Command, now: Instant) -> Option<Job> {
             }
         }
         Command::OpenScene(path) => match Scene::from_file(&path) {
-            Ok(scene) if scene.truth.is_some() => app.set_error(format!(
-                "not opened: {} is a data scene (DESIGN §9); the UI does not show measured \
-                 data yet: use prbfit eval, fit or select on it",
-                path.display()
-            )),
             Ok(scene) => {
                 app.set_scene(scene, path.clone(), now);
                 app.set_info(format!("opened {}", path.display()));
@@ -385,4 +389,33 @@ pub fn run_command(app: &mut App, cmd: Command, now: Instant) -> Option<Job> {
         },
     }
     None
+}
+
+/// How a scene saved at `target` names the data file that the scene read from `scene_path`
+/// names `file` (DESIGN §9: relative to the scene file): `file` itself when the scene stays
+/// in its folder (or its folder is unknown), else the data file's path relative to
+/// `target`'s folder, or its absolute path when it is not under that folder.
+pub fn data_file_from(scene_path: Option<&Path>, file: &str, target: &Path) -> String {
+    let folder = |p: &Path| match p.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    let Some(old_dir) = scene_path.map(folder).and_then(|d| d.canonicalize().ok()) else {
+        return file.to_string();
+    };
+    let Ok(new_dir) = folder(target).canonicalize() else {
+        // The write will fail (no such folder) and say so; nothing to name.
+        return file.to_string();
+    };
+    if old_dir == new_dir {
+        return file.to_string();
+    }
+    let data = old_dir.join(file);
+    let data = data.canonicalize().unwrap_or(data);
+    let named = data.strip_prefix(&new_dir).unwrap_or(&data);
+    match named.to_str() {
+        Some(s) => s.to_string(),
+        // A path TOML cannot hold as text: keep the scene's own.
+        None => file.to_string(),
+    }
 }

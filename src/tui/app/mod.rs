@@ -5,6 +5,7 @@
 //! panel's cursor and edit handling is in [`state`](super::state), and every key goes through
 //! the [`keymap`].
 
+mod data;
 mod prompts;
 mod results;
 
@@ -22,6 +23,7 @@ use crate::io::ModelFile;
 use crate::mech::figures::MechFigures;
 use crate::prb::published::NAMES as PUBLISHED;
 use crate::prb::{Column, PrbMatrix};
+use crate::scene::data::Units;
 use crate::scene::{EffectsChoice, Scene};
 
 use super::keymap::{self, Action, Scope};
@@ -808,6 +810,7 @@ impl App {
                     "nondimensional: gamma, k_theta (E I0/L), k_ex (E A0/L); alpha, beta"
                 });
             }
+            Action::ToggleHold if self.is_data() => self.data_hold_message(),
             Action::ToggleHold => {
                 self.loads_state.hold = match self.loads_state.hold {
                     Hold::Alpha => Hold::Force,
@@ -822,6 +825,7 @@ impl App {
                 let delta = if action == Action::PrevPath { -1 } else { 1 };
                 match &self.scene.mechanism {
                     Some(m) => self.mech_state.cycle_drive(delta, m.drives.len()),
+                    None if self.is_data() => self.cycle_data_path(delta),
                     None => self.loads_state.cycle_path(delta, self.scene.loads.len()),
                 }
             }
@@ -877,7 +881,7 @@ impl App {
         let mechanism = self.is_mechanism();
         match self.focus {
             Panel::Beam => self.beam_state.move_by(dy, mechanism),
-            Panel::Loads => self.loads_state.move_by(dx, dy, self.scene.loads.len()),
+            Panel::Loads => self.loads_state.move_by(dx, dy, self.load_rows()),
             Panel::Matrix => self.matrix_state.move_by(dx, dy, self.matrix.len()),
             Panel::Mechanism => {
                 let rows = self
@@ -940,6 +944,10 @@ impl App {
                 };
                 (EditTarget::Mech(f), f.edit_text(m))
             }
+            Panel::Loads if self.is_data() => {
+                self.refuse_load_edit();
+                return;
+            }
             Panel::Loads => {
                 let (row, col) = (self.loads_state.row, self.loads_state.col);
                 let text = self
@@ -989,7 +997,9 @@ impl App {
         match target {
             EditTarget::Beam(field) => {
                 let mut scene = field.edited(&self.scene, text)?;
-                if self.loads_state.hold == Hold::Force {
+                // A data scene's loads are its rows: they follow the beam as its file's
+                // units say (take_scene), whatever the hold.
+                if self.loads_state.hold == Hold::Force && !self.is_data() {
                     scene.loads = held_forces(&scene.loads, &self.scene.beam, &scene.beam);
                 }
                 self.take_scene(scene)?;
@@ -1003,6 +1013,9 @@ impl App {
                 let mut scene = self.scene.clone();
                 scene.mechanism = Some(field.edited(m, text)?);
                 self.take_scene(scene)?;
+            }
+            EditTarget::Load { .. } if self.is_data() => {
+                return Err("a data scene's loads are its file's rows (read-only)".into());
             }
             EditTarget::Load { row, col } => {
                 let old = self.scene.loads.get(*row).ok_or("no such load path")?;
@@ -1026,7 +1039,8 @@ impl App {
     }
 
     /// Takes an edited scene if it obeys the scene file's rules (on a mechanism scene the
-    /// flexures first follow a beam edit: [`mech_state::rebased`]).
+    /// flexures first follow a beam edit: [`mech_state::rebased`]; on a data scene the rows
+    /// are converted again with the edited beam).
     fn take_scene(&mut self, mut scene: Scene) -> Result<(), String> {
         if let Some(m) = &scene.mechanism {
             if scene.beam != self.scene.beam {
@@ -1034,6 +1048,7 @@ impl App {
             }
             mech_state::validate(&scene)?;
         } else {
+            scene = self.rebase_data(scene)?;
             validate_scene(&scene)?;
         }
         if scene != self.scene {
@@ -1143,6 +1158,7 @@ impl App {
 
     fn add_row(&mut self, now: Instant) {
         match self.focus {
+            Panel::Loads if self.is_data() => self.refuse_load_edit(),
             Panel::Loads => {
                 self.loads_state.add(&mut self.scene);
                 self.scene_dirty = true;
@@ -1204,6 +1220,7 @@ impl App {
 
     fn delete_row(&mut self, now: Instant) {
         match self.focus {
+            Panel::Loads if self.is_data() => self.refuse_load_edit(),
             Panel::Loads => match self.loads_state.delete(&mut self.scene) {
                 Ok(()) => {
                     self.scene_dirty = true;
@@ -1247,8 +1264,12 @@ impl App {
         self.refresh(now, fit);
     }
 
-    /// The load path whose cases the shape chart draws.
+    /// The load path whose cases the shape chart draws (on a data scene, the path of the
+    /// row the load panel's cursor is on).
     pub fn shown_path(&self) -> usize {
+        if self.is_data() {
+            return self.path_of_row(self.loads_state.row);
+        }
         self.loads_state.shown_path(self.scene.loads.len())
     }
 

@@ -1,11 +1,18 @@
 //! The tip error charts: position (%L) or angle (deg) error against the fraction of each
 //! path's end load, one line per path, with the scene's target as red lines; the model
 //! compared against (`C`) as grey dotted lines under them.
+//!
+//! On a data scene (DESIGN §9) the errors are against the data: the load fraction is each
+//! row's load magnitude over its path's last row's, the PRB's error is marked at every
+//! measured row, and the scene's beam against the data is a second, grey line per path
+//! (named with the PRB's on the bottom border).
 
+use crate::eval::CaseError;
 use crate::plot::errors::bounds;
 use ratatui::layout::{Constraint, Rect};
 use ratatui::style::Color;
 use ratatui::symbols::Marker;
+use ratatui::text::{Line, Span};
 use ratatui::widgets::{Axis, Block, Borders, Chart, Dataset, GraphType, Paragraph};
 use ratatui::Frame;
 
@@ -56,25 +63,34 @@ impl<'a> View<'a> {
     }
 }
 
-/// One series per load path: `model`'s error against the fraction of the path's end load.
+/// One series per load path: the error of `cases` (one per baseline case) against the
+/// fraction of the path's end load: step `s` of `steps` on the beam, on measured data the
+/// row's load magnitude over the path's last row's (the rows need not be evenly spaced).
 fn path_series(
     baseline: &BaselineView,
-    model: &ModelView,
+    cases: &[CaseError],
     kind: ErrorKind,
 ) -> Vec<Vec<(f64, f64)>> {
+    let measured = baseline.measured.is_some();
     let mut series = Vec::with_capacity(baseline.paths.len());
     let mut k = 0;
     for p in &baseline.paths {
         let mut pts = Vec::with_capacity(p.steps as usize + 1);
         pts.push((0.0, 0.0));
+        let end = p.end.magnitude();
         for s in 1..=p.steps {
-            if let Some(case) = model.cases.get(k) {
+            if let Some(case) = cases.get(k) {
                 let v = match kind {
                     ErrorKind::Position => case.pos_err * 100.0,
                     ErrorKind::Angle => case.ang_err.to_degrees(),
                 };
-                if v.is_finite() {
-                    pts.push((s as f64 / p.steps as f64, v));
+                let x = if measured {
+                    case.load.magnitude() / end
+                } else {
+                    s as f64 / p.steps as f64
+                };
+                if v.is_finite() && x.is_finite() {
+                    pts.push((x, v));
                 }
             }
             k += 1;
@@ -91,17 +107,41 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View) {
         ErrorKind::Position => (" Tip position error ", "%L"),
         ErrorKind::Angle => (" Tip angle error ", "deg"),
     };
-    let block = Block::default().borders(Borders::ALL).title(title);
+    let measured = view.baseline.and_then(|b| b.measured.as_ref());
+    let beam_beside = measured.and_then(|m| m.beam.as_ref().ok());
+    let mut block = Block::default().borders(Borders::ALL).title(title);
+    if measured.is_some() {
+        let mut legend = vec![
+            Span::raw(" PRB "),
+            Span::styled("•", pal.fg(PATH_COLORS[0])),
+        ];
+        if beam_beside.is_some() {
+            legend.push(Span::raw(" beam "));
+            legend.push(Span::styled("─", pal.fg(Color::Gray)));
+        }
+        legend.push(Span::raw(" "));
+        block = block.title_bottom(Line::from(legend));
+    }
     let (Some(model), Some(baseline)) = (view.model, view.baseline) else {
         frame.render_widget(Paragraph::new("").block(block), area);
         return;
     };
-    let series = path_series(baseline, model, kind);
+    let series = path_series(baseline, &model.cases, kind);
     let compared = view
         .compare
-        .map(|c| path_series(baseline, c, kind))
+        .map(|c| path_series(baseline, &c.cases, kind))
         .unwrap_or_default();
-    let yb = bounds(series.iter().chain(&compared).flatten().map(|p| p.1));
+    let beam = beam_beside
+        .map(|b| path_series(baseline, &b.cases, kind))
+        .unwrap_or_default();
+    let yb = bounds(
+        series
+            .iter()
+            .chain(&compared)
+            .chain(&beam)
+            .flatten()
+            .map(|p| p.1),
+    );
     let target = match kind {
         ErrorKind::Position => view.accuracy.max_pos_err * 100.0,
         ErrorKind::Angle => view.accuracy.max_ang_err.to_degrees(),
@@ -119,6 +159,14 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View) {
                 .data(pts)
         })
         .collect();
+    // The beam theory against the data under the PRB's lines.
+    datasets.extend(beam.iter().map(|pts| {
+        Dataset::default()
+            .marker(Marker::Braille)
+            .graph_type(GraphType::Line)
+            .style(pal.fg(Color::Gray))
+            .data(pts)
+    }));
     datasets.extend(series.iter().enumerate().map(|(i, pts)| {
         Dataset::default()
             .name(format!("{}", i + 1))
@@ -127,6 +175,16 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View) {
             .style(pal.fg(PATH_COLORS[i % PATH_COLORS.len()]))
             .data(pts)
     }));
+    // The measured rows: a mark on the PRB's line at each (its unloaded start is no row).
+    if measured.is_some() {
+        datasets.extend(series.iter().enumerate().map(|(i, pts)| {
+            Dataset::default()
+                .marker(Marker::Dot)
+                .graph_type(GraphType::Scatter)
+                .style(pal.fg(PATH_COLORS[i % PATH_COLORS.len()]))
+                .data(&pts[1.min(pts.len())..])
+        }));
+    }
     // The scene's target, where it falls inside the plotted range.
     if target <= yb[1] {
         datasets.push(

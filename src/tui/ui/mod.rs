@@ -8,7 +8,10 @@
 //! [`MIN_WIDTH`] x [`MIN_HEIGHT`] only a "too small" note is drawn.
 //!
 //! A mechanism scene (DESIGN §8) has the mechanism panel in place of the load paths, and on
-//! the right the mechanism's shapes over its force–stroke chart and its error chart.
+//! the right the mechanism's shapes over its force–stroke chart and its error chart. A data
+//! scene (DESIGN §9) has its file's rows in place of the load paths, the measured tips as
+//! markers over the shapes, the errors against the data with the beam's own beside them,
+//! and a status line naming the data.
 //!
 //! Text that came from outside (a scene's name, file paths, error messages) is drawn through
 //! [`sanitize_terminal`], so a file cannot send escape sequences to the terminal.
@@ -21,6 +24,7 @@ pub mod mech;
 pub mod mech_errors;
 pub mod mech_shapes;
 pub mod overlays;
+pub mod rows;
 pub mod select;
 pub mod shapes;
 pub mod status;
@@ -80,6 +84,9 @@ impl Palette {
             .add_modifier(Modifier::BOLD)
     }
 }
+
+/// The colour of measured data (DESIGN §9): the markers, the data line.
+pub const MEASURED_COLOR: Color = Color::Magenta;
 
 /// Path colours for the error charts.
 const PATH_COLORS: [Color; 6] = [
@@ -152,6 +159,8 @@ fn draw_left(frame: &mut Frame, area: Rect, app: &App) {
     beam::draw(frame, parts[0], &beam::View::new(app));
     if mechanism {
         mech::draw(frame, parts[1], &mech::View::new(app));
+    } else if app.is_data() {
+        rows::draw(frame, parts[1], &rows::View::new(app));
     } else {
         loads::draw(frame, parts[1], &loads::View::new(app));
     }

@@ -68,6 +68,8 @@ pub struct View<'a, F = ErrorFigures> {
     pub state: &'a SelectState<F>,
     /// The scene's targets.
     pub accuracy: Accuracy,
+    /// The scene's truth is measured data (no trade-off to measure).
+    pub data: bool,
     /// Colours.
     pub pal: Palette,
 }
@@ -78,6 +80,7 @@ impl<'a> View<'a> {
         Some(View {
             state: app.select.as_ref()?,
             accuracy: app.scene.accuracy,
+            data: app.is_data(),
             pal: Palette { mono: app.mono },
         })
     }
@@ -89,6 +92,7 @@ impl<'a> View<'a, MechFigures> {
         Some(View {
             state: app.mech_select.as_ref()?,
             accuracy: app.scene.accuracy,
+            data: false,
             pal: Palette { mono: app.mono },
         })
     }
@@ -105,6 +109,8 @@ pub fn draw<F: Columns>(frame: &mut Frame, area: Rect, v: &View<'_, F>) {
             "fitting the ladder..."
         } else if mechanism {
             "fitting the ladder on the mechanism..."
+        } else if v.data {
+            "fitting the ladder on the data..."
         } else {
             "fitting / measuring the trade-off..."
         }
@@ -193,12 +199,20 @@ pub fn draw<F: Columns>(frame: &mut Frame, area: Rect, v: &View<'_, F>) {
         trim_number(acc.max_ang_err.to_degrees(), 3)
     ));
     if view.knobs.is_empty() {
-        let msg = if view.running {
+        let msg = if v.data {
+            "none on measured data: the trade-off measures the beam's resolution and the load \
+             sampling, which data does not have"
+        } else if view.running {
             "measuring..."
         } else {
             "no trade-off measured"
         };
-        frame.render_widget(Paragraph::new(msg).block(block), parts[1]);
+        frame.render_widget(
+            Paragraph::new(msg)
+                .wrap(ratatui::widgets::Wrap { trim: true })
+                .block(block),
+            parts[1],
+        );
         return;
     }
     let series: Vec<Vec<(f64, f64)>> = view

@@ -1,19 +1,24 @@
 //! The deformed shapes of the shown load path: the beam's centre lines and the PRB linkage
-//! over them, at equal aspect.
+//! over them, at equal aspect. On a data scene (DESIGN §9) the measured tips are markers
+//! over them ([`MEASURED_MARKER`]), and the beam is the scene's beam solved at the measured
+//! loads (none when it cannot reach them); a legend on the bottom border names the three.
 
 use std::ops::Range;
 
 use ratatui::layout::Rect;
 use ratatui::style::{Color, Style};
 use ratatui::symbols::Marker;
-use ratatui::text::Span;
+use ratatui::text::{Line, Span};
 use ratatui::widgets::canvas::{Canvas, Line as CanvasLine};
 use ratatui::widgets::{Block, Borders, Paragraph, Wrap};
 use ratatui::Frame;
 
 use super::super::app::{Activity, App};
 use super::super::worker::{BaselineView, ModelView};
-use super::{equal_aspect_bounds, sanitize_terminal, Palette};
+use super::{equal_aspect_bounds, sanitize_terminal, Palette, MEASURED_COLOR};
+
+/// The mark of a measured tip.
+pub const MEASURED_MARKER: &str = "×";
 
 /// What the shape chart draws.
 #[derive(Debug, Clone)]
@@ -54,12 +59,39 @@ impl<'a> View<'a> {
 
 /// Draws the shape chart.
 pub fn draw(frame: &mut Frame, area: Rect, view: &View) {
-    let title = format!(
-        " Deformed shapes, load path {} of {}  ([ ] to switch)  beam ─ PRB ─o ",
-        view.path + 1,
-        view.paths
-    );
-    let block = Block::default().borders(Borders::ALL).title(title);
+    let measured = view.baseline.and_then(|b| b.measured.as_ref());
+    let beam_color = view.pal.color(Color::Gray);
+    let prb_color = view.pal.color(Color::Yellow);
+    let data_color = view.pal.color(MEASURED_COLOR);
+    let block = match measured {
+        None => Block::default().borders(Borders::ALL).title(format!(
+            " Deformed shapes, load path {} of {}  ([ ] to switch)  beam ─ PRB ─o ",
+            view.path + 1,
+            view.paths
+        )),
+        // The legend on a border of its own, so that a narrow chart keeps it whole.
+        Some(m) => {
+            let mut legend = vec![
+                Span::raw(" measured "),
+                Span::styled(MEASURED_MARKER, Style::default().fg(data_color)),
+            ];
+            if m.beam.is_ok() {
+                legend.push(Span::raw("  beam "));
+                legend.push(Span::styled("─", Style::default().fg(beam_color)));
+            }
+            legend.push(Span::raw("  PRB "));
+            legend.push(Span::styled("─o", Style::default().fg(prb_color)));
+            legend.push(Span::raw(" "));
+            Block::default()
+                .borders(Borders::ALL)
+                .title(format!(
+                    " Deformed shapes, data path {} of {} ([ ]) ",
+                    view.path + 1,
+                    view.paths
+                ))
+                .title_bottom(Line::from(legend))
+        }
+    };
     let cases = view.cases.clone();
     let (Some(baseline), true) = (view.baseline, !cases.is_empty()) else {
         let msg = match view.failure {
@@ -72,17 +104,33 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View) {
         );
         return;
     };
-    let mut all: Vec<(f64, f64)> = Vec::new();
+    // The beam's shapes: the baseline's, or beside measured data the beam at its loads.
+    let beam_shapes: &[Vec<(f64, f64)>] = match measured.map(|m| &m.beam) {
+        Some(Ok(beside)) => &beside.shapes,
+        Some(Err(_)) => &[],
+        None => &baseline.shapes,
+    };
+    let tips: Vec<(f64, f64)> = measured
+        .map(|m| {
+            cases
+                .clone()
+                .filter_map(|c| m.tips.get(c))
+                .map(|t| (t.a, t.b))
+                .filter(|p| p.0.is_finite() && p.1.is_finite())
+                .collect()
+        })
+        .unwrap_or_default();
+    let mut all: Vec<(f64, f64)> = tips.clone();
     for c in cases.clone() {
-        all.extend(&baseline.shapes[c]);
+        if let Some(shape) = beam_shapes.get(c) {
+            all.extend(shape);
+        }
         if let Some(l) = view.model.and_then(|m| m.linkages.get(c)) {
             all.extend(l);
         }
     }
     all.push((0.0, 0.0));
     let (xb, yb) = equal_aspect_bounds(&all, area);
-    let beam_color = view.pal.color(Color::Gray);
-    let prb_color = view.pal.color(Color::Yellow);
     let canvas = Canvas::default()
         .block(block)
         .marker(Marker::Braille)
@@ -98,7 +146,10 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View) {
                 beam_color,
             ));
             for c in cases.clone() {
-                for w in baseline.shapes[c].windows(2) {
+                let Some(shape) = beam_shapes.get(c) else {
+                    continue;
+                };
+                for w in shape.windows(2) {
                     ctx.draw(&CanvasLine::new(w[0].0, w[0].1, w[1].0, w[1].1, beam_color));
                 }
             }
@@ -121,6 +172,14 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View) {
                         ctx.print(p.0, p.1, Span::styled("o", Style::default().fg(prb_color)));
                     }
                 }
+            }
+            // The measured tips last: over everything, the PRB tip's `o` included.
+            for &(x, y) in &tips {
+                ctx.print(
+                    x,
+                    y,
+                    Span::styled(MEASURED_MARKER, Style::default().fg(data_color)),
+                );
             }
         });
     frame.render_widget(canvas, area);

@@ -1,7 +1,8 @@
 //! The one-line bars: the title (scene, fidelity, live refit), the status lines (J and the
-//! maximum errors against the targets with what the worker is doing, always shown; under it
-//! the last message on a line of its own, so no message ever hides J or PASS/FAIL) and the
-//! key hints, read from the keymap.
+//! maximum errors against the targets with what the worker is doing, always shown; on a data
+//! scene the data file with its hash and the beam theory's own figures against the data;
+//! under them the last message on a line of its own, so no message ever hides J or
+//! PASS/FAIL) and the key hints, read from the keymap.
 
 use ratatui::layout::Rect;
 use ratatui::style::{Color, Modifier, Style};
@@ -17,7 +18,7 @@ use crate::scene::{Accuracy, Mechanism};
 use super::super::app::{Activity, App, Tone};
 use super::super::keymap;
 use super::super::units::trim_number;
-use super::{sanitize_terminal, Palette};
+use super::{sanitize_terminal, Palette, MEASURED_COLOR};
 
 /// What the title line draws.
 #[derive(Debug, Clone)]
@@ -94,6 +95,22 @@ pub fn mech_errors_shown(m: &Mechanism) -> [bool; 3] {
     ]
 }
 
+/// A data scene's line (DESIGN §9): the data file, its hash, and the scene's beam against
+/// the data.
+#[derive(Debug, Clone)]
+pub struct DataLine<'a> {
+    /// The data file as the scene names it (sanitized when drawn).
+    pub file: &'a str,
+    /// The first characters of its SHA-256.
+    pub sha256: &'a str,
+    /// The beam theory's figures against the data, or why it has none; `None` until the
+    /// worker has solved it.
+    pub beam: Option<Result<ErrorFigures, &'a str>>,
+}
+
+/// How many hex digits of a data file's SHA-256 the status line shows.
+pub const HASH_PREFIX: usize = 8;
+
 /// What the status line draws.
 #[derive(Debug, Clone)]
 pub struct View<'a> {
@@ -103,6 +120,8 @@ pub struct View<'a> {
     pub figures: Option<Figures<'a>>,
     /// The model compared against: its name and figures on the same baseline.
     pub compare: Option<(&'a str, Figures<'a>)>,
+    /// A data scene's file and the beam against it.
+    pub data: Option<DataLine<'a>>,
     /// The scene's targets.
     pub accuracy: Accuracy,
     /// What the worker is doing.
@@ -131,10 +150,20 @@ impl<'a> View<'a> {
                     .map(|(n, v)| (n, Figures::Beam(&v.figures))),
             ),
         };
+        let measured = app.baseline.as_ref().and_then(|b| b.measured.as_ref());
+        let data = app.scene.truth.as_ref().map(|t| DataLine {
+            file: &t.file,
+            sha256: t.sha256.get(..HASH_PREFIX).unwrap_or(&t.sha256),
+            beam: measured.map(|m| match &m.beam {
+                Ok(b) => Ok(b.figures(app.scene.fit.angle_weight)),
+                Err(why) => Err(why.as_str()),
+            }),
+        });
         View {
             message: app.message.as_ref().map(|(m, t)| (m.as_str(), *t)),
             figures,
             compare,
+            data,
             accuracy: app.scene.accuracy,
             activity: &app.activity,
             pal: Palette { mono: app.mono },
@@ -143,9 +172,9 @@ impl<'a> View<'a> {
 }
 
 /// How many lines [`draw`] takes: the figures, the compared model's (when comparing), the
-/// message.
+/// data's (on a data scene), the message.
 pub fn height(view: &View) -> u16 {
-    2 + u16::from(view.compare.is_some())
+    2 + u16::from(view.compare.is_some()) + u16::from(view.data.is_some())
 }
 
 /// `J | pos ..% PASS<.. | ang ..deg PASS<.. | ` for figures `f` against `acc`; a
@@ -236,6 +265,9 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View) {
         ));
         lines.push(Line::from(spans));
     }
+    if let Some(d) = &view.data {
+        lines.push(data_line(d, &view.accuracy, view.activity, pal));
+    }
     if let Some((m, tone)) = view.message {
         let style = match tone {
             Tone::Error => pal.fg(Color::Red),
@@ -247,6 +279,30 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View) {
         )));
     }
     frame.render_widget(Paragraph::new(lines), area);
+}
+
+/// ` data FILE sha256 HASH · beam vs data: J .. | pos .. | ang .. |`: which data the
+/// scene is judged on, and how far the beam theory (grey in the charts) is from it.
+fn data_line(d: &DataLine, acc: &Accuracy, activity: &Activity, pal: Palette) -> Line<'static> {
+    let mut spans = vec![Span::styled(
+        format!(
+            " data {} sha256 {} · beam vs data:",
+            sanitize_terminal(d.file),
+            d.sha256
+        ),
+        pal.fg(MEASURED_COLOR),
+    )];
+    match &d.beam {
+        Some(Ok(f)) => spans.extend(figure_spans(Figures::Beam(f), acc, pal)),
+        Some(Err(why)) => spans.push(Span::styled(
+            format!(" none: {}", sanitize_terminal(why)),
+            pal.fg(Color::DarkGray),
+        )),
+        // The worker sends the beam with the job's first result: a job that failed has none.
+        None if matches!(activity, Activity::Failed(_)) => spans.push(Span::raw(" no result")),
+        None => spans.push(Span::raw(" solving...")),
+    }
+    Line::from(spans)
 }
 
 /// What the hint line draws.

@@ -16,10 +16,14 @@
 //! message; the worker then waits for the next job.
 //!
 //! Mechanism scenes (DESIGN §8) take their own path (`worker/mech.rs`): the exact mechanism in place
-//! of the baseline, its own messages (`Mech*`) with views of mechanisms.
+//! of the baseline, its own messages (`Mech*`) with views of mechanisms. A data scene's
+//! (DESIGN §9) baseline is its rows, with the scene's beam solved at the measured loads
+//! beside them ([`MeasuredView`], `worker/data.rs`).
 
+mod data;
 mod mech;
 
+pub use data::{measured_view, BeamBeside, Cancelled, MeasuredView};
 pub use mech::{mech_baseline_view, mech_model_view, CaseErrors, MechBaselineView, MechModelView};
 
 use std::borrow::Cow;
@@ -36,6 +40,7 @@ use crate::eval::{Baseline, CaseError, ErrorFigures};
 use crate::fit::mech::MechFitReport;
 use crate::fit::{fit, Fidelity, FitOptions, FitReport};
 use crate::prb::{PrbMatrix, PrbSolver};
+use crate::scene::data::DataTruth;
 use crate::scene::{Accuracy, BeamSpec, EffectsChoice, LoadPath, Scene};
 use crate::select::{
     decide_effects_cancellable, select, EffectsDecision, MechRung, MechSelection, Rung, Selection,
@@ -111,10 +116,13 @@ pub struct BaselineView {
     pub paths: Vec<LoadPath>,
     /// Per case, in path order.
     pub loads: Vec<Load>,
-    /// Per case, the deformed centre line.
+    /// Per case, the deformed centre line (empty for measured data: only the tip was
+    /// measured).
     pub shapes: Vec<Vec<(f64, f64)>>,
     /// How long the beam solves took.
     pub seconds: f64,
+    /// A data scene's truth and the beam beside it; `None` when the truth is the beam.
+    pub measured: Option<MeasuredView>,
 }
 
 /// A PRB model judged on the baseline: what the charts draw.
@@ -365,6 +373,8 @@ struct BaselineKey {
     loads: Vec<LoadPath>,
     accuracy: Accuracy,
     fidelity: Fidelity,
+    /// A data scene's rows (as converted with the beam) and its file's hash.
+    truth: Option<DataTruth>,
 }
 
 impl BaselineKey {
@@ -374,6 +384,7 @@ impl BaselineKey {
             loads: job.scene.loads.clone(),
             accuracy: job.scene.accuracy,
             fidelity: job.fidelity,
+            truth: job.scene.truth.clone(),
         }
     }
 }
@@ -477,6 +488,7 @@ pub fn baseline_view(baseline: &Baseline, decision: Option<EffectsDecision>) -> 
             .map(|s| s.shape.iter().map(|p| (p.x, p.y)).collect())
             .collect(),
         seconds: baseline.seconds,
+        measured: None,
     }
 }
 
@@ -505,18 +517,33 @@ fn solve_baseline(job: &Job, cache: &mut Option<Solved>) -> Result<Solved, Strin
         }
         EffectsChoice::Fixed(_) => (scene.beam, None),
     };
-    // Cancellable: a load the beam struggles with never keeps the worker from a newer job.
-    let b = Baseline::solve(
-        beam.model(),
-        &job.fidelity.sample(&scene.loads),
-        job.fidelity.resolution(),
-        &job.cancel,
-        &mut |_, _| {},
-    )
-    .map_err(|e| format!("the beam cannot be solved: {e}"))?;
+    let (b, measured) = match &scene.truth {
+        // Measured data is what it is (no resolution or sampling to choose), as the CLI's
+        // `Fidelity::baseline` takes it; the beam beside it is solved at the fidelity's
+        // resolution.
+        Some(truth) => {
+            let measured = measured_view(truth, &beam, job.fidelity.resolution(), &job.cancel)
+                .map_err(|Cancelled| "cancelled".to_string())?;
+            (Baseline::from_data(beam.model(), truth), Some(measured))
+        }
+        // Cancellable: a load the beam struggles with never keeps the worker from a newer job.
+        None => (
+            Baseline::solve(
+                beam.model(),
+                &job.fidelity.sample(&scene.loads),
+                job.fidelity.resolution(),
+                &job.cancel,
+                &mut |_, _| {},
+            )
+            .map_err(|e| format!("the beam cannot be solved: {e}"))?,
+            None,
+        ),
+    };
+    let mut view = baseline_view(&b, decision);
+    view.measured = measured;
     let solved = Solved {
         key,
-        view: Arc::new(baseline_view(&b, decision)),
+        view: Arc::new(view),
         baseline: Arc::new(b),
         beam,
     };
@@ -673,8 +700,14 @@ fn run_selection(job: &Job, solved: &Solved, send: &dyn Fn(WorkerMsg)) -> Result
         },
     )
     .map_err(|e| format!("selection: {e}"))?;
-    let knobs = crate::tradeoff::measure(&scene, &job.matrix, &job.cancel)
-        .map_err(|e| format!("trade-off: {e}"))?;
+    // The trade-off measures the beam's resolution and the load sampling, which measured
+    // data does not have (the CLI's `tradeoff` refuses a data scene for the same reason).
+    let knobs = if scene.truth.is_some() {
+        Vec::new()
+    } else {
+        crate::tradeoff::measure(&scene, &job.matrix, &job.cancel)
+            .map_err(|e| format!("trade-off: {e}"))?
+    };
     send(WorkerMsg::SelectDone {
         id: job.id,
         selection: Box::new(selection),
