@@ -44,10 +44,7 @@ fn mechanism(flexures: Vec<Flexure>, point: [f64; 2], drive: [Coordinate; 3]) ->
     Mechanism {
         flexures,
         stage_point: point,
-        drives: vec![Drive {
-            coordinates: drive,
-            steps: STEPS,
-        }],
+        drives: vec![Drive::proportional(drive, STEPS)],
     }
 }
 

@@ -342,7 +342,30 @@ pub fn calibrate(
         beam_against_rows(&beam, truth, scale, resolution, w)
     };
     let nominal_figures = judge(nominal).map_err(CalibrateError::Nominal)?.figures;
-    let mut cost = |log_v: f64| judge(log_v.exp()).map_or(f64::INFINITY, |e| e.figures.objective);
+    let best = golden_log(nominal, |log_v| {
+        judge(log_v.exp()).map_or(f64::INFINITY, |e| e.figures.objective)
+    });
+    let mut figures = judge(best.exp()).map_err(CalibrateError::Nominal)?.figures;
+    let (value, at_edge) = if nominal_figures.objective <= figures.objective {
+        figures = nominal_figures;
+        (nominal, false)
+    } else {
+        (best.exp(), at_edge(nominal, best))
+    };
+    Ok(Calibration {
+        param,
+        nominal,
+        value,
+        nominal_figures,
+        figures,
+        at_edge,
+        evaluations,
+    })
+}
+
+/// Golden-section search of `cost` over the logarithm of the value, within
+/// [`CALIBRATION_RANGE`] of `nominal` either way, to a relative 1e-9: the best logarithm.
+fn golden_log(nominal: f64, mut cost: impl FnMut(f64) -> f64) -> f64 {
     let (mut lo, mut hi) = (
         (nominal / CALIBRATION_RANGE).ln(),
         (nominal * CALIBRATION_RANGE).ln(),
@@ -364,26 +387,112 @@ pub fn calibrate(
             f2 = cost(x2);
         }
     }
-    let mut best = 0.5 * (lo + hi);
-    let edge = CALIBRATION_RANGE.ln() - 1e-3;
-    let mut figures = judge(best.exp()).map_err(CalibrateError::Nominal)?.figures;
-    if nominal_figures.objective <= figures.objective {
-        (best, figures) = (nominal.ln(), nominal_figures);
-    }
-    let value = if best == nominal.ln() {
-        nominal
-    } else {
-        best.exp()
+    0.5 * (lo + hi)
+}
+
+/// Whether the logarithm `best` is at the edge of the searched range around `nominal`.
+fn at_edge(nominal: f64, best: f64) -> bool {
+    (best - nominal.ln()).abs() > CALIBRATION_RANGE.ln() - 1e-3
+}
+
+/// One beam parameter of a mechanism's flexures fitted to its measured data (DESIGN §9 with
+/// §8).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct MechCalibration {
+    /// Which parameter.
+    pub param: BeamParam,
+    /// Flexure 1's value in the scene (SI); every flexure's is scaled by the same ratio.
+    pub nominal: f64,
+    /// Flexure 1's fitted value (SI).
+    pub value: f64,
+    /// The beam mechanism against the data with the nominal values.
+    pub nominal_figures: crate::mech::figures::MechFigures,
+    /// The beam mechanism against the data with the fitted values: the residual.
+    pub figures: crate::mech::figures::MechFigures,
+    /// The fit ended at the edge of the searched range.
+    pub at_edge: bool,
+    /// Exact mechanism solves along every measured drive.
+    pub evaluations: u32,
+}
+
+/// [`calibrate`] on a mechanism data scene: `param` of every flexure scaled by one ratio
+/// (one material, one sheet: a rig's `E` or thickness differs from the catalogue's alike in
+/// every flexure), chosen to minimise the exact beam mechanism's `J` (DESIGN §8) against
+/// the data, followed through the measured drives. The data stays in newtons and metres:
+/// each trial converts it with its own flexure 1 (the position and angle errors are in
+/// units of `L`, which neither parameter changes, and the reaction errors are fractions of
+/// the data's own reactions, so the trials' `J` compare). Trial values whose mechanism
+/// cannot follow the drives count as worse than any that can.
+///
+/// # Errors
+/// The scene is not a mechanism with data, or the nominal mechanism cannot follow its
+/// drives.
+pub fn calibrate_mechanism(
+    scene: &Scene,
+    param: BeamParam,
+    resolution: Resolution,
+) -> Result<MechCalibration, MechCalibrateError> {
+    let (Some(mechanism), Some(_)) = (
+        &scene.mechanism,
+        scene.truth.as_ref().and_then(|t| t.stage.as_ref()),
+    ) else {
+        return Err(MechCalibrateError::NoData);
     };
-    Ok(Calibration {
+    let nominal = mechanism
+        .flexures
+        .first()
+        .map_or(1.0, |f| param.get(&f.beam));
+    let mut evaluations = 0u32;
+    let mut judge = |v: f64| {
+        evaluations += 1;
+        let mut trial = scene.clone();
+        if let Some(m) = trial.mechanism.as_mut() {
+            for f in &mut m.flexures {
+                let mine = param.get(&f.beam);
+                param.set(&mut f.beam, mine * v / nominal);
+            }
+        }
+        let m = trial.mechanism.clone().unwrap_or_else(|| mechanism.clone());
+        crate::mech::measured::beam_against_data(&trial, &m, resolution)
+            .map(|e| e.map(|e| e.figures))
+    };
+    let nominal_figures = judge(nominal)?.ok_or(MechCalibrateError::NoData)?;
+    let best = golden_log(nominal, |log_v| {
+        judge(log_v.exp())
+            .ok()
+            .flatten()
+            .map_or(f64::INFINITY, |f| f.objective)
+    });
+    let mut figures = judge(best.exp())?.ok_or(MechCalibrateError::NoData)?;
+    let (value, at_edge) = if nominal_figures.objective <= figures.objective {
+        figures = nominal_figures;
+        (nominal, false)
+    } else {
+        (best.exp(), at_edge(nominal, best))
+    };
+    Ok(MechCalibration {
         param,
         nominal,
         value,
         nominal_figures,
         figures,
-        at_edge: (best - nominal.ln()).abs() > edge,
+        at_edge,
         evaluations,
     })
+}
+
+/// Why a mechanism's calibration has no answer.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum MechCalibrateError {
+    /// The scene is not a mechanism with measured data.
+    #[error(
+        "the scene is not a mechanism with measured data to calibrate against (add [truth] \
+         data = \"file.csv\")"
+    )]
+    NoData,
+    /// The beam mechanism cannot follow the data's drives.
+    #[error("the beam mechanism cannot follow the measured drives: {0}")]
+    Nominal(#[from] crate::mech::measured::BesideError),
 }
 
 /// Why a calibration has no answer.

@@ -587,6 +587,7 @@ fn rebased_rows_are_the_rows_read_with_the_other_beam() {
             sha256: String::new(),
             units,
             paths,
+            stage: None,
         }
     };
     let a = Scene::builtin().beam;

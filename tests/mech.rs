@@ -51,10 +51,7 @@ fn mechanism(
     Mechanism {
         flexures,
         stage_point,
-        drives: vec![Drive {
-            coordinates: drive,
-            steps,
-        }],
+        drives: vec![Drive::proportional(drive, steps)],
     }
 }
 

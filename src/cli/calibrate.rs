@@ -8,7 +8,9 @@ use anyhow::Result;
 use serde::Serialize;
 
 use prbfit::beam::Resolution;
-use prbfit::eval::{calibrate, BeamParam, CalibrateError, Calibration};
+use prbfit::eval::{
+    calibrate, calibrate_mechanism, BeamParam, CalibrateError, Calibration, MechCalibration,
+};
 
 use super::args::CalibrateArgs;
 use super::output::{emit, num, safe};
@@ -64,6 +66,57 @@ impl fmt::Display for CalibrateOutput {
     }
 }
 
+/// What `calibrate` found on a mechanism data scene.
+#[derive(Debug, Serialize)]
+pub struct MechCalibrateOutput {
+    #[serde(flatten)]
+    calibration: MechCalibration,
+    /// `value / nominal`, the ratio every flexure's value was scaled by.
+    ratio: f64,
+    scene: String,
+    data: String,
+    seconds: f64,
+}
+
+impl fmt::Display for MechCalibrateOutput {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let c = &self.calibration;
+        writeln!(
+            f,
+            "scene: {} (mechanism; truth: measured data {})",
+            safe(&self.scene),
+            safe(&self.data)
+        )?;
+        let unit = match c.param {
+            BeamParam::YoungsModulus => "Pa",
+            BeamParam::Thickness => "m",
+        };
+        writeln!(
+            f,
+            "{} of every flexure scaled by {}: flexure 1's nominal {} {unit} -> calibrated {} \
+             {unit}{}",
+            c.param.name(),
+            num(self.ratio),
+            num(c.nominal),
+            num(c.value),
+            if c.at_edge {
+                "; at the edge of the searched range: the beam does not explain the data well"
+            } else {
+                ""
+            }
+        )?;
+        for (label, e) in [("nominal", &c.nominal_figures), ("calibrated", &c.figures)] {
+            writeln!(
+                f,
+                "beam mechanism against the data, {label:<10}: max pos {:.3e} L, max ang {:.3e} \
+                 rad, reaction rms {:.3e} max {:.3e}; J {:.4e}",
+                e.max_pos_err, e.max_ang_err, e.rms_force_err, e.max_force_err, e.objective
+            )?;
+        }
+        writeln!(f, "{} evaluations, {:.2} s", c.evaluations, self.seconds)
+    }
+}
+
 /// Runs `prbfit calibrate`.
 pub fn run(args: CalibrateArgs) -> Result<()> {
     let param = BeamParam::from_name(&args.param).ok_or_else(|| {
@@ -83,6 +136,17 @@ pub fn run(args: CalibrateArgs) -> Result<()> {
     let data = truth.file.clone();
     let (scene, _) = resolve_scene(&scene)?;
     let t0 = Instant::now();
+    if scene.mechanism.is_some() {
+        let calibration = calibrate_mechanism(&scene, param, Resolution::default())?;
+        let out = MechCalibrateOutput {
+            ratio: calibration.value / calibration.nominal,
+            calibration,
+            scene: scene.name.clone(),
+            data,
+            seconds: t0.elapsed().as_secs_f64(),
+        };
+        return emit(&out, args.common.json);
+    }
     let calibration = calibrate(&scene, param, Resolution::default())?;
     let out = CalibrateOutput {
         ratio: calibration.value / calibration.nominal,

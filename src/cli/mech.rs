@@ -25,7 +25,7 @@ use serde::Serialize;
 
 use prbfit::beam::{BeamSolver, Resolution};
 use prbfit::mech::figures::{compare, MechCaseError, MechFigures};
-use prbfit::mech::{exact, prb, MechCase};
+use prbfit::mech::{exact, measured, prb, MechCase};
 use prbfit::scene::{Accuracy, Drive, Mechanism, Scene, COORDINATE_KEYS};
 use prbfit::select::EffectsDecision;
 use prbfit::si::MechUnits;
@@ -41,7 +41,7 @@ use prbfit::prb::PrbMatrix;
 use super::args::{EvalArgs, FitArgs, SolveArgs};
 use super::bad;
 use super::eval::{named_models, OneOrMany};
-use super::output::{emit, met, num, safe, DecisionLine, Progress};
+use super::output::{emit, met, num, safe, DecisionLine, Progress, TruthInfo, TruthLine};
 
 /// Names of the stage coordinates' loads in the text tables, with their SI unit.
 const LOAD_NAMES: [&str; 3] = ["Fx N", "Fy N", "Mz N m"];
@@ -130,9 +130,13 @@ fn drive_line(drive: usize, d: &Drive, units: &MechUnits) -> String {
             v.join(", ")
         }
     };
+    let steps = if d.rows.is_empty() {
+        format!("{} steps", d.steps)
+    } else {
+        format!("{} measured rows to", d.rows.len())
+    };
     format!(
-        "drive {drive}, {} steps: prescribed {}; loaded {} (* = a reaction the drive supplies)",
-        d.steps,
+        "drive {drive}, {steps}: prescribed {}; loaded {} (* = a reaction the drive supplies)",
         list(prescribed),
         list(loaded)
     )
@@ -268,6 +272,21 @@ fn refuse_flag(flag: &str, scene: &Scene, why: &str) -> anyhow::Error {
 
 /// The loads of a mechanism are its drives.
 const LOADS_ARE_DRIVES: &str = "a mechanism's loads are its [[drives]] (edit them in the scene)";
+
+/// What a mechanism scene's models are judged and fitted against: the measured cases of a
+/// data scene (DESIGN §9), else the exact (beam) mechanism at `resolution`.
+pub fn truth(
+    scene: &Scene,
+    mechanism: &Mechanism,
+    resolution: Resolution,
+) -> Result<Vec<Vec<MechCase>>> {
+    measured::truth(scene, mechanism, resolution).with_context(|| {
+        format!(
+            "mechanism scene \"{}\", the exact (beam) mechanism",
+            safe(&scene.name)
+        )
+    })
+}
 
 /// The beam resolution the cantilever commands use for `tol`, checked on flexure 1's beam so
 /// that a bad `--tol` is bad input naming the flag.
@@ -410,6 +429,9 @@ pub struct EvalReport {
     reaction_scale: [f64; 3],
     baseline_seconds: f64,
     effects_decision: Option<EffectsDecision>,
+    /// A data scene's truth (DESIGN §9): the file, and the beam mechanism against it.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    truth: Option<TruthInfo>,
     #[serde(skip)]
     accuracy: Accuracy,
     #[serde(skip)]
@@ -426,6 +448,7 @@ impl EvalReport {
     fn case_table(&self, f: &mut fmt::Formatter<'_>, row: &ModelRow) -> fmt::Result {
         let units = MechUnits::new(&self.mechanism);
         let (dist, factor) = (units.distance, units.per_metre);
+        let truth = if self.truth.is_some() { "data" } else { "beam" };
         for (info, drive) in self.drives.iter().zip(&self.mechanism.drives) {
             writeln!(f)?;
             writeln!(
@@ -452,7 +475,7 @@ impl EvalReport {
                 } else {
                     format!("{disp} {dist}")
                 };
-                head.push_str(&format!(" {:>11} {:>11}", format!("beam {name}"), "PRB"));
+                head.push_str(&format!(" {:>11} {:>11}", format!("{truth} {name}"), "PRB"));
             }
             head.push_str(&format!(
                 " | {:>9} {:>9} {:>9}",
@@ -513,6 +536,7 @@ impl fmt::Display for EvalReport {
             count(usize::try_from(cases).unwrap_or(usize::MAX), "case")
         )?;
         write!(f, "{}", DecisionLine(&self.effects_decision))?;
+        write!(f, "{}", TruthLine(&self.truth))?;
         write!(f, "{}", units_line(&MechUnits::new(&self.mechanism)))?;
         writeln!(
             f,
@@ -574,11 +598,19 @@ impl fmt::Display for EvalReport {
                 )?,
             }
         }
-        writeln!(
-            f,
-            "baseline (exact mechanism): {:.3} ms",
-            self.baseline_seconds * 1e3
-        )
+        if self.truth.is_some() {
+            // A rig measures the stage, not the flexures' tips.
+            writeln!(
+                f,
+                "(max tip: not judged on measured data, which has no flexure tips)"
+            )
+        } else {
+            writeln!(
+                f,
+                "baseline (exact mechanism): {:.3} ms",
+                self.baseline_seconds * 1e3
+            )
+        }
     }
 }
 
@@ -599,12 +631,7 @@ pub fn eval(
     let t0 = Instant::now();
     let mut progress = Progress::new("solving the exact mechanism");
     progress.update(|| format!("{} drive paths", mechanism.drives.len()));
-    let exact = exact::solve(mechanism, resolution).with_context(|| {
-        format!(
-            "mechanism scene \"{}\", the exact (beam) mechanism",
-            safe(&scene.name)
-        )
-    })?;
+    let exact = truth(scene, mechanism, resolution)?;
     progress.finish();
     let baseline_seconds = t0.elapsed().as_secs_f64();
 
@@ -658,6 +685,7 @@ pub fn eval(
         );
     }
     let report = EvalReport {
+        truth: TruthInfo::of(scene),
         effects_decision: decision,
         models: OneOrMany::new(rows),
         scene: scene.name.clone(),
@@ -689,6 +717,9 @@ pub struct MechFitOutput {
     baseline_seconds: f64,
     seconds: f64,
     effects_decision: Option<EffectsDecision>,
+    /// A data scene's truth (DESIGN §9): the file, and the beam mechanism against it.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    truth: Option<TruthInfo>,
     /// The model file written (`-o`).
     #[serde(skip_serializing_if = "Option::is_none")]
     saved: Option<String>,
@@ -711,6 +742,7 @@ impl fmt::Display for MechFitOutput {
             self.fidelity
         )?;
         write!(f, "{}", DecisionLine(&self.effects_decision))?;
+        write!(f, "{}", TruthLine(&self.truth))?;
         writeln!(f, "fitted {}: {}", self.topology, self.matrix)?;
         writeln!(
             f,
@@ -734,14 +766,18 @@ impl fmt::Display for MechFitOutput {
         if let Some(path) = &self.saved {
             writeln!(f, "saved {}", safe(path))?;
         }
+        let truth = if self.truth.is_some() {
+            "against the measured data".to_string()
+        } else {
+            format!("exact mechanism {:.1} ms", self.baseline_seconds * 1e3)
+        };
         writeln!(
             f,
-            "{}; {} iterations, {} evaluations, {:.1} ms (exact mechanism {:.1} ms)",
+            "{}; {} iterations, {} evaluations, {:.1} ms ({truth})",
             self.stop_reason,
             self.iterations,
             self.evaluations,
             self.seconds * 1e3,
-            self.baseline_seconds * 1e3
         )
     }
 }
@@ -758,12 +794,7 @@ pub fn fit(
     let start = super::fit::start_matrix(args, scene)?;
     let resolution = resolution(mechanism, Resolution::default().tol)?;
     let t0 = Instant::now();
-    let exact = exact::solve(mechanism, resolution).with_context(|| {
-        format!(
-            "mechanism scene \"{}\", the exact (beam) mechanism",
-            safe(&scene.name)
-        )
-    })?;
+    let exact = truth(scene, mechanism, resolution)?;
     let baseline_seconds = t0.elapsed().as_secs_f64();
     let options = FitOptions {
         fidelity: args.fidelity,
@@ -801,6 +832,7 @@ pub fn fit(
         write_atomic(path, text.as_bytes(), args.force)?;
     }
     let output = MechFitOutput {
+        truth: TruthInfo::of(scene),
         saved: args.output.as_ref().map(|p| p.display().to_string()),
         effects_decision: decision,
         prb: report.matrix.to_text(),

@@ -12,7 +12,6 @@ use prbfit::beam::Resolution;
 use prbfit::eval::ErrorFigures;
 use prbfit::fit::mech::MechFitError;
 use prbfit::fit::CancelToken;
-use prbfit::mech::exact;
 use prbfit::mech::figures::MechFigures;
 use prbfit::scene::{Accuracy, Mechanism, Scene};
 use prbfit::select::{
@@ -226,7 +225,8 @@ pub fn run(args: SelectArgs) -> Result<()> {
 }
 
 /// `prbfit select` on a mechanism scene: the exact mechanism is solved once (at the default
-/// resolution, as `fit` does), then the ladder is fitted on it.
+/// resolution, as `fit` does; a data scene's truth is its data), then the ladder is fitted on
+/// it.
 fn run_mechanism(
     args: &SelectArgs,
     scene: &Scene,
@@ -234,12 +234,7 @@ fn run_mechanism(
     decision: Option<EffectsDecision>,
     t0: Instant,
 ) -> Result<()> {
-    let exact = exact::solve(mechanism, Resolution::default()).with_context(|| {
-        format!(
-            "mechanism scene \"{}\", the exact (beam) mechanism",
-            safe(&scene.name)
-        )
-    })?;
+    let exact = super::mech::truth(scene, mechanism, Resolution::default())?;
     let mut progress = Progress::new("selecting");
     let mut done = 0;
     let selection = select_mechanism(

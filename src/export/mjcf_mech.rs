@@ -350,14 +350,14 @@ mod tests {
                 ),
             ],
             stage_point: [0.1, 0.03],
-            drives: vec![Drive {
-                coordinates: [
+            drives: vec![Drive::proportional(
+                [
                     Coordinate::Loaded(1.0),
                     Coordinate::Prescribed(0.01),
                     Coordinate::Loaded(0.0),
                 ],
-                steps: 4,
-            }],
+                4,
+            )],
         }
     }
 

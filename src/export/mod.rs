@@ -161,7 +161,8 @@ pub fn export_mechanism(input: &MechExportInput, format: Format) -> Result<Strin
 /// flexure's SI model recorded as a mechanism fit records them.
 fn mechanism_model_file(input: &MechExportInput) -> Result<ModelFile, ExportError> {
     let scene = input.scene;
-    let exact = crate::mech::exact::solve(input.mechanism, input.fidelity.resolution())
+    // The truth: the exact mechanism, or a data scene's measured cases (DESIGN §9).
+    let exact = crate::mech::measured::truth(scene, input.mechanism, input.fidelity.resolution())
         .map_err(|e| ExportError::Eval(format!("the exact mechanism: {e}")))?;
     let prb = crate::mech::prb::solve(input.mechanism, input.matrix, crate::fit::mech::MECH_TOL)
         .map_err(|e| ExportError::Eval(e.to_string()))?;

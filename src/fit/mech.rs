@@ -97,8 +97,7 @@ impl Target for MechTarget<'_> {
         out.clear();
         let solver = prb::solver(self.mechanism, matrix, MECH_TOL).for_trials();
         for (i, (drive, exact)) in self.mechanism.drives.iter().zip(self.exact).enumerate() {
-            let path = self.mechanism.nondimensional(drive);
-            match solver.solve_drive(&path, drive.steps, i + 1) {
+            match solver.solve_path(&self.mechanism.drive_path(drive), i + 1) {
                 Ok(cases) if cases.len() == exact.len() => {
                     for (p, e) in cases.iter().zip(exact) {
                         let errors = signed_errors(drive, p, e, &self.reaction_scale);
@@ -202,14 +201,8 @@ mod tests {
             flexures: vec![flexure(0.3), flexure(-0.3)],
             stage_point: [1.0, 0.0],
             drives: vec![
-                Drive {
-                    coordinates: [Loaded(1.0), Prescribed(0.2), Loaded(0.3)],
-                    steps: 3,
-                },
-                Drive {
-                    coordinates: [Loaded(-2.0), Loaded(4.0), Loaded(0.5)],
-                    steps: 2,
-                },
+                Drive::proportional([Loaded(1.0), Prescribed(0.2), Loaded(0.3)], 3),
+                Drive::proportional([Loaded(-2.0), Loaded(4.0), Loaded(0.5)], 2),
             ],
         };
         let exact = exact::solve(&m, Resolution::with_tol(1e-10)).unwrap();

@@ -30,15 +30,21 @@ impl Scene {
         if let Some(truth) = &scene.truth {
             let base = path.parent().unwrap_or(Path::new("."));
             let file = base.join(&truth.file);
-            let (paths, units, sha256) = read_data(&file, &scene.beam).map_err(|mut e| {
+            let located = |mut e: SceneError| {
                 if e.line.is_none() && e.origin == file.display().to_string() {
                     // A file that cannot be read: the scene's key that names it.
                     e.origin = origin.clone();
                     e.key = Some("truth.data".into());
                 }
                 e
-            })?;
-            scene.set_measured(paths, units, sha256);
+            };
+            if let Some(m) = &scene.mechanism {
+                let (stage, sha256) = read_stage_data(&file, m).map_err(located)?;
+                scene.set_measured_stage(stage, sha256);
+            } else {
+                let (paths, units, sha256) = read_data(&file, &scene.beam).map_err(located)?;
+                scene.set_measured(paths, units, sha256);
+            }
         }
         Ok(scene)
     }
@@ -57,6 +63,24 @@ pub fn read_data(
     ),
     SceneError,
 > {
+    let (text, hex) = read_hashed(file)?;
+    let (paths, units) = crate::scene::data::parse_csv(&text, &file.display().to_string(), beam)?;
+    Ok((paths, units, hex))
+}
+
+/// Reads and checks a mechanism's data file (DESIGN §9 with §8), converted for its checks
+/// with `mechanism`'s scale: its measured drive paths and the SHA-256 of its bytes.
+pub fn read_stage_data(
+    file: &Path,
+    mechanism: &crate::scene::Mechanism,
+) -> Result<(crate::scene::data::StageData, String), SceneError> {
+    let (text, hex) = read_hashed(file)?;
+    let stage = crate::scene::data::parse_stage_csv(&text, &file.display().to_string(), mechanism)?;
+    Ok((stage, hex))
+}
+
+/// A data file's text and the SHA-256 of its bytes (lowercase hex).
+fn read_hashed(file: &Path) -> Result<(String, String), SceneError> {
     use sha2::Digest;
     let shown = file.display().to_string();
     let text = files::read_input(file).map_err(|e| SceneError {
@@ -67,6 +91,5 @@ pub fn read_data(
     })?;
     let hash = sha2::Sha256::digest(text.as_bytes());
     let hex: String = hash.iter().map(|b| format!("{b:02x}")).collect();
-    let (paths, units) = crate::scene::data::parse_csv(&text, &shown, beam)?;
-    Ok((paths, units, hex))
+    Ok((text, hex))
 }

@@ -293,10 +293,7 @@ mod tests {
 
     /// dx loaded, dy and dphi prescribed: the fixed-guided segment's drive.
     fn guided(steps: u32) -> Drive {
-        Drive {
-            coordinates: [Loaded(0.0), Prescribed(0.3), Prescribed(0.0)],
-            steps,
-        }
+        Drive::proportional([Loaded(0.0), Prescribed(0.3), Prescribed(0.0)], steps)
     }
 
     #[test]
@@ -373,10 +370,7 @@ mod tests {
     #[test]
     fn loaded_stage_uses_position_and_angle_only() {
         // Every coordinate loaded: the cantilever's figures, no force error.
-        let drive = Drive {
-            coordinates: [Loaded(0.0), Loaded(1.0), Loaded(0.5)],
-            steps: 1,
-        };
+        let drive = Drive::proportional([Loaded(0.0), Loaded(1.0), Loaded(0.5)], 1);
         let exact = vec![vec![case(1.0, [-0.1, 0.3, 0.4], [0.0, 1.0, 0.5])]];
         let prb = vec![vec![case(1.0, [-0.13, 0.34, 0.38], [0.0, 1.0, 0.5])]];
         let e = compare(&[drive], &prb, &exact, 0.5, 1.0).unwrap();
@@ -393,10 +387,7 @@ mod tests {
     fn a_coordinate_without_reaction_is_judged_against_the_largest() {
         // The guide (x) carries no exact reaction, the drive (y) carries 10: the guide's
         // scale is floored at 1e-3 * 10, so an x reaction error of 0.05 is 5, not 0.05 / 0.
-        let drive = Drive {
-            coordinates: [Prescribed(0.0), Prescribed(0.2), Loaded(0.0)],
-            steps: 1,
-        };
+        let drive = Drive::proportional([Prescribed(0.0), Prescribed(0.2), Loaded(0.0)], 1);
         let exact = vec![vec![case(1.0, [0.0, 0.2, 0.1], [0.0, 10.0, 0.0])]];
         let prb = vec![vec![case(1.0, [0.0, 0.2, 0.1], [0.05, 10.0, 0.0])]];
         let e = compare(&[drive], &prb, &exact, 1.0, 1.0).unwrap();

@@ -55,6 +55,7 @@
 pub mod exact;
 pub mod figures;
 pub mod geometry;
+pub mod measured;
 pub mod pose;
 pub mod prb;
 pub mod solve;

@@ -3,7 +3,7 @@
 
 use crate::beam::{Load, TipPose};
 use crate::linalg::lu_solve;
-use crate::scene::{Coordinate, Mechanism};
+use crate::scene::{Coordinate, DrivePath, Mechanism};
 
 use super::geometry::{cross, rotate, Geometry, Joint};
 use super::{FlexureCase, MechCase, MechError, TipFailure};
@@ -188,13 +188,13 @@ impl<M: FlexureModel> MechSolver<M> {
         }
     }
 
-    /// The stage pose at `lambda` for unknowns `x`.
-    fn pose(&self, drive: &[Coordinate; 3], lambda: f64, x: &[f64]) -> [f64; 3] {
+    /// The stage pose for unknowns `x` with the drive's coordinates at `at`.
+    fn pose(&self, at: &[Coordinate; 3], x: &[f64]) -> [f64; 3] {
         let mut k = self.flexure_unknowns;
         let mut pose = [0.0; 3];
-        for (p, c) in pose.iter_mut().zip(drive) {
+        for (p, c) in pose.iter_mut().zip(at) {
             *p = match c {
-                Coordinate::Prescribed(v) => lambda * v,
+                Coordinate::Prescribed(v) => *v,
                 Coordinate::Loaded(_) => {
                     k += 1;
                     x[k - 1]
@@ -209,13 +209,12 @@ impl<M: FlexureModel> MechSolver<M> {
     /// returns the load the flexures put on the stage at `P`.
     fn joints(
         &self,
-        drive: &[Coordinate; 3],
-        lambda: f64,
+        at: &[Coordinate; 3],
         x: &[f64],
         outs: &[[f64; 4]],
         out: &mut Vec<f64>,
     ) -> [f64; 3] {
-        let pose = self.pose(drive, lambda, x);
+        let pose = self.pose(at, x);
         let p = self.geometry.stage_point_at(pose);
         let mut sum = [0.0; 3];
         for (i, (f, o)) in self.geometry.frames.iter().zip(outs).enumerate() {
@@ -245,9 +244,9 @@ impl<M: FlexureModel> MechSolver<M> {
             sum[1] += force[1];
             sum[2] += cross([at[0] - p[0], at[1] - p[1]], force) + f.moment_to_global(o[3]);
         }
-        for (c, s) in drive.iter().zip(sum) {
+        for (c, s) in at.iter().zip(sum) {
             if let Coordinate::Loaded(v) = c {
-                out.push(s - lambda * v);
+                out.push(s - v);
             }
         }
         sum
@@ -274,10 +273,10 @@ impl<M: FlexureModel> MechSolver<M> {
     }
 
     /// The whole system at `x`: flexures, residual (joint rows, internal rows, balance).
-    fn system(&self, drive: &[Coordinate; 3], lambda: f64, x: &[f64]) -> Result<System, MechError> {
+    fn system(&self, at: &[Coordinate; 3], x: &[f64]) -> Result<System, MechError> {
         let evals = self.evaluate(x)?;
         let mut joint = Vec::with_capacity(x.len());
-        let load = self.joints(drive, lambda, x, &Self::outputs(&evals), &mut joint);
+        let load = self.joints(at, x, &Self::outputs(&evals), &mut joint);
         Ok(System {
             residual: self.assemble_rows(&joint, &evals),
             evals,
@@ -300,16 +299,16 @@ impl<M: FlexureModel> MechSolver<M> {
     /// The Jacobian (row-major) at `x`: each flexure's own block from its model (the beam's
     /// variational equations, the chain's analytic tangent), chained with the geometry's
     /// derivatives, written out below (a rigid stage, straight couplers).
-    fn jacobian(&self, drive: &[Coordinate; 3], lambda: f64, x: &[f64], sys: &System) -> Vec<f64> {
+    fn jacobian(&self, at: &[Coordinate; 3], x: &[f64], sys: &System) -> Vec<f64> {
         let n = x.len();
         let mut jac = vec![0.0; n * n];
-        let pose = self.pose(drive, lambda, x);
+        let pose = self.pose(at, x);
         let p = self.geometry.stage_point_at(pose);
         let p0 = self.geometry.stage_point;
         // Columns of the stage's loaded coordinates; rows of their balance.
         let mut pose_col = [None; 3];
         let mut next = self.flexure_unknowns;
-        for (c, coordinate) in drive.iter().enumerate() {
+        for (c, coordinate) in at.iter().enumerate() {
             if !coordinate.is_prescribed() {
                 pose_col[c] = Some(next);
                 next += 1;
@@ -456,14 +455,10 @@ impl<M: FlexureModel> MechSolver<M> {
     }
 
     /// Newton at `lambda` from the guess `x`.
-    fn newton(
-        &self,
-        drive: &[Coordinate; 3],
-        lambda: f64,
-        mut x: Vec<f64>,
-    ) -> Result<Converged, String> {
+    fn newton(&self, path: &DrivePath, lambda: f64, mut x: Vec<f64>) -> Result<Converged, String> {
         let n = x.len();
-        let mut sys = self.system(drive, lambda, &x).map_err(|e| e.to_string())?;
+        let at = path.at(lambda);
+        let mut sys = self.system(&at, &x).map_err(|e| e.to_string())?;
         // The determinant's sign of the last Jacobian factored: at the last iterate but one,
         // within Newton's last (tiny) step of the solution, so a converged point needs no
         // Jacobian of its own.
@@ -482,7 +477,7 @@ impl<M: FlexureModel> MechSolver<M> {
                     iterations: iteration,
                 });
             }
-            let mut jac = self.jacobian(drive, lambda, &x, &sys);
+            let mut jac = self.jacobian(&at, &x, &sys);
             let mut step: Vec<f64> = sys.residual.iter().map(|v| -v).collect();
             let lu = lu_solve(&mut jac, &mut step, n).ok_or("singular Jacobian")?;
             det_sign = Some(lu.det_sign);
@@ -494,7 +489,7 @@ impl<M: FlexureModel> MechSolver<M> {
             let mut t = 1.0;
             loop {
                 let trial: Vec<f64> = x.iter().zip(&step).map(|(a, d)| a + t * d).collect();
-                if let Ok(st) = self.system(drive, lambda, &trial) {
+                if let Ok(st) = self.system(&at, &trial) {
                     if norm(&st.residual) < norm0 || t < 0.1 {
                         (x, sys) = (trial, st);
                         break;
@@ -512,7 +507,7 @@ impl<M: FlexureModel> MechSolver<M> {
         ))
     }
 
-    /// Solves one drive path (`drive` nondimensional: see
+    /// Solves one proportional drive path (`drive` nondimensional: see
     /// `Mechanism::nondimensional`), returning the cases at `k / steps`. `index` names the
     /// drive in errors (from 1).
     pub fn solve_drive(
@@ -521,13 +516,21 @@ impl<M: FlexureModel> MechSolver<M> {
         steps: u32,
         index: usize,
     ) -> Result<Vec<MechCase>, MechError> {
-        let steps = steps.max(1);
-        let x0 = self.start(drive);
+        self.solve_path(&DrivePath::proportional(*drive, steps), index)
+    }
+
+    /// Solves one drive path (proportional, or through a measured path's rows in order),
+    /// returning the cases at `k / steps` (a measured path's rows). `index` names the drive
+    /// in errors (from 1).
+    pub fn solve_path(&self, path: &DrivePath, index: usize) -> Result<Vec<MechCase>, MechError> {
+        let steps = path.steps.max(1);
+        let x0 = self.start(&path.end);
         let n = x0.len();
         // The unloaded pose: its Jacobian's sign is the reference, and a singular one means
         // the drive asks for a motion nothing can make.
-        let sys0 = self.system(drive, 0.0, &x0)?;
-        let mut jac = self.jacobian(drive, 0.0, &x0, &sys0);
+        let at0 = path.at(0.0);
+        let sys0 = self.system(&at0, &x0)?;
+        let mut jac = self.jacobian(&at0, &x0, &sys0);
         let mut rhs = vec![0.0; n];
         let immobile = |ratio: f64| MechError::Immobile {
             drive: index,
@@ -581,7 +584,7 @@ impl<M: FlexureModel> MechSolver<M> {
                     }
                     None => prev.x.clone(),
                 };
-                let failure = match self.newton(drive, lambda, guess) {
+                let failure = match self.newton(path, lambda, guess) {
                     Ok(c) => {
                         iterations += c.iterations;
                         let jump = (0..self.models.len())
@@ -604,7 +607,7 @@ impl<M: FlexureModel> MechSolver<M> {
                             }
                             rejected = false;
                             if lambda >= target {
-                                out.push(self.case(drive, &prev, iterations));
+                                out.push(self.case(path, &prev, iterations));
                                 break;
                             }
                             continue;
@@ -619,7 +622,7 @@ impl<M: FlexureModel> MechSolver<M> {
                 if dlam < self.min_step {
                     // Stuck next to a nearly singular Jacobian: a limit point, where the
                     // path turns back and no equilibrium lies further along the drive.
-                    if self.pivot_ratio(drive, &prev) < NEAR_CRITICAL * ratio0 {
+                    if self.pivot_ratio(path, &prev) < NEAR_CRITICAL * ratio0 {
                         return Err(MechError::Critical {
                             drive: index,
                             fraction: prev.lambda,
@@ -643,29 +646,31 @@ impl<M: FlexureModel> MechSolver<M> {
             .drives
             .iter()
             .enumerate()
-            .map(|(i, d)| self.solve_drive(&mechanism.nondimensional(d), d.steps, i + 1))
+            .map(|(i, d)| self.solve_path(&mechanism.drive_path(d), i + 1))
             .collect()
     }
 
     /// The equilibrated Jacobian's smallest pivot over its largest at an accepted point (0
     /// if it cannot be evaluated).
-    fn pivot_ratio(&self, drive: &[Coordinate; 3], point: &Point) -> f64 {
+    fn pivot_ratio(&self, path: &DrivePath, point: &Point) -> f64 {
         let n = point.x.len();
-        let Ok(sys) = self.system(drive, point.lambda, &point.x) else {
+        let at = path.at(point.lambda);
+        let Ok(sys) = self.system(&at, &point.x) else {
             return 0.0;
         };
-        let mut jac = self.jacobian(drive, point.lambda, &point.x, &sys);
+        let mut jac = self.jacobian(&at, &point.x, &sys);
         equilibrate(&mut jac, n);
         let mut rhs = vec![0.0; n];
         lu_solve(&mut jac, &mut rhs, n).map_or(0.0, |lu| lu.pivot_ratio)
     }
 
     /// The reported case at an accepted point.
-    fn case(&self, drive: &[Coordinate; 3], point: &Point, iterations: u32) -> MechCase {
+    fn case(&self, path: &DrivePath, point: &Point, iterations: u32) -> MechCase {
+        let at = path.at(point.lambda);
         let mut stage_load = point.load;
-        for (l, c) in stage_load.iter_mut().zip(drive) {
+        for (l, c) in stage_load.iter_mut().zip(&at) {
             if let Coordinate::Loaded(v) = c {
-                *l = point.lambda * v;
+                *l = *v;
             }
         }
         let flexures = point
@@ -691,7 +696,7 @@ impl<M: FlexureModel> MechSolver<M> {
             .collect();
         MechCase {
             fraction: point.lambda,
-            stage: self.pose(drive, point.lambda, &point.x),
+            stage: self.pose(&at, &point.x),
             stage_load,
             flexures,
             iterations,
@@ -791,17 +796,17 @@ mod tests {
             .map(|(j, v)| v + 0.05 * ((j as f64 * 1.7).sin() + 0.3))
             .collect();
         let n = x.len();
-        let lambda = 0.6;
-        let sys = s.system(drive, lambda, &x).unwrap();
-        let jac = s.jacobian(drive, lambda, &x, &sys);
+        let at = DrivePath::proportional(*drive, 1).at(0.6);
+        let sys = s.system(&at, &x).unwrap();
+        let jac = s.jacobian(&at, &x, &sys);
         for col in 0..n {
             let h = 1e-6;
             let mut xp = x.clone();
             let mut xm = x.clone();
             xp[col] += h;
             xm[col] -= h;
-            let rp = s.system(drive, lambda, &xp).unwrap().residual;
-            let rm = s.system(drive, lambda, &xm).unwrap().residual;
+            let rp = s.system(&at, &xp).unwrap().residual;
+            let rm = s.system(&at, &xm).unwrap().residual;
             let scale = (0..n).fold(1.0_f64, |m, r| m.max(jac[r * n + col].abs()));
             for row in 0..n {
                 let fd = (rp[row] - rm[row]) / (2.0 * h);

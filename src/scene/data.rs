@@ -55,14 +55,21 @@ pub struct DataTruth {
     /// The file's unit system: SI rows were converted with the scene's nominal beam
     /// (nondimensional until the file is read: no rows, nothing converted).
     pub units: Units,
-    /// The measured paths (empty until the file is read).
+    /// The measured paths (empty until the file is read, and for a mechanism).
     pub paths: Vec<MeasuredPath>,
+    /// A mechanism scene's measured drive paths (DESIGN §9 with §8), SI (`None` for a
+    /// cantilever, and until the file is read).
+    pub stage: Option<StageData>,
 }
 
 impl DataTruth {
     /// Rows in all.
     pub fn row_count(&self) -> usize {
-        self.paths.iter().map(|p| p.rows.len()).sum()
+        self.paths.iter().map(|p| p.rows.len()).sum::<usize>()
+            + self
+                .stage
+                .as_ref()
+                .map_or(0, |s| s.paths.iter().map(|p| p.rows.len()).sum())
     }
 
     /// Every path's loads, in order.
@@ -433,4 +440,366 @@ pub fn parse_csv(
     }
     let units = if si { Units::Si } else { Units::Nondimensional };
     Ok((paths, units))
+}
+
+/// One measured case of a mechanism (DESIGN §9 with §8): the drive's inputs and the stage's
+/// pose and load, SI (m, rad, N, N m), every coordinate known: a prescribed coordinate's
+/// pose is its input and its load the measured reaction, a loaded coordinate's load is its
+/// input (0 when the file has no column for it) and its pose the measured motion.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct MeasuredStageRow {
+    /// The file's 1-based line.
+    pub line: usize,
+    /// The drive's inputs `[x, y, phi]`, each of its coordinate's kind (m or N, rad or N m).
+    pub drive: [f64; 3],
+    /// The stage pose `[dx, dy, dphi]` of the stage point, m and rad.
+    pub stage: [f64; 3],
+    /// The load on the stage at its point `[fx, fy, mz]`, N and N m: given, or the drive's
+    /// reaction.
+    pub stage_load: [f64; 3],
+}
+
+/// One measured drive path of a mechanism: its rows in order.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct MeasuredStagePath {
+    /// The `path` column's value (1 when the file has no such column).
+    pub id: i64,
+    /// The rows, in the file's order.
+    pub rows: Vec<MeasuredStageRow>,
+}
+
+/// A mechanism's measured data: which stage coordinates the file's drive prescribes (a
+/// `dx, dy, dphi` input column) and its paths.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct StageData {
+    /// Per stage coordinate `[x, y, phi]`: prescribed (a displacement input) or loaded.
+    pub prescribed: [bool; 3],
+    /// The measured paths.
+    pub paths: Vec<MeasuredStagePath>,
+}
+
+/// A mechanism data file's column.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum StageColumn {
+    Path,
+    /// A drive input of coordinate 0..3: displacement (`true`) or load.
+    Input(usize, bool),
+    /// A measured value of coordinate 0..3: pose (`true`) or load.
+    Measured(usize, bool),
+}
+
+fn stage_column_of(name: &str) -> Option<StageColumn> {
+    use StageColumn::{Input, Measured};
+    Some(match name {
+        "path" => StageColumn::Path,
+        "dx" => Input(0, true),
+        "dy" => Input(1, true),
+        "dphi" => Input(2, true),
+        "fx" => Input(0, false),
+        "fy" => Input(1, false),
+        "mz" => Input(2, false),
+        "stage_dx" => Measured(0, true),
+        "stage_dy" => Measured(1, true),
+        "stage_dphi" => Measured(2, true),
+        "stage_fx" => Measured(0, false),
+        "stage_fy" => Measured(1, false),
+        "stage_mz" => Measured(2, false),
+        _ => return None,
+    })
+}
+
+const STAGE_KNOWN: &str = "path, the drive's inputs dx/fx, dy/fy, dphi/mz, and the measured \
+                           stage_dx, stage_dy, stage_dphi, stage_fx, stage_fy, stage_mz (SI; \
+                           DESIGN §9)";
+
+/// The names of a coordinate's columns: input displacement, input load, measured pose,
+/// measured load.
+const STAGE_NAMES: [[&str; 4]; 3] = [
+    ["dx", "fx", "stage_dx", "stage_fx"],
+    ["dy", "fy", "stage_dy", "stage_fy"],
+    ["dphi", "mz", "stage_dphi", "stage_mz"],
+];
+
+/// How far a redundant measured column (the pose of a prescribed coordinate, the load of a
+/// loaded one) may differ from the input it repeats, relative to the larger of the two
+/// (nondimensional), before the file contradicts itself: a file written from a drive's own
+/// values repeats them to its printing precision, far below this.
+const REPEAT_TOLERANCE: f64 = 1e-6;
+/// The absolute part of that tolerance, nondimensional (a zero load printed as `1e-12`).
+const REPEAT_FLOOR: f64 = 1e-9;
+
+/// Reads a mechanism's data file (DESIGN §9 with §8) `text` (from the file `origin`):
+/// inputs named as the `[[drives]]` keys, the measured stage pose and loads as `stage_*`,
+/// SI, converted for its checks with `mechanism`'s scale (flexure 1's `L`, `E I0`).
+///
+/// The drive's kinds are the file's: a coordinate with a displacement column (`dx`) is
+/// prescribed and its reaction (`stage_fx`) is what was measured; one with a load column or
+/// neither (loaded with 0) is loaded and its motion (`stage_dx`) was measured. A measured
+/// column that repeats an input (`stage_dx` beside `dx`) must agree with it. Errors as for
+/// [`parse_csv`], naming `file:line:column`.
+pub fn parse_stage_csv(
+    text: &str,
+    origin: &str,
+    mechanism: &super::Mechanism,
+) -> Result<StageData, SceneError> {
+    let fail = |line: usize, column: usize, key: Option<&str>, message: String| SceneError {
+        origin: format!("{origin}:{line}:{column}"),
+        line: None,
+        key: key.map(str::to_string),
+        message,
+    };
+    let mut lines = text
+        .lines()
+        .enumerate()
+        .map(|(i, l)| (i + 1, l.trim_end_matches('\r')))
+        .filter(|(_, l)| !l.trim().is_empty() && !l.trim_start().starts_with('#'));
+    let Some((header_line, header)) = lines.next() else {
+        return Err(fail(
+            1,
+            1,
+            None,
+            format!(
+                "the file is empty: it needs a header row and one row per drive case \
+                 ({STAGE_KNOWN})"
+            ),
+        ));
+    };
+    let header = fields(header);
+    let mut columns: Vec<StageColumn> = Vec::with_capacity(header.len());
+    let mut names: Vec<&str> = Vec::with_capacity(header.len());
+    for &(col, name) in &header {
+        let name_lc = name.to_ascii_lowercase();
+        let Some(c) = stage_column_of(&name_lc) else {
+            let why = if column_of(&name_lc).is_some() {
+                format!(
+                    "a cantilever's column in a mechanism scene's data: its columns are \
+                     {STAGE_KNOWN}"
+                )
+            } else {
+                format!("unknown column; a mechanism's data columns are {STAGE_KNOWN}")
+            };
+            return Err(fail(header_line, col, Some(name), why));
+        };
+        if columns.contains(&c) {
+            return Err(fail(
+                header_line,
+                col,
+                Some(name),
+                "a column given twice".into(),
+            ));
+        }
+        columns.push(c);
+        names.push(name);
+    }
+    let position = |c: StageColumn| columns.iter().position(|x| *x == c);
+    let mut prescribed = [false; 3];
+    for (c, [dk, lk, pk, fk]) in STAGE_NAMES.iter().enumerate() {
+        if let (Some(d), Some(_)) = (
+            position(StageColumn::Input(c, true)),
+            position(StageColumn::Input(c, false)),
+        ) {
+            return Err(fail(
+                header_line,
+                header[d].0,
+                Some(dk),
+                format!(
+                    "give either a displacement ({dk}) or a load ({lk}) for this coordinate, \
+                     not both"
+                ),
+            ));
+        }
+        prescribed[c] = position(StageColumn::Input(c, true)).is_some();
+        let (need, why) = if prescribed[c] {
+            (
+                *fk,
+                format!("{dk} is prescribed, so its reaction {fk} is what was measured"),
+            )
+        } else {
+            (
+                *pk,
+                format!(
+                    "{} is loaded, so the stage's motion is what was measured",
+                    if position(StageColumn::Input(c, false)).is_some() {
+                        lk.to_string()
+                    } else {
+                        format!("{lk} (absent: 0)")
+                    }
+                ),
+            )
+        };
+        if position(StageColumn::Measured(c, !prescribed[c])).is_none() {
+            return Err(fail(
+                header_line,
+                1,
+                None,
+                format!("missing column `{need}`: {why}"),
+            ));
+        }
+    }
+    if !columns.iter().any(|c| matches!(c, StageColumn::Input(..))) {
+        return Err(fail(
+            header_line,
+            1,
+            None,
+            "no drive input column: give the drive's dx/fx, dy/fy or dphi/mz".into(),
+        ));
+    }
+    // SI to nondimensional, per coordinate: [displacement, load].
+    let disp = mechanism.factors([crate::scene::Coordinate::Prescribed(0.0); 3]);
+    let load = mechanism.factors([crate::scene::Coordinate::Loaded(0.0); 3]);
+    let factor = |c: usize, is_pose: bool| if is_pose { disp[c] } else { load[c] };
+
+    let mut paths: Vec<MeasuredStagePath> = Vec::new();
+    let mut rows_seen = 0;
+    for (line_no, line) in lines {
+        rows_seen += 1;
+        let f = fields(line);
+        if f.len() != columns.len() {
+            return Err(fail(
+                line_no,
+                f.last().map_or(1, |x| x.0),
+                None,
+                format!(
+                    "{} fields where the header has {} columns",
+                    f.len(),
+                    columns.len()
+                ),
+            ));
+        }
+        let mut input = [0.0; 3];
+        let mut measured: [[Option<(f64, usize, usize)>; 2]; 3] = [[None; 2]; 3];
+        let mut id = 1_i64;
+        for (k, (&(col, field), c)) in f.iter().zip(&columns).enumerate() {
+            let name = names[k];
+            if *c == StageColumn::Path {
+                id = field.parse::<i64>().map_err(|_| {
+                    fail(
+                        line_no,
+                        col,
+                        Some(name),
+                        format!("not a path number: \"{}\"", shown(field)),
+                    )
+                })?;
+                continue;
+            }
+            let v: f64 = field.parse().map_err(|_| {
+                fail(
+                    line_no,
+                    col,
+                    Some(name),
+                    format!("not a number: \"{}\"", shown(field)),
+                )
+            })?;
+            if !v.is_finite() {
+                return Err(fail(
+                    line_no,
+                    col,
+                    Some(name),
+                    format!("{field} is not a finite number"),
+                ));
+            }
+            match *c {
+                StageColumn::Input(i, _) => input[i] = v,
+                StageColumn::Measured(i, pose) => {
+                    measured[i][usize::from(!pose)] = Some((v, col, k));
+                }
+                StageColumn::Path => {}
+            }
+        }
+        let mut stage = [0.0; 3];
+        let mut stage_load = [0.0; 3];
+        for c in 0..3 {
+            let p = prescribed[c];
+            // The input's slot and the measured slot: pose for a loaded coordinate, load for
+            // a prescribed one.
+            let (given, out) = if p {
+                (&mut stage[c], &mut stage_load[c])
+            } else {
+                (&mut stage_load[c], &mut stage[c])
+            };
+            *given = input[c];
+            let found = measured[c][usize::from(p)];
+            *out = found.map_or(0.0, |m| m.0);
+            // A measured column that repeats the input must agree with it.
+            if let Some((v, col, k)) = measured[c][usize::from(!p)] {
+                let s = factor(c, p);
+                let (a, b) = (v * s, input[c] * s);
+                if (a - b).abs() > REPEAT_TOLERANCE * a.abs().max(b.abs()) + REPEAT_FLOOR {
+                    return Err(fail(
+                        line_no,
+                        col,
+                        Some(names[k]),
+                        format!(
+                            "{} contradicts the input {} = {} on the same row: a measured \
+                             column that repeats the drive's input must agree with it",
+                            crate::text::bounded(v),
+                            STAGE_NAMES[c][usize::from(!p)],
+                            crate::text::bounded(input[c])
+                        ),
+                    ));
+                }
+            }
+        }
+        let row = MeasuredStageRow {
+            line: line_no,
+            drive: input,
+            stage,
+            stage_load,
+        };
+        let same_path = paths.last().is_some_and(|p| p.id == id);
+        if !same_path {
+            if let Some(earlier) = paths.iter().find(|p| p.id == id) {
+                return Err(fail(
+                    line_no,
+                    1,
+                    Some("path"),
+                    format!(
+                        "path {id} comes back after path {} (its rows began at line {}): a \
+                         path's rows must be together, in order",
+                        paths.last().map_or(0, |p| p.id),
+                        earlier.rows[0].line
+                    ),
+                ));
+            }
+            paths.push(MeasuredStagePath {
+                id,
+                rows: Vec::new(),
+            });
+        }
+        let magnitude = |r: &MeasuredStageRow| {
+            (0..3)
+                .map(|c| r.drive[c] * factor(c, prescribed[c]))
+                .fold(0.0_f64, f64::hypot)
+        };
+        if let Some(path) = paths.last_mut() {
+            if let Some(prev) = path.rows.last() {
+                let (before, now) = (magnitude(prev), magnitude(&row));
+                if now <= before {
+                    return Err(fail(
+                        line_no,
+                        1,
+                        None,
+                        format!(
+                            "path {id} shrinks: its drive's magnitude {} (nondimensional) is not \
+                             above the previous row's {} (line {}); a path's rows must grow \
+                             from the unloaded state",
+                            crate::text::bounded(now),
+                            crate::text::bounded(before),
+                            prev.line
+                        ),
+                    ));
+                }
+            }
+            path.rows.push(row);
+        }
+    }
+    if rows_seen == 0 {
+        return Err(fail(
+            header_line,
+            1,
+            None,
+            "no data rows after the header: an empty path".into(),
+        ));
+    }
+    Ok(StageData { prescribed, paths })
 }

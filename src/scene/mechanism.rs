@@ -78,13 +78,84 @@ impl Coordinate {
 }
 
 /// One drive path: every stage coordinate `[x, y, phi]` varied proportionally from the
-/// unloaded state, evaluated at `k / steps`.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+/// unloaded state, evaluated at `k / steps`; or, a measured path (DESIGN §9), through its
+/// rows' values in order, evaluated at each row.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Drive {
-    /// `x`, `y` (m or N) and `phi` (rad or N m) of the stage point.
+    /// `x`, `y` (m or N) and `phi` (rad or N m) of the stage point: the end values (a
+    /// measured path's last row).
     pub coordinates: [Coordinate; 3],
+    /// Cases along the path (a measured path's row count).
+    pub steps: u32,
+    /// A measured path's rows (SI, each coordinate of the kind `coordinates` gives, in the
+    /// data file's order): the path runs straight from the unloaded state to the first row
+    /// and from each row to the next, and its cases are the rows. Empty: the proportional
+    /// path.
+    #[serde(default, skip)]
+    pub rows: Vec<[f64; 3]>,
+}
+
+impl Drive {
+    /// A proportional drive path to `coordinates` in `steps` steps.
+    pub fn proportional(coordinates: [Coordinate; 3], steps: u32) -> Drive {
+        Drive {
+            coordinates,
+            steps,
+            rows: Vec::new(),
+        }
+    }
+}
+
+/// A drive path as the solvers follow it, nondimensional (see [`Mechanism::nondimensional`]):
+/// the stage coordinates' kinds and their values along the path's parameter `lambda` in
+/// `[0, 1]`, with the path's cases at `k / steps`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DrivePath {
+    /// The end values (`lambda = 1`), of the coordinates' kinds.
+    pub end: [Coordinate; 3],
     /// Cases along the path.
     pub steps: u32,
+    /// A measured path's rows (empty: proportional): row `k` (from 1) is at
+    /// `lambda = k / steps`, the values linear in `lambda` between rows and from the
+    /// unloaded state to row 1.
+    pub rows: Vec<[f64; 3]>,
+}
+
+impl DrivePath {
+    /// A proportional path to `end` in `steps` steps.
+    pub fn proportional(end: [Coordinate; 3], steps: u32) -> DrivePath {
+        DrivePath {
+            end,
+            steps: steps.max(1),
+            rows: Vec::new(),
+        }
+    }
+
+    /// The coordinates at `lambda` (clamped to `[0, 1]`).
+    pub fn at(&self, lambda: f64) -> [Coordinate; 3] {
+        let lambda = lambda.clamp(0.0, 1.0);
+        let values: [f64; 3] = if self.rows.is_empty() {
+            self.end.map(|c| lambda * c.value())
+        } else {
+            let n = self.rows.len();
+            let s = lambda * n as f64;
+            // Row `k` sits at `s = k`; `s` in `[k - 1, k]` is between row `k - 1` (the
+            // unloaded state for k = 1) and row `k`. Snap within rounding of a row onto it.
+            let k = (s - 1e-9).ceil().clamp(1.0, n as f64) as usize;
+            let t = (s - (k - 1) as f64).clamp(0.0, 1.0);
+            let to = self.rows[k - 1];
+            let from = if k >= 2 { self.rows[k - 2] } else { [0.0; 3] };
+            if (t - 1.0).abs() <= 1e-9 {
+                to
+            } else {
+                std::array::from_fn(|c| from[c] + t * (to[c] - from[c]))
+            }
+        };
+        std::array::from_fn(|c| match self.end[c] {
+            Coordinate::Prescribed(_) => Coordinate::Prescribed(values[c]),
+            Coordinate::Loaded(_) => Coordinate::Loaded(values[c]),
+        })
+    }
 }
 
 /// A validated mechanism, SI.
@@ -114,21 +185,46 @@ impl Mechanism {
     /// rotations in radians, forces as `alpha = F L^2 / (E I0)`, moments as
     /// `beta = M L / (E I0)` (flexure 1's `L`, `E I0`).
     pub fn nondimensional(&self, drive: &Drive) -> [Coordinate; 3] {
+        let factors = self.factors(drive.coordinates);
+        std::array::from_fn(|c| match drive.coordinates[c] {
+            Coordinate::Prescribed(v) => Coordinate::Prescribed(v * factors[c]),
+            Coordinate::Loaded(v) => Coordinate::Loaded(v * factors[c]),
+        })
+    }
+
+    /// What one SI unit of each coordinate, of the kinds of `kinds`, is nondimensional
+    /// (flexure 1's `L`, `E I0`): `1 / L` for a displacement, 1 for a rotation,
+    /// `L^2 / (E I0)` for a force, `L / (E I0)` for a moment.
+    pub fn factors(&self, kinds: [Coordinate; 3]) -> [f64; 3] {
         let (l, ei) = self.scale();
         let scale = [(1.0 / l, l * l / ei), (1.0 / l, l * l / ei), (1.0, l / ei)];
-        let mut out = drive.coordinates;
-        for (c, (disp, load)) in out.iter_mut().zip(scale) {
-            *c = match *c {
-                Coordinate::Prescribed(v) => Coordinate::Prescribed(v * disp),
-                Coordinate::Loaded(v) => Coordinate::Loaded(v * load),
-            };
+        std::array::from_fn(|c| {
+            if kinds[c].is_prescribed() {
+                scale[c].0
+            } else {
+                scale[c].1
+            }
+        })
+    }
+
+    /// A drive path as the solvers follow it, nondimensional: proportional, or through a
+    /// measured path's rows.
+    pub fn drive_path(&self, drive: &Drive) -> DrivePath {
+        let factors = self.factors(drive.coordinates);
+        DrivePath {
+            end: self.nondimensional(drive),
+            steps: drive.steps.max(1),
+            rows: drive
+                .rows
+                .iter()
+                .map(|r| std::array::from_fn(|c| r[c] * factors[c]))
+                .collect(),
         }
-        out
     }
 
     /// Writes the mechanism's tables in the scene file's schema (overrides only where a
     /// flexure's beam differs from the scene's).
-    pub(super) fn write_toml(&self, scene_beam: &BeamSpec, out: &mut String) {
+    pub(super) fn write_toml(&self, scene_beam: &BeamSpec, drives: bool, out: &mut String) {
         use std::fmt::Write as _;
         for f in &self.flexures {
             let _ = write!(
@@ -171,7 +267,7 @@ impl Mechanism {
             "\n[stage]\npoint = [{:?}, {:?}]\n",
             self.stage_point[0], self.stage_point[1]
         );
-        for d in &self.drives {
+        for d in self.drives.iter().filter(|_| drives) {
             out.push_str("\n[[drives]]\n");
             for (c, (dk, lk)) in d.coordinates.iter().zip(COORDINATE_KEYS) {
                 let _ = match c {
@@ -241,6 +337,7 @@ impl Validator<'_> {
         flexures: &[Spanned<RawFlexure>],
         stage: Option<&Spanned<RawStage>>,
         drives: &[Spanned<RawDrive>],
+        data: bool,
     ) -> Result<Mechanism, SceneError> {
         let mut out = Vec::with_capacity(flexures.len());
         for (i, raw) in flexures.iter().enumerate() {
@@ -298,7 +395,16 @@ impl Validator<'_> {
                 }
             }
         }
-        if drives.is_empty() {
+        if let (true, Some(first)) = (data, drives.first()) {
+            return Err(self.error(
+                first.span(),
+                "drives",
+                "a data scene's drive paths are its data file's rows (DESIGN §9: the [[drives]] \
+                 names as input columns): remove the [[drives]] tables"
+                    .into(),
+            ));
+        }
+        if drives.is_empty() && !data {
             return Err(SceneError {
                 origin: self.origin.to_string(),
                 line: None,
@@ -477,7 +583,7 @@ impl Validator<'_> {
             ));
         }
         let steps = self.steps(&r.steps, &key("steps"))?;
-        Ok(Drive { coordinates, steps })
+        Ok(Drive::proportional(coordinates, steps))
     }
 }
 

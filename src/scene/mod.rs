@@ -9,7 +9,7 @@
 pub mod data;
 mod mechanism;
 
-pub use mechanism::{Attach, Coordinate, Drive, Flexure, Mechanism, COORDINATE_KEYS};
+pub use mechanism::{Attach, Coordinate, Drive, DrivePath, Flexure, Mechanism, COORDINATE_KEYS};
 
 use std::fmt;
 use std::ops::Range;
@@ -235,6 +235,39 @@ impl Scene {
         }
     }
 
+    /// Gives a mechanism data scene its measured drive paths (read by the IO layer) and
+    /// `sha256`, the file's content hash: the mechanism's drives become one path per measured
+    /// path, through its rows (DESIGN §9), its cases the rows.
+    pub fn set_measured_stage(&mut self, stage: data::StageData, sha256: String) {
+        if let Some(m) = self.mechanism.as_mut() {
+            m.drives = stage
+                .paths
+                .iter()
+                .filter_map(|p| {
+                    let last = p.rows.last()?;
+                    let kind = |c: usize, v: f64| {
+                        if stage.prescribed[c] {
+                            Coordinate::Prescribed(v)
+                        } else {
+                            Coordinate::Loaded(v)
+                        }
+                    };
+                    Some(Drive {
+                        coordinates: std::array::from_fn(|c| kind(c, last.drive[c])),
+                        steps: u32::try_from(p.rows.len()).unwrap_or(u32::MAX),
+                        rows: p.rows.iter().map(|r| r.drive).collect(),
+                    })
+                })
+                .collect();
+        }
+        if let Some(t) = self.truth.as_mut() {
+            t.paths = Vec::new();
+            t.units = data::Units::Si;
+            t.stage = Some(stage);
+            t.sha256 = sha256;
+        }
+    }
+
     /// The built-in scene.
     #[allow(clippy::expect_used)] // a compiled-in constant, checked by a test
     pub fn builtin() -> Scene {
@@ -288,7 +321,8 @@ impl Scene {
             ));
         }
         if let Some(m) = &self.mechanism {
-            m.write_toml(&self.beam, &mut out);
+            // A data scene's drive paths are its file's rows.
+            m.write_toml(&self.beam, self.truth.is_none(), &mut out);
         }
         out.push_str(&format!(
             "\n[accuracy]\nmax_pos_err = {:?}\nmax_ang_err = {:?}\n",
@@ -635,21 +669,18 @@ impl Validator<'_> {
                         .into(),
                 ));
             }
-            Some(self.mechanism(&beam, &raw.flexures, raw.stage.as_ref(), &raw.drives)?)
+            Some(self.mechanism(
+                &beam,
+                &raw.flexures,
+                raw.stage.as_ref(),
+                &raw.drives,
+                raw.truth.is_some(),
+            )?)
         };
         let truth = match &raw.truth {
             None => None,
             Some(t) => {
                 let file = &t.get_ref().data;
-                if mechanism.is_some() {
-                    return Err(self.error(
-                        t.span(),
-                        "truth",
-                        "measured data as the truth of a mechanism scene is not supported \
-                         yet: give the data for a single flexure (a cantilever scene)"
-                            .into(),
-                    ));
-                }
                 if let Some(first) = raw.loads.first() {
                     return Err(self.error(
                         first.span(),
@@ -667,6 +698,7 @@ impl Validator<'_> {
                     sha256: String::new(),
                     units: data::Units::default(),
                     paths: Vec::new(),
+                    stage: None,
                 })
             }
         };

@@ -1188,7 +1188,7 @@ impl App {
         };
         let mut new = m.clone();
         if add {
-            let Some(&copy) = m.drives.get(d) else {
+            let Some(copy) = m.drives.get(d).cloned() else {
                 return;
             };
             new.drives.insert(d + 1, copy);
