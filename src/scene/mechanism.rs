@@ -590,3 +590,35 @@ impl Validator<'_> {
 fn dist(a: [f64; 2], b: [f64; 2]) -> f64 {
     (a[0] - b[0]).hypot(a[1] - b[1])
 }
+
+#[cfg(test)]
+mod path_tests {
+    use super::*;
+
+    /// A proportional path is the end values times `lambda`; a measured path runs straight
+    /// from rest to row 1 and from row to row, each row exactly at `k / n`.
+    #[test]
+    fn drive_paths_pass_through_their_rows() {
+        use Coordinate::{Loaded, Prescribed};
+        let end = [Prescribed(0.0), Prescribed(0.4), Loaded(2.0)];
+        let p = DrivePath::proportional(end, 4);
+        assert_eq!(p.at(0.5), [Prescribed(0.0), Prescribed(0.2), Loaded(1.0)]);
+        let rows = DrivePath {
+            end,
+            steps: 3,
+            rows: vec![[0.0, 0.1, 0.0], [0.0, 0.1, 1.0], [0.0, 0.4, 2.0]],
+        };
+        let value = |l: f64| rows.at(l).map(|c| c.value());
+        assert_eq!(value(0.0), [0.0; 3]);
+        for (k, r) in rows.rows.iter().enumerate() {
+            assert_eq!(value((k + 1) as f64 / 3.0), *r);
+        }
+        // Halfway from rest to row 1, and from row 1 to row 2.
+        let half = value(0.5 / 3.0);
+        assert!((half[1] - 0.05).abs() < 1e-15 && half[2] == 0.0);
+        let half = value(1.5 / 3.0);
+        assert!((half[1] - 0.1).abs() < 1e-15 && (half[2] - 0.5).abs() < 1e-15);
+        // Kinds are the end's.
+        assert!(rows.at(0.7)[1].is_prescribed() && !rows.at(0.7)[2].is_prescribed());
+    }
+}

@@ -963,6 +963,32 @@ steps = 10
 max_force_err = 0.03
 "#;
 
+    /// A mechanism whose truth is data: no [[drives]] (the rows are the drives), and it saves
+    /// as it was read; [[drives]] beside [truth] are refused at their line.
+    #[test]
+    fn mechanism_data_scenes_read_and_round_trip() {
+        let start = SLIDER_CRANK.find("[[drives]]").unwrap();
+        let end = SLIDER_CRANK.find("[accuracy]").unwrap();
+        let text = format!(
+            "{}[truth]\ndata = \"rig.csv\"\n\n{}",
+            &SLIDER_CRANK[..start],
+            &SLIDER_CRANK[end..]
+        );
+        let scene = Scene::from_toml_str(&text, "rig.toml").unwrap();
+        assert!(scene.mechanism.as_ref().unwrap().drives.is_empty());
+        assert_eq!(scene.truth.as_ref().unwrap().file, "rig.csv");
+        let saved = scene.to_toml();
+        assert!(
+            saved.contains("[truth]") && !saved.contains("[[drives]]"),
+            "{saved}"
+        );
+        assert_eq!(Scene::from_toml_str(&saved, "again").unwrap(), scene);
+        let both = SLIDER_CRANK.replace("[accuracy]", "[truth]\ndata = \"rig.csv\"\n[accuracy]");
+        let e = Scene::from_toml_str(&both, "both.toml").unwrap_err();
+        assert_eq!(e.key.as_deref(), Some("drives"), "{e}");
+        assert!(e.line.is_some(), "{e}");
+    }
+
     #[test]
     fn mechanism_scenes_read_and_round_trip() {
         let scene = Scene::from_toml_str(SLIDER_CRANK, "sc.toml").unwrap();
