@@ -9,6 +9,7 @@
 //! - Calibration recovers the modulus the data were made with.
 //! - Every bad file is exit 2 naming file:line:column; the commands that cannot use the data
 //!   say so.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
 
 mod common;
 
