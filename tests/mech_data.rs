@@ -516,9 +516,8 @@ fn bad_mechanism_data_name_file_line_and_column() {
         ),
         (
             "a repeated input that disagrees",
-            format!(
-                "dx,dy,dphi,stage_fx,stage_fy,stage_mz,stage_dy\n0,0.0015,0,-0.71,0.71,0,0.002\n"
-            ),
+            "dx,dy,dphi,stage_fx,stage_fy,stage_mz,stage_dy\n0,0.0015,0,-0.71,0.71,0,0.002\n"
+                .into(),
             &["d.csv:2:", "stage_dy", "contradicts the input dy"],
         ),
     ];
