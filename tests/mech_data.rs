@@ -8,7 +8,7 @@
 //! - Noise: 0.1% L of noise on the stage is fitted without chasing it.
 //! - Calibration recovers the modulus the data were made with.
 //! - Every bad file is exit 2 naming file:line:column; the commands that cannot use the data
-//!   say so.
+//!   (solve, tradeoff, the UI) say so.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
 mod common;
@@ -454,7 +454,7 @@ fn models_fitted_to_mechanism_data_name_the_data() {
 
 /// Every bad mechanism data file is exit 2 naming file:line:column and what is wrong; a
 /// data scene that also gives [[drives]] is refused at its line; the commands that have
-/// nothing to say about mechanism data (solve, plot, tradeoff, the UI) say so.
+/// nothing to say about mechanism data (solve, tradeoff, the UI) say so.
 #[test]
 fn bad_mechanism_data_name_file_line_and_column() {
     let dir = Scratch::new("mech-data-bad");
@@ -561,7 +561,6 @@ fn bad_mechanism_data_name_file_line_and_column() {
     dir.write("d.csv", &format!("{head}{good}"));
     for args in [
         vec!["solve", "--scene", &scene],
-        vec!["plot", "--scene", &scene],
         vec!["tradeoff", "--scene", &scene],
         vec!["tui", &scene],
     ] {
@@ -570,4 +569,26 @@ fn bad_mechanism_data_name_file_line_and_column() {
         assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
         assert!(out.stdout.is_empty(), "{args:?}");
     }
+}
+
+/// The shipped example `slider-crank-rig.toml`: its rows are the beam mechanism at 190 GPa
+/// printed to 0.1 mN (forces of 0.68 N and more: at most 7.4e-5 relative per row), so the
+/// calibrated modulus is 190 GPa to 1e-4 and the calibrated beam mechanism meets the data to
+/// that printing; a 1R fitted to the rows meets the scene's targets.
+#[test]
+fn the_shipped_rig_data_calibrate_to_their_modulus() {
+    let scene = asset("slider-crank-rig.toml");
+    let c = json(&prbfit(&["calibrate", "--scene", &scene, "--json"]));
+    assert!((f(&c, "value") / 190e9 - 1.0).abs() < 1e-4, "{c}");
+    assert!(f(&c["figures"], "max_force_err") < 1e-4, "{c}");
+    let fit = json(&prbfit(&[
+        "fit",
+        "--scene",
+        &scene,
+        "--topology",
+        "1R",
+        "--json",
+    ]));
+    assert_eq!(fit["meets_targets"], true, "{fit}");
+    assert_eq!(fit["truth"]["data"], "slider-crank-rig.csv");
 }

@@ -814,3 +814,74 @@ fn a_model_that_stops_partway_along_a_drive_is_drawn_up_to_there() {
         .iter()
         .any(|t| t == "l-r (stops on drive 1)"));
 }
+
+/// Line elements drawn in `rgb` (plotters draws a cross marker as two lines).
+fn lines_of(doc: &roxmltree::Document, rgb: (u8, u8, u8)) -> usize {
+    doc.descendants()
+        .filter(|n| n.has_tag_name("line") && n.attribute("stroke") == Some(hex(rgb).as_str()))
+        .count()
+}
+
+/// A data scene (DESIGN §9) is drawn with its measured tips as crosses over the PRB linkage
+/// and, in grey, the scene's nominal beam solved at each measured load; the error chart has
+/// the PRB's error at each row. The wide strip's path 1 has 4 rows: 4 crosses and the
+/// legend's, 4 beam lines.
+#[test]
+fn a_data_scene_is_drawn_with_its_measured_tips() {
+    use prbfit::plot::MEASURED_RGB;
+    let dir = Scratch::new("plot-data");
+    let file = dir.file("strip.svg");
+    let report = json(&prbfit(&[
+        "plot",
+        "--scene",
+        &example("wide-strip-fea"),
+        "--model",
+        "su-3r",
+        "--kind",
+        "all",
+        "-o",
+        &file,
+        "--json",
+    ]));
+    assert_eq!(report["path"], 1);
+    let text = std::fs::read_to_string(&file).unwrap();
+    let doc = roxmltree::Document::parse(&text).unwrap();
+    let texts = svg_texts(&doc);
+    assert!(texts.iter().any(|t| t == "measured tip"), "{texts:?}");
+    assert!(
+        texts.iter().any(|t| t == "beam (the scene's, nominal)"),
+        "{texts:?}"
+    );
+    assert_eq!(lines_of(&doc, MEASURED_RGB), 2 * (4 + 1));
+    let beam = polylines_by_colour(&doc)
+        .get(&hex(BEAM_RGB))
+        .copied()
+        .unwrap_or(0);
+    assert!(beam >= 4, "{beam} beam lines");
+}
+
+/// A mechanism data scene's force-stroke chart marks the measured reactions (crosses, no
+/// curve) against the stroke: the rig slider-crank's 10 rows in each panel, and the legend's.
+#[test]
+fn mechanism_data_are_drawn_as_markers_on_the_force_stroke_chart() {
+    use prbfit::plot::MEASURED_RGB;
+    let dir = Scratch::new("plot-mech-data");
+    let file = dir.file("rig.svg");
+    let report = json(&prbfit(&[
+        "plot",
+        "--scene",
+        &example("slider-crank-rig"),
+        "--model",
+        "su-3r",
+        "-o",
+        &file,
+        "--json",
+    ]));
+    let panels = report["panels"].as_array().unwrap().len();
+    assert!(panels >= 2, "{report}");
+    let text = std::fs::read_to_string(&file).unwrap();
+    let doc = roxmltree::Document::parse(&text).unwrap();
+    assert!(svg_texts(&doc).iter().any(|t| t == "measured"));
+    assert!(!svg_texts(&doc).iter().any(|t| t == "beam (exact)"));
+    assert_eq!(lines_of(&doc, MEASURED_RGB), 2 * (10 * panels + 1));
+}

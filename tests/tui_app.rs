@@ -250,6 +250,14 @@ fn effect_toggles_keep_poisson_with_extension() {
     );
     app.on_key(key(KeyCode::Char('1')), t0);
     assert_eq!(app.scene.beam.effects.to_string(), "extension,poisson");
+    // 4 switches plane strain (the plate stiffening of wide sections) alone.
+    app.on_key(key(KeyCode::Char('4')), t0);
+    assert_eq!(
+        app.scene.beam.effects.to_string(),
+        "extension,poisson,plane_strain"
+    );
+    app.on_key(key(KeyCode::Char('4')), t0);
+    assert_eq!(app.scene.beam.effects.to_string(), "extension,poisson");
     assert!(app.scene_dirty);
     assert!(app.tick(t0 + DEBOUNCE).is_some());
 }

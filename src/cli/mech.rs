@@ -577,7 +577,7 @@ impl fmt::Display for EvalReport {
             match (&r.figures, &r.failure) {
                 (Some(m), _) => writeln!(
                     f,
-                    "{:<w$} {:>9.2e} {:>9.2e} {:>9.2e} {:>9.2e} {:>9.2e} {:>9.2e} {:>10.3e} {:>9.2e} {:>8.1}  {}",
+                    "{:<w$} {:>9.2e} {:>9.2e} {:>9.2e} {:>9.2e} {:>9.2e} {:>9.2e} {:>10.3e} {:>9} {:>8.1}  {}",
                     safe(&r.model),
                     m.rms_pos_err,
                     m.max_pos_err,
@@ -586,7 +586,11 @@ impl fmt::Display for EvalReport {
                     m.rms_force_err,
                     m.max_force_err,
                     m.objective,
-                    m.max_tip_err,
+                    if self.truth.is_some() {
+                        "-".to_string()
+                    } else {
+                        format!("{:.2e}", m.max_tip_err)
+                    },
                     r.seconds * per_case,
                     met(r.meets_targets)
                 )?,

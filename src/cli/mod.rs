@@ -189,10 +189,15 @@ fn refuse_data(scene: &Scene, command: &str, why: &str) -> Result<()> {
         None => Ok(()),
         Some(t) => Err(bad(format!(
             "\"{}\" is a data scene (its truth is {}): `{command}` {why}; eval, fit, select, \
-             export and the UI (prbfit tui) work on it (eval shows the beam's own error against \
-             the data)",
+             calibrate, export, plot{} work on it (eval shows the beam's own error against the \
+             data)",
             output::safe(&scene.name),
-            output::safe(&t.file)
+            output::safe(&t.file),
+            if scene.mechanism.is_some() {
+                ""
+            } else {
+                " and the UI (prbfit tui)"
+            }
         ))),
     }
 }

@@ -8,12 +8,14 @@ use anyhow::{Context, Result};
 use clap::ArgMatches;
 use serde::Serialize;
 
+use prbfit::beam::{BeamSolver, Resolution};
 use prbfit::io::files::{check_target, write_atomic};
 use prbfit::io::ModelFile;
 use prbfit::plot::{
     mech, render, ChartKind, Figure, ImageFormat, Output, PlotError, PlotModel, Unfollowed,
     MODEL_RGB,
 };
+use prbfit::scene::data::DataTruth;
 use prbfit::scene::{Mechanism, Scene, COORDINATE_KEYS};
 
 use super::args::PlotArgs;
@@ -198,11 +200,6 @@ pub fn run(args: PlotArgs, matches: Option<&ArgMatches>) -> Result<()> {
     // Refuse before spending the time on a baseline.
     check_target(&args.output, args.force)?;
     let scene = load_scene(&args.common)?;
-    super::refuse_data(
-        &scene,
-        "plot",
-        "does not draw measured data yet (its charts need the beam's shapes)",
-    )?;
     if scene.mechanism.is_some() {
         let (scene, _) = resolve_scene(&scene)?;
         if let Some(mechanism) = &scene.mechanism {
@@ -233,14 +230,37 @@ pub fn run(args: PlotArgs, matches: Option<&ArgMatches>) -> Result<()> {
         )));
     }
     let baseline = args.fidelity.baseline(&scene).context("baseline beam")?;
-    let figure =
+    let mut figure =
         Figure::build(&scene, &baseline, &models, args.path, args.kind).map_err(|e| match e {
             PlotError::NoSuchPath { .. } => bad(format!("--path {}: {e}", args.path)),
             PlotError::TooManyModels { .. } => bad(format!("--model/--prb: {e}")),
             PlotError::KindNotForScene { .. } => bad(e.to_string()),
             other => anyhow::Error::new(other),
         })?;
+    if let (Some(truth), true) = (&scene.truth, args.kind.has_shapes()) {
+        figure = figure.with_beam_beside(beam_beside(&scene, truth, args.path));
+    }
     write_figure(&args, format, figure, &models, Some(args.path))
+}
+
+/// The scene's nominal beam at each measured load of data path `path` (1-based), each solved
+/// from rest as `eval` judges it against the data: the centre lines drawn beside the measured
+/// tips. A row the beam cannot reach has no line (eval reports why).
+fn beam_beside(scene: &Scene, truth: &DataTruth, path: usize) -> Vec<Vec<[f64; 2]>> {
+    let Ok(solver) = BeamSolver::new(scene.beam.model(), Resolution::default()) else {
+        return Vec::new();
+    };
+    truth
+        .paths
+        .get(path.saturating_sub(1))
+        .map(|p| {
+            p.rows
+                .iter()
+                .filter_map(|r| solver.solve(r.load).ok())
+                .map(|s| s.shape.iter().map(|q| [q.x, q.y]).collect())
+                .collect()
+        })
+        .unwrap_or_default()
 }
 
 /// Renders `figure`, writes it and reports what was written.

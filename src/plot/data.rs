@@ -130,10 +130,25 @@ impl Figure {
                     "Deformed shapes, load path {path} of {count} ({})",
                     load_label(end.alpha_x, end.alpha_y, end.beta)
                 ),
-                beam: baseline.solutions[range.clone()]
-                    .iter()
-                    .map(|s| s.shape.iter().map(|p| [p.x, p.y]).collect())
-                    .collect(),
+                // A data scene's solutions are the measured tips, without shapes: the tips
+                // are drawn as markers, and the beam beside them is added by
+                // `Figure::with_beam_beside`.
+                beam: if baseline.measured.is_some() {
+                    Vec::new()
+                } else {
+                    baseline.solutions[range.clone()]
+                        .iter()
+                        .map(|s| s.shape.iter().map(|p| [p.x, p.y]).collect())
+                        .collect()
+                },
+                measured: if baseline.measured.is_some() {
+                    baseline.solutions[range.clone()]
+                        .iter()
+                        .map(|s| [s.tip.a, s.tip.b])
+                        .collect()
+                } else {
+                    Vec::new()
+                },
                 models: models
                     .iter()
                     .zip(&followed)
@@ -189,6 +204,17 @@ impl Figure {
             force_stroke: None,
             unfollowed,
         })
+    }
+}
+
+impl Figure {
+    /// The figure with `shapes` (one centre line per case of the drawn path, units of L) as
+    /// the beam drawn beside a data scene's measured tips.
+    pub fn with_beam_beside(mut self, shapes: Vec<Vec<[f64; 2]>>) -> Figure {
+        if let Some(chart) = self.shapes.as_mut() {
+            chart.beam = shapes;
+        }
+        self
     }
 }
 

@@ -19,7 +19,7 @@
 
 use crate::beam::Resolution;
 use crate::mech::{exact, prb, MechCase, MechError};
-use crate::scene::{Coordinate, Drive, Mechanism, Scene, COORDINATE_KEYS};
+use crate::scene::{Drive, Mechanism, Scene, COORDINATE_KEYS};
 use crate::si::MechUnits;
 
 use super::data::{Figure, PlotModel, Unfollowed};
@@ -67,6 +67,8 @@ pub struct ForceStrokeChart {
     pub legend: Vec<String>,
     /// Drive by drive, reactions before motions, `x`, `y`, `phi`.
     pub panels: Vec<StrokePanel>,
+    /// The truth is measured data (DESIGN §9): its cases are drawn as markers, not a curve.
+    pub measured: bool,
 }
 
 /// A drive's abscissa: the input that varies (or the fraction), in display units.
@@ -164,17 +166,9 @@ struct Followed {
     failures: Vec<Option<MechError>>,
 }
 
-/// The drive's end values scaled by `scale` (nondimensional coordinates).
-fn scaled(coordinates: [Coordinate; 3], scale: f64) -> [Coordinate; 3] {
-    coordinates.map(|c| match c {
-        Coordinate::Prescribed(v) => Coordinate::Prescribed(v * scale),
-        Coordinate::Loaded(v) => Coordinate::Loaded(v * scale),
-    })
-}
-
-/// `matrix` in every flexure of `mechanism`, along each drive; where it stops at a critical
-/// point (or finds no equilibrium) after `k` cases, the drive's first `k` cases are solved
-/// again as a drive of their own (the path is proportional, so they are the same cases).
+/// `matrix` in every flexure of `mechanism`, along each drive (through a measured drive's
+/// rows); where it stops at a critical point (or finds no equilibrium) after `k` cases, the
+/// drive's first `k` cases are solved again as a drive of their own (the same cases).
 fn follow(mechanism: &Mechanism, matrix: &crate::prb::PrbMatrix, tol: f64) -> Followed {
     let solver = prb::solver(mechanism, matrix, tol);
     let mut out = Followed {
@@ -182,9 +176,9 @@ fn follow(mechanism: &Mechanism, matrix: &crate::prb::PrbMatrix, tol: f64) -> Fo
         failures: Vec::with_capacity(mechanism.drives.len()),
     };
     for (i, d) in mechanism.drives.iter().enumerate() {
-        let nondimensional = mechanism.nondimensional(d);
-        let steps = d.steps.max(1);
-        match solver.solve_drive(&nondimensional, steps, i + 1) {
+        let path = mechanism.drive_path(d);
+        let steps = path.steps.max(1);
+        match solver.solve_path(&path, i + 1) {
             Ok(cases) => {
                 out.drives.push(cases);
                 out.failures.push(None);
@@ -202,7 +196,7 @@ fn follow(mechanism: &Mechanism, matrix: &crate::prb::PrbMatrix, tol: f64) -> Fo
                     Vec::new()
                 } else {
                     solver
-                        .solve_drive(&scaled(nondimensional, part), k, i + 1)
+                        .solve_path(&path.first(k), i + 1)
                         .map(|cases| {
                             cases
                                 .into_iter()
@@ -241,7 +235,9 @@ pub fn figure(
     resolution: Resolution,
     kind: ChartKind,
 ) -> Result<Figure, PlotError> {
-    let beam = beam_cases(mechanism, resolution)?;
+    // The truth: the exact mechanism, or a data scene's measured cases (DESIGN §9).
+    let beam =
+        crate::mech::measured::truth(scene, mechanism, resolution).map_err(PlotError::Exact)?;
     figure_from(scene, mechanism, &beam, models, resolution.tol, kind)
 }
 
@@ -320,7 +316,11 @@ pub fn figure_from(
         title: scene.name.clone(),
         shapes: None,
         errors: None,
-        force_stroke: Some(ForceStrokeChart { legend, panels }),
+        force_stroke: Some(ForceStrokeChart {
+            legend,
+            panels,
+            measured: scene.truth.is_some(),
+        }),
         unfollowed,
     })
 }
@@ -419,22 +419,5 @@ mod tests {
         assert_eq!(capitalised("fx"), "Fx");
         assert_eq!(capitalised("mz"), "Mz");
         assert_eq!(capitalised(""), "");
-    }
-
-    #[test]
-    fn a_scaled_drive_keeps_its_kinds() {
-        let d = [
-            Coordinate::Prescribed(0.0),
-            Coordinate::Prescribed(0.3),
-            Coordinate::Loaded(2.0),
-        ];
-        assert_eq!(
-            scaled(d, 0.5),
-            [
-                Coordinate::Prescribed(0.0),
-                Coordinate::Prescribed(0.15),
-                Coordinate::Loaded(1.0),
-            ]
-        );
     }
 }

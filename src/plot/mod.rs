@@ -219,6 +219,8 @@ pub enum PlotError {
 
 /// The beam's colour.
 pub const BEAM_RGB: (u8, u8, u8) = (0x60, 0x60, 0x60);
+/// Measured data's markers: magenta, apart from every model's colour.
+pub const MEASURED_RGB: (u8, u8, u8) = (0xc0, 0x00, 0xa0);
 /// The models' colours, in order: the first is "the model".
 pub const MODEL_RGB: [(u8, u8, u8); 6] = [
     (0x1F, 0x77, 0xB4), // blue

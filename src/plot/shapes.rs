@@ -5,15 +5,19 @@
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::{drawing, model_colour, rgb, PlotError, BEAM_RGB, FONT};
+use super::{drawing, model_colour, rgb, PlotError, BEAM_RGB, FONT, MEASURED_RGB};
 
 /// What the shapes chart draws.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ShapesChart {
     /// Above the panel (which load path, its end load).
     pub title: String,
-    /// The beam's centre line `(x, y)` for each case of the path, units of L.
+    /// The beam's centre line `(x, y)` for each case of the path, units of L (on a data
+    /// scene, the scene's nominal beam at the measured loads, when it was solved).
     pub beam: Vec<Vec<[f64; 2]>>,
+    /// A data scene's measured tips `(a, b)` of the path (DESIGN §9), units of L: drawn as
+    /// markers, the truth; empty for a beam scene.
+    pub measured: Vec<[f64; 2]>,
     /// Each model's linkages, in the models' order.
     pub models: Vec<ModelShapes>,
 }
@@ -41,6 +45,7 @@ impl ShapesChart {
     fn points(&self) -> Vec<[f64; 2]> {
         let mut all = vec![[0.0, 0.0]];
         all.extend(self.beam.iter().flatten());
+        all.extend(&self.measured);
         for m in &self.models {
             for l in &m.linkages {
                 all.extend(&l.points);
@@ -121,12 +126,17 @@ pub fn draw<DB: DrawingBackend>(
     .map_err(drawing)?;
 
     let beam_style = rgb(BEAM_RGB).stroke_width(2);
+    let beam_label = if chart.measured.is_empty() {
+        "beam"
+    } else {
+        "beam (the scene's, nominal)"
+    };
     for (i, line) in chart.beam.iter().enumerate() {
         let anno = ctx
             .draw_series(LineSeries::new(finite(line), beam_style))
             .map_err(drawing)?;
         if i == 0 {
-            anno.label("beam")
+            anno.label(beam_label)
                 .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], beam_style));
         }
     }
@@ -150,6 +160,15 @@ pub fn draw<DB: DrawingBackend>(
             ctx.draw_series(finite(&link.joints).map(|p| Circle::new(p, 4, dot)))
                 .map_err(drawing)?;
         }
+    }
+
+    // The measured tips last, on top: the truth.
+    if !chart.measured.is_empty() {
+        let mark = rgb(MEASURED_RGB).stroke_width(3);
+        ctx.draw_series(finite(&chart.measured).map(|p| Cross::new(p, 7, mark)))
+            .map_err(drawing)?
+            .label("measured tip")
+            .legend(move |(x, y)| Cross::new((x + 12, y), 7, mark));
     }
 
     ctx.configure_series_labels()

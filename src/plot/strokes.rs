@@ -7,7 +7,7 @@ use plotters::prelude::*;
 
 use super::errors::bounds;
 use super::mech::{ForceStrokeChart, StrokePanel};
-use super::{drawing, model_colour, rgb, PlotError, BEAM_RGB, FONT};
+use super::{drawing, model_colour, rgb, PlotError, BEAM_RGB, FONT, MEASURED_RGB};
 
 /// One panel's pixel size.
 const PANEL: (u32, u32) = (680, 460);
@@ -16,6 +16,8 @@ const TITLE_HEIGHT: u32 = 50;
 
 /// The legend's text for the beam.
 pub const BEAM_LABEL: &str = "beam (exact)";
+/// The legend's text for measured data.
+pub const MEASURED_LABEL: &str = "measured";
 
 /// Panels side by side for `panels` panels: one, two up to four, then three.
 fn columns(panels: usize) -> usize {
@@ -45,16 +47,23 @@ pub fn draw<DB: DrawingBackend>(
     let rows = chart.panels.len().max(1).div_ceil(cols);
     let cells = area.split_evenly((rows, cols));
     for (i, (cell, p)) in cells.iter().zip(&chart.panels).enumerate() {
-        panel(cell, p, (i == 0).then_some(chart.legend.as_slice()))?;
+        panel(
+            cell,
+            p,
+            (i == 0).then_some(chart.legend.as_slice()),
+            chart.measured,
+        )?;
     }
     Ok(())
 }
 
-/// One panel: the beam's curve and each model's; the legend when `legend` is given.
+/// One panel: the beam's curve (measured data's markers, when `measured`) and each model's;
+/// the legend when `legend` is given.
 fn panel<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
     p: &StrokePanel,
     legend: Option<&[String]>,
+    measured: bool,
 ) -> Result<(), PlotError> {
     let finite = |q: &&[f64; 2]| q[0].is_finite() && q[1].is_finite();
     let all = || {
@@ -86,23 +95,35 @@ fn panel<DB: DrawingBackend>(
         .draw()
         .map_err(drawing)?;
 
-    // The beam underneath, wider, with a dot per case; the models on top of it.
+    // The beam underneath, wider, with a dot per case (measured data: a cross per row, no
+    // line); the models on top of it.
     let beam_pts: Vec<(f64, f64)> = p.beam.iter().filter(finite).map(|q| (q[0], q[1])).collect();
     let beam_style = rgb(BEAM_RGB).stroke_width(4);
-    let anno = ctx
-        .draw_series(LineSeries::new(beam_pts.iter().copied(), beam_style))
+    if measured {
+        let mark = rgb(MEASURED_RGB).stroke_width(3);
+        let anno = ctx
+            .draw_series(beam_pts.iter().skip(1).map(|&q| Cross::new(q, 7, mark)))
+            .map_err(drawing)?;
+        if legend.is_some() {
+            anno.label(MEASURED_LABEL)
+                .legend(move |(x, y)| Cross::new((x + 12, y), 7, mark));
+        }
+    } else {
+        let anno = ctx
+            .draw_series(LineSeries::new(beam_pts.iter().copied(), beam_style))
+            .map_err(drawing)?;
+        if legend.is_some() {
+            anno.label(BEAM_LABEL)
+                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], beam_style));
+        }
+        ctx.draw_series(
+            beam_pts
+                .iter()
+                .skip(1)
+                .map(|&q| Circle::new(q, 4, rgb(BEAM_RGB).filled())),
+        )
         .map_err(drawing)?;
-    if legend.is_some() {
-        anno.label(super::strokes::BEAM_LABEL)
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], beam_style));
     }
-    ctx.draw_series(
-        beam_pts
-            .iter()
-            .skip(1)
-            .map(|&q| Circle::new(q, 4, rgb(BEAM_RGB).filled())),
-    )
-    .map_err(drawing)?;
 
     for (m, curve) in p.models.iter().enumerate() {
         let style = model_colour(m).stroke_width(2);

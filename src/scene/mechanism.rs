@@ -131,6 +131,33 @@ impl DrivePath {
         }
     }
 
+    /// The path's first `k` cases as a path of their own (`k` from 1 to `steps`): the same
+    /// cases, at fractions `k / steps` of this one's parameter scaled by `steps / k`.
+    pub fn first(&self, k: u32) -> DrivePath {
+        let k = k.clamp(1, self.steps.max(1));
+        if self.rows.is_empty() {
+            let part = f64::from(k) / f64::from(self.steps.max(1));
+            return DrivePath {
+                end: self.end.map(|c| match c {
+                    Coordinate::Prescribed(v) => Coordinate::Prescribed(v * part),
+                    Coordinate::Loaded(v) => Coordinate::Loaded(v * part),
+                }),
+                steps: k,
+                rows: Vec::new(),
+            };
+        }
+        let rows: Vec<[f64; 3]> = self.rows.iter().take(k as usize).copied().collect();
+        let last = rows.last().copied().unwrap_or([0.0; 3]);
+        DrivePath {
+            end: std::array::from_fn(|c| match self.end[c] {
+                Coordinate::Prescribed(_) => Coordinate::Prescribed(last[c]),
+                Coordinate::Loaded(_) => Coordinate::Loaded(last[c]),
+            }),
+            steps: k,
+            rows,
+        }
+    }
+
     /// The coordinates at `lambda` (clamped to `[0, 1]`).
     pub fn at(&self, lambda: f64) -> [Coordinate; 3] {
         let lambda = lambda.clamp(0.0, 1.0);
@@ -620,5 +647,13 @@ mod path_tests {
         assert!((half[1] - 0.1).abs() < 1e-15 && (half[2] - 0.5).abs() < 1e-15);
         // Kinds are the end's.
         assert!(rows.at(0.7)[1].is_prescribed() && !rows.at(0.7)[2].is_prescribed());
+        // The first cases as a path of their own pass through the same rows.
+        let two = rows.first(2);
+        assert_eq!(two.steps, 2);
+        assert_eq!(two.at(1.0).map(|c| c.value()), rows.rows[1]);
+        assert_eq!(two.at(0.5).map(|c| c.value()), rows.rows[0]);
+        let half = p.first(2);
+        assert_eq!(half.at(1.0), p.at(0.5));
+        assert_eq!(half.at(0.5), p.at(0.25));
     }
 }

@@ -39,6 +39,8 @@ pub enum Action {
     ToggleExtension,
     /// Switch Poisson on or off.
     TogglePoisson,
+    /// Switch plane strain (the plate stiffening of wide sections) on or off.
+    TogglePlaneStrain,
     /// Add a matrix row or a load path.
     AddRow,
     /// Delete a matrix row or a load path.
@@ -296,15 +298,16 @@ pub const KEYMAP: &[Entry] = &[
         hints: &[hint("f free/fixed", Scope::MATRIX)],
     },
     Entry {
-        keys: "1 / 2 / 3",
-        does: "beam: switch shear / extension / poisson on or off",
+        keys: "1 / 2 / 3 / 4",
+        does: "beam: switch shear / extension / poisson / plane strain on or off",
         scope: Scope::BEAM,
         bindings: &[
             ch('1', Action::ToggleShear),
             ch('2', Action::ToggleExtension),
             ch('3', Action::TogglePoisson),
+            ch('4', Action::TogglePlaneStrain),
         ],
-        hints: &[hint("1/2/3 shear/extension/poisson", Scope::BEAM)],
+        hints: &[hint("1-4 shear/ext/poisson/plate", Scope::BEAM)],
     },
     Entry {
         keys: "p",

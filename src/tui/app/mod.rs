@@ -800,6 +800,7 @@ impl App {
             Action::ToggleShear => self.toggle_effect('1', now),
             Action::ToggleExtension => self.toggle_effect('2', now),
             Action::TogglePoisson => self.toggle_effect('3', now),
+            Action::TogglePlaneStrain => self.toggle_effect('4', now),
             Action::AddRow => self.add_row(now),
             Action::DeleteRow => self.delete_row(now),
             Action::ToggleSi => {
@@ -1131,7 +1132,7 @@ impl App {
         self.changed(now);
     }
 
-    /// 1, 2, 3 switch shear, extension, poisson.
+    /// 1, 2, 3, 4 switch shear, extension, poisson, plane strain.
     fn toggle_effect(&mut self, which: char, now: Instant) {
         let e = toggled_effect(&self.scene, self.decided_effects(), which);
         let mut scene = self.scene.clone();

@@ -214,9 +214,9 @@ impl BeamState {
     }
 }
 
-/// The effects after `1`, `2` or `3` switched shear, extension or Poisson, starting from what
-/// the beam uses now (`auto` as `decided`, when known). Poisson needs extension, so they move
-/// together where they must.
+/// The effects after `1`, `2`, `3` or `4` switched shear, extension, Poisson or plane strain,
+/// starting from what the beam uses now (`auto` as `decided`, when known). Poisson needs
+/// extension, so they move together where they must.
 pub fn toggled_effect(scene: &Scene, decided: Option<Effects>, which: char) -> Effects {
     let mut e = match (scene.beam.effects, decided) {
         (EffectsChoice::Auto, Some(e)) => e,
@@ -228,6 +228,7 @@ pub fn toggled_effect(scene: &Scene, decided: Option<Effects>, which: char) -> E
             e.extension = !e.extension;
             e.poisson &= e.extension;
         }
+        '4' => e.plane_strain = !e.plane_strain,
         _ => {
             e.poisson = !e.poisson;
             e.extension |= e.poisson;
