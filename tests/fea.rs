@@ -246,26 +246,40 @@ fn simpson(g: impl Fn(f64) -> f64) -> f64 {
 /// (Euler-Bernoulli's `∫ F (L - s)^2 / (E I(s)) ds` and `∫ F (L - s) / (E I(s)) ds`, plus
 /// Timoshenko's shear deflection `∫ F / (kappa G A(s)) ds`, 4e-5 of the total here, kept
 /// because it costs one line).
-fn tapered_tip(beam: &prbfit::scene::BeamSpec, ratio: f64, alpha: f64) -> (f64, f64) {
+///
+/// In plane strain the bending modulus is `E / (1 - nu^2)` (the shear modulus is `G` in both).
+fn tapered_tip(
+    beam: &prbfit::scene::BeamSpec,
+    section: Section,
+    ratio: f64,
+    alpha: f64,
+) -> (f64, f64) {
+    let nu = beam.poisson_ratio;
     let f = |u: f64| 1.0 - (1.0 - ratio) * u;
-    let g_over_e = 1.0 / (2.0 * (1.0 + beam.poisson_ratio));
+    let plate = match section {
+        Section::PlaneStrain => 1.0 - nu * nu,
+        Section::PlaneStress | Section::Solid => 1.0,
+    };
+    let g_over_e = 1.0 / (2.0 * (1.0 + nu));
     let shear =
         beam.second_moment() / (beam.area() * beam.length.powi(2) * beam.kappa() * g_over_e);
-    let bending = simpson(|u| (1.0 - u).powi(2) / f(u).powi(3));
+    let bending = plate * simpson(|u| (1.0 - u).powi(2) / f(u).powi(3));
     let shear = shear * simpson(|u| 1.0 / f(u));
-    let rotation = simpson(|u| (1.0 - u) / f(u).powi(3));
+    let rotation = plate * simpson(|u| (1.0 - u) / f(u).powi(3));
     (alpha * (bending + shear), alpha * rotation)
 }
 
 /// Issue 14 item 6: `prbfit fea --taper R` against the known answer. A tapered slender
 /// flexure (L/t0 = 133 at the root) under a tip force of `alpha_y = 0.01`: the tip
-/// deflection `b` and rotation `phi` of the plane-stress FEA over linear theory
-/// ([`tapered_tip`]) converge to 1 as the mesh is refined (20, 40, 80 elements along, first
-/// order as on the uniform beam), and the finest mesh is within its own error of 1: the
-/// Richardson estimate times Roache's 1.25, plus the geometric nonlinearity that linear
-/// theory leaves out, measured from the two load steps (a term in `alpha^3` makes
-/// `b(alpha) / (2 b(alpha / 2)) - 1 = 3/4 eps` where `b = b_linear (1 + eps)`: 3e-6 to 1.3e-4
-/// here, R = 2 to 0.25). Measured: first order, the finest mesh 0.79-0.96 of its allowance.
+/// deflection `b` and rotation `phi` of the FEA over linear theory ([`tapered_tip`]) converge
+/// to 1 as the mesh is refined (20, 40, 80 elements along, first order as on the uniform
+/// beam), and the finest mesh is within its own error of 1: the Richardson estimate times
+/// Roache's 1.25, plus the geometric nonlinearity that linear theory leaves out, measured
+/// from the two load steps (a term in `alpha^3` makes `b(alpha) / (2 b(alpha / 2)) - 1 =
+/// 3/4 eps` where `b = b_linear (1 + eps)`: 3e-6 to 1.3e-4 here, R = 2 to 0.25). Plane
+/// stress at R = 0.25, 0.5 and 2, plane strain at R = 0.5. Measured: first order, the finest
+/// mesh 0.79-0.96 of its allowance. The 3D strip (`--section solid`, tapered alike) is not a
+/// known answer but must lie between the two plane limits, as the uniform strip does.
 #[test]
 fn tapered_fea_meets_linear_theory_within_its_mesh_error() {
     let Some(ccx) = ccx() else { return };
@@ -273,11 +287,12 @@ fn tapered_fea_meets_linear_theory_within_its_mesh_error() {
     let alpha = scene.loads[0].end.alpha_y;
     let densities = [20, 40, 80];
     println!(
-        "tapered steel flexure (L/t0 = 133 at the root), plane stress, tip force alpha_y = \
-         {alpha}: FEA over linear theory (deflection with Timoshenko's shear term)"
+        "tapered steel flexure (L/t0 = 133 at the root), tip force alpha_y = {alpha}: FEA over \
+         linear theory (deflection with Timoshenko's shear term)"
     );
     println!(
-        "{:>5} {:>10} | {:>10} {:>10} | {:>10} {:>10} | {:>11} {:>11} | {:>5}",
+        "{:>12} {:>5} {:>10} | {:>10} {:>10} | {:>10} {:>10} | {:>11} {:>11} | {:>5}",
+        "section",
         "R",
         "mesh",
         "b theory",
@@ -288,18 +303,24 @@ fn tapered_fea_meets_linear_theory_within_its_mesh_error() {
         "phi / theory",
         "s"
     );
-    for ratio in [0.25, 0.5, 2.0] {
+    let mut plane_phi = Vec::new();
+    for (section, ratio) in [
+        (Section::PlaneStress, 0.25),
+        (Section::PlaneStress, 0.5),
+        (Section::PlaneStress, 2.0),
+        (Section::PlaneStrain, 0.5),
+    ] {
         let taper = Taper::new(ratio).unwrap();
-        let (b_theory, phi_theory) = tapered_tip(&scene.beam, ratio, alpha);
+        let (b_theory, phi_theory) = tapered_tip(&scene.beam, section, ratio, alpha);
         let mut ratios: Vec<[f64; 2]> = Vec::new();
         let mut nonlinear = [0.0; 2];
         for n in densities {
-            let mesh = Mesh::for_tapered_beam(n, &scene.beam, Section::PlaneStress, taper).unwrap();
+            let mesh = Mesh::for_tapered_beam(n, &scene.beam, section, taper).unwrap();
             let t0 = std::time::Instant::now();
             let cases = fea::solve_scene(
                 &scene,
                 &mesh,
-                Section::PlaneStress,
+                section,
                 taper,
                 &ccx,
                 Duration::from_secs(600),
@@ -310,9 +331,13 @@ fn tapered_fea_meets_linear_theory_within_its_mesh_error() {
             let tips = tips(&scene, &cases);
             let (half, full) = (tips[0], tips[1]);
             let r = [full.b / b_theory, full.phi / phi_theory];
+            if ratio == 0.5 && n == densities[0] {
+                plane_phi.push(full.phi);
+            }
             println!(
-                "{ratio:>5} {:>10} | {b_theory:>10.6} {phi_theory:>10.6} | {:>10.6} {:>10.6} | \
-                 {:>11.6} {:>11.6} | {seconds:>5.1}",
+                "{:>12} {ratio:>5} {:>10} | {b_theory:>10.6} {phi_theory:>10.6} | {:>10.6} \
+                 {:>10.6} | {:>11.6} {:>11.6} | {seconds:>5.1}",
+                section.to_string(),
                 mesh.to_string(),
                 full.b,
                 full.phi,
@@ -340,17 +365,42 @@ fn tapered_fea_meets_linear_theory_within_its_mesh_error() {
             );
             assert!(
                 off <= allowed,
-                "R = {ratio}, {name}: the finest FEA is {off:.3e} from linear theory, more than \
+                "{section}, R = {ratio}, {name}: the finest FEA is {off:.3e} from linear theory, more than \
                  its mesh error {error:.3e} x {GCI_SAFETY} + nonlinearity {:.1e}",
                 nonlinear[k]
             );
             // Refinement approaches the theory.
             assert!(
                 (extrapolated - 1.0).abs() < off.max(PRINT_FLOOR),
-                "R = {ratio}, {name}: extrapolating away from the theory"
+                "{section}, R = {ratio}, {name}: extrapolating away from the theory"
             );
         }
     }
+    // The 3D strip tapered alike (R = 0.5, the coarsest mesh; the mesh's error is about the
+    // same in the three models): between plane strain and plane stress, as the uniform strip.
+    let taper = Taper::new(0.5).unwrap();
+    let mesh = Mesh::for_tapered_beam(densities[0], &scene.beam, Section::Solid, taper).unwrap();
+    let cases = fea::solve_scene(
+        &scene,
+        &mesh,
+        Section::Solid,
+        taper,
+        &ccx,
+        Duration::from_secs(600),
+        &mut |_, _| {},
+    )
+    .unwrap();
+    let solid = tips(&scene, &cases)[1].phi;
+    let (stress, strain) = (plane_phi[0], plane_phi[1]);
+    println!(
+        "solid, R = 0.5, {mesh}: phi {solid:.6} between plane strain {strain:.6} and plane \
+         stress {stress:.6} (plate fraction {:.2})",
+        (stress - solid) / (stress - strain)
+    );
+    assert!(
+        strain < solid && solid < stress,
+        "{strain} {solid} {stress}"
+    );
 }
 
 /// The urethane joint's beam variants, by the effects they leave out.
