@@ -475,8 +475,8 @@ fn the_wide_strip_is_fitted_to_its_fea_not_to_the_beam() {
 ///   40 elements, `tests/fea.rs`) is far too small to explain that, so the test asks for
 ///   more than 10 x the target;
 /// - a 3R fitted to the FEA comes within 1.09 x the position target (5.444e-3 L, angle
-///   5.524e-3 rad): it does not meet it, and no 3R fitted by J does (every seed and start
-///   reaches the same J); it is 41 x nearer the FEA than the 3R fitted to the uniform beam
+///   5.524e-3 rad): it does not meet it, and no 3R fitted by J does (seeds 1, 2, 3, 7 at
+///   precise fidelity and another start reach the same J); it is 41 x nearer the FEA than the 3R fitted to the uniform beam
 ///   (2.212e-1 L), asked here as within 2 x the target and 10 x nearer;
 /// - a 4R fitted to the FEA meets the targets (2.898e-3 L, 2.954e-3 rad: 0.58 and 0.30 of
 ///   them), the 4R fitted to the uniform beam misses them on the FEA by 44 x.
