@@ -467,6 +467,89 @@ fn the_wide_strip_is_fitted_to_its_fea_not_to_the_beam() {
     assert!(ratio > 1.01 && ratio < 1.099, "{c}");
 }
 
+/// The shipped example of issue 14 item 6: a spring-steel flexure tapered from 0.5 mm at the
+/// clamp to 0.25 mm at the tip, whose plane-stress FEA (`prbfit fea --taper 0.5`,
+/// `assets/scenes/tapered-flexure-fea.csv`) is the truth. Measured (README, worked example):
+/// - no uniform beam matches it: calibrating E leaves max 1.455e-1 L (29 x the 0.005 L
+///   target), calibrating the thickness the same; the FEA's own mesh error (about 1e-3 L on
+///   40 elements, `tests/fea.rs`) is far too small to explain that, so the test asks for
+///   more than 10 x the target;
+/// - a 3R fitted to the FEA comes within 1.09 x the position target (5.444e-3 L, angle
+///   5.524e-3 rad): it does not meet it, and no 3R fitted by J does (seeds 1, 2, 3, 7 at
+///   precise fidelity and another start reach the same J); it is 41 x nearer the FEA than the 3R fitted to the uniform beam
+///   (2.212e-1 L), asked here as within 2 x the target and 10 x nearer;
+/// - a 4R fitted to the FEA meets the targets (2.898e-3 L, 2.954e-3 rad: 0.58 and 0.30 of
+///   them), the 4R fitted to the uniform beam misses them on the FEA by 44 x.
+///
+/// The FEA's mesh does not decide these: on 80 elements instead of 40 the tips move by at
+/// most 2.8e-4 L and 8.1e-4 rad, and the 3R and 4R fitted to that FEA reach 5.456e-3 and
+/// 2.904e-3 L.
+#[test]
+fn the_tapered_flexure_is_fitted_to_its_fea_not_to_a_uniform_beam() {
+    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/scenes");
+    let data = format!("{dir}/tapered-flexure-fea.toml");
+    let beam = format!("{dir}/tapered-flexure.toml");
+    let target = Scene::from_file(std::path::Path::new(&data))
+        .unwrap()
+        .accuracy;
+    for param in ["youngs_modulus", "thickness"] {
+        let c = json(&prbfit(&[
+            "calibrate",
+            "--scene",
+            &data,
+            "--param",
+            param,
+            "--json",
+        ]));
+        let max_pos = c["figures"]["max_pos_err"].as_f64().unwrap();
+        let max_ang = c["figures"]["max_ang_err"].as_f64().unwrap();
+        println!("calibrated {param}: max pos {max_pos:.3e} L, max ang {max_ang:.3e} rad");
+        assert!(
+            max_pos > 10.0 * target.max_pos_err && max_ang > 10.0 * target.max_ang_err,
+            "{c}"
+        );
+    }
+    let fit = |scene: &str, topology: &str| {
+        json(&prbfit(&[
+            "fit",
+            "--scene",
+            scene,
+            "--topology",
+            topology,
+            "--json",
+        ]))["prb"]
+            .as_str()
+            .unwrap()
+            .to_string()
+    };
+    let judged = |m: &str| json(&prbfit(&["eval", "--scene", &data, "--prb", m, "--json"]));
+    let max_pos = |v: &serde_json::Value| v["max_pos_err"].as_f64().unwrap();
+    let max_ang = |v: &serde_json::Value| v["max_ang_err"].as_f64().unwrap();
+    let mut judged_3r = Vec::new();
+    for topology in ["3R", "4R"] {
+        let (d, b) = (judged(&fit(&data, topology)), judged(&fit(&beam, topology)));
+        println!(
+            "{topology} on the FEA: fitted to it {:.3e} L, {:.3e} rad; fitted to the uniform \
+             beam {:.3e} L, {:.3e} rad",
+            max_pos(&d),
+            max_ang(&d),
+            max_pos(&b),
+            max_ang(&b)
+        );
+        assert_eq!(b["meets_targets"], false, "{b}");
+        assert!(max_pos(&b) > 10.0 * target.max_pos_err, "{b}");
+        judged_3r.push((d, b));
+    }
+    let (d3, b3) = &judged_3r[0];
+    assert!(
+        max_pos(d3) < 2.0 * target.max_pos_err && max_ang(d3) < 2.0 * target.max_ang_err,
+        "{d3}"
+    );
+    assert!(max_pos(b3) > 10.0 * max_pos(d3), "{d3} {b3}");
+    let (d4, _) = &judged_3r[1];
+    assert_eq!(d4["meets_targets"], true, "{d4}");
+}
+
 /// Issue 14 item 5 on the shipped 3D FEA of the wide strip (10 t wide, 1.5 w long): the
 /// narrow beam (plane stress) is too soft and the plate (`E / (1 - nu^2)`) too stiff, by
 /// several times the scene's targets; the plane-strain effect with the section's plate

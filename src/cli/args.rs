@@ -6,7 +6,7 @@ use std::str::FromStr;
 use clap::{Args, Parser, Subcommand};
 
 use prbfit::beam::{Load, Resolution};
-use prbfit::fea::Section;
+use prbfit::fea::{Section, Taper};
 use prbfit::fidelity::Fidelity;
 use prbfit::format::Format;
 use prbfit::plot::ChartKind;
@@ -254,6 +254,11 @@ pub struct FeaArgs {
     /// (the 3D strip).
     #[arg(long, value_name = "MODEL", default_value = "plane-stress", value_parser = Section::from_str)]
     pub section: Section,
+    /// Tip thickness over root thickness: the thickness tapers linearly from the scene's
+    /// [beam] thickness at the clamp to R times it at the tip, the width constant (0.05 to
+    /// 20; 1 is the uniform beam). The beam printed beside the FEA stays the uniform one.
+    #[arg(long, value_name = "R", default_value = "1", value_parser = Taper::from_str)]
+    pub taper: Taper,
     /// Where to write the CalculiX deck (one per load path, numbered -pathK when there are
     /// several); default: beside the output, with extension .inp.
     #[arg(long, value_name = "FILE.inp")]

@@ -10,7 +10,7 @@ use serde::Serialize;
 
 use prbfit::beam::{Load, Resolution, TipPose};
 use prbfit::eval::Baseline;
-use prbfit::fea::{self, Ccx, CcxError, FeaCase, FeaError, Mesh, Section};
+use prbfit::fea::{self, Ccx, CcxError, FeaCase, FeaError, Mesh, Section, Taper};
 use prbfit::io::files::{check_target, write_atomic};
 use prbfit::select::EffectsDecision;
 
@@ -41,6 +41,9 @@ struct FeaReport {
     decks: Vec<String>,
     section: Section,
     mesh: Mesh,
+    /// The tip thickness over the root thickness of the FEA model (1: uniform). The beam
+    /// beside it is always the scene's uniform beam, of the root thickness.
+    taper: Taper,
     /// The beam the FEA is compared with (the scene's effects, decided if `auto`).
     beam_effects: Vec<&'static str>,
     effects_decision: Option<EffectsDecision>,
@@ -54,10 +57,24 @@ struct FeaReport {
 impl fmt::Display for FeaReport {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         writeln!(f, "scene: {}", safe(&self.scene))?;
+        // A tapered model is compared with the uniform beam of its root thickness: say so
+        // wherever the comparison is printed.
+        let (model, beam, versus) = if self.taper.is_uniform() {
+            (String::new(), "", "FEA vs beam")
+        } else {
+            (
+                format!(
+                    "tapered to {} x the root thickness at the tip; ",
+                    self.taper
+                ),
+                "uniform, root thickness, ",
+                "FEA (tapered) vs uniform beam (root thickness)",
+            )
+        };
         writeln!(
             f,
-            "CalculiX: {} model, {} C3D20R elements (along x through x across); beam beside it: \
-             effects [{}]",
+            "CalculiX: {} model, {} C3D20R elements (along x through x across); {model}beam \
+             beside it: {beam}effects [{}]",
             self.section,
             self.mesh,
             self.beam_effects.join(",")
@@ -93,7 +110,7 @@ impl fmt::Display for FeaReport {
         }
         writeln!(
             f,
-            "FEA vs beam: max position difference {:.3e} L, max angle difference {:.3e} rad",
+            "{versus}: max position difference {:.3e} L, max angle difference {:.3e} rad",
             self.max_pos_diff, self.max_ang_diff
         )?;
         for d in &self.decks {
@@ -141,7 +158,7 @@ pub fn run(args: FeaArgs) -> Result<()> {
     if args.timeout == 0 {
         return Err(bad("--timeout: must be at least 1 second"));
     }
-    let mesh = Mesh::for_beam(args.mesh, &scene.beam, args.section)
+    let mesh = Mesh::for_tapered_beam(args.mesh, &scene.beam, args.section, args.taper)
         .map_err(|e| bad(format!("--mesh {}: {e}", args.mesh)))?;
     let deck_base = args
         .deck
@@ -160,7 +177,7 @@ pub fn run(args: FeaArgs) -> Result<()> {
         }
         check_target(d, args.force)?;
     }
-    let decks = fea::scene_decks(&scene, &mesh, args.section)?;
+    let decks = fea::scene_decks(&scene, &mesh, args.section, args.taper)?;
     for (file, text) in deck_files.iter().zip(&decks) {
         write_atomic(file, text.as_bytes(), args.force)?;
     }
@@ -178,6 +195,7 @@ pub fn run(args: FeaArgs) -> Result<()> {
         &scene,
         &mesh,
         args.section,
+        args.taper,
         &ccx,
         Duration::from_secs(args.timeout),
         &mut |path, seconds| {
@@ -187,7 +205,11 @@ pub fn run(args: FeaArgs) -> Result<()> {
     )
     .with_context(|| format!("the FEA (decks: {})", deck_names.join(", ")))?;
     progress.finish();
-    write_atomic(&args.output, fea::csv(&fea_cases).as_bytes(), args.force)?;
+    write_atomic(
+        &args.output,
+        fea::csv(&fea_cases, args.taper).as_bytes(),
+        args.force,
+    )?;
 
     let (resolved, decision) = resolve_scene(&scene)?;
     let baseline =
@@ -200,6 +222,7 @@ pub fn run(args: FeaArgs) -> Result<()> {
         decks: deck_names,
         section: args.section,
         mesh,
+        taper: args.taper,
         beam_effects: baseline.model.effects.names(),
         effects_decision: decision,
         max_pos_diff: max(|c| c.pos_diff),

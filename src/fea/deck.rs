@@ -1,15 +1,17 @@
 //! The CalculiX input deck of a scene's beam: a pure function of the beam, the mesh, the
-//! section model and the SI tip loads of one load path.
+//! section model, the taper and the SI tip loads of one load path.
 //!
 //! The beam is a slab of 20-node bricks with reduced integration (C3D20R), `along` elements
-//! over the length `L`, `through` over the thickness `t0` and `across` over the modelled width.
+//! over the length `L`, `through` over the thickness and `across` over the modelled width.
+//! The thickness is `t0` or, tapered, `t(x) = t0 (1 - (1 - R) x / L)`: each node's
+//! through-thickness coordinate is its place in the uniform slab scaled by `t(x) / t0`.
 //! Nodes are numbered contiguously, length fastest, then thickness, then width; the tip's
 //! reference node and rotation node come last. See the module docs of [`crate::fea`] for why
 //! the bricks and not CalculiX's own plane elements.
 
 use std::fmt::Write as _;
 
-use super::{Mesh, Section};
+use super::{Mesh, Section, Taper};
 use crate::scene::BeamSpec;
 
 /// The name of the node set whose displacement is the tip position.
@@ -123,8 +125,16 @@ pub fn modelled_width(beam: &BeamSpec, section: Section) -> (f64, f64) {
 }
 
 /// The deck for one load path: one `*STEP` per case, each taking the tip load from the
-/// previous case's to `loads[k]` (SI: `[Fx, Fy, Mz]` in N, N, N m), starting unloaded.
-pub fn deck(beam: &BeamSpec, mesh: &Mesh, section: Section, loads: &[[f64; 3]]) -> String {
+/// previous case's to `loads[k]` (SI: `[Fx, Fy, Mz]` in N, N, N m), starting unloaded. The
+/// beam's thickness is `beam.thickness` at the clamp and tapers linearly to `taper` times it
+/// at the tip; the uniform taper writes the uniform beam's deck exactly.
+pub fn deck(
+    beam: &BeamSpec,
+    mesh: &Mesh,
+    section: Section,
+    taper: Taper,
+    loads: &[[f64; 3]],
+) -> String {
     let grid = Grid::new(mesh);
     let (width, share) = modelled_width(beam, section);
     let (l, t) = (beam.length, beam.thickness);
@@ -136,16 +146,27 @@ pub fn deck(beam: &BeamSpec, mesh: &Mesh, section: Section, loads: &[[f64; 3]]) 
     let _ = writeln!(
         out,
         "** prbfit: {} model of a cantilever, L = {l:e} m, t0 = {t:e} m, w0 = {:e} m\n\
-         ** {} x {} x {} C3D20R bricks (length x thickness x modelled width {width:e} m)\n\
-         *HEADING\nprbfit beam\n*NODE",
+         ** {} x {} x {} C3D20R bricks (length x thickness x modelled width {width:e} m)",
         section.name(),
         beam.width,
         mesh.along,
         mesh.through,
         mesh.across
     );
+    if !taper.is_uniform() {
+        let _ = writeln!(
+            out,
+            "** tapered: thickness t0 at the clamp to {} t0 = {:e} m at the tip, linearly",
+            taper,
+            t * taper.ratio()
+        );
+    }
+    let _ = writeln!(out, "*HEADING\nprbfit beam\n*NODE");
     for (id, i, j, k) in grid.nodes() {
         let x = l * i as f64 / ex as f64;
+        // The local thickness; exactly `t` on a uniform beam (a factor of exactly 1), so its
+        // deck is the one written before tapers existed.
+        let t = t * taper.thickness_factor(i as f64 / ex as f64);
         let y = -t / 2.0 + t * j as f64 / ey as f64;
         let z = width * k as f64 / ez as f64;
         let _ = writeln!(out, "{id}, {x:.12e}, {y:.12e}, {z:.12e}");
@@ -254,6 +275,7 @@ mod tests {
             &scene.beam,
             &mesh(4, 1, 1),
             Section::PlaneStress,
+            Taper::UNIFORM,
             &[[1.0, 2.0, 3.0], [2.0, 4.0, 6.0]],
         );
         assert_eq!(text.matches("*STEP, NLGEOM").count(), 2);
@@ -288,6 +310,7 @@ mod tests {
             &scene.beam,
             &mesh(2, 1, 2),
             Section::Solid,
+            Taper::UNIFORM,
             &[[0.0, 2.0, 0.0]],
         );
         let (_, share) = modelled_width(&scene.beam, Section::Solid);
@@ -296,5 +319,79 @@ mod tests {
         // The widest node sits at half the width.
         let half = format!("{:.12e}", scene.beam.width / 2.0);
         assert!(text.contains(&half), "{text}");
+    }
+
+    /// The `*NODE` block as `(x, y, z)`, the tip's reference and rotation nodes left out.
+    fn node_coordinates(text: &str, count: usize) -> Vec<[f64; 3]> {
+        let block = text
+            .split("*NODE\n")
+            .nth(1)
+            .unwrap()
+            .split('*')
+            .next()
+            .unwrap();
+        block
+            .lines()
+            .take(count)
+            .map(|l| {
+                let v: Vec<f64> = l.split(", ").map(|f| f.parse().unwrap()).collect();
+                [v[1], v[2], v[3]]
+            })
+            .collect()
+    }
+
+    #[test]
+    fn a_tapered_deck_scales_each_section_to_its_thickness() {
+        let scene = Scene::builtin();
+        let (l, t0) = (scene.beam.length, scene.beam.thickness);
+        for section in [Section::PlaneStress, Section::PlaneStrain, Section::Solid] {
+            for ratio in [0.5, 2.0] {
+                let m = mesh(4, 2, 2);
+                let taper = Taper::new(ratio).unwrap();
+                let text = deck(&scene.beam, &m, section, taper, &[[0.0, 1.0, 0.0]]);
+                assert!(text.contains("** tapered"), "{text}");
+                let nodes = node_coordinates(&text, Grid::new(&m).count);
+                let (width, _) = modelled_width(&scene.beam, section);
+                for x_node in [0.0, 0.25, 0.5, 0.75, 1.0].map(|f| f * l) {
+                    let column: Vec<&[f64; 3]> = nodes
+                        .iter()
+                        .filter(|p| (p[0] - x_node).abs() < 1e-12)
+                        .collect();
+                    assert!(!column.is_empty());
+                    let half = t0 * (1.0 - (1.0 - ratio) * x_node / l) / 2.0;
+                    let (lo, hi) = column.iter().fold((f64::MAX, f64::MIN), |(lo, hi), p| {
+                        (lo.min(p[1]), hi.max(p[1]))
+                    });
+                    // Each section spans its own thickness, centred on the axis (to the
+                    // deck's 13 significant digits) ...
+                    let tol = 1e-11 * t0;
+                    assert!(
+                        (hi - half).abs() < tol && (lo + half).abs() < tol,
+                        "{lo} {hi} {half}"
+                    );
+                    // ... and the width is untouched.
+                    let widest = column.iter().map(|p| p[2]).fold(0.0, f64::max);
+                    assert!(
+                        (widest - width).abs() < 1e-11 * width,
+                        "{widest} vs {width}"
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn the_uniform_taper_leaves_the_deck_unmarked() {
+        let scene = Scene::builtin();
+        let text = deck(
+            &scene.beam,
+            &mesh(3, 1, 1),
+            Section::PlaneStress,
+            Taper::UNIFORM,
+            &[[0.0, 1.0, 0.0]],
+        );
+        assert!(!text.contains("tapered"));
+        assert!(text.starts_with("** prbfit: plane-stress model"));
+        assert!(text.contains("C3D20R bricks (length x thickness x modelled width 1e-2 m)\n*HEADING\nprbfit beam\n*NODE\n"), "{text}");
     }
 }

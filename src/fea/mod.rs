@@ -23,6 +23,11 @@
 //! - **Solid** ([`Section::Solid`]): the true 3D strip, half its width modelled with a
 //!   symmetry plane at the middle, several bricks across: where the real plate effect of a
 //!   wide section lies between the two plane limits.
+//! - **Taper** ([`Taper`], `prbfit fea --taper R`): the thickness may vary linearly from the
+//!   scene's `t0` at the clamp to `R t0` at the tip, the width constant (a tapered flexure,
+//!   which no uniform beam of §2 matches). Every node's through-thickness coordinate scales
+//!   with the local thickness, so the mesh keeps its bricks and the rigid tip is the tip's
+//!   own section. `R = 1` (the default) writes the uniform beam's deck, byte for byte.
 //! - **Clamp**: every node of the root face is fixed.
 //! - **Tip**: the tip face is a `*RIGID BODY` with its reference node at the section's centre
 //!   `(L, 0)`, so the tip pose is that of a rigid body bolted to the tip (DESIGN §2's `phi`).
@@ -103,6 +108,90 @@ impl FromStr for Section {
     }
 }
 
+/// A linear taper of the thickness: `t(s) = t0 (1 - (1 - R) s / L)`, from the scene's `t0`
+/// at the clamp to `R t0` at the tip, the width constant. `R = 1` is the uniform beam.
+///
+/// `R` is kept within [`Taper::MIN`]..=[`Taper::MAX`]. Towards `R = 0` the tip section
+/// vanishes: under a tip force the tip angle grows as `1 / R` (`∫ (L - s) / t(s)^3 ds`) and
+/// the elements at the tip, one brick through a thickness `R t0` and as long as `t0`, grow
+/// too slender for quadratic bricks; at `R = 0.05` they are 20 times as long as thick, about
+/// the limit where C3D20R elements still bend accurately. The upper bound is the same ratio
+/// the other way (a tip 20 times the root: the brick count through the thick end follows the
+/// thickest section, so it is the root's bricks that are 20 times as long as thick).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[serde(transparent)]
+pub struct Taper(f64);
+
+/// A taper ratio that cannot be used.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("{0}")]
+pub struct TaperError(String);
+
+impl Taper {
+    /// The uniform beam.
+    pub const UNIFORM: Taper = Taper(1.0);
+    /// The thinnest tip allowed, as a fraction of the root thickness.
+    pub const MIN: f64 = 0.05;
+    /// The thickest tip allowed, as a multiple of the root thickness.
+    pub const MAX: f64 = 20.0;
+
+    /// The taper with tip thickness `ratio` times the root's.
+    pub fn new(ratio: f64) -> Result<Taper, TaperError> {
+        if !ratio.is_finite() || !(Taper::MIN..=Taper::MAX).contains(&ratio) {
+            return Err(TaperError(format!(
+                "the taper (tip thickness over root thickness) must be a number from {} to {}, \
+                 got {ratio}",
+                Taper::MIN,
+                Taper::MAX
+            )));
+        }
+        Ok(Taper(ratio))
+    }
+
+    /// `R`, the tip thickness over the root thickness.
+    pub fn ratio(self) -> f64 {
+        self.0
+    }
+
+    /// Whether this is the uniform beam (`R = 1`).
+    pub fn is_uniform(self) -> bool {
+        self.0 == 1.0
+    }
+
+    /// `t(s) / t0` at `s = fraction L`: exactly 1 everywhere for the uniform beam.
+    pub fn thickness_factor(self, fraction: f64) -> f64 {
+        1.0 - (1.0 - self.0) * fraction
+    }
+
+    /// The thickest section over `t0`: `max(1, R)`.
+    pub fn thickest(self) -> f64 {
+        self.0.max(1.0)
+    }
+}
+
+impl Default for Taper {
+    fn default() -> Taper {
+        Taper::UNIFORM
+    }
+}
+
+impl fmt::Display for Taper {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}", self.0)
+    }
+}
+
+impl FromStr for Taper {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Taper, String> {
+        let ratio: f64 = s
+            .trim()
+            .parse()
+            .map_err(|_| format!("`{s}` is not a number (the tip thickness over the root's)"))?;
+        Taper::new(ratio).map_err(|e| e.to_string())
+    }
+}
+
 /// Bricks along the length, through the thickness and across the modelled width.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 pub struct Mesh {
@@ -129,6 +218,18 @@ impl Mesh {
     /// thick and wide (`round(n t0 / L)`, at least 1; across the half-width of the solid,
     /// `round(n w0 / (2 L))`, at least 2). Refining `n` refines every direction alike.
     pub fn for_beam(n: u32, beam: &BeamSpec, section: Section) -> Result<Mesh, MeshError> {
+        Mesh::for_tapered_beam(n, beam, section, Taper::UNIFORM)
+    }
+
+    /// [`Mesh::for_beam`] for the beam tapered by `taper`: the bricks through the thickness
+    /// follow the thickest section (`max(1, R) t0`), so no brick is thicker than it is long;
+    /// with `R <= 1` this is the uniform beam's mesh.
+    pub fn for_tapered_beam(
+        n: u32,
+        beam: &BeamSpec,
+        section: Section,
+        taper: Taper,
+    ) -> Result<Mesh, MeshError> {
         if n < 2 {
             return Err(MeshError(format!(
                 "the mesh density must be at least 2 elements along the beam, got {n}"
@@ -137,7 +238,7 @@ impl Mesh {
         let share = |size: f64| (n as f64 * size / beam.length).round().max(1.0) as u32;
         let mesh = Mesh {
             along: n,
-            through: share(beam.thickness),
+            through: share(beam.thickness * taper.thickest()),
             across: match section {
                 Section::Solid => share(beam.width / 2.0).max(2),
                 Section::PlaneStress | Section::PlaneStrain => 1,
@@ -213,8 +314,13 @@ pub fn path_loads(scene: &Scene) -> Vec<Vec<(Load, [f64; 3])>> {
         .collect()
 }
 
-/// The deck of each load path of a cantilever scene.
-pub fn scene_decks(scene: &Scene, mesh: &Mesh, section: Section) -> Result<Vec<String>, FeaError> {
+/// The deck of each load path of a cantilever scene, its thickness tapered by `taper`.
+pub fn scene_decks(
+    scene: &Scene,
+    mesh: &Mesh,
+    section: Section,
+    taper: Taper,
+) -> Result<Vec<String>, FeaError> {
     if scene.mechanism.is_some() {
         return Err(FeaError::Mechanism);
     }
@@ -222,22 +328,24 @@ pub fn scene_decks(scene: &Scene, mesh: &Mesh, section: Section) -> Result<Vec<S
         .iter()
         .map(|cases| {
             let loads: Vec<[f64; 3]> = cases.iter().map(|c| c.1).collect();
-            deck::deck(&scene.beam, mesh, section, &loads)
+            deck::deck(&scene.beam, mesh, section, taper, &loads)
         })
         .collect())
 }
 
-/// Solves every load path of `scene` with `ccx` (one run per path, each under `timeout`);
-/// `on_path(k, seconds)` hears when path `k` (1-based) is done.
+/// Solves every load path of `scene` (its thickness tapered by `taper`) with `ccx` (one run
+/// per path, each under `timeout`); `on_path(k, seconds)` hears when path `k` (1-based) is
+/// done.
 pub fn solve_scene(
     scene: &Scene,
     mesh: &Mesh,
     section: Section,
+    taper: Taper,
     ccx: &Ccx,
     timeout: Duration,
     on_path: &mut dyn FnMut(usize, f64),
 ) -> Result<Vec<FeaCase>, FeaError> {
-    let decks = scene_decks(scene, mesh, section)?;
+    let decks = scene_decks(scene, mesh, section, taper)?;
     let mut out = Vec::new();
     for (k, (deck, cases)) in decks.iter().zip(path_loads(scene)).enumerate() {
         let path = k + 1;
@@ -277,9 +385,18 @@ fn last_words(log: &str) -> Option<String> {
 }
 
 /// The cases as DESIGN §9's CSV in SI columns: `path,fx,fy,mz,x,y,theta`, one row per case
-/// in path order (each path from near unloaded outward).
-pub fn csv(cases: &[FeaCase]) -> String {
-    let mut out = String::from("path,fx,fy,mz,x,y,theta\n");
+/// in path order (each path from near unloaded outward). A tapered beam's file opens with a
+/// `#` comment that says so (readers skip `#` lines): its data are not the scene's uniform
+/// beam's. The uniform beam's file has no comment.
+pub fn csv(cases: &[FeaCase], taper: Taper) -> String {
+    let mut out = String::new();
+    if !taper.is_uniform() {
+        out.push_str(&format!(
+            "# prbfit fea --taper {taper}: thickness tapered linearly from the scene's [beam] \
+             thickness at the clamp to {taper} times it at the tip, width constant\n"
+        ));
+    }
+    out.push_str("path,fx,fy,mz,x,y,theta\n");
     for c in cases {
         let [fx, fy, mz] = c.load_si;
         out.push_str(&format!(
@@ -327,7 +444,7 @@ mod tests {
                 })
             })
             .collect();
-        let text = csv(&cases);
+        let text = csv(&cases, Taper::UNIFORM);
         let lines: Vec<&str> = text.lines().collect();
         assert_eq!(lines[0], "path,fx,fy,mz,x,y,theta");
         assert_eq!(lines.len(), 1 + scene.cases().len());
@@ -344,12 +461,69 @@ mod tests {
     }
 
     #[test]
+    fn tapers_are_finite_and_bounded() {
+        for bad in [0.0, 0.049, 20.5, -1.0, f64::NAN, f64::INFINITY] {
+            assert!(Taper::new(bad).is_err(), "{bad}");
+        }
+        for good in [Taper::MIN, 0.5, 1.0, 3.0, Taper::MAX] {
+            assert_eq!(Taper::new(good).unwrap().ratio(), good);
+        }
+        assert_eq!("0.5".parse::<Taper>().unwrap(), Taper::new(0.5).unwrap());
+        assert!("half"
+            .parse::<Taper>()
+            .unwrap_err()
+            .contains("not a number"));
+        let t = Taper::new(0.5).unwrap();
+        assert_eq!(t.thickness_factor(0.0), 1.0);
+        assert_eq!(t.thickness_factor(1.0), 0.5);
+        assert_eq!(Taper::UNIFORM.thickness_factor(0.37), 1.0);
+        // The bricks through the thickness follow the thickest section.
+        let scene = Scene::builtin(); // L / t0 = 100
+        let mesh = |r| {
+            Mesh::for_tapered_beam(
+                100,
+                &scene.beam,
+                Section::PlaneStress,
+                Taper::new(r).unwrap(),
+            )
+            .unwrap()
+            .through
+        };
+        assert_eq!((mesh(0.5), mesh(1.0), mesh(3.0)), (1, 1, 3));
+    }
+
+    #[test]
+    fn a_tapered_csv_says_so_in_a_comment() {
+        let case = FeaCase {
+            path: 1,
+            load: Load::new(0.0, 1.0, 0.0),
+            load_si: [0.0, 1.0, 0.0],
+            x: 0.05,
+            y: 0.01,
+            theta: 0.2,
+        };
+        let uniform = csv(&[case], Taper::UNIFORM);
+        assert!(uniform.starts_with("path,"));
+        let tapered = csv(&[case], Taper::new(0.5).unwrap());
+        assert!(tapered.starts_with("# prbfit fea --taper 0.5: "));
+        assert!(tapered.ends_with(&uniform));
+        // Readers skip the comment: the rows are the uniform file's.
+        let beam = Scene::builtin().beam;
+        let read = |text: &str| {
+            crate::scene::data::parse_csv(text, "d.csv", &beam)
+                .unwrap()
+                .0
+        };
+        assert_eq!(read(&tapered)[0].rows[0].tip, read(&uniform)[0].rows[0].tip);
+    }
+
+    #[test]
     fn mechanisms_are_refused() {
         let text = include_str!("../../assets/scenes/fixed-guided.toml");
         let scene = Scene::from_toml_str(text, "fixed-guided.toml").unwrap();
         let mesh = Mesh::for_beam(4, &scene.beam, Section::PlaneStress).unwrap();
         assert!(matches!(
-            scene_decks(&scene, &mesh, Section::PlaneStress),
+            scene_decks(&scene, &mesh, Section::PlaneStress, Taper::UNIFORM),
             Err(FeaError::Mechanism)
         ));
     }
