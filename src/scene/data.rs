@@ -204,6 +204,203 @@ fn fields(line: &str) -> Vec<(usize, &str)> {
         .collect()
 }
 
+/// The file being read, for errors that name `file:line:column`.
+struct Csv<'a> {
+    origin: &'a str,
+}
+
+/// A data row's parsed fields: its path number and, per column, its value (`NaN` in the
+/// path column's slot).
+struct Fields {
+    id: i64,
+    values: Vec<f64>,
+}
+
+impl<'a> Csv<'a> {
+    fn fail(&self, line: usize, column: usize, key: Option<&str>, message: String) -> SceneError {
+        SceneError {
+            origin: format!("{}:{line}:{column}", self.origin),
+            line: None,
+            key: key.map(str::to_string),
+            message,
+        }
+    }
+
+    /// The header (its line and fields) and the data lines (numbered from 1), skipping
+    /// blank and `#` lines; an empty file is an error naming `known`, the columns.
+    #[allow(clippy::type_complexity)]
+    fn split<'t>(
+        &self,
+        text: &'t str,
+        known: &str,
+    ) -> Result<(usize, Vec<(usize, &'t str)>, Vec<(usize, &'t str)>), SceneError> {
+        let mut lines = text
+            .lines()
+            .enumerate()
+            .map(|(i, l)| (i + 1, l.trim_end_matches('\r')))
+            .filter(|(_, l)| !l.trim().is_empty() && !l.trim_start().starts_with('#'));
+        let Some((header_line, header)) = lines.next() else {
+            return Err(self.fail(
+                1,
+                1,
+                None,
+                format!("the file is empty: it needs a header row and one row per case ({known})"),
+            ));
+        };
+        Ok((header_line, fields(header), lines.collect()))
+    }
+
+    /// The header's columns by `lookup` (an error message for a name it does not know), each
+    /// at most once, with their names as written.
+    fn columns<'h, C: PartialEq + Copy>(
+        &self,
+        header_line: usize,
+        header: &[(usize, &'h str)],
+        lookup: impl Fn(&str) -> Result<C, String>,
+    ) -> Result<(Vec<C>, Vec<&'h str>), SceneError> {
+        let mut columns: Vec<C> = Vec::with_capacity(header.len());
+        let mut names = Vec::with_capacity(header.len());
+        for &(col, name) in header {
+            let c = lookup(&name.to_ascii_lowercase())
+                .map_err(|why| self.fail(header_line, col, Some(name), why))?;
+            if columns.contains(&c) {
+                return Err(self.fail(header_line, col, Some(name), "a column given twice".into()));
+            }
+            columns.push(c);
+            names.push(name);
+        }
+        Ok((columns, names))
+    }
+
+    /// One data line's fields: as many as the header's `names`, the `path` column (at
+    /// `path_column`) an integer, every other a finite number.
+    fn row(
+        &self,
+        line_no: usize,
+        line: &str,
+        names: &[&str],
+        path_column: Option<usize>,
+    ) -> Result<(Fields, Vec<usize>), SceneError> {
+        let f = fields(line);
+        if f.len() != names.len() {
+            return Err(self.fail(
+                line_no,
+                f.last().map_or(1, |x| x.0),
+                None,
+                format!(
+                    "{} fields where the header has {} columns",
+                    f.len(),
+                    names.len()
+                ),
+            ));
+        }
+        let mut out = Fields {
+            id: 1,
+            values: Vec::with_capacity(f.len()),
+        };
+        for (k, &(col, field)) in f.iter().enumerate() {
+            let name = names[k];
+            if Some(k) == path_column {
+                out.id = field.parse::<i64>().map_err(|_| {
+                    self.fail(
+                        line_no,
+                        col,
+                        Some(name),
+                        format!("not a path number: \"{}\"", shown(field)),
+                    )
+                })?;
+                out.values.push(f64::NAN);
+                continue;
+            }
+            let v: f64 = field.parse().map_err(|_| {
+                self.fail(
+                    line_no,
+                    col,
+                    Some(name),
+                    format!("not a number: \"{}\"", shown(field)),
+                )
+            })?;
+            if !v.is_finite() {
+                return Err(self.fail(
+                    line_no,
+                    col,
+                    Some(name),
+                    format!("{field} is not a finite number"),
+                ));
+            }
+            out.values.push(v);
+        }
+        Ok((out, f.iter().map(|x| x.0).collect()))
+    }
+
+    /// Adds `row` (from line `line_no`, on path `id`) to `paths`: a path's rows together and
+    /// in order, each path growing (`magnitude`, named `what` in the error) from the unloaded
+    /// state; the rows' lines by `line_of`.
+    #[allow(clippy::too_many_arguments)]
+    fn push<R>(
+        &self,
+        paths: &mut Vec<(i64, Vec<R>)>,
+        id: i64,
+        row: R,
+        line_no: usize,
+        what: &str,
+        magnitude: impl Fn(&R) -> f64,
+        line_of: impl Fn(&R) -> usize,
+    ) -> Result<(), SceneError> {
+        if paths.last().is_none_or(|p| p.0 != id) {
+            if let Some(earlier) = paths.iter().find(|p| p.0 == id) {
+                return Err(self.fail(
+                    line_no,
+                    1,
+                    Some("path"),
+                    format!(
+                        "path {id} comes back after path {} (its rows began at line {}): a \
+                         path's rows must be together, in order",
+                        paths.last().map_or(0, |p| p.0),
+                        earlier.1.first().map_or(0, &line_of)
+                    ),
+                ));
+            }
+            paths.push((id, Vec::new()));
+        }
+        // `paths` has a last element: pushed just above when this row starts a path.
+        if let Some(path) = paths.last_mut() {
+            if let Some(prev) = path.1.last() {
+                let (before, now) = (magnitude(prev), magnitude(&row));
+                if now <= before {
+                    return Err(self.fail(
+                        line_no,
+                        1,
+                        None,
+                        format!(
+                            "path {id} shrinks: its {what} {} is not above the previous row's {} \
+                             (line {}); a path's rows must grow from the unloaded state",
+                            crate::text::bounded(now),
+                            crate::text::bounded(before),
+                            line_of(prev)
+                        ),
+                    ));
+                }
+            }
+            path.1.push(row);
+        }
+        Ok(())
+    }
+
+    /// The end of a file: an error when it had no data rows.
+    fn nonempty<R>(&self, header_line: usize, paths: &[(i64, Vec<R>)]) -> Result<(), SceneError> {
+        if paths.is_empty() {
+            return Err(self.fail(
+                header_line,
+                1,
+                None,
+                "no data rows after the header: an empty path".into(),
+            ));
+        }
+        Ok(())
+    }
+}
+
 /// Reads the CSV `text` (from the file `origin`) with `beam` as the nominal beam: its paths,
 /// and the unit system its columns are in.
 pub fn parse_csv(
@@ -211,49 +408,11 @@ pub fn parse_csv(
     origin: &str,
     beam: &BeamSpec,
 ) -> Result<(Vec<MeasuredPath>, Units), SceneError> {
-    let fail = |line: usize, column: usize, key: Option<&str>, message: String| SceneError {
-        origin: format!("{origin}:{line}:{column}"),
-        line: None,
-        key: key.map(str::to_string),
-        message,
-    };
-    let mut lines = text
-        .lines()
-        .enumerate()
-        .map(|(i, l)| (i + 1, l.trim_end_matches('\r')))
-        .filter(|(_, l)| !l.trim().is_empty() && !l.trim_start().starts_with('#'));
-    let Some((header_line, header)) = lines.next() else {
-        return Err(fail(
-            1,
-            1,
-            None,
-            format!("the file is empty: it needs a header row and one row per load case ({KNOWN})"),
-        ));
-    };
-    let header = fields(header);
-    let mut columns: Vec<Column> = Vec::with_capacity(header.len());
-    let mut names: Vec<&str> = Vec::with_capacity(header.len());
-    for &(col, name) in &header {
-        let name_lc = name.to_ascii_lowercase();
-        let Some(c) = column_of(&name_lc) else {
-            return Err(fail(
-                header_line,
-                col,
-                Some(name),
-                format!("unknown column; the columns are {KNOWN}"),
-            ));
-        };
-        if columns.contains(&c) {
-            return Err(fail(
-                header_line,
-                col,
-                Some(name),
-                "a column given twice".into(),
-            ));
-        }
-        columns.push(c);
-        names.push(name);
-    }
+    let csv = Csv { origin };
+    let (header_line, header, rows) = csv.split(text, KNOWN)?;
+    let (columns, names) = csv.columns(header_line, &header, |name| {
+        column_of(name).ok_or_else(|| format!("unknown column; the columns are {KNOWN}"))
+    })?;
     // One unit system for loads and tips, every component present.
     let units: Vec<(usize, Units)> = columns
         .iter()
@@ -271,7 +430,7 @@ pub fn parse_csv(
         } else {
             (names[i], names[units[0].0])
         };
-        return Err(fail(
+        return Err(csv.fail(
             header_line,
             header[i].0,
             Some(names[i]),
@@ -302,7 +461,7 @@ pub fn parse_csv(
         ]
     };
     if let Some((name, _)) = wanted.iter().find(|(_, c)| !columns.contains(c)) {
-        return Err(fail(
+        return Err(csv.fail(
             header_line,
             1,
             None,
@@ -319,59 +478,16 @@ pub fn parse_csv(
     } else {
         (1.0, 1.0, 1.0)
     };
-
-    let mut paths: Vec<MeasuredPath> = Vec::new();
-    let mut rows_seen = 0;
-    for (line_no, line) in lines {
-        rows_seen += 1;
-        let f = fields(line);
-        if f.len() != columns.len() {
-            return Err(fail(
-                line_no,
-                f.last().map_or(1, |x| x.0),
-                None,
-                format!(
-                    "{} fields where the header has {} columns",
-                    f.len(),
-                    columns.len()
-                ),
-            ));
-        }
+    let path_column = columns.iter().position(|c| *c == Column::Path);
+    let mut paths: Vec<(i64, Vec<MeasuredRow>)> = Vec::new();
+    for (line_no, line) in rows {
+        let (f, _) = csv.row(line_no, line, &names, path_column)?;
         let mut load = [0.0; 3];
         let mut tip = [0.0; 3];
-        let mut id = 1_i64;
-        for (k, (&(col, field), c)) in f.iter().zip(&columns).enumerate() {
-            let name = names[k];
-            if *c == Column::Path {
-                id = field.parse::<i64>().map_err(|_| {
-                    fail(
-                        line_no,
-                        col,
-                        Some(name),
-                        format!("not a path number: \"{}\"", shown(field)),
-                    )
-                })?;
-                continue;
-            }
-            let v: f64 = field.parse().map_err(|_| {
-                fail(
-                    line_no,
-                    col,
-                    Some(name),
-                    format!("not a number: \"{}\"", shown(field)),
-                )
-            })?;
-            if !v.is_finite() {
-                return Err(fail(
-                    line_no,
-                    col,
-                    Some(name),
-                    format!("{field} is not a finite number"),
-                ));
-            }
+        for (c, v) in columns.iter().zip(&f.values) {
             match *c {
                 Column::Load(i, _) => load[i] = v * if i == 2 { moment } else { force },
-                Column::Tip(i, _) => tip[i] = if i == 2 { v } else { v * length },
+                Column::Tip(i, _) => tip[i] = if i == 2 { *v } else { v * length },
                 Column::Path => {}
             }
         }
@@ -388,58 +504,25 @@ pub fn parse_csv(
                 phi: tip[2],
             },
         };
-        let same_path = paths.last().is_some_and(|p| p.id == id);
-        if !same_path {
-            if let Some(earlier) = paths.iter().find(|p| p.id == id) {
-                return Err(fail(
-                    line_no,
-                    1,
-                    Some("path"),
-                    format!(
-                        "path {id} comes back after path {} (its rows began at line {}): a \
-                         path's rows must be together, in order",
-                        paths.last().map_or(0, |p| p.id),
-                        earlier.rows[0].line
-                    ),
-                ));
-            }
-            paths.push(MeasuredPath {
-                id,
-                rows: Vec::new(),
-            });
-        }
-        // `paths` has a last element: pushed just above when this row starts a path.
-        if let Some(path) = paths.last_mut() {
-            if let Some(prev) = path.rows.last() {
-                let (before, now) = (prev.load.magnitude(), row.load.magnitude());
-                if now <= before {
-                    return Err(fail(
-                        line_no,
-                        1,
-                        None,
-                        format!(
-                            "path {id} shrinks: its load magnitude {} is not above the previous \
-                             row's {} (line {}); a path's rows must grow from the unloaded state",
-                            crate::text::bounded(now),
-                            crate::text::bounded(before),
-                            prev.line
-                        ),
-                    ));
-                }
-            }
-            path.rows.push(row);
-        }
+        csv.push(
+            &mut paths,
+            f.id,
+            row,
+            line_no,
+            "load magnitude",
+            |r| r.load.magnitude(),
+            |r| r.line,
+        )?;
     }
-    if rows_seen == 0 {
-        return Err(fail(
-            header_line,
-            1,
-            None,
-            "no data rows after the header: an empty path".into(),
-        ));
-    }
+    csv.nonempty(header_line, &paths)?;
     let units = if si { Units::Si } else { Units::Nondimensional };
-    Ok((paths, units))
+    Ok((
+        paths
+            .into_iter()
+            .map(|(id, rows)| MeasuredPath { id, rows })
+            .collect(),
+        units,
+    ))
 }
 
 /// One measured case of a mechanism (DESIGN §9 with §8): the drive's inputs and the stage's
@@ -542,55 +625,20 @@ pub fn parse_stage_csv(
     origin: &str,
     mechanism: &super::Mechanism,
 ) -> Result<StageData, SceneError> {
-    let fail = |line: usize, column: usize, key: Option<&str>, message: String| SceneError {
-        origin: format!("{origin}:{line}:{column}"),
-        line: None,
-        key: key.map(str::to_string),
-        message,
-    };
-    let mut lines = text
-        .lines()
-        .enumerate()
-        .map(|(i, l)| (i + 1, l.trim_end_matches('\r')))
-        .filter(|(_, l)| !l.trim().is_empty() && !l.trim_start().starts_with('#'));
-    let Some((header_line, header)) = lines.next() else {
-        return Err(fail(
-            1,
-            1,
-            None,
-            format!(
-                "the file is empty: it needs a header row and one row per drive case \
-                 ({STAGE_KNOWN})"
-            ),
-        ));
-    };
-    let header = fields(header);
-    let mut columns: Vec<StageColumn> = Vec::with_capacity(header.len());
-    let mut names: Vec<&str> = Vec::with_capacity(header.len());
-    for &(col, name) in &header {
-        let name_lc = name.to_ascii_lowercase();
-        let Some(c) = stage_column_of(&name_lc) else {
-            let why = if column_of(&name_lc).is_some() {
+    let csv = Csv { origin };
+    let (header_line, header, rows) = csv.split(text, STAGE_KNOWN)?;
+    let (columns, names) = csv.columns(header_line, &header, |name| {
+        stage_column_of(name).ok_or_else(|| {
+            if column_of(name).is_some() {
                 format!(
                     "a cantilever's column in a mechanism scene's data: its columns are \
                      {STAGE_KNOWN}"
                 )
             } else {
                 format!("unknown column; a mechanism's data columns are {STAGE_KNOWN}")
-            };
-            return Err(fail(header_line, col, Some(name), why));
-        };
-        if columns.contains(&c) {
-            return Err(fail(
-                header_line,
-                col,
-                Some(name),
-                "a column given twice".into(),
-            ));
-        }
-        columns.push(c);
-        names.push(name);
-    }
+            }
+        })
+    })?;
     let position = |c: StageColumn| columns.iter().position(|x| *x == c);
     let mut prescribed = [false; 3];
     for (c, [dk, lk, pk, fk]) in STAGE_NAMES.iter().enumerate() {
@@ -598,7 +646,7 @@ pub fn parse_stage_csv(
             position(StageColumn::Input(c, true)),
             position(StageColumn::Input(c, false)),
         ) {
-            return Err(fail(
+            return Err(csv.fail(
                 header_line,
                 header[d].0,
                 Some(dk),
@@ -628,7 +676,7 @@ pub fn parse_stage_csv(
             )
         };
         if position(StageColumn::Measured(c, !prescribed[c])).is_none() {
-            return Err(fail(
+            return Err(csv.fail(
                 header_line,
                 1,
                 None,
@@ -637,7 +685,7 @@ pub fn parse_stage_csv(
         }
     }
     if !columns.iter().any(|c| matches!(c, StageColumn::Input(..))) {
-        return Err(fail(
+        return Err(csv.fail(
             header_line,
             1,
             None,
@@ -648,60 +696,24 @@ pub fn parse_stage_csv(
     let disp = mechanism.factors([crate::scene::Coordinate::Prescribed(0.0); 3]);
     let load = mechanism.factors([crate::scene::Coordinate::Loaded(0.0); 3]);
     let factor = |c: usize, is_pose: bool| if is_pose { disp[c] } else { load[c] };
+    let magnitude = |r: &MeasuredStageRow| {
+        (0..3)
+            .map(|c| r.drive[c] * factor(c, prescribed[c]))
+            .fold(0.0_f64, f64::hypot)
+    };
 
-    let mut paths: Vec<MeasuredStagePath> = Vec::new();
-    let mut rows_seen = 0;
-    for (line_no, line) in lines {
-        rows_seen += 1;
-        let f = fields(line);
-        if f.len() != columns.len() {
-            return Err(fail(
-                line_no,
-                f.last().map_or(1, |x| x.0),
-                None,
-                format!(
-                    "{} fields where the header has {} columns",
-                    f.len(),
-                    columns.len()
-                ),
-            ));
-        }
+    let path_column = position(StageColumn::Path);
+    let mut paths: Vec<(i64, Vec<MeasuredStageRow>)> = Vec::new();
+    for (line_no, line) in rows {
+        let (f, at) = csv.row(line_no, line, &names, path_column)?;
         let mut input = [0.0; 3];
+        // Per coordinate, the measured pose and load columns: (value, column, index).
         let mut measured: [[Option<(f64, usize, usize)>; 2]; 3] = [[None; 2]; 3];
-        let mut id = 1_i64;
-        for (k, (&(col, field), c)) in f.iter().zip(&columns).enumerate() {
-            let name = names[k];
-            if *c == StageColumn::Path {
-                id = field.parse::<i64>().map_err(|_| {
-                    fail(
-                        line_no,
-                        col,
-                        Some(name),
-                        format!("not a path number: \"{}\"", shown(field)),
-                    )
-                })?;
-                continue;
-            }
-            let v: f64 = field.parse().map_err(|_| {
-                fail(
-                    line_no,
-                    col,
-                    Some(name),
-                    format!("not a number: \"{}\"", shown(field)),
-                )
-            })?;
-            if !v.is_finite() {
-                return Err(fail(
-                    line_no,
-                    col,
-                    Some(name),
-                    format!("{field} is not a finite number"),
-                ));
-            }
+        for (k, (c, v)) in columns.iter().zip(&f.values).enumerate() {
             match *c {
-                StageColumn::Input(i, _) => input[i] = v,
+                StageColumn::Input(i, _) => input[i] = *v,
                 StageColumn::Measured(i, pose) => {
-                    measured[i][usize::from(!pose)] = Some((v, col, k));
+                    measured[i][usize::from(!pose)] = Some((*v, at[k], k));
                 }
                 StageColumn::Path => {}
             }
@@ -718,14 +730,13 @@ pub fn parse_stage_csv(
                 (&mut stage_load[c], &mut stage[c])
             };
             *given = input[c];
-            let found = measured[c][usize::from(p)];
-            *out = found.map_or(0.0, |m| m.0);
+            *out = measured[c][usize::from(p)].map_or(0.0, |m| m.0);
             // A measured column that repeats the input must agree with it.
             if let Some((v, col, k)) = measured[c][usize::from(!p)] {
                 let s = factor(c, p);
                 let (a, b) = (v * s, input[c] * s);
                 if (a - b).abs() > REPEAT_TOLERANCE * a.abs().max(b.abs()) + REPEAT_FLOOR {
-                    return Err(fail(
+                    return Err(csv.fail(
                         line_no,
                         col,
                         Some(names[k]),
@@ -746,60 +757,22 @@ pub fn parse_stage_csv(
             stage,
             stage_load,
         };
-        let same_path = paths.last().is_some_and(|p| p.id == id);
-        if !same_path {
-            if let Some(earlier) = paths.iter().find(|p| p.id == id) {
-                return Err(fail(
-                    line_no,
-                    1,
-                    Some("path"),
-                    format!(
-                        "path {id} comes back after path {} (its rows began at line {}): a \
-                         path's rows must be together, in order",
-                        paths.last().map_or(0, |p| p.id),
-                        earlier.rows[0].line
-                    ),
-                ));
-            }
-            paths.push(MeasuredStagePath {
-                id,
-                rows: Vec::new(),
-            });
-        }
-        let magnitude = |r: &MeasuredStageRow| {
-            (0..3)
-                .map(|c| r.drive[c] * factor(c, prescribed[c]))
-                .fold(0.0_f64, f64::hypot)
-        };
-        if let Some(path) = paths.last_mut() {
-            if let Some(prev) = path.rows.last() {
-                let (before, now) = (magnitude(prev), magnitude(&row));
-                if now <= before {
-                    return Err(fail(
-                        line_no,
-                        1,
-                        None,
-                        format!(
-                            "path {id} shrinks: its drive's magnitude {} (nondimensional) is not \
-                             above the previous row's {} (line {}); a path's rows must grow \
-                             from the unloaded state",
-                            crate::text::bounded(now),
-                            crate::text::bounded(before),
-                            prev.line
-                        ),
-                    ));
-                }
-            }
-            path.rows.push(row);
-        }
+        csv.push(
+            &mut paths,
+            f.id,
+            row,
+            line_no,
+            "drive's magnitude (nondimensional)",
+            magnitude,
+            |r| r.line,
+        )?;
     }
-    if rows_seen == 0 {
-        return Err(fail(
-            header_line,
-            1,
-            None,
-            "no data rows after the header: an empty path".into(),
-        ));
-    }
-    Ok(StageData { prescribed, paths })
+    csv.nonempty(header_line, &paths)?;
+    Ok(StageData {
+        prescribed,
+        paths: paths
+            .into_iter()
+            .map(|(id, rows)| MeasuredStagePath { id, rows })
+            .collect(),
+    })
 }
