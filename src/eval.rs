@@ -291,19 +291,20 @@ impl BeamParam {
     }
 }
 
-/// One beam parameter fitted to a data scene's measurements.
+/// One beam parameter fitted to a data scene's measurements; `F` is the figures the beam is
+/// judged by (a cantilever's [`ErrorFigures`], a mechanism's `MechFigures`).
 #[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct Calibration {
+pub struct Calibration<F = ErrorFigures> {
     /// Which parameter.
     pub param: BeamParam,
-    /// The scene's value (SI).
+    /// The scene's value (SI; a mechanism's flexure 1's, every flexure's scaled alike).
     pub nominal: f64,
     /// The fitted value (SI).
     pub value: f64,
     /// The beam against the data with the nominal value.
-    pub nominal_figures: ErrorFigures,
+    pub nominal_figures: F,
     /// The beam against the data with the fitted value: the residual.
-    pub figures: ErrorFigures,
+    pub figures: F,
     /// The fit ended at the edge of the searched range (a factor of [`CALIBRATION_RANGE`]
     /// either way of the nominal value): the data wants a value further out, or the beam
     /// cannot explain it.
@@ -341,12 +342,34 @@ pub fn calibrate(
         let scale = ei0 / (beam.youngs_modulus * beam.second_moment());
         beam_against_rows(&beam, truth, scale, resolution, w)
     };
-    let nominal_figures = judge(nominal).map_err(CalibrateError::Nominal)?.figures;
+    let mut c = search(
+        param,
+        nominal,
+        |v| judge(v).map(|e| e.figures),
+        |f| f.objective,
+    )
+    .map_err(CalibrateError::Nominal)?;
+    c.evaluations = evaluations;
+    Ok(c)
+}
+
+/// The calibration of `param` around `nominal`: `judge(value)` gives the beam's figures
+/// against the data, `objective` their `J`; golden-section search on the logarithm
+/// ([`golden_log`]), keeping the nominal value unless the search does better. A value whose
+/// judging fails counts as worse than any that does not; the nominal one must not fail.
+/// (`evaluations` is left 0 for the caller, who counts `judge`'s calls.)
+fn search<F: Copy, E>(
+    param: BeamParam,
+    nominal: f64,
+    mut judge: impl FnMut(f64) -> Result<F, E>,
+    objective: impl Fn(&F) -> f64,
+) -> Result<Calibration<F>, E> {
+    let nominal_figures = judge(nominal)?;
     let best = golden_log(nominal, |log_v| {
-        judge(log_v.exp()).map_or(f64::INFINITY, |e| e.figures.objective)
+        judge(log_v.exp()).map_or(f64::INFINITY, |f| objective(&f))
     });
-    let mut figures = judge(best.exp()).map_err(CalibrateError::Nominal)?.figures;
-    let (value, at_edge) = if nominal_figures.objective <= figures.objective {
+    let mut figures = judge(best.exp())?;
+    let (value, at_edge) = if objective(&nominal_figures) <= objective(&figures) {
         figures = nominal_figures;
         (nominal, false)
     } else {
@@ -359,7 +382,7 @@ pub fn calibrate(
         nominal_figures,
         figures,
         at_edge,
-        evaluations,
+        evaluations: 0,
     })
 }
 
@@ -396,24 +419,8 @@ fn at_edge(nominal: f64, best: f64) -> bool {
 }
 
 /// One beam parameter of a mechanism's flexures fitted to its measured data (DESIGN §9 with
-/// §8).
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct MechCalibration {
-    /// Which parameter.
-    pub param: BeamParam,
-    /// Flexure 1's value in the scene (SI); every flexure's is scaled by the same ratio.
-    pub nominal: f64,
-    /// Flexure 1's fitted value (SI).
-    pub value: f64,
-    /// The beam mechanism against the data with the nominal values.
-    pub nominal_figures: crate::mech::figures::MechFigures,
-    /// The beam mechanism against the data with the fitted values: the residual.
-    pub figures: crate::mech::figures::MechFigures,
-    /// The fit ended at the edge of the searched range.
-    pub at_edge: bool,
-    /// Exact mechanism solves along every measured drive.
-    pub evaluations: u32,
-}
+/// §8): flexure 1's values, the beam mechanism's figures against the data.
+pub type MechCalibration = Calibration<crate::mech::figures::MechFigures>;
 
 /// [`calibrate`] on a mechanism data scene: `param` of every flexure scaled by one ratio
 /// (one material, one sheet: a rig's `E` or thickness differs from the catalogue's alike in
@@ -456,29 +463,14 @@ pub fn calibrate_mechanism(
         crate::mech::measured::beam_against_data(&trial, &m, resolution)
             .map(|e| e.map(|e| e.figures))
     };
-    let nominal_figures = judge(nominal)?.ok_or(MechCalibrateError::NoData)?;
-    let best = golden_log(nominal, |log_v| {
-        judge(log_v.exp())
-            .ok()
-            .flatten()
-            .map_or(f64::INFINITY, |f| f.objective)
-    });
-    let mut figures = judge(best.exp())?.ok_or(MechCalibrateError::NoData)?;
-    let (value, at_edge) = if nominal_figures.objective <= figures.objective {
-        figures = nominal_figures;
-        (nominal, false)
-    } else {
-        (best.exp(), at_edge(nominal, best))
-    };
-    Ok(MechCalibration {
+    let mut c = search(
         param,
         nominal,
-        value,
-        nominal_figures,
-        figures,
-        at_edge,
-        evaluations,
-    })
+        |v| judge(v)?.ok_or(MechCalibrateError::NoData),
+        |f| f.objective,
+    )?;
+    c.evaluations = evaluations;
+    Ok(c)
 }
 
 /// Why a mechanism's calibration has no answer.

@@ -9,111 +9,123 @@ use serde::Serialize;
 
 use prbfit::beam::Resolution;
 use prbfit::eval::{
-    calibrate, calibrate_mechanism, BeamParam, CalibrateError, Calibration, MechCalibration,
+    calibrate, calibrate_mechanism, BeamParam, CalibrateError, Calibration, ErrorFigures,
 };
+use prbfit::mech::figures::MechFigures;
 
 use super::args::CalibrateArgs;
 use super::output::{emit, num, safe};
 use super::{bad, load_scene, resolve_scene};
 
-/// What `calibrate` found.
+/// What `calibrate` found: `F` is the figures the beam is judged by (a cantilever's, or a
+/// mechanism's beam mechanism's).
 #[derive(Debug, Serialize)]
-pub struct CalibrateOutput {
+pub struct CalibrateOutput<F> {
     #[serde(flatten)]
-    calibration: Calibration,
-    /// `value / nominal`.
+    calibration: Calibration<F>,
+    /// `value / nominal` (on a mechanism, the ratio every flexure's value was scaled by).
     ratio: f64,
     scene: String,
     data: String,
     seconds: f64,
 }
 
-impl fmt::Display for CalibrateOutput {
+/// How a report's line gives a beam's figures against the data.
+pub trait FigureLine {
+    /// What is judged ("beam", "beam mechanism").
+    const WHAT: &'static str;
+    /// The figures, after the label.
+    fn line(&self) -> String;
+}
+
+impl FigureLine for ErrorFigures {
+    const WHAT: &'static str = "beam";
+    fn line(&self) -> String {
+        format!(
+            "rms pos {:.3e}, max pos {:.3e} L; rms ang {:.3e}, max ang {:.3e} rad; J {:.4e}",
+            self.rms_pos_err, self.max_pos_err, self.rms_ang_err, self.max_ang_err, self.objective
+        )
+    }
+}
+
+impl FigureLine for MechFigures {
+    const WHAT: &'static str = "beam mechanism";
+    fn line(&self) -> String {
+        format!(
+            "max pos {:.3e} L, max ang {:.3e} rad, reaction rms {:.3e} max {:.3e}; J {:.4e}",
+            self.max_pos_err,
+            self.max_ang_err,
+            self.rms_force_err,
+            self.max_force_err,
+            self.objective
+        )
+    }
+}
+
+impl<F: FigureLine> fmt::Display for CalibrateOutput<F> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let c = &self.calibration;
+        let mechanism = F::WHAT != ErrorFigures::WHAT;
         writeln!(
             f,
-            "scene: {} (truth: measured data {})",
+            "scene: {} ({}truth: measured data {})",
             safe(&self.scene),
+            if mechanism { "mechanism; " } else { "" },
             safe(&self.data)
         )?;
         let unit = match c.param {
             BeamParam::YoungsModulus => "Pa",
             BeamParam::Thickness => "m",
         };
-        writeln!(
-            f,
-            "{}: nominal {} {unit} -> calibrated {} {unit} ({}x){}",
-            c.param.name(),
-            num(c.nominal),
-            num(c.value),
-            num(self.ratio),
-            if c.at_edge {
-                "; at the edge of the searched range: the beam does not explain the data well"
-            } else {
-                ""
-            }
-        )?;
-        for (label, e) in [("nominal", &c.nominal_figures), ("calibrated", &c.figures)] {
+        let edge = if c.at_edge {
+            "; at the edge of the searched range: the beam does not explain the data well"
+        } else {
+            ""
+        };
+        if mechanism {
             writeln!(
                 f,
-                "beam against the data, {label:<10}: rms pos {:.3e}, max pos {:.3e} L; rms ang \
-                 {:.3e}, max ang {:.3e} rad; J {:.4e}",
-                e.rms_pos_err, e.max_pos_err, e.rms_ang_err, e.max_ang_err, e.objective
+                "{} of every flexure scaled by {}: flexure 1's nominal {} {unit} -> calibrated \
+                 {} {unit}{edge}",
+                c.param.name(),
+                num(self.ratio),
+                num(c.nominal),
+                num(c.value),
             )?;
+        } else {
+            writeln!(
+                f,
+                "{}: nominal {} {unit} -> calibrated {} {unit} ({}x){edge}",
+                c.param.name(),
+                num(c.nominal),
+                num(c.value),
+                num(self.ratio),
+            )?;
+        }
+        for (label, e) in [("nominal", &c.nominal_figures), ("calibrated", &c.figures)] {
+            writeln!(f, "{} against the data, {label:<10}: {}", F::WHAT, e.line())?;
         }
         writeln!(f, "{} evaluations, {:.2} s", c.evaluations, self.seconds)
     }
 }
 
-/// What `calibrate` found on a mechanism data scene.
-#[derive(Debug, Serialize)]
-pub struct MechCalibrateOutput {
-    #[serde(flatten)]
-    calibration: MechCalibration,
-    /// `value / nominal`, the ratio every flexure's value was scaled by.
-    ratio: f64,
-    scene: String,
-    data: String,
-    seconds: f64,
-}
-
-impl fmt::Display for MechCalibrateOutput {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let c = &self.calibration;
-        writeln!(
-            f,
-            "scene: {} (mechanism; truth: measured data {})",
-            safe(&self.scene),
-            safe(&self.data)
-        )?;
-        let unit = match c.param {
-            BeamParam::YoungsModulus => "Pa",
-            BeamParam::Thickness => "m",
+impl<F: Serialize + FigureLine> CalibrateOutput<F> {
+    /// The report of `calibration` on `scene`'s data `data`, started at `t0`.
+    fn emit(
+        calibration: Calibration<F>,
+        scene: &prbfit::scene::Scene,
+        data: String,
+        t0: Instant,
+        json: bool,
+    ) -> Result<()> {
+        let out = CalibrateOutput {
+            ratio: calibration.value / calibration.nominal,
+            calibration,
+            scene: scene.name.clone(),
+            data,
+            seconds: t0.elapsed().as_secs_f64(),
         };
-        writeln!(
-            f,
-            "{} of every flexure scaled by {}: flexure 1's nominal {} {unit} -> calibrated {} \
-             {unit}{}",
-            c.param.name(),
-            num(self.ratio),
-            num(c.nominal),
-            num(c.value),
-            if c.at_edge {
-                "; at the edge of the searched range: the beam does not explain the data well"
-            } else {
-                ""
-            }
-        )?;
-        for (label, e) in [("nominal", &c.nominal_figures), ("calibrated", &c.figures)] {
-            writeln!(
-                f,
-                "beam mechanism against the data, {label:<10}: max pos {:.3e} L, max ang {:.3e} \
-                 rad, reaction rms {:.3e} max {:.3e}; J {:.4e}",
-                e.max_pos_err, e.max_ang_err, e.rms_force_err, e.max_force_err, e.objective
-            )?;
-        }
-        writeln!(f, "{} evaluations, {:.2} s", c.evaluations, self.seconds)
+        emit(&out, json)
     }
 }
 
@@ -138,22 +150,8 @@ pub fn run(args: CalibrateArgs) -> Result<()> {
     let t0 = Instant::now();
     if scene.mechanism.is_some() {
         let calibration = calibrate_mechanism(&scene, param, Resolution::default())?;
-        let out = MechCalibrateOutput {
-            ratio: calibration.value / calibration.nominal,
-            calibration,
-            scene: scene.name.clone(),
-            data,
-            seconds: t0.elapsed().as_secs_f64(),
-        };
-        return emit(&out, args.common.json);
+        return CalibrateOutput::emit(calibration, &scene, data, t0, args.common.json);
     }
     let calibration = calibrate(&scene, param, Resolution::default())?;
-    let out = CalibrateOutput {
-        ratio: calibration.value / calibration.nominal,
-        calibration,
-        scene: scene.name.clone(),
-        data,
-        seconds: t0.elapsed().as_secs_f64(),
-    };
-    emit(&out, args.common.json)
+    CalibrateOutput::emit(calibration, &scene, data, t0, args.common.json)
 }
