@@ -79,15 +79,7 @@ fn every_scene_solves_with_the_fields_of_section_8() {
 
 #[test]
 fn every_scene_evals_su_3r_with_seven_figures() {
-    let figures = [
-        "rms_pos_err",
-        "max_pos_err",
-        "rms_ang_err",
-        "max_ang_err",
-        "objective",
-        "rms_force_err",
-        "max_force_err",
-    ];
+    let figures = common::MECH_FIGURES;
     for name in SCENES {
         let v = json(&prbfit(&[
             "eval",

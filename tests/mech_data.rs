@@ -13,7 +13,7 @@
 
 mod common;
 
-use common::{assert_input_error, json, prbfit, succeeded, Scratch};
+use common::{assert_input_error, json, prbfit, succeeded, Gauss, Scratch, MECH_FIGURES};
 use prbfit::scene::{Coordinate, Drive, Scene};
 
 /// The repository's example scene `name`.
@@ -97,16 +97,6 @@ fn f(v: &serde_json::Value, key: &str) -> f64 {
         .unwrap_or_else(|| panic!("{key} missing from {v}"))
 }
 
-const FIGURES: [&str; 7] = [
-    "rms_pos_err",
-    "max_pos_err",
-    "rms_ang_err",
-    "max_ang_err",
-    "objective",
-    "rms_force_err",
-    "max_force_err",
-];
-
 /// Round trip on three mechanisms: the parallel stage (every coordinate loaded: the stage's
 /// motion measured), the slider-crank (every coordinate prescribed: the reactions measured)
 /// and the fixed-guided segment (mixed). The data are the beam mechanism's own cases at
@@ -133,7 +123,7 @@ fn data_from_the_beam_mechanism_gives_its_figures_and_fit() {
             ]))
         };
         let (on_data, on_beam) = (eval(&data), eval(&asset(name)));
-        for key in FIGURES {
+        for key in MECH_FIGURES {
             let (d, b) = (f(&on_data, key), f(&on_beam, key));
             let tol = if key == "objective" {
                 1e-7 * b.sqrt() + 1e-14
@@ -148,7 +138,7 @@ fn data_from_the_beam_mechanism_gives_its_figures_and_fit() {
         );
         let truth = &on_data["truth"];
         assert_eq!(truth["data"], csv.as_str(), "{name}: {truth}");
-        for key in FIGURES {
+        for key in MECH_FIGURES {
             let v = f(&truth["beam_vs_data"], key);
             assert!(
                 v <= 1e-7,
@@ -266,22 +256,6 @@ fn a_turning_drive_is_followed_row_by_row() {
     }
 }
 
-/// A small deterministic Gaussian source (xorshift and Box-Muller).
-struct Gauss(u64);
-
-impl Gauss {
-    fn uniform(&mut self) -> f64 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        ((self.0 >> 11) as f64 + 0.5) / (1u64 << 53) as f64
-    }
-    fn next(&mut self, sigma: f64) -> f64 {
-        let (u, v) = (self.uniform(), self.uniform());
-        sigma * (-2.0 * u.ln()).sqrt() * (2.0 * std::f64::consts::PI * v).cos()
-    }
-}
-
 /// Noise of 0.1% L on the parallel stage's measured `dx` and `dy` (and 1e-3 rad on `dphi`):
 /// a 3R fitted to the noisy data, judged against the noiseless beam mechanism. 16 cases give
 /// 48 residuals for 7 free cells, which absorb about `7/48` of the noise's variance: the
@@ -301,45 +275,8 @@ fn noisy_stage_data_are_fitted_without_chasing_the_noise() {
         &data_scene_text("parallel-stage.toml", "noisy.csv"),
     );
     let beam = asset("parallel-stage.toml");
-    let fit = |scene: &str| {
-        json(&prbfit(&[
-            "fit",
-            "--scene",
-            scene,
-            "--topology",
-            "3R",
-            "--json",
-        ]))
-    };
-    let (on_noisy, on_beam) = (fit(&noisy), fit(&beam));
-    let residual = f(&on_noisy, "rms_pos_err");
-    let judged = |m: &serde_json::Value| {
-        f(
-            &json(&prbfit(&[
-                "eval",
-                "--scene",
-                &beam,
-                "--prb",
-                m["prb"].as_str().unwrap(),
-                "--json",
-            ])),
-            "rms_pos_err",
-        )
-    };
-    let (noisy_truth, clean_truth) = (judged(&on_noisy), judged(&on_beam));
-    eprintln!(
-        "noise 1e-3 L: residual against the noisy data {residual:.3e} L rms; against the \
-         noiseless truth {noisy_truth:.3e} (the noiseless fit's {clean_truth:.3e})"
-    );
-    let expected = (clean_truth.powi(2) + 2e-6 * (1.0 - 7.0 / 48.0)).sqrt();
-    assert!(
-        (residual - expected).abs() < 0.3 * expected,
-        "{residual} vs about {expected}"
-    );
-    assert!(
-        noisy_truth < clean_truth + 0.7e-3,
-        "{noisy_truth} vs {clean_truth}"
-    );
+    // 3 stage coordinates of 16 cases: 48 residuals.
+    common::fit_does_not_chase_the_noise(&noisy, &beam, 48.0);
 }
 
 /// `calibrate` on a mechanism: data made with E 10% above the scene's recover it to the

@@ -203,3 +203,79 @@ pub fn carlson_rd(x: f64, y: f64, z: f64) -> f64 {
         }
     }
 }
+
+/// The seven figures of a mechanism scene's report (DESIGN §8), by their JSON keys.
+pub const MECH_FIGURES: [&str; 7] = [
+    "rms_pos_err",
+    "max_pos_err",
+    "rms_ang_err",
+    "max_ang_err",
+    "objective",
+    "rms_force_err",
+    "max_force_err",
+];
+
+/// A small deterministic Gaussian source (xorshift and Box-Muller): the tests need noise,
+/// not a random crate.
+pub struct Gauss(pub u64);
+
+impl Gauss {
+    fn uniform(&mut self) -> f64 {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 7;
+        self.0 ^= self.0 << 17;
+        ((self.0 >> 11) as f64 + 0.5) / (1u64 << 53) as f64
+    }
+
+    /// The next draw from a normal distribution of mean 0 and deviation `sigma`.
+    pub fn next(&mut self, sigma: f64) -> f64 {
+        let (u, v) = (self.uniform(), self.uniform());
+        sigma * (-2.0 * u.ln()).sqrt() * (2.0 * std::f64::consts::PI * v).cos()
+    }
+}
+
+/// Noise of `1e-3` L (and rad) on every measured position and angle coordinate: a 3R fitted
+/// to the noisy data scene `noisy` and one fitted to the noiseless beam scene `clean`, both
+/// judged against `clean`. With `residuals` residuals and 7 free cells, the fit absorbs
+/// about `7 / residuals` of the noise's variance: its rms position residual against the
+/// noisy data is about `sqrt(e_clean^2 + 2e-6 (1 - 7 / residuals))` (two position
+/// coordinates of noise; within 30%: the noise's sample variance over some 50 draws), and
+/// the noisy fit is no more than `0.7e-3` L rms further from the truth than the clean one
+/// (about `1e-3 sqrt(7 / residuals)` expected; a model that chased the noise would sit about
+/// `1.4e-3` L away). Returns the residual and both errors against the truth.
+pub fn fit_does_not_chase_the_noise(noisy: &str, clean: &str, residuals: f64) -> [f64; 3] {
+    let fit = |scene: &str| {
+        json(&prbfit(&[
+            "fit",
+            "--scene",
+            scene,
+            "--topology",
+            "3R",
+            "--json",
+        ]))
+    };
+    let (on_noisy, on_clean) = (fit(noisy), fit(clean));
+    let rms = |v: &serde_json::Value| v["rms_pos_err"].as_f64().expect("rms_pos_err");
+    let residual = rms(&on_noisy);
+    let judged = |m: &serde_json::Value| {
+        let matrix = m["prb"].as_str().expect("the fitted matrix");
+        rms(&json(&prbfit(&[
+            "eval", "--scene", clean, "--prb", matrix, "--json",
+        ])))
+    };
+    let (noisy_truth, clean_truth) = (judged(&on_noisy), judged(&on_clean));
+    eprintln!(
+        "noise 1e-3 L: residual against the noisy data {residual:.3e} L rms; against the \
+         noiseless truth {noisy_truth:.3e} (the noiseless fit's {clean_truth:.3e})"
+    );
+    let expected = (clean_truth.powi(2) + 2e-6 * (1.0 - 7.0 / residuals)).sqrt();
+    assert!(
+        (residual - expected).abs() < 0.3 * expected,
+        "{residual} vs about {expected}"
+    );
+    assert!(
+        noisy_truth < clean_truth + 0.7e-3,
+        "{noisy_truth} vs {clean_truth}"
+    );
+    [residual, noisy_truth, clean_truth]
+}
