@@ -263,7 +263,7 @@ fn bad_data_files_name_file_line_and_column() {
     let scene = dir.write("s.toml", &data_scene("d.csv", 200e9, 0.0005));
     let head = "path,alpha_x,alpha_y,beta,a,b,phi\n";
     let good = "1,0,1,0,0.94,0.30,0.46\n";
-    let cases: &[(&str, String, &[&str])] = &[
+    let cases: &[common::BadFile] = &[
         ("empty", String::new(), &["d.csv:1:1", "empty"]),
         (
             "header only",
@@ -316,26 +316,7 @@ fn bad_data_files_name_file_line_and_column() {
             &["d.csv:2:1", "not a path number"],
         ),
     ];
-    for (what, text, must) in cases {
-        dir.write("d.csv", text);
-        let out = prbfit(&["eval", "--scene", &scene, "--model", "su-3r"]);
-        let err = String::from_utf8_lossy(&out.stderr).to_string();
-        assert_eq!(out.status.code(), Some(2), "{what}: {err}");
-        for m in *must {
-            assert!(err.contains(m), "{what}: {err:?} lacks {m:?}");
-        }
-    }
-    // A file that is not there, and a directory.
-    std::fs::remove_file(dir.file("d.csv")).unwrap();
-    assert_input_error(
-        &prbfit(&["eval", "--scene", &scene, "--model", "su-3r"]),
-        &["s.toml", "truth.data", "d.csv"],
-    );
-    std::fs::create_dir(dir.file("d.csv")).unwrap();
-    assert_input_error(
-        &prbfit(&["fit", "--scene", &scene, "--topology", "1R"]),
-        &["s.toml", "truth.data", "d.csv"],
-    );
+    common::assert_bad_data_files(&dir, &scene, cases);
 }
 
 /// The loads of measured data need not be proportional: a path whose rows turn (a force,

@@ -398,7 +398,7 @@ fn bad_mechanism_data_name_file_line_and_column() {
     let scene = dir.write("s.toml", &data_scene_text("slider-crank.toml", "d.csv"));
     let head = "dx,dy,dphi,stage_fx,stage_fy,stage_mz\n";
     let good = "0,0.0015,0,-0.71,0.71,0\n";
-    let cases: &[(&str, String, &[&str])] = &[
+    let cases: &[common::BadFile] = &[
         ("empty", String::new(), &["d.csv:1:1", "empty"]),
         ("header only", head.into(), &["d.csv:1:1", "no data rows"]),
         (
@@ -458,33 +458,13 @@ fn bad_mechanism_data_name_file_line_and_column() {
             &["d.csv:2:", "stage_dy", "contradicts the input dy"],
         ),
     ];
-    for (what, text, must) in cases {
-        dir.write("d.csv", text);
-        let out = prbfit(&["eval", "--scene", &scene, "--model", "su-3r"]);
-        let err = String::from_utf8_lossy(&out.stderr).to_string();
-        assert_eq!(out.status.code(), Some(2), "{what}: {err}");
-        for m in *must {
-            assert!(err.contains(m), "{what}: {err:?} lacks {m:?}");
-        }
-    }
+    common::assert_bad_data_files(&dir, &scene, cases);
     // A repeated input that agrees is fine.
     dir.write(
         "d.csv",
         "dx,dy,dphi,stage_fx,stage_fy,stage_mz,stage_dy\n0,0.0015,0,-0.71,0.71,0,0.0015\n",
     );
     succeeded(&prbfit(&["eval", "--scene", &scene, "--model", "su-3r"]));
-    // Not there, a directory.
-    std::fs::remove_file(dir.file("d.csv")).unwrap();
-    assert_input_error(
-        &prbfit(&["eval", "--scene", &scene, "--model", "su-3r"]),
-        &["s.toml", "truth.data", "d.csv"],
-    );
-    std::fs::create_dir(dir.file("d.csv")).unwrap();
-    assert_input_error(
-        &prbfit(&["fit", "--scene", &scene, "--topology", "1R"]),
-        &["s.toml", "truth.data", "d.csv"],
-    );
-    std::fs::remove_dir(dir.file("d.csv")).unwrap();
     // [[drives]] beside the data.
     let both = std::fs::read_to_string(asset("slider-crank.toml"))
         .unwrap()

@@ -279,3 +279,33 @@ pub fn fit_does_not_chase_the_noise(noisy: &str, clean: &str, residuals: f64) ->
     );
     [residual, noisy_truth, clean_truth]
 }
+
+/// A bad data file and what its error must name: `(what it is, its text, needles)`.
+pub type BadFile<'a> = (&'a str, String, &'a [&'a str]);
+
+/// Each bad data file of `cases`, written as `d.csv` in `dir` where the data scene `scene`
+/// names it, makes `eval` exit 2 with every needle in its message; then a `d.csv` that is
+/// not there and one that is a directory are errors naming the scene's `truth.data` key
+/// (the scene file is `s.toml`). Leaves no `d.csv` behind.
+pub fn assert_bad_data_files(dir: &Scratch, scene: &str, cases: &[BadFile<'_>]) {
+    for (what, text, must) in cases {
+        dir.write("d.csv", text);
+        let out = prbfit(&["eval", "--scene", scene, "--model", "su-3r"]);
+        let err = String::from_utf8_lossy(&out.stderr).to_string();
+        assert_eq!(out.status.code(), Some(2), "{what}: {err}");
+        for m in *must {
+            assert!(err.contains(m), "{what}: {err:?} lacks {m:?}");
+        }
+    }
+    let _ = std::fs::remove_file(dir.file("d.csv"));
+    assert_input_error(
+        &prbfit(&["eval", "--scene", scene, "--model", "su-3r"]),
+        &["s.toml", "truth.data", "d.csv"],
+    );
+    std::fs::create_dir(dir.file("d.csv")).expect("a directory where the data should be");
+    assert_input_error(
+        &prbfit(&["fit", "--scene", scene, "--topology", "1R"]),
+        &["s.toml", "truth.data", "d.csv"],
+    );
+    std::fs::remove_dir(dir.file("d.csv")).expect("the directory removed");
+}
