@@ -374,6 +374,29 @@ fn models_fitted_to_mechanism_data_name_the_data() {
     assert_eq!(truth["data"].as_str(), Some("rig.csv"));
     assert_eq!(truth["sha256"].as_str(), Some(sha.as_str()));
     assert_eq!(truth["rows"].as_integer(), Some(10));
+    // select judges the ladder on the data, and names it.
+    let v = json(&prbfit(&[
+        "select",
+        "--scene",
+        &data,
+        "--fidelity",
+        "draft",
+        "--json",
+    ]));
+    assert_eq!(v["truth"]["sha256"].as_str(), Some(sha.as_str()));
+    assert_eq!(v["chosen"]["meets_targets"], true, "{v}");
+    // The chosen model's figures are its figures on the data, as eval gives them (select
+    // solves the PRB mechanism to Newton's 1e-8, eval to its --tol 1e-9: the reactions, of
+    // order 1 over a scale of order 1, agree to about 1e-8).
+    let chosen = v["chosen"]["prb"].as_str().unwrap();
+    let e = json(&prbfit(&[
+        "eval", "--scene", &data, "--prb", chosen, "--json",
+    ]));
+    let (a, b) = (
+        f(&v["chosen"]["figures"], "max_force_err"),
+        f(&e, "max_force_err"),
+    );
+    assert!((a - b).abs() < 1e-7, "select {a} vs eval {b}");
     // The text report names the data and the beam mechanism against it.
     let out = prbfit(&["eval", "--scene", &data, "--model", "su-3r"]);
     succeeded(&out);

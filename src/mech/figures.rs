@@ -53,7 +53,8 @@ pub struct MechFigures {
     pub max_force_err: f64,
     /// Largest flexure tip position error over every flexure and case, units of that
     /// flexure's own `L`: how far a PRB flexure's tip is from the beam's even where the
-    /// stage figures cannot see it (a fully prescribed stage). Reported, not in `J`.
+    /// stage figures cannot see it (a fully prescribed stage). Reported, not in `J`; 0 against
+    /// measured data, which has no flexure tips to judge.
     pub max_tip_err: f64,
 }
 
