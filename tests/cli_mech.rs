@@ -575,40 +575,13 @@ fn a_3r_fitted_on_the_slider_crank_beats_the_published_models() {
 /// by the MuJoCo export's mixed scene; before the per-case budget it ran for minutes).
 #[test]
 fn a_path_that_crawls_is_reported_not_followed_forever() {
-    let text = r#"
-name = "stretched"
-[beam]
-length = 0.05
-width = 0.01
-thickness = 0.0005
-youngs_modulus = 200e9
-poisson_ratio = 0.3
-effects = ["shear", "extension", "poisson"]
-[[flexures]]
-root = [0.0, 0.015]
-attach = "clamped"
-[[flexures]]
-root = [0.0, -0.015]
-angle_deg = 10.0
-attach = "pinned"
-length = 0.06
-thickness = 0.0006
-[[flexures]]
-root = [0.08, 0.05]
-angle_deg = -90.0
-attach = "link"
-link_to = [0.06, 0.0]
-length = 0.04
-youngs_modulus = 150e9
-[stage]
-point = [0.05, 0.0]
-[[drives]]
-dx = 0.002
-fy = 5.0
-steps = 4
-"#;
+    // The mixed mechanism (tests/common), its stage pulled along x while pushed sideways.
+    let text = format!(
+        "{}[[drives]]\ndx = 0.002\nfy = 5.0\nsteps = 4\n",
+        common::MIXED_FLEXURES
+    );
     let dir = Scratch::new("mech-crawl");
-    let file = dir.write("stretched.toml", text);
+    let file = dir.write("stretched.toml", &text);
     let out = prbfit(&["solve", "--scene", &file]);
     assert_eq!(out.status.code(), Some(1), "{out:?}");
     let err = String::from_utf8_lossy(&out.stderr);

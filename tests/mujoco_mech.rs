@@ -14,8 +14,8 @@
 //! Su's and Chen's 3R and Howell's 1R), the parallel-guiding stage (two welded flexures, the
 //! stage loaded; both drive paths) and the fixed-guided segment (a weld, `dy` and `dphi`
 //! prescribed, `dx` loaded with zero), and a scene of three flexures of different sizes,
-//! turned, clamped, pinned and coupled ([`MIXED`]). Howell's 1R cannot keep its tip angle, so
-//! it is only on the slider-crank.
+//! turned, clamped, pinned and coupled ([`mixed`], on `common::MIXED_FLEXURES`). Howell's
+//! 1R cannot keep its tip angle, so it is only on the slider-crank.
 #![allow(clippy::unwrap_used, clippy::expect_used)] // tests: a failure should panic
 
 mod common;
@@ -43,42 +43,11 @@ fn mujoco_available() -> bool {
 /// Three flexures of their own sizes and stiffnesses, turned, clamped, pinned and coupled:
 /// the per-flexure scaling, the clamps' rotation and every kind of closure at once. Drive 1
 /// loads the stage (it turns by half a degree), drive 2 prescribes `dy` against a pull.
-const MIXED: &str = r#"
-name = "mixed attachments"
-[beam]
-length = 0.05
-width = 0.01
-thickness = 0.0005
-youngs_modulus = 200e9
-poisson_ratio = 0.3
-effects = ["shear", "extension", "poisson"]
-[[flexures]]
-root = [0.0, 0.015]
-attach = "clamped"
-[[flexures]]
-root = [0.0, -0.015]
-angle_deg = 10.0
-attach = "pinned"
-length = 0.06
-thickness = 0.0006
-[[flexures]]
-root = [0.08, 0.05]
-angle_deg = -90.0
-attach = "link"
-link_to = [0.06, 0.0]
-length = 0.04
-youngs_modulus = 150e9
-[stage]
-point = [0.05, 0.0]
-[[drives]]
-fy = 4.0
-mz = 0.02
-steps = 4
-[[drives]]
-fx = 1.0
-dy = 0.003
-steps = 4
-"#;
+fn mixed() -> String {
+    let drives = "[[drives]]\nfy = 4.0\nmz = 0.02\nsteps = 4\n\
+                  [[drives]]\nfx = 1.0\ndy = 0.003\nsteps = 4\n";
+    format!("{}{drives}", common::MIXED_FLEXURES)
+}
 
 /// Exports the shipped scene `scene_name` with each of `models`, drives every drive path in
 /// MuJoCo and compares with `prbfit eval`, printing one line of agreement per case.
@@ -214,6 +183,6 @@ fn fixed_guided_in_mujoco_goes_and_pushes_as_prbfit_says() {
 #[test]
 fn mixed_attachments_in_mujoco_go_and_push_as_prbfit_says() {
     let dir = Scratch::new("mujoco-mech-mixed-scene");
-    let path = dir.write("mixed.toml", MIXED);
+    let path = dir.write("mixed.toml", &mixed());
     check("mixed", &path, &["su-3r"]);
 }

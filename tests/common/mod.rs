@@ -309,3 +309,36 @@ pub fn assert_bad_data_files(dir: &Scratch, scene: &str, cases: &[BadFile<'_>]) 
     );
     std::fs::remove_dir(dir.file("d.csv")).expect("the directory removed");
 }
+
+/// A mechanism of three flexures of their own sizes and stiffnesses, turned, clamped, pinned
+/// and coupled (the per-flexure scaling, the clamps' rotation and every kind of closure at
+/// once), without its drives: a scene file's text up to and including `[stage]`, named
+/// "mixed attachments".
+pub const MIXED_FLEXURES: &str = r#"
+name = "mixed attachments"
+[beam]
+length = 0.05
+width = 0.01
+thickness = 0.0005
+youngs_modulus = 200e9
+poisson_ratio = 0.3
+effects = ["shear", "extension", "poisson"]
+[[flexures]]
+root = [0.0, 0.015]
+attach = "clamped"
+[[flexures]]
+root = [0.0, -0.015]
+angle_deg = 10.0
+attach = "pinned"
+length = 0.06
+thickness = 0.0006
+[[flexures]]
+root = [0.08, 0.05]
+angle_deg = -90.0
+attach = "link"
+link_to = [0.06, 0.0]
+length = 0.04
+youngs_modulus = 150e9
+[stage]
+point = [0.05, 0.0]
+"#;
