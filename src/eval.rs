@@ -210,12 +210,12 @@ impl Baseline {
 /// ideal beam is from the specimen): per row, the beam's tip under the row's load (solved by
 /// continuation from the unloaded beam) against the measured tip, as [`CaseError`]s with the
 /// data in the `beam` slot and the beam theory in the `prb` slot, and their figures. `None`
-/// for a scene without data.
+/// for a scene without data, and for a mechanism's (see `mech::measured::beam_against_data`).
 pub fn beam_against_data(
     scene: &Scene,
     resolution: Resolution,
 ) -> Result<Option<Evaluation>, BaselineError> {
-    let Some(truth) = &scene.truth else {
+    let Some(truth) = scene.truth.as_ref().filter(|_| scene.mechanism.is_none()) else {
         return Ok(None);
     };
     beam_against_rows(&scene.beam, truth, 1.0, resolution, scene.fit.angle_weight).map(Some)
@@ -330,6 +330,9 @@ pub fn calibrate(
     resolution: Resolution,
 ) -> Result<Calibration, CalibrateError> {
     let truth = scene.truth.as_ref().ok_or(CalibrateError::NoData)?;
+    if scene.mechanism.is_some() {
+        return Err(CalibrateError::Mechanism);
+    }
     let nominal_beam = scene.beam;
     let nominal = param.get(&nominal_beam);
     let ei0 = nominal_beam.youngs_modulus * nominal_beam.second_moment();
@@ -498,6 +501,9 @@ pub enum CalibrateError {
     /// The beam cannot reach the data's loads.
     #[error("the beam cannot reach the measured loads: {0}")]
     Nominal(BaselineError),
+    /// A mechanism's data: its flexures are calibrated by [`calibrate_mechanism`].
+    #[error("a mechanism scene's data calibrate its flexures (calibrate_mechanism), not one beam")]
+    Mechanism,
 }
 
 impl Fidelity {
