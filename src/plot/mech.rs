@@ -78,6 +78,9 @@ struct Abscissa {
     end: f64,
     /// Name and unit.
     label: String,
+    /// The coordinate it is, and whether as its prescribed motion (else its load); `None`:
+    /// the fraction.
+    coordinate: Option<(usize, bool)>,
 }
 
 impl Abscissa {
@@ -112,12 +115,25 @@ impl Abscissa {
                 Abscissa {
                     end: units.input(c, drive.coordinates[c]),
                     label: format!("{name} ({})", units.unit(c, is_prescribed)),
+                    coordinate: Some((c, is_prescribed)),
                 }
             }
             None => Abscissa {
                 end: 1.0,
                 label: format!("fraction of drive {index}"),
+                coordinate: None,
             },
+        }
+    }
+
+    /// Where `case` sits along it, in display units: the case's own input (its prescribed
+    /// motion or its load, which a measured drive's rows need not space evenly), or its
+    /// fraction.
+    fn at(&self, case: &MechCase, units: &MechUnits) -> f64 {
+        match self.coordinate {
+            Some((c, true)) => units.motion(c, case.stage[c]),
+            Some((c, false)) => case.stage_load[c] * units.load(c),
+            None => case.fraction * self.end,
         }
     }
 }
@@ -371,7 +387,7 @@ pub fn stroke_panels(
                                 Output::Reaction => value(case) * units.load(c),
                                 Output::Motion => units.motion(c, value(case)),
                             };
-                            [case.fraction * x.end, y]
+                            [x.at(case, &units), y]
                         }))
                         .collect()
                 };
@@ -413,6 +429,35 @@ pub fn stroke_panels(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A measured drive's rows need not be evenly spaced: each case is drawn at its own
+    /// stroke (1, 4 and 5 mm here), not at its fraction of the end stroke.
+    #[test]
+    #[allow(clippy::unwrap_used)]
+    fn cases_sit_at_their_own_stroke() {
+        use crate::scene::{Coordinate::Prescribed, Drive};
+        let scene = Scene::from_toml_str(
+            include_str!("../../assets/scenes/slider-crank.toml"),
+            "slider-crank.toml",
+        )
+        .unwrap();
+        let mut m = scene.mechanism.unwrap();
+        m.drives = vec![Drive {
+            coordinates: [Prescribed(0.0), Prescribed(0.005), Prescribed(0.0)],
+            steps: 3,
+            rows: vec![[0.0, 0.001, 0.0], [0.0, 0.004, 0.0], [0.0, 0.005, 0.0]],
+        }];
+        let beam = exact::solve(&m, Resolution::default()).unwrap();
+        let panels = stroke_panels(&m, &beam, &[], ChartKind::Force);
+        assert!(!panels.is_empty());
+        for p in &panels {
+            let x: Vec<f64> = p.beam.iter().map(|q| q[0]).collect();
+            for (got, want) in x.iter().zip([0.0, 1.0, 4.0, 5.0]) {
+                assert!((got - want).abs() < 1e-9, "{x:?}");
+            }
+            assert_eq!(x.len(), 4);
+        }
+    }
 
     #[test]
     fn force_names_are_capitalised() {
