@@ -1,5 +1,6 @@
 //! The mechanism panel: a mechanism scene's flexures, stage point and drives, one value per
-//! row, in place of the load paths (DESIGN §8).
+//! row, in place of the load paths (DESIGN §8). A mechanism data scene's drives are its
+//! file's measured paths (each drive's end row and its rows as steps), read-only.
 
 use ratatui::layout::{Constraint, Rect};
 use ratatui::style::{Color, Style};
@@ -35,11 +36,20 @@ impl View {
         if let Some(m) = &app.scene.mechanism {
             let plural =
                 |n: usize, what: &str| format!("{n} {what}{}", if n == 1 { "" } else { "s" });
-            title = format!(
-                " Mechanism  {} · {} ",
-                plural(m.flexures.len(), "flexure"),
-                plural(m.drives.len(), "drive")
-            );
+            title = if app.is_data() {
+                // The drives are the data file's paths: shown, not edited.
+                format!(
+                    " Mechanism  {} · {} (read-only) ",
+                    plural(m.flexures.len(), "flexure"),
+                    plural(m.drives.len(), "measured drive")
+                )
+            } else {
+                format!(
+                    " Mechanism  {} · {} ",
+                    plural(m.flexures.len(), "flexure"),
+                    plural(m.drives.len(), "drive")
+                )
+            };
             let mut last_group = String::new();
             for f in fields(m) {
                 let group = f.group();

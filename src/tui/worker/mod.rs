@@ -24,7 +24,10 @@ mod data;
 mod mech;
 
 pub use data::{measured_view, BeamBeside, Cancelled, MeasuredView};
-pub use mech::{mech_baseline_view, mech_model_view, CaseErrors, MechBaselineView, MechModelView};
+pub use mech::{
+    mech_baseline_view, mech_model_view, CaseErrors, MechBaselineView, MechMeasuredView,
+    MechModelView,
+};
 
 use std::borrow::Cow;
 use std::panic::{catch_unwind, AssertUnwindSafe};
