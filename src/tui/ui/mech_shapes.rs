@@ -101,13 +101,19 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View) {
         }
         None => "no case".into(),
     };
+    let measured = view.exact.and_then(|e| e.measured.as_ref());
+    // On data the legend is on the bottom border, naming the data's marker too.
+    let legend = if measured.is_some() {
+        ""
+    } else {
+        "beam ─ PRB ─o  "
+    };
     let title = format!(
-        " Mechanism  drive {}/{}  {case_text}  beam ─ PRB ─o  [ ] < > ",
+        " Mechanism  drive {}/{}  {case_text}  {legend}[ ] < > ",
         view.drive + 1,
         view.drives.max(1),
     );
     let mut block = Block::default().borders(Borders::ALL).title(title);
-    let measured = view.exact.and_then(|e| e.measured.as_ref());
     if let Some(m) = measured {
         let pal = view.pal;
         let mut legend = vec![
