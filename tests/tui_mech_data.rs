@@ -451,7 +451,8 @@ fn judged() -> App {
 /// The rig on screen: the measured reactions as markers (×, one per row but the shown
 /// case's, which is the cyan case dot) on the force-stroke chart with the beam mechanism in
 /// grey and the legend naming the three, the measured stage point marked on the shape chart,
-/// the drives read-only, the data line under the figures.
+/// the beam mechanism's reaction error beside the PRB's, the drives read-only, the data line
+/// under the figures.
 #[test]
 fn rig_screen_120x40() {
     let app = judged();
@@ -465,6 +466,7 @@ fn rig_screen_120x40() {
         "drives read-only",
         "data slider-crank-rig.csv sha256 4d786bec · beam vs data:",
         "Fy reaction vs dy",
+        "PRB ─ beam ─",
     ] {
         assert!(text.contains(needle), "`{needle}` missing:\n{text}");
     }
