@@ -107,7 +107,7 @@ impl App {
 /// Why a mechanism data scene's drives cannot be edited.
 pub(super) fn drives_read_only(file: &str) -> String {
     format!(
-        "read-only: a mechanism data scene's drives are the measured paths of {file} (DESIGN \
-         §9); edit the file and open the scene again (flexures, stage and beam stay editable)"
+        "read-only: a mechanism data scene's drives are the rows of {file} (DESIGN §9); edit \
+         the file and open the scene again"
     )
 }
