@@ -18,7 +18,8 @@
 //! Mechanism scenes (DESIGN §8) take their own path (`worker/mech.rs`): the exact mechanism in place
 //! of the baseline, its own messages (`Mech*`) with views of mechanisms. A data scene's
 //! (DESIGN §9) baseline is its rows, with the scene's beam solved at the measured loads
-//! beside them ([`MeasuredView`], `worker/data.rs`).
+//! beside them ([`MeasuredView`], `worker/data.rs`); a mechanism data scene's truth is its
+//! measured cases, with the beam mechanism beside them ([`MechMeasuredView`]).
 
 mod data;
 mod mech;
