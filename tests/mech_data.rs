@@ -502,7 +502,6 @@ fn bad_mechanism_data_name_file_line_and_column() {
     for args in [
         vec!["solve", "--scene", &scene],
         vec!["tradeoff", "--scene", &scene],
-        vec!["tui", &scene],
     ] {
         let out = prbfit(&args);
         let err = String::from_utf8_lossy(&out.stderr).to_string();

@@ -11,32 +11,9 @@ use prbfit::tui::app::{Activity, App, Command, Panel, PromptKind, DEBOUNCE};
 use prbfit::tui::worker::{baseline_view, model_view, FitStatus, WorkerMsg};
 use ratatui::crossterm::event::{KeyCode, KeyEvent, KeyModifiers};
 
-fn key(code: KeyCode) -> KeyEvent {
-    KeyEvent::new(code, KeyModifiers::NONE)
-}
+mod common;
 
-fn type_text(app: &mut App, text: &str, now: Instant) {
-    for c in text.chars() {
-        app.on_key(key(KeyCode::Char(c)), now);
-    }
-}
-
-/// Replaces the selected field's text with `text` and presses Enter.
-fn edit(app: &mut App, text: &str, now: Instant) -> Vec<Command> {
-    let mut out = app.on_key(key(KeyCode::Enter), now);
-    for _ in 0..40 {
-        app.on_key(key(KeyCode::Backspace), now);
-    }
-    type_text(app, text, now);
-    out.extend(app.on_key(key(KeyCode::Enter), now));
-    out
-}
-
-fn jobs(cmds: &[Command]) -> usize {
-    cmds.iter()
-        .filter(|c| matches!(c, Command::Submit(_)))
-        .count()
-}
+use common::tui::{any_key, drive, edit, jobs, key, type_text};
 
 fn app() -> App {
     App::new(Scene::builtin(), None)
@@ -340,34 +317,6 @@ fn prompts_produce_file_commands() {
 mod no_panics {
     use super::*;
     use proptest::prelude::*;
-    use ratatui::backend::TestBackend;
-    use ratatui::Terminal;
-
-    fn any_key() -> impl Strategy<Value = KeyEvent> {
-        let codes = prop_oneof![
-            Just(KeyCode::Enter),
-            Just(KeyCode::Esc),
-            Just(KeyCode::Tab),
-            Just(KeyCode::BackTab),
-            Just(KeyCode::Backspace),
-            Just(KeyCode::Up),
-            Just(KeyCode::Down),
-            Just(KeyCode::Left),
-            Just(KeyCode::Right),
-            Just(KeyCode::F(1)),
-            proptest::char::range(' ', '~').prop_map(KeyCode::Char),
-        ];
-        (codes, any::<bool>()).prop_map(|(c, ctrl)| {
-            KeyEvent::new(
-                c,
-                if ctrl {
-                    KeyModifiers::CONTROL
-                } else {
-                    KeyModifiers::NONE
-                },
-            )
-        })
-    }
 
     proptest! {
         #![proptest_config(ProptestConfig::with_cases(64))]
@@ -375,20 +324,10 @@ mod no_panics {
         /// Any key sequence, rendered at any size (tiny included), never panics and never
         /// leaves an invalid scene or matrix.
         #[test]
-        fn no_input_sequence_panics(keys in proptest::collection::vec(any_key(), 1..80),
+        fn no_input_sequence_panics(keys in proptest::collection::vec(any_key(&[KeyCode::F(1)], &[], true), 1..80),
                                     w in 1u16..140, h in 1u16..50) {
             let mut app = App::new(Scene::builtin(), None);
-            let mut terminal = Terminal::new(TestBackend::new(w, h)).unwrap();
-            let t0 = Instant::now();
-            for (i, k) in keys.iter().enumerate() {
-                let now = t0 + Duration::from_millis(10 * i as u64);
-                let _ = app.on_key(*k, now);
-                let _ = app.tick(now);
-                terminal.draw(|f| prbfit::tui::ui::draw(f, &app)).unwrap();
-                if app.quit {
-                    break;
-                }
-            }
+            drive(&mut app, &keys, w, h);
             prop_assert!(app.matrix.validate().is_ok());
             let again = Scene::from_toml_str(&app.scene.to_toml(), "check");
             prop_assert!(again.is_ok(), "{:?}", again);

@@ -11,8 +11,9 @@ mod common;
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
+use common::tui::{any_key, app_on, drive, edit, job_of, key, press, render, run_job, shipped};
 use common::{json, prbfit, Scratch};
 use prbfit::eval::{beam_against_data, evaluate, Baseline};
 use prbfit::fit::Fidelity;
@@ -21,85 +22,12 @@ use prbfit::scene::Scene;
 use prbfit::tui::app::{Activity, App, Command, EditTarget, Panel, Tone, DEBOUNCE};
 use prbfit::tui::run_command;
 use prbfit::tui::state::beam::BeamField;
-use prbfit::tui::worker::{Job, JobKind, Worker, WorkerMsg};
-use ratatui::backend::TestBackend;
-use ratatui::crossterm::event::{KeyCode, KeyEvent, KeyModifiers};
-use ratatui::Terminal;
-
-fn key(code: KeyCode) -> KeyEvent {
-    KeyEvent::new(code, KeyModifiers::NONE)
-}
-
-fn press(app: &mut App, c: char, now: Instant) -> Vec<Command> {
-    app.on_key(key(KeyCode::Char(c)), now)
-}
-
-/// Replaces the selected field's text with `text` and presses Enter.
-fn edit(app: &mut App, text: &str, now: Instant) {
-    app.on_key(key(KeyCode::Enter), now);
-    for _ in 0..40 {
-        app.on_key(key(KeyCode::Backspace), now);
-    }
-    for c in text.chars() {
-        press(app, c, now);
-    }
-    app.on_key(key(KeyCode::Enter), now);
-}
-
-fn shipped(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("assets/scenes")
-        .join(name)
-}
+use prbfit::tui::worker::{JobKind, Worker, WorkerMsg};
+use ratatui::crossterm::event::KeyCode;
 
 /// The shipped data scene: the wide steel strip's 3D FEA (8 rows in 2 paths, SI).
 fn strip() -> PathBuf {
     shipped("wide-strip-fea.toml")
-}
-
-/// The app started on `path`, as `prbfit tui PATH` starts it.
-fn app_on(path: &Path) -> App {
-    App::new(Scene::from_file(path).unwrap(), Some(path.to_path_buf()))
-}
-
-/// The job a command list or a tick sent.
-fn job_of(cmd: Option<Command>) -> Job {
-    match cmd {
-        Some(Command::Submit(job)) => job,
-        other => panic!("expected a job, got {other:?}"),
-    }
-}
-
-/// Runs `job` on `worker` and hands every message to `app` until the job is done (its
-/// `Done`, `MechDone`, `SelectDone` or `Exported`), or fails; the last message.
-fn run_job(app: &mut App, worker: &Worker, job: Job) -> WorkerMsg {
-    let id = job.id;
-    worker.submit(job);
-    loop {
-        let msg = worker
-            .messages
-            .recv_timeout(Duration::from_secs(120))
-            .expect("the worker answers");
-        let last = msg.id() == id
-            && matches!(
-                msg,
-                WorkerMsg::Done { .. }
-                    | WorkerMsg::MechDone { .. }
-                    | WorkerMsg::Failed { .. }
-                    | WorkerMsg::SelectDone { .. }
-                    | WorkerMsg::Exported { .. }
-            );
-        app.on_worker(msg.clone());
-        if last {
-            return msg;
-        }
-    }
-}
-
-fn render(app: &App, w: u16, h: u16) -> String {
-    let mut terminal = Terminal::new(TestBackend::new(w, h)).unwrap();
-    terminal.draw(|f| prbfit::tui::ui::draw(f, app)).unwrap();
-    format!("{}", terminal.backend())
 }
 
 /// Both ways in: `prbfit tui SCENE` (the CLI no longer refuses it) and the open prompt. The
@@ -630,31 +558,6 @@ mod no_panics {
     use super::*;
     use proptest::prelude::*;
 
-    fn any_key() -> impl Strategy<Value = KeyEvent> {
-        let codes = prop_oneof![
-            Just(KeyCode::Enter),
-            Just(KeyCode::Esc),
-            Just(KeyCode::Tab),
-            Just(KeyCode::BackTab),
-            Just(KeyCode::Backspace),
-            Just(KeyCode::Up),
-            Just(KeyCode::Down),
-            Just(KeyCode::Left),
-            Just(KeyCode::Right),
-            proptest::char::range(' ', '~').prop_map(KeyCode::Char),
-        ];
-        (codes, any::<bool>()).prop_map(|(c, ctrl)| {
-            KeyEvent::new(
-                c,
-                if ctrl {
-                    KeyModifiers::CONTROL
-                } else {
-                    KeyModifiers::NONE
-                },
-            )
-        })
-    }
-
     /// The strip judged once (as the worker would), for every case below.
     fn judged() -> App {
         use prbfit::tui::worker::{baseline_view, measured_view, model_view};
@@ -683,22 +586,12 @@ mod no_panics {
         /// of the edited beam: one per row still, the same lines and hash) and leaves a
         /// scene that writes and reads back.
         #[test]
-        fn no_input_sequence_panics_on_data(keys in proptest::collection::vec(any_key(), 1..80),
+        fn no_input_sequence_panics_on_data(keys in proptest::collection::vec(any_key(&[], &[], true), 1..80),
                                             w in 1u16..140, h in 1u16..50) {
             let mut app = judged();
             let lines: Vec<usize> = app.scene.truth.as_ref().unwrap().paths.iter()
                 .flat_map(|p| p.rows.iter().map(|r| r.line)).collect();
-            let mut terminal = Terminal::new(TestBackend::new(w, h)).unwrap();
-            let t0 = Instant::now();
-            for (i, k) in keys.iter().enumerate() {
-                let now = t0 + Duration::from_millis(10 * i as u64);
-                let _ = app.on_key(*k, now);
-                let _ = app.tick(now);
-                terminal.draw(|f| prbfit::tui::ui::draw(f, &app)).unwrap();
-                if app.quit {
-                    break;
-                }
-            }
+            drive(&mut app, &keys, w, h);
             let truth = app.scene.truth.as_ref().unwrap();
             let now: Vec<usize> = truth.paths.iter()
                 .flat_map(|p| p.rows.iter().map(|r| r.line)).collect();

@@ -17,38 +17,11 @@ use prbfit::tui::state::mech::{fields, MechField};
 use prbfit::tui::worker::{
     mech_baseline_view, mech_model_view, FitStatus, JobKind, Worker, WorkerMsg,
 };
-use ratatui::crossterm::event::{KeyCode, KeyEvent, KeyModifiers};
+use ratatui::crossterm::event::KeyCode;
 
-fn key(code: KeyCode) -> KeyEvent {
-    KeyEvent::new(code, KeyModifiers::NONE)
-}
+mod common;
 
-fn press(app: &mut App, c: char, now: Instant) -> Vec<Command> {
-    app.on_key(key(KeyCode::Char(c)), now)
-}
-
-/// Replaces the selected field's text with `text` and presses Enter.
-fn edit(app: &mut App, text: &str, now: Instant) -> Vec<Command> {
-    let mut out = app.on_key(key(KeyCode::Enter), now);
-    for _ in 0..40 {
-        app.on_key(key(KeyCode::Backspace), now);
-    }
-    for c in text.chars() {
-        out.extend(press(app, c, now));
-    }
-    out.extend(app.on_key(key(KeyCode::Enter), now));
-    out
-}
-
-fn scene_path(name: &str) -> std::path::PathBuf {
-    std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("assets/scenes")
-        .join(format!("{name}.toml"))
-}
-
-fn scene(name: &str) -> Scene {
-    Scene::from_file(&scene_path(name)).unwrap()
-}
+use common::tui::{any_key, drive, edit, job_of, key, press, scene, scene_path};
 
 /// The app on `name`, focused on the mechanism panel's row `field`.
 fn at_field(name: &str, field: MechField) -> App {
@@ -70,13 +43,6 @@ fn judged(name: &str, model: &str) -> App {
     app
 }
 
-fn the_job(cmd: Option<Command>) -> prbfit::tui::worker::Job {
-    match cmd {
-        Some(Command::Submit(job)) => job,
-        other => panic!("expected a job, got {other:?}"),
-    }
-}
-
 /// `prbfit tui MECH` starts on the mechanism (no refusal) and `o` opens one over a
 /// cantilever: the middle panel becomes the mechanism's and the job carries the mechanism.
 #[test]
@@ -87,7 +53,7 @@ fn mechanism_scenes_open() {
     assert!(run_command(&mut app, Command::OpenScene(scene_path("slider-crank")), t0).is_none());
     assert!(app.is_mechanism(), "{:?}", app.message);
     assert_eq!(app.focus, Panel::Mechanism);
-    let job = the_job(app.tick(t0 + DEBOUNCE));
+    let job = job_of(app.tick(t0 + DEBOUNCE));
     assert!(job.scene.mechanism.is_some());
     // Tab cycles beam, mechanism, matrix.
     app.focus = Panel::Beam;
@@ -112,7 +78,7 @@ fn drive_edits_queue_one_refit() {
     let m = app.scene.mechanism.as_ref().unwrap();
     assert_eq!(m.drives[0].coordinates[1], Coordinate::Prescribed(0.02));
     assert!(app.unsaved());
-    let job = the_job(app.tick(t0 + DEBOUNCE));
+    let job = job_of(app.tick(t0 + DEBOUNCE));
     assert_eq!(job.kind, JobKind::Fit, "live refit is on");
     assert_eq!(
         job.scene.mechanism.as_ref().unwrap().drives[0].coordinates[1],
@@ -414,7 +380,7 @@ fn export_and_selection_run_on_the_mechanism() {
     assert!(cmds.is_empty());
     assert!(!app.selection_open());
     assert_eq!(app.matrix, view.rows[chosen].prb);
-    let job = the_job(app.tick(t0 + DEBOUNCE));
+    let job = job_of(app.tick(t0 + DEBOUNCE));
     assert_eq!(job.kind, JobKind::Judge);
 }
 
@@ -486,28 +452,9 @@ fn worker_judges_and_fits_the_slider_crank() {
 mod no_panics {
     use super::*;
     use proptest::prelude::*;
-    use ratatui::backend::TestBackend;
-    use ratatui::Terminal;
 
-    fn any_key() -> impl Strategy<Value = KeyEvent> {
-        let codes = prop_oneof![
-            Just(KeyCode::Enter),
-            Just(KeyCode::Esc),
-            Just(KeyCode::Tab),
-            Just(KeyCode::BackTab),
-            Just(KeyCode::Backspace),
-            Just(KeyCode::Up),
-            Just(KeyCode::Down),
-            Just(KeyCode::Left),
-            Just(KeyCode::Right),
-            proptest::sample::select(vec![
-                'p', 'a', 'd', '<', '>', '[', ']', 'F', '0', '5', '-', ','
-            ])
-            .prop_map(KeyCode::Char),
-            proptest::char::range(' ', '~').prop_map(KeyCode::Char),
-        ];
-        codes.prop_map(key)
-    }
+    /// The mechanism panel's own keys, and what its fields take, drawn more often.
+    const MECH_KEYS: &[char] = &['p', 'a', 'd', '<', '>', '[', ']', 'F', '0', '5', '-', ','];
 
     proptest! {
         #![proptest_config(ProptestConfig::with_cases(48))]
@@ -516,21 +463,11 @@ mod no_panics {
         /// stale: fewer drives, other steps), rendered at any size, never panics and never
         /// leaves a scene its own file would refuse.
         #[test]
-        fn no_input_sequence_panics(keys in proptest::collection::vec(any_key(), 1..80),
+        fn no_input_sequence_panics(keys in proptest::collection::vec(any_key(&[], MECH_KEYS, false), 1..80),
                                     w in 1u16..140, h in 1u16..50) {
             let mut app = judged("slider-crank", "su-3r");
             app.focus = Panel::Mechanism;
-            let mut terminal = Terminal::new(TestBackend::new(w, h)).unwrap();
-            let t0 = Instant::now();
-            for (i, k) in keys.iter().enumerate() {
-                let now = t0 + Duration::from_millis(10 * i as u64);
-                let _ = app.on_key(*k, now);
-                let _ = app.tick(now);
-                terminal.draw(|f| prbfit::tui::ui::draw(f, &app)).unwrap();
-                if app.quit {
-                    break;
-                }
-            }
+            drive(&mut app, &keys, w, h);
             prop_assert!(app.matrix.validate().is_ok());
             let again = Scene::from_toml_str(&app.scene.to_toml(), "check");
             prop_assert!(again.is_ok(), "{:?}", again);

@@ -47,25 +47,8 @@ use crate::scene::Scene;
 use app::{App, Command};
 use worker::{Job, Worker, WorkerMsg, WORKER_THREAD};
 
-/// Why the UI cannot open `scene`, if it cannot: a mechanism whose truth is measured data
-/// (the headless commands judge, fit, select and export it).
-pub fn cannot_open(scene: &Scene) -> Option<String> {
-    match (&scene.mechanism, &scene.truth) {
-        (Some(_), Some(t)) => Some(format!(
-            "\"{}\" is a mechanism whose truth is measured data ({}): the UI does not open \
-             mechanism data scenes yet; prbfit eval, fit, select and export work on it",
-            crate::text::sanitize_terminal(&scene.name),
-            crate::text::sanitize_terminal(&t.file)
-        )),
-        _ => None,
-    }
-}
-
 /// Runs the UI on `scene` until the user quits.
 pub fn run(scene: Scene, scene_path: Option<PathBuf>) -> Result<()> {
-    if let Some(why) = cannot_open(&scene) {
-        anyhow::bail!(why);
-    }
     if !std::io::stdout().is_terminal() || !std::io::stdin().is_terminal() {
         anyhow::bail!(
             "the terminal UI needs a terminal (stdin and stdout); for scripts use the headless \
@@ -390,12 +373,6 @@ pub fn run_command(app: &mut App, cmd: Command, now: Instant) -> Option<Job> {
             }
         }
         Command::OpenScene(path) => match Scene::from_file(&path) {
-            Ok(scene) if cannot_open(&scene).is_some() => {
-                app.set_error(format!(
-                    "not opened: {}",
-                    cannot_open(&scene).unwrap_or_default()
-                ));
-            }
             Ok(scene) => {
                 app.set_scene(scene, path.clone(), now);
                 app.set_info(format!("opened {}", path.display()));

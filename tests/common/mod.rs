@@ -1,6 +1,10 @@
 //! Helpers shared by the integration tests: running the binary, scratch directories, tools a
-//! test needs, and the independent equilibrium check of a beam shape.
+//! test needs, the independent equilibrium check of a beam shape, and (module [`tui`], with
+//! the `tui` feature) driving the UI's app without a terminal.
 #![allow(dead_code)]
+
+#[cfg(feature = "tui")]
+pub mod tui;
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};

@@ -1,7 +1,9 @@
 //! A data scene in the UI (DESIGN §9): its loads are its file's rows, shown read-only (the
 //! load panel's cursor moves over the rows, and the shape chart follows the path of the
 //! row it is on); a beam edit converts SI rows again with the new nominal beam, as reading
-//! the file with that beam would.
+//! the file with that beam would. A mechanism data scene's drives are its file's measured
+//! paths, read-only the same way (its flexures, stage and beam stay editable: the rows are
+//! SI, so an edit changes nothing physical in them).
 
 use super::*;
 
@@ -55,6 +57,21 @@ impl App {
         ));
     }
 
+    /// Whether the scene is a mechanism whose truth is measured data: its drives are the
+    /// file's paths.
+    pub fn is_mech_data(&self) -> bool {
+        self.is_mechanism() && self.is_data()
+    }
+
+    /// An edit of a mechanism data scene's drives (a coordinate, its steps, `p` on one, a
+    /// drive added or deleted) is refused, saying where the drives come from; nothing
+    /// changes.
+    pub(super) fn refuse_drive_edit(&mut self) {
+        self.set_error(drives_read_only(
+            self.scene.truth.as_ref().map_or("", |t| t.file.as_str()),
+        ));
+    }
+
     /// `H` on a data scene: the rows' units decide what a beam edit keeps.
     pub(super) fn data_hold_message(&mut self) {
         let Some(t) = &self.scene.truth else {
@@ -85,4 +102,12 @@ impl App {
         }
         Ok(scene)
     }
+}
+
+/// Why a mechanism data scene's drives cannot be edited.
+pub(super) fn drives_read_only(file: &str) -> String {
+    format!(
+        "read-only: a mechanism data scene's drives are the rows of {file} (DESIGN §9); edit \
+         the file and open the scene again"
+    )
 }

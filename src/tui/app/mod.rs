@@ -943,6 +943,10 @@ impl App {
                 let Some((m, f)) = self.scene.mechanism.as_ref().zip(self.mech_field()) else {
                     return;
                 };
+                if self.is_mech_data() && f.drive().is_some() {
+                    self.refuse_drive_edit();
+                    return;
+                }
                 (EditTarget::Mech(f), f.edit_text(m))
             }
             Panel::Loads if self.is_data() => {
@@ -1005,6 +1009,10 @@ impl App {
                 }
                 self.take_scene(scene)?;
             }
+            EditTarget::Mech(field) if self.is_mech_data() && field.drive().is_some() => {
+                let file = self.scene.truth.as_ref().map_or("", |t| t.file.as_str());
+                return Err(data::drives_read_only(file));
+            }
             EditTarget::Mech(field) => {
                 let m = self
                     .scene
@@ -1065,6 +1073,10 @@ impl App {
         let (Some(m), Some(field)) = (self.scene.mechanism.as_ref(), self.mech_field()) else {
             return;
         };
+        if self.is_mech_data() && field.drive().is_some() {
+            self.refuse_drive_edit();
+            return;
+        }
         let choices = mech_state::toggled(m, field, self.mech_exact.as_deref());
         if choices.is_empty() {
             self.set_error("p: on a drive coordinate (x, y, phi) or a flexure's attach row");
@@ -1178,11 +1190,16 @@ impl App {
     }
 
     /// `a` / `d` on the mechanism panel: a copy of the selected drive after it, or the
-    /// selected drive deleted (a mechanism keeps at least one).
+    /// selected drive deleted (a mechanism keeps at least one); refused on a mechanism data
+    /// scene, whose drives are its file's paths.
     fn edit_drives(&mut self, add: bool, now: Instant) {
         let Some(m) = self.scene.mechanism.as_ref() else {
             return;
         };
+        if self.is_mech_data() {
+            self.refuse_drive_edit();
+            return;
+        }
         let Some(d) = self.mech_field().and_then(MechField::drive) else {
             self.set_error("a / d: on a drive's rows (flexures are added in the scene file)");
             return;

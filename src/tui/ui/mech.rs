@@ -1,5 +1,6 @@
 //! The mechanism panel: a mechanism scene's flexures, stage point and drives, one value per
-//! row, in place of the load paths (DESIGN §8).
+//! row, in place of the load paths (DESIGN §8). A mechanism data scene's drives are its
+//! file's measured paths (each drive's end row and its rows as steps), read-only.
 
 use ratatui::layout::{Constraint, Rect};
 use ratatui::style::{Color, Style};
@@ -18,6 +19,8 @@ pub struct View {
     pub focused: bool,
     /// The title: how many flexures and drives.
     pub title: String,
+    /// The drives are a data file's rows (read-only).
+    pub data: bool,
     /// Per row: its group (on the group's first row only), label, text (or editor), and
     /// whether it is being edited.
     pub rows: Vec<(String, &'static str, String, bool)>,
@@ -35,11 +38,20 @@ impl View {
         if let Some(m) = &app.scene.mechanism {
             let plural =
                 |n: usize, what: &str| format!("{n} {what}{}", if n == 1 { "" } else { "s" });
-            title = format!(
-                " Mechanism  {} · {} ",
-                plural(m.flexures.len(), "flexure"),
-                plural(m.drives.len(), "drive")
-            );
+            title = if app.is_data() {
+                // The drives are the data file's paths: shown, not edited.
+                format!(
+                    " Mechanism  {} · {} (data) ",
+                    plural(m.flexures.len(), "flexure"),
+                    plural(m.drives.len(), "drive")
+                )
+            } else {
+                format!(
+                    " Mechanism  {} · {} ",
+                    plural(m.flexures.len(), "flexure"),
+                    plural(m.drives.len(), "drive")
+                )
+            };
             let mut last_group = String::new();
             for f in fields(m) {
                 let group = f.group();
@@ -56,6 +68,7 @@ impl View {
         View {
             focused: app.focus == Panel::Mechanism,
             title,
+            data: app.is_data(),
             selected: app.mech_state.row.min(rows.len().saturating_sub(1)),
             rows,
             pal: Palette { mono: app.mono },
@@ -66,10 +79,13 @@ impl View {
 /// Draws the mechanism panel.
 pub fn draw(frame: &mut Frame, area: Rect, view: &View) {
     let pal = view.pal;
-    let block = panel_block(view.title.as_str(), view.focused, pal).title_bottom(Span::styled(
-        " dx dy dphi prescribed · Fx Fy Mz loaded ",
-        pal.fg(Color::DarkGray),
-    ));
+    let bottom = if view.data {
+        " drives read-only: the data's rows "
+    } else {
+        " dx dy dphi prescribed · Fx Fy Mz loaded "
+    };
+    let block = panel_block(view.title.as_str(), view.focused, pal)
+        .title_bottom(Span::styled(bottom, pal.fg(Color::DarkGray)));
     let rows: Vec<Row> = view
         .rows
         .iter()

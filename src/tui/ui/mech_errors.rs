@@ -2,11 +2,14 @@
 //! coordinate's largest reaction) against the fraction of each drive, one line per drive,
 //! with the scene's `max_force_err` as a red line; a mechanism with no prescribed coordinate
 //! shows the stage position error (% of flexure 1's `L`) against `max_pos_err` instead. The
-//! compared model as grey dots under the model's lines.
+//! compared model as grey dots under the model's lines. On a mechanism data scene (DESIGN
+//! §9) the errors are against the measured cases, and the beam mechanism's own error against
+//! them is a grey line per drive under the model's, named in a legend on the bottom border.
 
 use ratatui::layout::Rect;
 use ratatui::style::Color;
 use ratatui::symbols::Marker;
+use ratatui::text::{Line, Span};
 use ratatui::widgets::{Block, Borders, Dataset, GraphType, Paragraph};
 use ratatui::Frame;
 
@@ -35,6 +38,9 @@ pub struct View<'a> {
     pub model: Option<&'a MechModelView>,
     /// The compared model's, on the same exact mechanism.
     pub compare: Option<&'a MechModelView>,
+    /// On a data scene, the beam mechanism's errors against the data, per drive (empty
+    /// when it cannot follow the measured drives); `None` when the truth is the beam.
+    pub beam: Option<Vec<Vec<CaseErrors>>>,
     /// The scene's targets.
     pub accuracy: Accuracy,
     /// Colours.
@@ -48,6 +54,21 @@ impl<'a> View<'a> {
             exact: app.mech_exact.as_deref(),
             model: app.mech_model.as_ref(),
             compare: app.shown_mech_compare().map(|(_, v)| v),
+            beam: app.mech_exact.as_ref().and_then(|e| {
+                let (w, w_f) = (app.scene.fit.angle_weight, app.scene.fit.force_weight);
+                let judged = e.beam_against_data(w, w_f)?;
+                let mut per_drive: Vec<Vec<CaseErrors>> = vec![Vec::new(); e.cases.len()];
+                for c in judged.iter().flat_map(|j| &j.cases) {
+                    if let Some(d) = per_drive.get_mut(c.drive.wrapping_sub(1)) {
+                        d.push(CaseErrors {
+                            pos: c.pos_err,
+                            ang: c.ang_err,
+                            force: c.force_err,
+                        });
+                    }
+                }
+                Some(per_drive)
+            }),
             accuracy: app.scene.accuracy,
             pal: Palette { mono: app.mono },
         }
@@ -71,7 +92,7 @@ pub fn kind_of(exact: &MechBaselineView) -> MechErrorKind {
 
 /// One series per drive, in %: the error against the drive's fraction, from rest.
 fn series(
-    model: &MechModelView,
+    errors: &[Vec<CaseErrors>],
     exact: &MechBaselineView,
     kind: MechErrorKind,
 ) -> Vec<Vec<(f64, f64)>> {
@@ -79,8 +100,7 @@ fn series(
         MechErrorKind::Force => e.force * 100.0,
         MechErrorKind::Position => e.pos * 100.0,
     };
-    model
-        .errors
+    errors
         .iter()
         .zip(&exact.cases)
         .map(|(errors, cases)| {
@@ -118,13 +138,37 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View) {
             view.accuracy.max_pos_err * 100.0,
         ),
     };
-    let block = Block::default().borders(Borders::ALL).title(title);
-    let lines = series(model, exact, kind);
+    let mut block = Block::default().borders(Borders::ALL).title(title);
+    if let Some(b) = &view.beam {
+        let mut legend = vec![
+            Span::raw(" PRB "),
+            Span::styled("─", pal.fg(PATH_COLORS[0])),
+        ];
+        if b.iter().any(|d| !d.is_empty()) {
+            legend.push(Span::raw(" beam "));
+            legend.push(Span::styled("─", pal.fg(Color::Gray)));
+        }
+        legend.push(Span::raw(" "));
+        block = block.title_bottom(Line::from(legend));
+    }
+    let lines = series(&model.errors, exact, kind);
     let compared = view
         .compare
-        .map(|c| series(c, exact, kind))
+        .map(|c| series(&c.errors, exact, kind))
         .unwrap_or_default();
-    let yb = bounds(lines.iter().chain(&compared).flatten().map(|p| p.1));
+    let beam = view
+        .beam
+        .as_ref()
+        .map(|b| series(b, exact, kind))
+        .unwrap_or_default();
+    let yb = bounds(
+        lines
+            .iter()
+            .chain(&compared)
+            .chain(&beam)
+            .flatten()
+            .map(|p| p.1),
+    );
     let target_line = [(0.0, target), (1.0, target)];
     let mut datasets: Vec<Dataset> = compared
         .iter()
@@ -136,6 +180,14 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View) {
                 .data(pts)
         })
         .collect();
+    // The beam mechanism against the data under the model's lines.
+    datasets.extend(beam.iter().map(|pts| {
+        Dataset::default()
+            .marker(Marker::Braille)
+            .graph_type(GraphType::Line)
+            .style(pal.fg(Color::Gray))
+            .data(pts)
+    }));
     datasets.extend(lines.iter().enumerate().map(|(i, pts)| {
         Dataset::default()
             .marker(Marker::Braille)

@@ -1,11 +1,14 @@
 //! A mechanism's shape chart (DESIGN §8): one case of the shown drive, every flexure as the
 //! exact beam and as the PRB chain over it, the couplers and the stage (its point `P` joined
-//! to where the flexures meet it), over the unloaded mechanism in grey, at equal aspect.
+//! to where the flexures meet it), over the unloaded mechanism in grey, at equal aspect. On a
+//! mechanism data scene (DESIGN §9) the beam is the beam mechanism along the measured drives
+//! (none when it cannot follow them) and the measured stage point is marked
+//! ([`MEASURED_MARKER`]), with a legend naming the three on the bottom border.
 
 use ratatui::layout::Rect;
 use ratatui::style::{Color, Style};
 use ratatui::symbols::Marker;
-use ratatui::text::Span;
+use ratatui::text::{Line, Span};
 use ratatui::widgets::canvas::{Canvas, Context, Line as CanvasLine};
 use ratatui::widgets::{Block, Borders, Paragraph, Wrap};
 use ratatui::Frame;
@@ -14,7 +17,8 @@ use crate::mech::pose::Pose;
 
 use super::super::app::{Activity, App};
 use super::super::worker::{MechBaselineView, MechModelView};
-use super::{equal_aspect_bounds, sanitize_terminal, Palette};
+use super::shapes::MEASURED_MARKER;
+use super::{equal_aspect_bounds, sanitize_terminal, Palette, MEASURED_COLOR};
 
 /// What the mechanism shape chart draws.
 #[derive(Debug, Clone)]
@@ -97,17 +101,54 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View) {
         }
         None => "no case".into(),
     };
+    let measured = view.exact.and_then(|e| e.measured.as_ref());
+    // On data the legend is on the bottom border, naming the data's marker too.
+    let legend = if measured.is_some() {
+        ""
+    } else {
+        "beam ─ PRB ─o  "
+    };
     let title = format!(
-        " Mechanism  drive {}/{}  {case_text}  beam ─ PRB ─o  [ ] < > ",
+        " Mechanism  drive {}/{}  {case_text}  {legend}[ ] < > ",
         view.drive + 1,
         view.drives.max(1),
     );
-    let block = Block::default().borders(Borders::ALL).title(title);
+    let mut block = Block::default().borders(Borders::ALL).title(title);
+    if let Some(m) = measured {
+        let pal = view.pal;
+        let mut legend = vec![
+            Span::raw(" measured P "),
+            Span::styled(MEASURED_MARKER, pal.fg(MEASURED_COLOR)),
+        ];
+        if m.beam.is_ok() {
+            legend.push(Span::raw("  beam "));
+            legend.push(Span::styled("─", pal.fg(Color::Gray)));
+        }
+        legend.push(Span::raw("  PRB "));
+        legend.push(Span::styled("─o", pal.fg(Color::Yellow)));
+        legend.push(Span::raw(" "));
+        block = block.title_bottom(Line::from(legend));
+    }
     let shown = view.exact.zip(view.case).and_then(|(e, c)| {
-        let pose = e.poses.get(view.drive)?.get(c)?;
-        Some((e, pose, c))
+        let beam = e.poses.get(view.drive).and_then(|d| d.get(c));
+        let chain = view
+            .model
+            .and_then(|m| m.poses.get(view.drive))
+            .and_then(|d| d.get(c));
+        // The measured stage point: P moved by the measured (dx, dy), units of L.
+        let data_point = e
+            .measured
+            .as_ref()
+            .and(e.cases.get(view.drive))
+            .and_then(|d| d.get(c))
+            .map(|c| {
+                let p = e.unloaded.stage_point;
+                [p[0] + c.stage[0], p[1] + c.stage[1]]
+            })
+            .filter(|p| p[0].is_finite() && p[1].is_finite());
+        (beam.is_some() || data_point.is_some()).then_some((e, beam, chain, data_point))
     });
-    let Some((exact, beam, case)) = shown else {
+    let Some((exact, beam, chain, data_point)) = shown else {
         let msg = match view.failure {
             Some(m) => format!("no result: {}", sanitize_terminal(m)),
             None => "solving the mechanism...".to_string(),
@@ -118,21 +159,21 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View) {
         );
         return;
     };
-    let chain = view
-        .model
-        .and_then(|m| m.poses.get(view.drive))
-        .and_then(|d| d.get(case));
     let mut all = Vec::new();
     points(&exact.unloaded, &mut all);
-    points(beam, &mut all);
+    if let Some(b) = beam {
+        points(b, &mut all);
+    }
     if let Some(c) = chain {
         points(c, &mut all);
     }
+    all.extend(data_point.map(|p| (p[0], p[1])));
     let (xb, yb) = equal_aspect_bounds(&all, area);
     let rest_color = view.pal.color(Color::DarkGray);
     let beam_color = view.pal.color(Color::Gray);
     let prb_color = view.pal.color(Color::Yellow);
     let point_color = view.pal.color(Color::Cyan);
+    let data_color = view.pal.color(MEASURED_COLOR);
     // The clamps: a short bar across each flexure's root.
     let bar = 0.04 * (xb[1] - xb[0]).max(yb[1] - yb[0]);
     let clamps: Vec<[f64; 4]> = exact
@@ -157,7 +198,9 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View) {
                 ctx.draw(&CanvasLine::new(c[0], c[1], c[2], c[3], beam_color));
             }
             ctx.layer();
-            lines(ctx, beam, beam_color);
+            if let Some(beam) = beam {
+                lines(ctx, beam, beam_color);
+            }
             ctx.layer();
             if let Some(chain) = chain {
                 lines(ctx, chain, prb_color);
@@ -172,12 +215,21 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View) {
                     }
                 }
             }
-            let p = beam.stage_point;
-            ctx.print(
-                p[0],
-                p[1],
-                Span::styled("P", Style::default().fg(point_color)),
-            );
+            if let Some(p) = beam.or(chain).map(|b| b.stage_point) {
+                ctx.print(
+                    p[0],
+                    p[1],
+                    Span::styled("P", Style::default().fg(point_color)),
+                );
+            }
+            // The measured stage point last: over everything.
+            if let Some(p) = data_point {
+                ctx.print(
+                    p[0],
+                    p[1],
+                    Span::styled(MEASURED_MARKER, Style::default().fg(data_color)),
+                );
+            }
         });
     frame.render_widget(canvas, area);
 }

@@ -11,7 +11,9 @@
 //! the right the mechanism's shapes over its force–stroke chart and its error chart. A data
 //! scene (DESIGN §9) has its file's rows in place of the load paths, the measured tips as
 //! markers over the shapes, the errors against the data with the beam's own beside them,
-//! and a status line naming the data.
+//! and a status line naming the data; a mechanism data scene marks the measured reactions or
+//! motions on its force–stroke chart and the measured stage point on its shape chart, with
+//! the beam mechanism along the measured drives beside them.
 //!
 //! Text that came from outside (a scene's name, file paths, error messages) is drawn through
 //! [`sanitize_terminal`], so a file cannot send escape sequences to the terminal.

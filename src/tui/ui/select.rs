@@ -92,7 +92,7 @@ impl<'a> View<'a, MechFigures> {
         Some(View {
             state: app.mech_select.as_ref()?,
             accuracy: app.scene.accuracy,
-            data: false,
+            data: app.is_data(),
             pal: Palette { mono: app.mono },
         })
     }
@@ -107,10 +107,10 @@ pub fn draw<F: Columns>(frame: &mut Frame, area: Rect, v: &View<'_, F>) {
     let state = if view.running {
         if view.rows.is_empty() {
             "fitting the ladder..."
-        } else if mechanism {
-            "fitting the ladder on the mechanism..."
         } else if v.data {
             "fitting the ladder on the data..."
+        } else if mechanism {
+            "fitting the ladder on the mechanism..."
         } else {
             "fitting / measuring the trade-off..."
         }
@@ -188,7 +188,7 @@ pub fn draw<F: Columns>(frame: &mut Frame, area: Rect, v: &View<'_, F>) {
     let mut tstate = TableState::default().with_selected(Some(view.selected));
     frame.render_stateful_widget(table, parts[0], &mut tstate);
     if mechanism {
-        draw_unfollowed(frame, parts[1], view);
+        draw_unfollowed(frame, parts[1], view, v.data);
         return;
     }
 
@@ -269,14 +269,19 @@ pub fn draw<F: Columns>(frame: &mut Frame, area: Rect, v: &View<'_, F>) {
 }
 
 /// A mechanism selection's lower part: the models that cannot follow the mechanism and why
-/// (the trade-off is measured on cantilever scenes only).
-fn draw_unfollowed<F>(frame: &mut Frame, area: Rect, view: &SelectState<F>) {
+/// (the trade-off is measured on cantilever scenes only, and none on measured data).
+fn draw_unfollowed<F>(frame: &mut Frame, area: Rect, view: &SelectState<F>, data: bool) {
     let block = Block::default()
         .borders(Borders::ALL)
         .title(" Models that cannot follow the mechanism ");
     let text = if view.unfollowed.is_empty() {
         if view.running {
             "fitting...".to_string()
+        } else if data {
+            "none: every model tried follows the measured drives (none on measured data: the \
+             speed/accuracy trade-off measures the beam's resolution and the load sampling, \
+             which data does not have)"
+                .to_string()
         } else {
             "none: every model tried follows the mechanism (the speed/accuracy trade-off is \
              measured on cantilever scenes)"

@@ -1,8 +1,11 @@
 //! The one-line bars: the title (scene, fidelity, live refit), the status lines (J and the
 //! maximum errors against the targets with what the worker is doing, always shown; on a data
-//! scene the data file with its hash and the beam theory's own figures against the data;
+//! scene the data file with its hash and the beam theory's own figures against the data (a
+//! mechanism's: the beam mechanism along the measured drives);
 //! under them the last message on a line of its own, so no message ever hides J or
 //! PASS/FAIL) and the key hints, read from the keymap.
+
+use std::borrow::Cow;
 
 use ratatui::layout::Rect;
 use ratatui::style::{Color, Modifier, Style};
@@ -105,7 +108,27 @@ pub struct DataLine<'a> {
     pub sha256: &'a str,
     /// The beam theory's figures against the data, or why it has none; `None` until the
     /// worker has solved it.
-    pub beam: Option<Result<ErrorFigures, &'a str>>,
+    pub beam: Option<Result<BesideFigures, Cow<'a, str>>>,
+}
+
+/// The beam theory's figures against measured data: a cantilever's beam, or a mechanism's
+/// exact beam mechanism along the measured drives (with the errors its drives have, as
+/// [`Figures::Mech`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum BesideFigures {
+    /// The scene's beam at the measured loads.
+    Beam(ErrorFigures),
+    /// The beam mechanism along the measured drives.
+    Mech(MechFigures, [bool; 3]),
+}
+
+impl BesideFigures {
+    fn figures(&self) -> Figures<'_> {
+        match self {
+            BesideFigures::Beam(f) => Figures::Beam(f),
+            BesideFigures::Mech(f, shown) => Figures::Mech(f, *shown),
+        }
+    }
 }
 
 /// How many hex digits of a data file's SHA-256 the status line shows.
@@ -150,14 +173,30 @@ impl<'a> View<'a> {
                     .map(|(n, v)| (n, Figures::Beam(&v.figures))),
             ),
         };
-        let measured = app.baseline.as_ref().and_then(|b| b.measured.as_ref());
+        let (w, w_f) = (app.scene.fit.angle_weight, app.scene.fit.force_weight);
+        let beam = match &app.scene.mechanism {
+            // The beam mechanism's cases are kept; judging them is arithmetic.
+            Some(m) => app
+                .mech_exact
+                .as_ref()
+                .and_then(|v| v.beam_against_data(w, w_f))
+                .map(|r| {
+                    r.map(|e| BesideFigures::Mech(e.figures, mech_errors_shown(m)))
+                        .map_err(Cow::Owned)
+                }),
+            None => app
+                .baseline
+                .as_ref()
+                .and_then(|b| b.measured.as_ref())
+                .map(|m| match &m.beam {
+                    Ok(b) => Ok(BesideFigures::Beam(b.figures(w))),
+                    Err(why) => Err(Cow::Borrowed(why.as_str())),
+                }),
+        };
         let data = app.scene.truth.as_ref().map(|t| DataLine {
             file: &t.file,
             sha256: t.sha256.get(..HASH_PREFIX).unwrap_or(&t.sha256),
-            beam: measured.map(|m| match &m.beam {
-                Ok(b) => Ok(b.figures(app.scene.fit.angle_weight)),
-                Err(why) => Err(why.as_str()),
-            }),
+            beam,
         });
         View {
             message: app.message.as_ref().map(|(m, t)| (m.as_str(), *t)),
@@ -293,7 +332,7 @@ fn data_line(d: &DataLine, acc: &Accuracy, activity: &Activity, pal: Palette) ->
         pal.fg(MEASURED_COLOR),
     )];
     match &d.beam {
-        Some(Ok(f)) => spans.extend(figure_spans(Figures::Beam(f), acc, pal)),
+        Some(Ok(f)) => spans.extend(figure_spans(f.figures(), acc, pal)),
         Some(Err(why)) => spans.push(Span::styled(
             format!(" none: {}", sanitize_terminal(why)),
             pal.fg(Color::DarkGray),

@@ -2,12 +2,17 @@
 //! ([`stroke_panels`]): for the shown drive, one panel at a time — the reaction of a
 //! prescribed stage coordinate against the drive's stroke, or (for a loaded coordinate) the
 //! stage's motion against the load; the beam in grey, the model in yellow, the compared
-//! model as grey dots, the shown case marked.
+//! model as grey dots, the shown case marked. On a mechanism data scene (DESIGN §9) the
+//! truth is the measured cases, drawn as markers ([`MEASURED_MARKER`], as `plot` draws them
+//! as crosses), with the beam mechanism along the measured drives in grey beside them and a
+//! legend naming the three.
 
+use ratatui::buffer::Buffer;
 use ratatui::layout::{Constraint, Rect};
-use ratatui::style::Color;
+use ratatui::style::{Color, Style};
 use ratatui::symbols::Marker;
-use ratatui::widgets::{Axis, Block, Borders, Chart, Dataset, GraphType, Paragraph};
+use ratatui::text::{Line, Span};
+use ratatui::widgets::{Axis, Block, Borders, Chart, Dataset, GraphType, Paragraph, Widget};
 use ratatui::Frame;
 
 use crate::mech::MechCase;
@@ -18,12 +23,14 @@ use crate::scene::COORDINATE_KEYS;
 
 use super::super::app::App;
 use super::super::units::trim_number;
-use super::Palette;
+use super::shapes::MEASURED_MARKER;
+use super::{Palette, MEASURED_COLOR};
 
 /// What the force–stroke chart draws.
 #[derive(Debug, Clone)]
 pub struct View {
-    /// The shown drive's panels: beam, then the model's curve, then the compared model's.
+    /// The shown drive's panels: the truth (the beam, or the measured cases), then the
+    /// model's curve, then the compared model's, then the beam mechanism beside the data.
     pub panels: Vec<StrokePanel>,
     /// The panel shown (an index into `panels`, wrapping).
     pub shown: usize,
@@ -31,6 +38,11 @@ pub struct View {
     pub case: Option<usize>,
     /// A compared model is drawn (the panels' second model curve).
     pub comparing: bool,
+    /// The truth is measured data: drawn as markers, not a curve.
+    pub measured: bool,
+    /// Beside measured data, the beam mechanism's curve: an index into each panel's
+    /// `models`.
+    pub beside: Option<usize>,
     /// Colours.
     pub pal: Palette,
 }
@@ -40,6 +52,9 @@ impl View {
     pub fn new(app: &App) -> View {
         let drive = app.shown_drive();
         let compare = app.shown_mech_compare().map(|(_, v)| v);
+        let measured = app.mech_exact.as_ref().and_then(|e| e.measured.as_ref());
+        let beam_beside = measured.and_then(|m| m.beam.as_ref().ok());
+        let beside = beam_beside.map(|_| 1 + usize::from(compare.is_some()));
         let panels = match &app.mech_exact {
             Some(exact) => {
                 let none: Vec<Vec<MechCase>> = Vec::new();
@@ -47,6 +62,9 @@ impl View {
                 let mut models: Vec<&[Vec<MechCase>]> = vec![model];
                 if let Some(c) = compare {
                     models.push(&c.cases);
+                }
+                if let Some(b) = beam_beside {
+                    models.push(b);
                 }
                 let mut panels: Vec<StrokePanel> =
                     stroke_panels(&exact.mechanism, &exact.cases, &models, ChartKind::All)
@@ -64,6 +82,8 @@ impl View {
             shown: app.mech_state.chart,
             case: app.mech_state.shown_case(app.shown_drive_cases()),
             comparing: compare.is_some(),
+            measured: measured.is_some(),
+            beside,
             pal: Palette { mono: app.mono },
         }
     }
@@ -129,9 +149,24 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View) {
     } else {
         String::new()
     };
-    let block = Block::default()
+    let mut block = Block::default()
         .borders(Borders::ALL)
         .title(format!(" {}{more} ", title(p)));
+    if view.measured {
+        // The legend on a border of its own, as the cantilever's data charts have it.
+        let mut legend = vec![
+            Span::raw(" measured "),
+            Span::styled(MEASURED_MARKER, pal.fg(MEASURED_COLOR)),
+        ];
+        if view.beside.is_some() {
+            legend.push(Span::raw("  beam "));
+            legend.push(Span::styled("─", pal.fg(Color::Gray)));
+        }
+        legend.push(Span::raw("  PRB "));
+        legend.push(Span::styled("─", pal.fg(Color::Yellow)));
+        legend.push(Span::raw(" "));
+        block = block.title_bottom(Line::from(legend));
+    }
     let pts = |curve: &[[f64; 2]]| -> Vec<(f64, f64)> {
         curve
             .iter()
@@ -146,6 +181,11 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View) {
     } else {
         Vec::new()
     };
+    let beside = view
+        .beside
+        .and_then(|i| p.models.get(i))
+        .map(|c| pts(c))
+        .unwrap_or_default();
     // The shown case: curves start at rest, so case k is point k + 1.
     let marker: Vec<(f64, f64)> = view
         .case
@@ -153,9 +193,22 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View) {
         .copied()
         .into_iter()
         .collect();
-    let all = || beam.iter().chain(&model).chain(&compared);
+    // Measured data: a marker per row but the shown case's (the rest point is no row).
+    let rows: Vec<(f64, f64)> = if view.measured {
+        beam.iter()
+            .enumerate()
+            .skip(1)
+            .filter(|(i, _)| view.case.map(|k| k + 1) != Some(*i))
+            .map(|(_, q)| *q)
+            .collect()
+    } else {
+        Vec::new()
+    };
+    let all = || beam.iter().chain(&model).chain(&compared).chain(&beside);
     let xb = bounds(all().map(|q| q.0));
     let yb = bounds(all().map(|q| q.1));
+    // The truth's curve: the beam's, or beside measured data the beam mechanism's.
+    let grey = if view.measured { &beside } else { &beam };
     let mut datasets = vec![
         Dataset::default()
             .marker(Marker::Dot)
@@ -166,7 +219,7 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View) {
             .marker(Marker::Braille)
             .graph_type(GraphType::Line)
             .style(pal.fg(Color::Gray))
-            .data(&beam),
+            .data(grey),
         Dataset::default()
             .marker(Marker::Braille)
             .graph_type(GraphType::Line)
@@ -180,20 +233,60 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View) {
             .style(pal.fg(Color::Cyan))
             .data(&marker),
     );
-    let chart = Chart::new(datasets)
-        .block(block)
-        .x_axis(
+    let axes = Axes {
+        block: &block,
+        x: (x_unit, xb),
+        y: (y_unit, yb),
+    };
+    frame.render_widget(axes.chart(datasets), area);
+    if !rows.is_empty() {
+        // A chart's points are one-symbol markers: the rows are drawn alone on a scratch
+        // chart of the same axes, and where its markers fall the screen gets the data's.
+        let mut scratch = Buffer::empty(area);
+        let rows_only = Dataset::default()
+            .marker(Marker::Dot)
+            .graph_type(GraphType::Scatter)
+            .data(&rows);
+        axes.chart(vec![rows_only]).render(area, &mut scratch);
+        let style = pal.fg(MEASURED_COLOR);
+        mark_points(frame.buffer_mut(), &scratch, area, style);
+    }
+}
+
+/// A panel's frame and axes, for the chart and for its scratch copy.
+struct Axes<'a> {
+    block: &'a Block<'a>,
+    /// The unit and the bounds of each axis.
+    x: (&'a str, [f64; 2]),
+    y: (&'a str, [f64; 2]),
+}
+
+impl<'a> Axes<'a> {
+    fn chart(&self, datasets: Vec<Dataset<'a>>) -> Chart<'a> {
+        let axis = |(unit, b): (&'a str, [f64; 2])| {
             Axis::default()
-                .title(x_unit)
-                .bounds(xb)
-                .labels([trim_number(xb[0], 3), trim_number(xb[1], 3)]),
-        )
-        .y_axis(
-            Axis::default()
-                .title(y_unit)
-                .bounds(yb)
-                .labels([trim_number(yb[0], 3), trim_number(yb[1], 3)]),
-        )
-        .hidden_legend_constraints((Constraint::Ratio(0, 1), Constraint::Ratio(0, 1)));
-    frame.render_widget(chart, area);
+                .title(unit)
+                .bounds(b)
+                .labels([trim_number(b[0], 3), trim_number(b[1], 3)])
+        };
+        Chart::new(datasets)
+            .block(self.block.clone())
+            .x_axis(axis(self.x))
+            .y_axis(axis(self.y))
+            .hidden_legend_constraints((Constraint::Ratio(0, 1), Constraint::Ratio(0, 1)))
+    }
+}
+
+/// Puts the measured marker, in `style`, on every cell of `area` where `scratch` (a chart
+/// holding only the measured rows, as dots) has a dot.
+fn mark_points(buf: &mut Buffer, scratch: &Buffer, area: Rect, style: Style) {
+    let dot = ratatui::symbols::DOT;
+    for y in area.top()..area.bottom() {
+        for x in area.left()..area.right() {
+            let hit = scratch.cell((x, y)).is_some_and(|c| c.symbol() == dot);
+            if let (true, Some(cell)) = (hit, buf.cell_mut((x, y))) {
+                cell.set_symbol(MEASURED_MARKER).set_style(style);
+            }
+        }
+    }
 }

@@ -9,6 +9,12 @@
 //! Every message carries the exact view its model was judged on, as the cantilever's carry
 //! their baseline. A selection job fits the topology ladder on the mechanism
 //! ([`select_mechanism`]) row by row; the trade-off is measured on cantilever scenes only.
+//!
+//! A mechanism data scene (DESIGN §9 with §8) has its measured cases as the truth in place
+//! of the exact mechanism ([`measured::truth`], as every command judges it), so the fit,
+//! the selection and the export are the CLI's; the exact (beam) mechanism is solved along
+//! the measured drives beside them ([`MechMeasuredView`]), drawn in grey and judged against
+//! the data as the reports' "beam vs data" ([`measured::beam_against_data`]).
 
 use std::sync::Arc;
 use std::time::Instant;
@@ -16,28 +22,35 @@ use std::time::Instant;
 use crate::beam::Effects;
 use crate::fit::mech::{fit_mechanism, MechFitReport, MECH_TOL};
 use crate::fit::{Fidelity, FitOptions};
-use crate::mech::figures::{compare, MechFigures};
+use crate::mech::figures::{compare, MechEvaluation, MechFigures};
 use crate::mech::pose::{self, Pose};
-use crate::mech::{exact, prb, MechCase};
+use crate::mech::{exact, measured, prb, MechCase};
 use crate::prb::PrbMatrix;
+use crate::scene::data::DataTruth;
 use crate::scene::{Accuracy, BeamSpec, Mechanism, Scene};
 use crate::select::{resolve_effects, select_mechanism, EffectsDecision};
 
 use super::{FitStatus, Job, JobKind, WorkerMsg};
 
-/// The exact (beam) mechanism over a job's drives: what the charts draw of it.
+/// The truth over a job's drives: the exact (beam) mechanism, or a data scene's measured
+/// cases with the beam mechanism beside them; what the charts draw of it.
 #[derive(Debug, Clone, PartialEq)]
 pub struct MechBaselineView {
-    /// The mechanism as solved (its flexures' effects decided).
+    /// The mechanism as solved (its flexures' effects decided; a data scene's drives are
+    /// its measured paths).
     pub mechanism: Mechanism,
     /// Flexure 1's effects as solved.
     pub effects: Effects,
     /// How `auto` effects were decided, when they were.
     pub decision: Option<EffectsDecision>,
-    /// Per drive, the exact mechanism's cases.
+    /// Per drive, the truth's cases: the exact mechanism's, or the measured ones.
     pub cases: Vec<Vec<MechCase>>,
-    /// Per drive, per case, the exact mechanism as drawn.
+    /// Per drive, per case, the exact mechanism as drawn (on a data scene, the beam
+    /// mechanism along the measured drives; no case when it cannot follow them).
     pub poses: Vec<Vec<Pose>>,
+    /// A data scene's file and the beam mechanism beside the data; `None` when the truth
+    /// is the beam.
+    pub measured: Option<MechMeasuredView>,
     /// The unloaded mechanism as drawn.
     pub unloaded: Pose,
     /// How long the exact solve took.
@@ -49,6 +62,42 @@ impl MechBaselineView {
     pub fn case_count(&self) -> usize {
         self.cases.iter().map(Vec::len).sum()
     }
+
+    /// On a data scene, the beam mechanism judged against the measured cases as
+    /// [`measured::beam_against_data`] judges it (the data in the truth slot, the beam in
+    /// the model's), with the weights `w` and `w_f` (taken when drawn: an edit of a weight
+    /// needs no new solve); or why it has none. `None` when the truth is the beam.
+    pub fn beam_against_data(
+        &self,
+        angle_weight: f64,
+        force_weight: f64,
+    ) -> Option<Result<MechEvaluation, String>> {
+        let m = self.measured.as_ref()?;
+        Some(match &m.beam {
+            Ok(beam) => compare(
+                &self.mechanism.drives,
+                beam,
+                &self.cases,
+                angle_weight,
+                force_weight,
+            )
+            .map_err(|e| e.to_string()),
+            Err(why) => Err(why.clone()),
+        })
+    }
+}
+
+/// A mechanism data scene's truth as the charts and the status line show it (DESIGN §9).
+#[derive(Debug, Clone, PartialEq)]
+pub struct MechMeasuredView {
+    /// The data file as the scene names it (sanitized when drawn).
+    pub file: String,
+    /// SHA-256 of its bytes, lowercase hex.
+    pub sha256: String,
+    /// The exact (beam) mechanism along the measured drives, per drive, or why it cannot
+    /// follow them (no failure of the job: the data are the truth, the beam is only beside
+    /// them).
+    pub beam: Result<Vec<Vec<MechCase>>, String>,
 }
 
 /// One case's errors: stage position (units of flexure 1's `L`), stage angle (radians),
@@ -79,13 +128,14 @@ pub struct MechModelView {
 }
 
 /// The exact mechanism's cache key: everything its solve depends on (the targets too,
-/// through `effects = "auto"`).
+/// through `effects = "auto"`; a data scene's measurements).
 #[derive(Debug, Clone, PartialEq)]
 struct Key {
     mechanism: Mechanism,
     beam: BeamSpec,
     accuracy: Accuracy,
     fidelity: Fidelity,
+    truth: Option<DataTruth>,
 }
 
 /// A solved exact mechanism and what it was solved from.
@@ -95,8 +145,10 @@ pub(super) struct Solved {
     view: Arc<MechBaselineView>,
 }
 
-/// The exact mechanism of `scene` (a mechanism scene) at `fidelity`'s resolution, with
-/// `effects = "auto"` decided as for every scene ([`resolve_effects`]).
+/// The truth of `scene` (a mechanism scene) at `fidelity`'s resolution, with
+/// `effects = "auto"` decided as for every scene ([`resolve_effects`]): the exact mechanism,
+/// or a data scene's measured cases ([`measured::truth`]) with the beam mechanism solved
+/// along the measured drives beside them.
 pub fn mech_baseline_view(scene: &Scene, fidelity: Fidelity) -> Result<MechBaselineView, String> {
     let t0 = Instant::now();
     let resolution = fidelity.resolution();
@@ -104,11 +156,32 @@ pub fn mech_baseline_view(scene: &Scene, fidelity: Fidelity) -> Result<MechBasel
         .map_err(|e| format!("the beam effects cannot be decided: {e}"))?;
     let mechanism = resolved
         .mechanism
+        .clone()
         .ok_or("internal error: a mechanism job on a cantilever scene")?;
-    let cases = exact::solve(&mechanism, resolution)
+    let cases = measured::truth(&resolved, &mechanism, resolution)
         .map_err(|e| format!("the exact (beam) mechanism: {e}"))?;
-    let poses = pose::exact(&mechanism, resolution, &cases)
-        .map_err(|e| format!("the exact mechanism's shapes: {e}"))?;
+    let (poses, measured) = match &resolved.truth {
+        None => (
+            pose::exact(&mechanism, resolution, &cases)
+                .map_err(|e| format!("the exact mechanism's shapes: {e}"))?,
+            None,
+        ),
+        Some(t) => {
+            let beam = exact::solve(&mechanism, resolution)
+                .map_err(|e| format!("the beam mechanism along the measured drives: {e}"));
+            let poses = beam
+                .as_ref()
+                .ok()
+                .and_then(|b| pose::exact(&mechanism, resolution, b).ok())
+                .unwrap_or_else(|| vec![Vec::new(); mechanism.drives.len()]);
+            let view = MechMeasuredView {
+                file: t.file.clone(),
+                sha256: t.sha256.clone(),
+                beam,
+            };
+            (poses, Some(view))
+        }
+    };
     let effects = mechanism
         .flexures
         .first()
@@ -121,6 +194,7 @@ pub fn mech_baseline_view(scene: &Scene, fidelity: Fidelity) -> Result<MechBasel
         mechanism,
         cases,
         poses,
+        measured,
         seconds: t0.elapsed().as_secs_f64(),
     })
 }
@@ -162,7 +236,7 @@ pub fn mech_model_view(
     })
 }
 
-/// The exact mechanism for `job`: the cached one when nothing it depends on changed.
+/// The truth for `job`: the cached one when nothing it depends on changed.
 fn solve_exact(job: &Job, cache: &mut Option<Solved>) -> Result<Arc<MechBaselineView>, String> {
     let mechanism = job
         .scene
@@ -174,6 +248,7 @@ fn solve_exact(job: &Job, cache: &mut Option<Solved>) -> Result<Arc<MechBaseline
         beam: job.scene.beam,
         accuracy: job.scene.accuracy,
         fidelity: job.fidelity,
+        truth: job.scene.truth.clone(),
     };
     if let Some(c) = cache.as_ref().filter(|c| c.key == key) {
         return Ok(c.view.clone());

@@ -18,13 +18,17 @@
 //! Mechanism scenes (DESIGN §8) take their own path (`worker/mech.rs`): the exact mechanism in place
 //! of the baseline, its own messages (`Mech*`) with views of mechanisms. A data scene's
 //! (DESIGN §9) baseline is its rows, with the scene's beam solved at the measured loads
-//! beside them ([`MeasuredView`], `worker/data.rs`).
+//! beside them ([`MeasuredView`], `worker/data.rs`); a mechanism data scene's truth is its
+//! measured cases, with the beam mechanism beside them ([`MechMeasuredView`]).
 
 mod data;
 mod mech;
 
 pub use data::{measured_view, BeamBeside, Cancelled, MeasuredView};
-pub use mech::{mech_baseline_view, mech_model_view, CaseErrors, MechBaselineView, MechModelView};
+pub use mech::{
+    mech_baseline_view, mech_model_view, CaseErrors, MechBaselineView, MechMeasuredView,
+    MechModelView,
+};
 
 use std::borrow::Cow;
 use std::panic::{catch_unwind, AssertUnwindSafe};

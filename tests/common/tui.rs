@@ -1,0 +1,191 @@
+//! Driving the UI's [`App`] without a terminal, for the `tui_*` tests: keys, text typed into a
+//! field, the shipped scenes, the jobs the app sends, the real worker run to a job's end, and
+//! screens rendered into a `TestBackend`.
+
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+use prbfit::scene::Scene;
+use prbfit::tui::app::{App, Command};
+use prbfit::tui::worker::{Job, Worker, WorkerMsg};
+use ratatui::backend::TestBackend;
+use ratatui::crossterm::event::{KeyCode, KeyEvent, KeyModifiers};
+use ratatui::Terminal;
+
+/// A key pressed with no modifier.
+pub fn key(code: KeyCode) -> KeyEvent {
+    KeyEvent::new(code, KeyModifiers::NONE)
+}
+
+/// Presses the character key `c`; the commands it caused.
+pub fn press(app: &mut App, c: char, now: Instant) -> Vec<Command> {
+    app.on_key(key(KeyCode::Char(c)), now)
+}
+
+/// Types `text`, one key per character.
+pub fn type_text(app: &mut App, text: &str, now: Instant) {
+    for c in text.chars() {
+        press(app, c, now);
+    }
+}
+
+/// Replaces the selected field's text with `text` and presses Enter; the commands the keys
+/// caused.
+pub fn edit(app: &mut App, text: &str, now: Instant) -> Vec<Command> {
+    let mut out = app.on_key(key(KeyCode::Enter), now);
+    for _ in 0..40 {
+        app.on_key(key(KeyCode::Backspace), now);
+    }
+    for c in text.chars() {
+        out.extend(press(app, c, now));
+    }
+    out.extend(app.on_key(key(KeyCode::Enter), now));
+    out
+}
+
+/// How many of `cmds` are jobs for the worker.
+pub fn jobs(cmds: &[Command]) -> usize {
+    cmds.iter()
+        .filter(|c| matches!(c, Command::Submit(_)))
+        .count()
+}
+
+/// A shipped scene (or its data file) by file name: `assets/scenes/NAME`.
+pub fn shipped(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("assets/scenes")
+        .join(name)
+}
+
+/// A shipped scene file by its name without `.toml`.
+pub fn scene_path(name: &str) -> PathBuf {
+    shipped(&format!("{name}.toml"))
+}
+
+/// A shipped scene, read as `prbfit` reads it.
+pub fn scene(name: &str) -> Scene {
+    Scene::from_file(&scene_path(name)).expect("a shipped scene reads")
+}
+
+/// The app started on the scene file `path`, as `prbfit tui PATH` starts it.
+pub fn app_on(path: &Path) -> App {
+    App::new(
+        Scene::from_file(path).expect("the scene reads"),
+        Some(path.to_path_buf()),
+    )
+}
+
+/// The job a command (a key's, a tick's) sent.
+pub fn job_of(cmd: Option<Command>) -> Job {
+    match cmd {
+        Some(Command::Submit(job)) => job,
+        other => panic!("expected a job, got {other:?}"),
+    }
+}
+
+/// Runs `job` on `worker` and hands every message to `app` until the job is done (its
+/// `Done`, `MechDone`, `SelectDone`, `MechSelectDone`, `Compared`, `MechCompared` or
+/// `Exported`), or fails; the last message.
+pub fn run_job(app: &mut App, worker: &Worker, job: Job) -> WorkerMsg {
+    let id = job.id;
+    worker.submit(job);
+    loop {
+        let msg = worker
+            .messages
+            .recv_timeout(Duration::from_secs(120))
+            .expect("the worker answers");
+        let last = msg.id() == id
+            && matches!(
+                msg,
+                WorkerMsg::Done { .. }
+                    | WorkerMsg::MechDone { .. }
+                    | WorkerMsg::Failed { .. }
+                    | WorkerMsg::SelectDone { .. }
+                    | WorkerMsg::MechSelectDone { .. }
+                    | WorkerMsg::Compared { .. }
+                    | WorkerMsg::MechCompared { .. }
+                    | WorkerMsg::Exported { .. }
+            );
+        app.on_worker(msg.clone());
+        if last {
+            return msg;
+        }
+    }
+}
+
+/// The whole screen of `app` at `w` x `h`, as text.
+pub fn render(app: &App, w: u16, h: u16) -> String {
+    let mut terminal = Terminal::new(TestBackend::new(w, h)).expect("a test terminal");
+    terminal
+        .draw(|f| prbfit::tui::ui::draw(f, app))
+        .expect("the screen draws");
+    format!("{}", terminal.backend())
+}
+
+/// Presses `keys` 10 ms apart (ticking the debounce after each), drawing the whole screen
+/// at `w` x `h` after every key, until the app quits: what the no-panic properties drive.
+pub fn drive(app: &mut App, keys: &[KeyEvent], w: u16, h: u16) {
+    let mut terminal = Terminal::new(TestBackend::new(w, h)).expect("a test terminal");
+    let t0 = Instant::now();
+    for (i, k) in keys.iter().enumerate() {
+        let now = t0 + Duration::from_millis(10 * i as u64);
+        let _ = app.on_key(*k, now);
+        let _ = app.tick(now);
+        terminal
+            .draw(|f| prbfit::tui::ui::draw(f, app))
+            .expect("the screen draws");
+        if app.quit {
+            break;
+        }
+    }
+}
+
+/// The keys the no-panic properties press, each branch equally likely: Enter, Esc, Tab,
+/// Shift-Tab, Backspace, the arrows, each of `codes` (say F1), one of `chars` (keys a panel
+/// is known to use, drawn more often; none when empty) and any printable character; Ctrl held
+/// half the time when `ctrl`.
+pub fn any_key(
+    codes: &[KeyCode],
+    chars: &'static [char],
+    ctrl: bool,
+) -> impl proptest::strategy::Strategy<Value = KeyEvent> {
+    use proptest::prelude::*;
+    use proptest::strategy::{BoxedStrategy, Union};
+    let mut branches: Vec<BoxedStrategy<KeyCode>> = [
+        KeyCode::Enter,
+        KeyCode::Esc,
+        KeyCode::Tab,
+        KeyCode::BackTab,
+        KeyCode::Backspace,
+        KeyCode::Up,
+        KeyCode::Down,
+        KeyCode::Left,
+        KeyCode::Right,
+    ]
+    .into_iter()
+    .chain(codes.iter().copied())
+    .map(|c| Just(c).boxed())
+    .collect();
+    if !chars.is_empty() {
+        branches.push(
+            proptest::sample::select(chars)
+                .prop_map(KeyCode::Char)
+                .boxed(),
+        );
+    }
+    branches.push(
+        proptest::char::range(' ', '~')
+            .prop_map(KeyCode::Char)
+            .boxed(),
+    );
+    (Union::new(branches), any::<bool>()).prop_map(move |(c, held)| {
+        KeyEvent::new(
+            c,
+            if ctrl && held {
+                KeyModifiers::CONTROL
+            } else {
+                KeyModifiers::NONE
+            },
+        )
+    })
+}
