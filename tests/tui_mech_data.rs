@@ -362,37 +362,15 @@ fn an_export_records_the_data_as_the_cli_does() {
     let dir = Scratch::new("ui-mech-data-export");
     let mut app = app_on(&rig());
     app.matrix = ModelFile::load("howell-1r").unwrap().prb;
-    let worker = Worker::spawn().unwrap();
-    let ui_file = dir.path().join("ui.toml");
-    let msg = {
-        let job = job_of(Some(app.export(ui_file.clone())));
-        run_job(&mut app, &worker, job)
-    };
-    assert!(
-        matches!(msg, WorkerMsg::Exported { result: Ok(()), .. }),
-        "{msg:?}"
-    );
-    let cli_file = dir.file("cli.toml");
-    let out = prbfit(&[
-        "export",
-        "--scene",
-        rig().to_str().unwrap(),
-        "--prb",
-        &app.matrix.to_text(),
-        "-o",
-        &cli_file,
-    ]);
-    common::succeeded(&out);
-    let ui = ModelFile::load(ui_file.to_str().unwrap()).unwrap();
-    let cli = ModelFile::load(&cli_file).unwrap();
-    let (ui_fit, cli_fit) = (ui.fit.unwrap(), cli.fit.unwrap());
+    let (ui_fit, cli_fit, ui_prb, cli_prb) =
+        common::tui::exports_from_ui_and_cli(&mut app, &rig(), &dir);
     let truth = ui_fit.truth.clone().expect("the export records the data");
     assert_eq!(truth.data, "slider-crank-rig.csv");
     assert_eq!(truth.rows, 10);
     assert_eq!(truth.sha256, app.scene.truth.as_ref().unwrap().sha256);
     assert_eq!(ui_fit.truth, cli_fit.truth);
     assert_eq!(ui_fit.figures, cli_fit.figures);
-    assert_eq!(ui.prb, cli.prb);
+    assert_eq!(ui_prb, cli_prb);
 }
 
 /// The selection runs the ladder against the rows (a published model's row is the CLI's

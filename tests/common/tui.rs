@@ -189,3 +189,48 @@ pub fn any_key(
         )
     })
 }
+
+/// The model `app.matrix` exported from the UI (the worker's export job) and by `prbfit
+/// export --scene scene --prb <the matrix>` into `dir`, both read back: their fit records,
+/// then their matrices, for a test to compare (the UI's export must be the CLI's).
+pub fn exports_from_ui_and_cli(
+    app: &mut App,
+    scene: &Path,
+    dir: &super::Scratch,
+) -> (
+    prbfit::io::FitRecord,
+    prbfit::io::FitRecord,
+    prbfit::prb::PrbMatrix,
+    prbfit::prb::PrbMatrix,
+) {
+    use prbfit::io::ModelFile;
+    let worker = Worker::spawn().expect("the worker starts");
+    let ui_file = dir.path().join("ui.toml");
+    let msg = {
+        let job = job_of(Some(app.export(ui_file.clone())));
+        run_job(app, &worker, job)
+    };
+    assert!(
+        matches!(msg, WorkerMsg::Exported { result: Ok(()), .. }),
+        "{msg:?}"
+    );
+    let cli_file = dir.file("cli.toml");
+    let out = super::prbfit(&[
+        "export",
+        "--scene",
+        &scene.display().to_string(),
+        "--prb",
+        &app.matrix.to_text(),
+        "-o",
+        &cli_file,
+    ]);
+    super::succeeded(&out);
+    let ui = ModelFile::load(&ui_file.display().to_string()).expect("the UI's export reads");
+    let cli = ModelFile::load(&cli_file).expect("the CLI's export reads");
+    (
+        ui.fit.expect("the UI's export has a fit record"),
+        cli.fit.expect("the CLI's export has a fit record"),
+        ui.prb,
+        cli.prb,
+    )
+}
