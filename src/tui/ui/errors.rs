@@ -100,6 +100,63 @@ fn path_series(
     series
 }
 
+/// The legend under an error chart on measured data: the PRB's mark (`prb`), and the beam's
+/// line when the beam beside the data is drawn.
+pub(super) fn data_legend(pal: Palette, prb: &'static str, beam: bool) -> Line<'static> {
+    let mut legend = vec![
+        Span::raw(" PRB "),
+        Span::styled(prb, pal.fg(PATH_COLORS[0])),
+    ];
+    if beam {
+        legend.push(Span::raw(" beam "));
+        legend.push(Span::styled("─", pal.fg(Color::Gray)));
+    }
+    legend.push(Span::raw(" "));
+    Line::from(legend)
+}
+
+/// An error chart's curves in drawing order: the compared model's (dots, dark grey), the
+/// beam's against the data (grey line), then the model's per path (coloured lines, named by
+/// path when `named`), so the model being worked on draws over the others.
+pub(super) fn layered<'a>(
+    pal: Palette,
+    compared: &'a [Vec<(f64, f64)>],
+    beam: &'a [Vec<(f64, f64)>],
+    model: &'a [Vec<(f64, f64)>],
+    named: bool,
+) -> Vec<Dataset<'a>> {
+    let mut datasets: Vec<Dataset> = compared
+        .iter()
+        .map(|pts| {
+            Dataset::default()
+                .marker(Marker::Dot)
+                .graph_type(GraphType::Scatter)
+                .style(pal.fg(Color::DarkGray))
+                .data(pts)
+        })
+        .collect();
+    datasets.extend(beam.iter().map(|pts| {
+        Dataset::default()
+            .marker(Marker::Braille)
+            .graph_type(GraphType::Line)
+            .style(pal.fg(Color::Gray))
+            .data(pts)
+    }));
+    datasets.extend(model.iter().enumerate().map(|(i, pts)| {
+        let d = Dataset::default()
+            .marker(Marker::Braille)
+            .graph_type(GraphType::Line)
+            .style(pal.fg(PATH_COLORS[i % PATH_COLORS.len()]))
+            .data(pts);
+        if named {
+            d.name(format!("{}", i + 1))
+        } else {
+            d
+        }
+    }));
+    datasets
+}
+
 /// Draws one error chart.
 pub fn draw(frame: &mut Frame, area: Rect, view: &View) {
     let (kind, pal) = (view.kind, view.pal);
@@ -111,16 +168,7 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View) {
     let beam_beside = measured.and_then(|m| m.beam.as_ref().ok());
     let mut block = Block::default().borders(Borders::ALL).title(title);
     if measured.is_some() {
-        let mut legend = vec![
-            Span::raw(" PRB "),
-            Span::styled("•", pal.fg(PATH_COLORS[0])),
-        ];
-        if beam_beside.is_some() {
-            legend.push(Span::raw(" beam "));
-            legend.push(Span::styled("─", pal.fg(Color::Gray)));
-        }
-        legend.push(Span::raw(" "));
-        block = block.title_bottom(Line::from(legend));
+        block = block.title_bottom(data_legend(pal, "•", beam_beside.is_some()));
     }
     let (Some(model), Some(baseline)) = (view.model, view.baseline) else {
         frame.render_widget(Paragraph::new("").block(block), area);
@@ -148,33 +196,8 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View) {
     };
     let target_line = [(0.0, target), (1.0, target)];
     let neg_target = [(0.0, -target), (1.0, -target)];
-    // The compared model first, so the model being worked on draws over it.
-    let mut datasets: Vec<Dataset> = compared
-        .iter()
-        .map(|pts| {
-            Dataset::default()
-                .marker(Marker::Dot)
-                .graph_type(GraphType::Scatter)
-                .style(pal.fg(Color::DarkGray))
-                .data(pts)
-        })
-        .collect();
-    // The beam theory against the data under the PRB's lines.
-    datasets.extend(beam.iter().map(|pts| {
-        Dataset::default()
-            .marker(Marker::Braille)
-            .graph_type(GraphType::Line)
-            .style(pal.fg(Color::Gray))
-            .data(pts)
-    }));
-    datasets.extend(series.iter().enumerate().map(|(i, pts)| {
-        Dataset::default()
-            .name(format!("{}", i + 1))
-            .marker(Marker::Braille)
-            .graph_type(GraphType::Line)
-            .style(pal.fg(PATH_COLORS[i % PATH_COLORS.len()]))
-            .data(pts)
-    }));
+    // The compared model and the beam against the data under the PRB's lines.
+    let mut datasets = layered(pal, &compared, &beam, &series, true);
     // The measured rows: a mark on the PRB's line at each (its unloaded start is no row).
     if measured.is_some() {
         datasets.extend(series.iter().enumerate().map(|(i, pts)| {

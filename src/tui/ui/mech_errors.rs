@@ -9,7 +9,6 @@
 use ratatui::layout::Rect;
 use ratatui::style::Color;
 use ratatui::symbols::Marker;
-use ratatui::text::{Line, Span};
 use ratatui::widgets::{Block, Borders, Dataset, GraphType, Paragraph};
 use ratatui::Frame;
 
@@ -18,7 +17,7 @@ use crate::scene::Accuracy;
 
 use super::super::app::App;
 use super::super::worker::{CaseErrors, MechBaselineView, MechModelView};
-use super::{Palette, PATH_COLORS};
+use super::Palette;
 
 /// Which error the chart shows.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -140,16 +139,8 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View) {
     };
     let mut block = Block::default().borders(Borders::ALL).title(title);
     if let Some(b) = &view.beam {
-        let mut legend = vec![
-            Span::raw(" PRB "),
-            Span::styled("─", pal.fg(PATH_COLORS[0])),
-        ];
-        if b.iter().any(|d| !d.is_empty()) {
-            legend.push(Span::raw(" beam "));
-            legend.push(Span::styled("─", pal.fg(Color::Gray)));
-        }
-        legend.push(Span::raw(" "));
-        block = block.title_bottom(Line::from(legend));
+        let beam = b.iter().any(|d| !d.is_empty());
+        block = block.title_bottom(super::errors::data_legend(pal, "─", beam));
     }
     let lines = series(&model.errors, exact, kind);
     let compared = view
@@ -170,31 +161,8 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View) {
             .map(|p| p.1),
     );
     let target_line = [(0.0, target), (1.0, target)];
-    let mut datasets: Vec<Dataset> = compared
-        .iter()
-        .map(|pts| {
-            Dataset::default()
-                .marker(Marker::Dot)
-                .graph_type(GraphType::Scatter)
-                .style(pal.fg(Color::DarkGray))
-                .data(pts)
-        })
-        .collect();
-    // The beam mechanism against the data under the model's lines.
-    datasets.extend(beam.iter().map(|pts| {
-        Dataset::default()
-            .marker(Marker::Braille)
-            .graph_type(GraphType::Line)
-            .style(pal.fg(Color::Gray))
-            .data(pts)
-    }));
-    datasets.extend(lines.iter().enumerate().map(|(i, pts)| {
-        Dataset::default()
-            .marker(Marker::Braille)
-            .graph_type(GraphType::Line)
-            .style(pal.fg(PATH_COLORS[i % PATH_COLORS.len()]))
-            .data(pts)
-    }));
+    // The compared model and the beam mechanism against the data under the model's lines.
+    let mut datasets = super::errors::layered(pal, &compared, &beam, &lines, false);
     // The target, where it falls inside the plotted range.
     if target <= yb[1] {
         datasets.push(
