@@ -187,6 +187,9 @@ pub struct Hint {
     pub text: &'static str,
     /// The panels whose hint line shows it.
     pub scope: Scope,
+    /// It edits the load paths or the drives, which a data scene's rows are (read-only): its
+    /// hint line leaves it out.
+    pub edits_rows: bool,
 }
 
 /// A row of the key table: its keys as written in the help and README, what they do, where
@@ -233,7 +236,20 @@ const fn ctrl(c: char, action: Action) -> Binding {
 }
 
 const fn hint(text: &'static str, scope: Scope) -> Hint {
-    Hint { text, scope }
+    Hint {
+        text,
+        scope,
+        edits_rows: false,
+    }
+}
+
+/// A hint for a key that edits the load paths or drives (not shown on a data scene).
+const fn rows_hint(text: &'static str, scope: Scope) -> Hint {
+    Hint {
+        text,
+        scope,
+        edits_rows: true,
+    }
 }
 
 const ALL: Scope = Scope::PANELS;
@@ -287,7 +303,8 @@ pub const KEYMAP: &[Entry] = &[
         bindings: &[code(KeyCode::Enter, Action::Edit)],
         hints: &[
             hint("Enter edit (0.5 mm, 200 GPa)", Scope::BEAM),
-            hint("Enter edit", Scope::LOADS.or(Scope::MATRIX).or(Scope::MECH)),
+            rows_hint("Enter edit", Scope::LOADS),
+            hint("Enter edit", Scope::MATRIX.or(Scope::MECH)),
         ],
     },
     Entry {
@@ -314,7 +331,7 @@ pub const KEYMAP: &[Entry] = &[
         does: "mechanism: coordinate prescribed <-> loaded (same end state), attach kind",
         scope: Scope::MECH,
         bindings: &[ch('p', Action::ToggleKind)],
-        hints: &[hint("p prescribed/loaded", Scope::MECH)],
+        hints: &[rows_hint("p prescribed/loaded", Scope::MECH)],
     },
     Entry {
         keys: "a / d",
@@ -323,8 +340,8 @@ pub const KEYMAP: &[Entry] = &[
         bindings: &[ch('a', Action::AddRow), ch('d', Action::DeleteRow)],
         hints: &[
             hint("a/d row", Scope::MATRIX),
-            hint("a/d path", Scope::LOADS),
-            hint("a/d drive", Scope::MECH),
+            rows_hint("a/d path", Scope::LOADS),
+            rows_hint("a/d drive", Scope::MECH),
         ],
     },
     Entry {
@@ -332,7 +349,7 @@ pub const KEYMAP: &[Entry] = &[
         does: "loads: a beam edit holds alpha, or the force (N, N m: alphas rescaled)",
         scope: Scope::LOADS,
         bindings: &[ch('H', Action::ToggleHold)],
-        hints: &[hint("H hold alpha/force", Scope::LOADS)],
+        hints: &[rows_hint("H hold alpha/force", Scope::LOADS)],
     },
     Entry {
         keys: "[ / ]",
@@ -539,13 +556,14 @@ pub fn action(event: &KeyEvent, scope: Scope) -> Option<Action> {
         .map(|b| b.action)
 }
 
-/// The hint line of `panel`: its hints, in table order.
-pub fn hint_line(panel: Panel) -> String {
+/// The hint line of `panel`: its hints, in table order; on a data scene (`data`), without
+/// the keys that edit its rows (the load paths or drives), which are read-only there.
+pub fn hint_line(panel: Panel, data: bool) -> String {
     let scope = Scope::of(panel);
     let hints: Vec<&str> = KEYMAP
         .iter()
         .flat_map(|e| e.hints)
-        .filter(|h| h.scope.contains(scope))
+        .filter(|h| h.scope.contains(scope) && !(data && h.edits_rows))
         .map(|h| h.text)
         .collect();
     format!(" {}", hints.join(" · "))
@@ -554,6 +572,32 @@ pub fn hint_line(panel: Panel) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// On a data scene the hint line leaves out the keys that edit its read-only rows (the
+    /// load paths, the drives) and keeps the others.
+    #[test]
+    fn data_scenes_hint_no_row_edits() {
+        let loads = hint_line(Panel::Loads, false);
+        for h in ["Enter edit", "a/d path", "H hold"] {
+            assert!(loads.contains(h), "{loads}");
+            assert!(!hint_line(Panel::Loads, true).contains(h));
+        }
+        let mech = (
+            hint_line(Panel::Mechanism, false),
+            hint_line(Panel::Mechanism, true),
+        );
+        for h in ["p prescribed", "a/d drive"] {
+            assert!(mech.0.contains(h) && !mech.1.contains(h), "{mech:?}");
+        }
+        assert!(
+            mech.1.contains("Enter edit") && mech.1.contains("< > case"),
+            "{mech:?}"
+        );
+        assert_eq!(
+            hint_line(Panel::Matrix, true),
+            hint_line(Panel::Matrix, false)
+        );
+    }
 
     /// No key means two things in one place.
     #[test]

@@ -365,7 +365,7 @@ impl HintsView {
                 keymap::PROMPT_HINT.to_string()
             }
         } else {
-            keymap::hint_line(app.focus)
+            keymap::hint_line(app.focus, app.scene.truth.is_some())
         };
         HintsView {
             text,
