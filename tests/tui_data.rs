@@ -309,17 +309,7 @@ fn a_saved_data_scene_reopens_as_the_same_data_scene() {
         (sub.join("below.toml"), absolute),
     ];
     for (path, named) in targets {
-        let cmd = Command::SaveScene {
-            path: path.clone(),
-            overwrite: false,
-        };
-        assert!(run_command(&mut app, cmd, t0).is_none());
-        assert!(!app.unsaved(), "{:?}", app.message);
-        let text = std::fs::read_to_string(&path).unwrap();
-        let expect = format!("[truth]\ndata = {}\n", toml::Value::String(named.clone()));
-        assert!(text.contains(&expect), "{}:\n{text}", path.display());
-        assert!(!text.contains("[[loads]]"), "{text}");
-        let again = Scene::from_file(&path).unwrap();
+        let again = common::tui::save_data_scene(&mut app, &path, &named, "[[loads]]", t0);
         let truth = again.truth.as_ref().unwrap();
         assert_eq!(truth.sha256, original.sha256);
         assert_eq!(truth.paths, original.paths);
@@ -339,19 +329,13 @@ fn an_export_records_the_data_as_the_cli_does() {
     let dir = Scratch::new("ui-data-export");
     let mut app = app_on(&strip());
     app.matrix = ModelFile::load("su-3r").unwrap().prb;
-    let (ui_fit, cli_fit, ui_prb, cli_prb) =
-        common::tui::exports_from_ui_and_cli(&mut app, &strip(), &dir);
-    let truth = ui_fit.truth.clone().expect("the export records the data");
-    assert_eq!(truth.data, "wide-strip-fea.csv");
-    assert_eq!(truth.rows, 8);
-    assert_eq!(
-        truth.sha256,
-        app.scene.truth.as_ref().unwrap().sha256,
-        "the file's hash"
+    common::tui::export_records_the_data_as_the_cli(
+        &mut app,
+        &strip(),
+        &dir,
+        "wide-strip-fea.csv",
+        8,
     );
-    assert_eq!(ui_fit.truth, cli_fit.truth);
-    assert_eq!(ui_fit.figures, cli_fit.figures);
-    assert_eq!(ui_prb, cli_prb);
 }
 
 /// The selection on a data scene runs the ladder against the rows (a published row's

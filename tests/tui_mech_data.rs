@@ -330,17 +330,7 @@ fn a_saved_mechanism_data_scene_reopens_as_the_same() {
             "home/slider-crank-rig.csv".into(),
         ),
     ] {
-        let cmd = Command::SaveScene {
-            path: path.clone(),
-            overwrite: false,
-        };
-        assert!(run_command(&mut app, cmd, t0).is_none());
-        assert!(!app.unsaved(), "{:?}", app.message);
-        let text = std::fs::read_to_string(&path).unwrap();
-        let expect = format!("[truth]\ndata = {}\n", toml::Value::String(named.clone()));
-        assert!(text.contains(&expect), "{}:\n{text}", path.display());
-        assert!(!text.contains("[[drives]]"), "{text}");
-        let again = Scene::from_file(&path).unwrap();
+        let again = common::tui::save_data_scene(&mut app, &path, &named, "[[drives]]", t0);
         let truth = again.truth.as_ref().unwrap();
         let was = original.truth.as_ref().unwrap();
         assert_eq!(truth.sha256, was.sha256);
@@ -362,15 +352,13 @@ fn an_export_records_the_data_as_the_cli_does() {
     let dir = Scratch::new("ui-mech-data-export");
     let mut app = app_on(&rig());
     app.matrix = ModelFile::load("howell-1r").unwrap().prb;
-    let (ui_fit, cli_fit, ui_prb, cli_prb) =
-        common::tui::exports_from_ui_and_cli(&mut app, &rig(), &dir);
-    let truth = ui_fit.truth.clone().expect("the export records the data");
-    assert_eq!(truth.data, "slider-crank-rig.csv");
-    assert_eq!(truth.rows, 10);
-    assert_eq!(truth.sha256, app.scene.truth.as_ref().unwrap().sha256);
-    assert_eq!(ui_fit.truth, cli_fit.truth);
-    assert_eq!(ui_fit.figures, cli_fit.figures);
-    assert_eq!(ui_prb, cli_prb);
+    common::tui::export_records_the_data_as_the_cli(
+        &mut app,
+        &rig(),
+        &dir,
+        "slider-crank-rig.csv",
+        10,
+    );
 }
 
 /// The selection runs the ladder against the rows (a published model's row is the CLI's

@@ -191,17 +191,15 @@ pub fn any_key(
 }
 
 /// The model `app.matrix` exported from the UI (the worker's export job) and by `prbfit
-/// export --scene scene --prb <the matrix>` into `dir`, both read back: their fit records,
-/// then their matrices, for a test to compare (the UI's export must be the CLI's).
-pub fn exports_from_ui_and_cli(
+/// export --scene scene --prb <the matrix>` into `dir`: the UI's export records the data
+/// scene's file `data` (as the scene names it), its `rows` and the hash the app read, and
+/// is the CLI's (the same truth record, figures and matrix).
+pub fn export_records_the_data_as_the_cli(
     app: &mut App,
     scene: &Path,
     dir: &super::Scratch,
-) -> (
-    prbfit::io::FitRecord,
-    prbfit::io::FitRecord,
-    prbfit::prb::PrbMatrix,
-    prbfit::prb::PrbMatrix,
+    data: &str,
+    rows: usize,
 ) {
     use prbfit::io::ModelFile;
     let worker = Worker::spawn().expect("the worker starts");
@@ -227,10 +225,40 @@ pub fn exports_from_ui_and_cli(
     super::succeeded(&out);
     let ui = ModelFile::load(&ui_file.display().to_string()).expect("the UI's export reads");
     let cli = ModelFile::load(&cli_file).expect("the CLI's export reads");
-    (
-        ui.fit.expect("the UI's export has a fit record"),
-        cli.fit.expect("the CLI's export has a fit record"),
-        ui.prb,
-        cli.prb,
-    )
+    let ui_fit = ui.fit.expect("the UI's export has a fit record");
+    let cli_fit = cli.fit.expect("the CLI's export has a fit record");
+    let truth = ui_fit.truth.clone().expect("the export records the data");
+    assert_eq!(truth.data, data);
+    assert_eq!(truth.rows, rows);
+    let read = app.scene.truth.as_ref().expect("a data scene");
+    assert_eq!(truth.sha256, read.sha256, "the file's hash");
+    assert_eq!(ui_fit.truth, cli_fit.truth);
+    assert_eq!(ui_fit.figures, cli_fit.figures);
+    assert_eq!(ui.prb, cli.prb);
+}
+
+/// Saves `app`'s scene at `path` (the UI's save command) and reads it back: it names its
+/// data file `named` under `[truth]`, has no `table` (the rows are the data's), and is
+/// saved. Returns the scene read back.
+pub fn save_data_scene(
+    app: &mut App,
+    path: &Path,
+    named: &str,
+    table: &str,
+    now: Instant,
+) -> Scene {
+    let cmd = Command::SaveScene {
+        path: path.to_path_buf(),
+        overwrite: false,
+    };
+    assert!(prbfit::tui::run_command(app, cmd, now).is_none());
+    assert!(!app.unsaved(), "{:?}", app.message);
+    let text = std::fs::read_to_string(path).expect("the saved scene");
+    let expect = format!(
+        "[truth]\ndata = {}\n",
+        toml::Value::String(named.to_string())
+    );
+    assert!(text.contains(&expect), "{}:\n{text}", path.display());
+    assert!(!text.contains(table), "{text}");
+    Scene::from_file(path).expect("the saved scene reads back")
 }
