@@ -23,11 +23,11 @@ use prbfit::io::ModelFile;
 use prbfit::mech::figures::compare;
 use prbfit::mech::{measured, prb};
 use prbfit::scene::Scene;
-use prbfit::tui::app::{Activity, App, Command, EditTarget, Panel, Tone, DEBOUNCE};
+use prbfit::tui::app::{App, Command, EditTarget, Panel, Tone, DEBOUNCE};
 use prbfit::tui::run_command;
 use prbfit::tui::state::beam::BeamField;
 use prbfit::tui::state::mech::{fields, MechField};
-use prbfit::tui::worker::{mech_baseline_view, mech_model_view, JobKind, Worker, WorkerMsg};
+use prbfit::tui::worker::{JobKind, Worker, WorkerMsg};
 use ratatui::backend::TestBackend;
 use ratatui::crossterm::event::KeyCode;
 use ratatui::Terminal;
@@ -398,20 +398,7 @@ fn selection_runs_on_the_data() {
 
 /// The rig with Howell's 1R judged, as the worker computes it (deterministic: no timing).
 fn judged() -> App {
-    let mut app = app_on(&rig());
-    app.matrix = ModelFile::load("howell-1r").unwrap().prb;
-    let exact = mech_baseline_view(&app.scene, Fidelity::Normal).unwrap();
-    let (w, w_f) = (app.scene.fit.angle_weight, app.scene.fit.force_weight);
-    app.mech_model = Some(mech_model_view(&exact, &app.matrix, w, w_f).unwrap());
-    app.mech_exact = Some(Arc::new(exact));
-    app.activity = Activity::Done {
-        seconds: 0.0021,
-        stop: None,
-        iterations: 0,
-        evaluations: 0,
-    };
-    app.focus = Panel::Mechanism;
-    app
+    common::tui::judged_mechanism(&rig(), "howell-1r", 0.0021)
 }
 
 /// The rig on screen: the measured reactions as markers (×, one per row but the shown

@@ -3,6 +3,8 @@
 //! colours a text snapshot cannot see.
 #![allow(clippy::unwrap_used, clippy::expect_used)] // tests: a failure should panic
 
+mod common;
+
 use std::sync::Arc;
 
 use prbfit::fit::{Fidelity, StopReason};
@@ -344,24 +346,7 @@ fn control_characters_from_files_are_not_drawn() {
 /// The app on a shipped mechanism scene after a judge job of the published model `model`
 /// (results computed here, deterministic), with the mechanism panel focused on `row`.
 fn judged_mechanism(name: &str, model: &str) -> App {
-    use prbfit::tui::worker::{mech_baseline_view, mech_model_view};
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("assets/scenes")
-        .join(format!("{name}.toml"));
-    let mut app = App::new(Scene::from_file(&path).unwrap(), Some(path));
-    app.matrix = prbfit::io::ModelFile::load(model).unwrap().prb;
-    let exact = mech_baseline_view(&app.scene, Fidelity::Normal).unwrap();
-    let (w, w_f) = (app.scene.fit.angle_weight, app.scene.fit.force_weight);
-    app.mech_model = Some(mech_model_view(&exact, &app.matrix, w, w_f).unwrap());
-    app.mech_exact = Some(Arc::new(exact));
-    app.activity = Activity::Done {
-        seconds: 0.0012,
-        stop: None,
-        iterations: 0,
-        evaluations: 0,
-    };
-    app.focus = Panel::Mechanism;
-    app
+    common::tui::judged_mechanism(&common::tui::scene_path(name), model, 0.0012)
 }
 
 /// The slider-crank with Howell's 1R judged: the mechanism panel, every flexure, coupler and

@@ -262,3 +262,26 @@ pub fn save_data_scene(
     assert!(!text.contains(table), "{text}");
     Scene::from_file(path).expect("the saved scene reads back")
 }
+
+/// The app on the mechanism scene file `path` with `model` (a published name or model file)
+/// judged as the worker judges it at normal fidelity (deterministic: no timing), the job
+/// done in `seconds`, the mechanism panel focused.
+pub fn judged_mechanism(path: &Path, model: &str, seconds: f64) -> App {
+    use prbfit::fit::Fidelity;
+    use prbfit::tui::app::{Activity, Panel};
+    use prbfit::tui::worker::{mech_baseline_view, mech_model_view};
+    let mut app = app_on(path);
+    app.matrix = prbfit::io::ModelFile::load(model).expect("the model").prb;
+    let exact = mech_baseline_view(&app.scene, Fidelity::Normal).expect("the truth");
+    let (w, w_f) = (app.scene.fit.angle_weight, app.scene.fit.force_weight);
+    app.mech_model = Some(mech_model_view(&exact, &app.matrix, w, w_f).expect("the model"));
+    app.mech_exact = Some(std::sync::Arc::new(exact));
+    app.activity = Activity::Done {
+        seconds,
+        stop: None,
+        iterations: 0,
+        evaluations: 0,
+    };
+    app.focus = Panel::Mechanism;
+    app
+}
