@@ -16,27 +16,23 @@ use std::path::Path;
 use std::time::Instant;
 
 use prbfit::eval::evaluate;
-use prbfit::fit::{fit, CancelToken, Fidelity, FitOptions};
+use prbfit::fit::{CancelToken, Fidelity, FitOptions};
 use prbfit::prb::PrbMatrix;
 use prbfit::scene::Scene;
+use prbfit::study::{Sampling, Study};
 
 fn run(scene: &Scene, topology: &str, fidelity: Fidelity) -> (f64, PrbMatrix, u64) {
     let t0 = Instant::now();
-    let baseline = fidelity.baseline(scene).unwrap();
+    let study = Study::as_given(scene, Sampling::Fidelity(fidelity)).unwrap();
     let options = FitOptions {
         fidelity,
         angle_weight: scene.fit.angle_weight,
         seed: 1,
     };
     let start = PrbMatrix::from_topology(topology).unwrap();
-    let report = fit(
-        &baseline,
-        &start,
-        &options,
-        &mut |_| {},
-        &CancelToken::new(),
-    )
-    .unwrap();
+    let report = study
+        .fit(&start, &options, &mut |_| {}, &CancelToken::new())
+        .unwrap();
     (
         t0.elapsed().as_secs_f64(),
         report.matrix,
@@ -71,7 +67,7 @@ fn main() {
         env!("CARGO_MANIFEST_DIR")
     )))
     .unwrap();
-    let baseline = Fidelity::Precise.baseline(&steel).unwrap();
+    let study = Study::as_given(&steel, Sampling::Fidelity(Fidelity::Precise)).unwrap();
     let mut latencies = Vec::new();
     for _ in 0..10 {
         let cancel = CancelToken::new();
@@ -85,7 +81,7 @@ fn main() {
         let (tx, rx) = std::sync::mpsc::channel();
         std::thread::scope(|s| {
             s.spawn(|| {
-                let r = fit(&baseline, &start, &options, &mut |_| {}, &cancel).unwrap();
+                let r = study.fit(&start, &options, &mut |_| {}, &cancel).unwrap();
                 tx.send((Instant::now(), r.stop)).unwrap();
             });
             std::thread::sleep(std::time::Duration::from_millis(30));
@@ -113,7 +109,8 @@ fn main() {
     for name in ["default", "steel-flexure", "urethane-joint"] {
         let path = format!("{}/assets/scenes/{name}.toml", env!("CARGO_MANIFEST_DIR"));
         let scene = Scene::from_file(Path::new(&path)).unwrap();
-        let reference = Fidelity::Precise.baseline(&scene).unwrap();
+        let reference = Study::as_given(&scene, Sampling::Fidelity(Fidelity::Precise)).unwrap();
+        let reference = reference.baseline().unwrap();
         for topology in ["L-R", "L-R-R-R", "L-RP-RP-RP"] {
             let mut rows = Vec::new();
             for fidelity in Fidelity::ALL {

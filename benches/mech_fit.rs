@@ -12,12 +12,10 @@
 use std::path::Path;
 use std::time::Instant;
 
-use prbfit::beam::Resolution;
-use prbfit::fit::mech::fit_mechanism;
 use prbfit::fit::{CancelToken, Fidelity, FitOptions, FitProgress};
-use prbfit::mech::exact;
 use prbfit::prb::PrbMatrix;
 use prbfit::scene::Scene;
+use prbfit::study::{Sampling, Study};
 
 fn median(mut v: Vec<f64>) -> f64 {
     v.sort_by(f64::total_cmp);
@@ -30,29 +28,19 @@ fn main() {
         env!("CARGO_MANIFEST_DIR")
     )))
     .unwrap();
-    let mechanism = scene.mechanism.as_mut().unwrap();
-    mechanism.drives[0].steps = 20;
-    let mechanism = mechanism.clone();
+    scene.mechanism.as_mut().unwrap().drives[0].steps = 20;
     let start = PrbMatrix::from_topology("L-R-R-R").unwrap();
     let run = |fidelity: Fidelity, progress: &mut dyn FnMut(&FitProgress)| {
         let t0 = Instant::now();
-        let exact = exact::solve(&mechanism, Resolution::default()).unwrap();
+        let study = Study::as_given(&scene, Sampling::Fidelity(fidelity)).unwrap();
         let options = FitOptions {
             fidelity,
             angle_weight: scene.fit.angle_weight,
             seed: 1,
         };
-        let report = fit_mechanism(
-            &mechanism,
-            &exact,
-            &start,
-            &options,
-            scene.fit.force_weight,
-            &scene.accuracy,
-            progress,
-            &CancelToken::new(),
-        )
-        .unwrap();
+        let report = study
+            .fit(&start, &options, progress, &CancelToken::new())
+            .unwrap();
         (t0.elapsed().as_secs_f64(), report)
     };
     println!("3R fit, slider-crank in 20 steps (20 cases), exact mechanism included");
@@ -77,7 +65,7 @@ fn main() {
             times.iter().cloned().fold(f64::MAX, f64::min) * 1e3,
             report.evaluations,
             report.figures.objective,
-            report.figures.max_force_err
+            report.figures.max_force()
         );
     }
     println!("\nnormal fit's path (best J as the evaluations go):");

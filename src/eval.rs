@@ -9,16 +9,16 @@
 use std::ops::ControlFlow;
 use std::time::Instant;
 
-use serde::{Deserialize, Serialize};
+use serde::Serialize;
 
 use crate::beam::{
     BeamModel, BeamSolution, BeamSolver, Convergence, Load, Resolution, SolveError, TipPose,
 };
 use crate::cancel::CancelToken;
-use crate::fidelity::Fidelity;
+use crate::mech::figures::Figures;
 use crate::prb::{PrbCase, PrbError, PrbMatrix, PrbSolver};
 use crate::scene::data::DataTruth;
-use crate::scene::{Accuracy, LoadPath, Scene};
+use crate::scene::{LoadPath, Scene};
 
 /// The beam's answer for every load case of a scene.
 #[derive(Debug, Clone)]
@@ -224,7 +224,7 @@ pub fn beam_against_data(
 /// [`beam_against_data`] for `beam` (which may differ from the nominal beam the rows were
 /// converted with): the rows' nondimensional loads are multiplied by `load_scale`, the
 /// nominal `E I0` over this beam's, so that they stay the same physical loads.
-fn beam_against_rows(
+pub(crate) fn beam_against_rows(
     beam: &crate::scene::BeamSpec,
     truth: &DataTruth,
     load_scale: f64,
@@ -244,282 +244,8 @@ fn beam_against_rows(
             cases.push(CaseError::new(row.load, row.tip, solved.tip));
         }
     }
-    let figures = ErrorFigures::from_cases(&cases, angle_weight);
+    let figures = tip_figures(&cases, angle_weight);
     Ok(Evaluation { cases, figures })
-}
-
-/// A beam parameter [`calibrate`] can fit to measured data.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum BeamParam {
-    /// `E`, Pa: scales the bending stiffness (a rig's `E` is never the catalogue's).
-    YoungsModulus,
-    /// `t0`, m: scales the bending stiffness as its cube and the slenderness.
-    Thickness,
-}
-
-impl BeamParam {
-    /// The scene key's name.
-    pub fn name(self) -> &'static str {
-        match self {
-            BeamParam::YoungsModulus => "youngs_modulus",
-            BeamParam::Thickness => "thickness",
-        }
-    }
-
-    /// From the scene key's name.
-    pub fn from_name(name: &str) -> Option<BeamParam> {
-        match name {
-            "youngs_modulus" | "E" => Some(BeamParam::YoungsModulus),
-            "thickness" => Some(BeamParam::Thickness),
-            _ => None,
-        }
-    }
-
-    fn get(self, beam: &crate::scene::BeamSpec) -> f64 {
-        match self {
-            BeamParam::YoungsModulus => beam.youngs_modulus,
-            BeamParam::Thickness => beam.thickness,
-        }
-    }
-
-    fn set(self, beam: &mut crate::scene::BeamSpec, v: f64) {
-        match self {
-            BeamParam::YoungsModulus => beam.youngs_modulus = v,
-            BeamParam::Thickness => beam.thickness = v,
-        }
-    }
-}
-
-/// One beam parameter fitted to a data scene's measurements; `F` is the figures the beam is
-/// judged by (a cantilever's [`ErrorFigures`], a mechanism's `MechFigures`).
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct Calibration<F = ErrorFigures> {
-    /// Which parameter.
-    pub param: BeamParam,
-    /// The scene's value (SI; a mechanism's flexure 1's, every flexure's scaled alike).
-    pub nominal: f64,
-    /// The fitted value (SI).
-    pub value: f64,
-    /// The beam against the data with the nominal value.
-    pub nominal_figures: F,
-    /// The beam against the data with the fitted value: the residual.
-    pub figures: F,
-    /// The fit ended at the edge of the searched range (a factor of [`CALIBRATION_RANGE`]
-    /// either way of the nominal value): the data wants a value further out, or the beam
-    /// cannot explain it.
-    pub at_edge: bool,
-    /// Beam solves of every row (evaluations of `J`).
-    pub evaluations: u32,
-}
-
-/// [`calibrate`] searches within this factor of the nominal value, either way.
-pub const CALIBRATION_RANGE: f64 = 4.0;
-
-/// Fits `param` of the scene's beam to its measured data: the value that minimises the
-/// beam's `J` against the data (golden-section search on the logarithm of the value, within
-/// [`CALIBRATION_RANGE`] of the nominal one, to a relative 1e-9; the nominal value is kept
-/// if nothing searched does better). Trial values whose beam
-/// cannot reach every row count as worse than any that can.
-///
-/// # Errors
-/// The scene has no data, or the beam with the nominal value cannot reach its rows.
-pub fn calibrate(
-    scene: &Scene,
-    param: BeamParam,
-    resolution: Resolution,
-) -> Result<Calibration, CalibrateError> {
-    let truth = scene.truth.as_ref().ok_or(CalibrateError::NoData)?;
-    if scene.mechanism.is_some() {
-        return Err(CalibrateError::Mechanism);
-    }
-    let nominal_beam = scene.beam;
-    let nominal = param.get(&nominal_beam);
-    let ei0 = nominal_beam.youngs_modulus * nominal_beam.second_moment();
-    let w = scene.fit.angle_weight;
-    let mut evaluations = 0u32;
-    let mut judge = |v: f64| -> Result<Evaluation, BaselineError> {
-        evaluations += 1;
-        let mut beam = nominal_beam;
-        param.set(&mut beam, v);
-        let scale = ei0 / (beam.youngs_modulus * beam.second_moment());
-        beam_against_rows(&beam, truth, scale, resolution, w)
-    };
-    let mut c = search(
-        param,
-        nominal,
-        |v| judge(v).map(|e| e.figures),
-        |f| f.objective,
-    )
-    .map_err(CalibrateError::Nominal)?;
-    c.evaluations = evaluations;
-    Ok(c)
-}
-
-/// The calibration of `param` around `nominal`: `judge(value)` gives the beam's figures
-/// against the data, `objective` their `J`; golden-section search on the logarithm
-/// ([`golden_log`]), keeping the nominal value unless the search does better. A value whose
-/// judging fails counts as worse than any that does not; the nominal one must not fail.
-/// (`evaluations` is left 0 for the caller, who counts `judge`'s calls.)
-fn search<F: Copy, E>(
-    param: BeamParam,
-    nominal: f64,
-    mut judge: impl FnMut(f64) -> Result<F, E>,
-    objective: impl Fn(&F) -> f64,
-) -> Result<Calibration<F>, E> {
-    let nominal_figures = judge(nominal)?;
-    let best = golden_log(nominal, |log_v| {
-        judge(log_v.exp()).map_or(f64::INFINITY, |f| objective(&f))
-    });
-    let mut figures = judge(best.exp())?;
-    let (value, at_edge) = if objective(&nominal_figures) <= objective(&figures) {
-        figures = nominal_figures;
-        (nominal, false)
-    } else {
-        (best.exp(), at_edge(nominal, best))
-    };
-    Ok(Calibration {
-        param,
-        nominal,
-        value,
-        nominal_figures,
-        figures,
-        at_edge,
-        evaluations: 0,
-    })
-}
-
-/// Golden-section search of `cost` over the logarithm of the value, within
-/// [`CALIBRATION_RANGE`] of `nominal` either way, to a relative 1e-9: the best logarithm.
-fn golden_log(nominal: f64, mut cost: impl FnMut(f64) -> f64) -> f64 {
-    let (mut lo, mut hi) = (
-        (nominal / CALIBRATION_RANGE).ln(),
-        (nominal * CALIBRATION_RANGE).ln(),
-    );
-    let g = (5.0_f64.sqrt() - 1.0) / 2.0;
-    let mut x1 = hi - g * (hi - lo);
-    let mut x2 = lo + g * (hi - lo);
-    let (mut f1, mut f2) = (cost(x1), cost(x2));
-    while hi - lo > 1e-9 {
-        if f1 <= f2 {
-            hi = x2;
-            (x2, f2) = (x1, f1);
-            x1 = hi - g * (hi - lo);
-            f1 = cost(x1);
-        } else {
-            lo = x1;
-            (x1, f1) = (x2, f2);
-            x2 = lo + g * (hi - lo);
-            f2 = cost(x2);
-        }
-    }
-    0.5 * (lo + hi)
-}
-
-/// Whether the logarithm `best` is at the edge of the searched range around `nominal`.
-fn at_edge(nominal: f64, best: f64) -> bool {
-    (best - nominal.ln()).abs() > CALIBRATION_RANGE.ln() - 1e-3
-}
-
-/// One beam parameter of a mechanism's flexures fitted to its measured data (DESIGN §9 with
-/// §8): flexure 1's values, the beam mechanism's figures against the data.
-pub type MechCalibration = Calibration<crate::mech::figures::MechFigures>;
-
-/// [`calibrate`] on a mechanism data scene: `param` of every flexure scaled by one ratio
-/// (one material, one sheet: a rig's `E` or thickness differs from the catalogue's alike in
-/// every flexure), chosen to minimise the exact beam mechanism's `J` (DESIGN §8) against
-/// the data, followed through the measured drives. The data stays in newtons and metres:
-/// each trial converts it with its own flexure 1 (the position and angle errors are in
-/// units of `L`, which neither parameter changes, and the reaction errors are fractions of
-/// the data's own reactions, so the trials' `J` compare). Trial values whose mechanism
-/// cannot follow the drives count as worse than any that can.
-///
-/// # Errors
-/// The scene is not a mechanism with data, or the nominal mechanism cannot follow its
-/// drives.
-pub fn calibrate_mechanism(
-    scene: &Scene,
-    param: BeamParam,
-    resolution: Resolution,
-) -> Result<MechCalibration, MechCalibrateError> {
-    let (Some(mechanism), Some(_)) = (
-        &scene.mechanism,
-        scene.truth.as_ref().and_then(|t| t.stage.as_ref()),
-    ) else {
-        return Err(MechCalibrateError::NoData);
-    };
-    let nominal = mechanism
-        .flexures
-        .first()
-        .map_or(1.0, |f| param.get(&f.beam));
-    let mut evaluations = 0u32;
-    let mut judge = |v: f64| {
-        evaluations += 1;
-        let mut trial = scene.clone();
-        if let Some(m) = trial.mechanism.as_mut() {
-            for f in &mut m.flexures {
-                let mine = param.get(&f.beam);
-                param.set(&mut f.beam, mine * v / nominal);
-            }
-        }
-        let m = trial.mechanism.clone().unwrap_or_else(|| mechanism.clone());
-        crate::mech::measured::beam_against_data(&trial, &m, resolution)
-            .map(|e| e.map(|e| e.figures))
-    };
-    let mut c = search(
-        param,
-        nominal,
-        |v| judge(v)?.ok_or(MechCalibrateError::NoData),
-        |f| f.objective,
-    )?;
-    c.evaluations = evaluations;
-    Ok(c)
-}
-
-/// Why a mechanism's calibration has no answer.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-pub enum MechCalibrateError {
-    /// The scene is not a mechanism with measured data.
-    #[error(
-        "the scene is not a mechanism with measured data to calibrate against (add [truth] \
-         data = \"file.csv\")"
-    )]
-    NoData,
-    /// The beam mechanism cannot follow the data's drives.
-    #[error("the beam mechanism cannot follow the measured drives: {0}")]
-    Nominal(#[from] crate::mech::measured::BesideError),
-}
-
-/// Why a calibration has no answer.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-pub enum CalibrateError {
-    /// The scene's truth is the beam itself.
-    #[error(
-        "the scene has no measured data to calibrate against (add [truth] data = \"file.csv\")"
-    )]
-    NoData,
-    /// The beam cannot reach the data's loads.
-    #[error("the beam cannot reach the measured loads: {0}")]
-    Nominal(BaselineError),
-    /// A mechanism's data: its flexures are calibrated by [`calibrate_mechanism`].
-    #[error("a mechanism scene's data calibrate its flexures (calibrate_mechanism), not one beam")]
-    Mechanism,
-}
-
-impl Fidelity {
-    /// The baseline a fit at this fidelity runs against: the scene's beam at this
-    /// fidelity's resolution, over its sampling of the scene's loads.
-    pub fn baseline(self, scene: &Scene) -> Result<Baseline, BaselineError> {
-        if let Some(truth) = &scene.truth {
-            // Measured data is what it is: no resolution or sampling to choose.
-            return Ok(Baseline::from_data(scene.beam.model(), truth));
-        }
-        Baseline::for_model(
-            scene.beam.model(),
-            &self.sample(&scene.loads),
-            self.resolution(),
-        )
-    }
 }
 
 /// One load case: both tips and the errors.
@@ -550,54 +276,13 @@ impl CaseError {
     }
 }
 
-/// The five error figures of DESIGN §4.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-pub struct ErrorFigures {
-    /// RMS of `e_pos`, units of L.
-    pub rms_pos_err: f64,
-    /// Largest `e_pos`, units of L.
-    pub max_pos_err: f64,
-    /// RMS of `e_ang`, radians.
-    pub rms_ang_err: f64,
-    /// Largest `|e_ang|`, radians.
-    pub max_ang_err: f64,
-    /// `J = mean(e_pos^2 + w e_ang^2)`.
-    pub objective: f64,
-}
-
-impl ErrorFigures {
-    /// The figures over `cases`, with `w = angle_weight` in `J`.
-    pub fn from_cases(cases: &[CaseError], angle_weight: f64) -> ErrorFigures {
-        let n = cases.len().max(1) as f64;
-        let (mut sp, mut sa, mut mp, mut ma) = (0.0, 0.0, 0.0_f64, 0.0_f64);
-        for c in cases {
-            sp += c.pos_err * c.pos_err;
-            sa += c.ang_err * c.ang_err;
-            mp = mp.max(c.pos_err);
-            ma = ma.max(c.ang_err.abs());
-        }
-        ErrorFigures {
-            rms_pos_err: (sp / n).sqrt(),
-            max_pos_err: mp,
-            rms_ang_err: (sa / n).sqrt(),
-            max_ang_err: ma,
-            objective: (sp + angle_weight * sa) / n,
-        }
-    }
-
-    /// Whether the figures meet a scene's targets.
-    pub fn meets(&self, accuracy: &Accuracy) -> bool {
-        self.max_pos_err <= accuracy.max_pos_err && self.max_ang_err <= accuracy.max_ang_err
-    }
-}
-
 /// A model judged on a scene.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Evaluation {
     /// Per case, path by path.
     pub cases: Vec<CaseError>,
     /// Over all cases.
-    pub figures: ErrorFigures,
+    pub figures: Figures,
 }
 
 /// The PRB model fails to follow one of the scene's load paths.
@@ -623,6 +308,17 @@ pub fn evaluate(
         |beam, prb| cases.push(CaseError::new(prb.load, beam.tip, prb.tip)),
         |_| ControlFlow::Break(()),
     )?;
-    let figures = ErrorFigures::from_cases(&cases, angle_weight);
+    let figures = tip_figures(&cases, angle_weight);
     Ok(Evaluation { cases, figures })
+}
+
+/// §4's figures of tip errors, `J = mean(e_pos^2 + w e_ang^2)`: a cantilever's, with no
+/// reaction or flexure tip figures.
+pub fn tip_figures(cases: &[CaseError], angle_weight: f64) -> Figures {
+    Figures::from_errors(
+        cases.iter().map(|c| [c.pos_err, c.ang_err, 0.0, 0.0]),
+        (angle_weight, 0.0),
+        false,
+        false,
+    )
 }

@@ -44,13 +44,18 @@ impl Fidelity {
             .iter()
             .map(|p| LoadPath {
                 end: p.end,
-                steps: match self {
-                    Fidelity::Draft => p.steps.div_ceil(2),
-                    Fidelity::Normal => p.steps,
-                    Fidelity::Precise => p.steps * 2,
-                },
+                steps: self.steps(p.steps),
             })
             .collect()
+    }
+
+    /// A path of `steps` cases as the fit samples it: halved at draft, doubled at precise.
+    pub fn steps(self, steps: u32) -> u32 {
+        match self {
+            Fidelity::Draft => steps.div_ceil(2),
+            Fidelity::Normal => steps,
+            Fidelity::Precise => steps.saturating_mul(2),
+        }
     }
 
     /// The next preset, cycling (the UI's `v`).

@@ -28,9 +28,8 @@ pub mod mech;
 pub mod plot;
 pub mod prb;
 pub mod scene;
-pub mod select;
 pub mod si;
+pub mod study;
 pub mod text;
-pub mod tradeoff;
 #[cfg(feature = "tui")]
 pub mod tui;

@@ -533,11 +533,10 @@ fn urethane_joint_fea_says_which_effects_the_beam_needs() {
     assert!(!resolved(no_poisson.0 - all.0, mesh_rms));
     assert!(!resolved(no_poisson.2 - all.2, mesh_rms_small));
     // `effects = "auto"` keeps all three on this scene; the FEA confirms shear and extension.
-    let decided = prbfit::select::decide_effects(
-        &scene.beam,
-        &scene.loads,
-        &scene.accuracy,
+    let decided = prbfit::study::effects::decide_effects(
+        &scene,
         Resolution::default(),
+        &prbfit::cancel::CancelToken::new(),
     )
     .unwrap();
     println!("effects auto: {}", decided.effects);
@@ -719,11 +718,10 @@ fn wide_strip_plane_strain_closes_the_gap() {
     let mut ratios: Vec<Vec<f64>> = Vec::new();
     for (width_mm, densities) in [(10.0, &[10, 20][..]), (30.0, &[10][..])] {
         let scene = strip(width_mm);
-        let decided = prbfit::select::decide_effects(
-            &scene.beam,
-            &scene.loads,
-            &scene.accuracy,
+        let decided = prbfit::study::effects::decide_effects(
+            &scene,
             Resolution::default(),
+            &prbfit::cancel::CancelToken::new(),
         )
         .unwrap();
         let plate = decided.plate.clone().unwrap();
@@ -735,7 +733,8 @@ fn wide_strip_plane_strain_closes_the_gap() {
             .solutions
             .iter()
             .map(|s| {
-                prbfit::select::plate_criterion(&scene.beam, std::slice::from_ref(s)).plate_fraction
+                prbfit::study::effects::plate_criterion(&scene.beam, std::slice::from_ref(s))
+                    .plate_fraction
             })
             .collect();
         // The effect on the beam itself: every refinement, without and with plane strain.

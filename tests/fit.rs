@@ -8,12 +8,14 @@ use common::{prbfit, succeeded};
 
 use std::path::Path;
 
-use prbfit::beam::{BeamModel, Load, Resolution};
-use prbfit::eval::{evaluate, Baseline};
-use prbfit::fit::{fit, CancelToken, Fidelity, FitOptions, StopReason};
+use prbfit::beam::{Effects, Load, Resolution};
+use prbfit::eval::evaluate;
+use prbfit::fit::{CancelToken, Fidelity, FitOptions, StopReason};
 use prbfit::io::ModelFile;
 use prbfit::prb::PrbMatrix;
+use prbfit::scene::EffectsChoice;
 use prbfit::scene::{LoadPath, Scene};
+use prbfit::study::{Sampling, Study};
 
 fn scenes() -> Vec<Scene> {
     ["default", "steel-flexure", "urethane-joint"]
@@ -38,16 +40,17 @@ fn options(scene: &Scene, fidelity: Fidelity) -> FitOptions {
 #[test]
 fn fitted_3r_beats_su_and_chen_on_every_scene() {
     for scene in scenes() {
-        let baseline = Fidelity::Normal.baseline(&scene).unwrap();
+        let study = Study::as_given(&scene, Sampling::Fidelity(Fidelity::Normal)).unwrap();
+        let baseline = study.baseline().unwrap().clone();
         let start = PrbMatrix::from_topology("L-R-R-R").unwrap();
-        let report = fit(
-            &baseline,
-            &start,
-            &options(&scene, Fidelity::Normal),
-            &mut |_| {},
-            &CancelToken::new(),
-        )
-        .unwrap();
+        let report = study
+            .fit(
+                &start,
+                &options(&scene, Fidelity::Normal),
+                &mut |_| {},
+                &CancelToken::new(),
+            )
+            .unwrap();
         let j = |name: &str| {
             let m = ModelFile::load(name).unwrap().prb;
             evaluate(&m, &baseline, scene.fit.angle_weight)
@@ -80,15 +83,20 @@ fn fitted_1r_lands_near_howell() {
         end: Load::new(0.0, 10.0, 0.0),
         steps: 20,
     }];
-    let baseline =
-        Baseline::for_model(BeamModel::elastica(), &paths, Resolution::with_tol(1e-10)).unwrap();
+    // The elastica (no effects) under a tip force.
+    let mut scene = Scene::builtin();
+    scene.beam.effects = EffectsChoice::Fixed(Effects::NONE);
+    scene.loads = paths.to_vec();
+    let study = Study::as_given(&scene, Sampling::Every(Resolution::with_tol(1e-10))).unwrap();
     let start = PrbMatrix::from_topology("L-R").unwrap();
     let opts = FitOptions {
         fidelity: Fidelity::Precise,
         angle_weight: 0.0,
         seed: 1,
     };
-    let r = fit(&baseline, &start, &opts, &mut |_| {}, &CancelToken::new()).unwrap();
+    let r = study
+        .fit(&start, &opts, &mut |_| {}, &CancelToken::new())
+        .unwrap();
     let gamma = r.matrix.rows()[1].gamma;
     let k_big_theta = r.matrix.rows()[1].k_theta / gamma;
     println!("1R by position: gamma {gamma:.4}, K_Theta {k_big_theta:.4}");
@@ -100,7 +108,7 @@ fn fitted_1r_lands_near_howell() {
 #[test]
 fn fits_never_return_nan() {
     let scene = Scene::builtin();
-    let baseline = Fidelity::Draft.baseline(&scene).unwrap();
+    let study = Study::as_given(&scene, Sampling::Fidelity(Fidelity::Draft)).unwrap();
     for text in [
         "0.15,inf,inf; 0.85,0.01,inf",
         "0.9,inf,inf; 0.1,1e6,inf",
@@ -108,14 +116,14 @@ fn fits_never_return_nan() {
         "0.25,1e-3,1e-3; 0.25,100,inf; 0.25,1e-3,inf; 0.25,3,1e5",
     ] {
         let start = PrbMatrix::parse(text).unwrap();
-        let r = fit(
-            &baseline,
-            &start,
-            &options(&scene, Fidelity::Draft),
-            &mut |_| {},
-            &CancelToken::new(),
-        )
-        .unwrap_or_else(|e| panic!("{text}: {e}"));
+        let r = study
+            .fit(
+                &start,
+                &options(&scene, Fidelity::Draft),
+                &mut |_| {},
+                &CancelToken::new(),
+            )
+            .unwrap_or_else(|e| panic!("{text}: {e}"));
         assert!(r.figures.objective.is_finite(), "{text}");
         for row in r.matrix.rows() {
             assert!(row.gamma.is_finite() && row.gamma > 0.0);
@@ -137,29 +145,26 @@ fn fits_never_return_nan() {
 #[test]
 fn fits_that_cannot_improve_say_so() {
     let scene = Scene::builtin();
-    let baseline = Fidelity::Draft.baseline(&scene).unwrap();
+    let study = Study::as_given(&scene, Sampling::Fidelity(Fidelity::Draft)).unwrap();
     let opts = options(&scene, Fidelity::Draft);
     let pinned = PrbMatrix::parse("0.15!,inf,inf; 0.85!,2.2525!,inf").unwrap();
-    let r = fit(&baseline, &pinned, &opts, &mut |_| {}, &CancelToken::new()).unwrap();
+    let r = study
+        .fit(&pinned, &opts, &mut |_| {}, &CancelToken::new())
+        .unwrap();
     assert_eq!(r.stop, StopReason::NothingToFit);
     assert_eq!(r.matrix, pinned);
 
-    let first = fit(
-        &baseline,
-        &PrbMatrix::from_topology("L-R-R").unwrap(),
-        &opts,
-        &mut |_| {},
-        &CancelToken::new(),
-    )
-    .unwrap();
-    let again = fit(
-        &baseline,
-        &first.matrix,
-        &opts,
-        &mut |_| {},
-        &CancelToken::new(),
-    )
-    .unwrap();
+    let first = study
+        .fit(
+            &PrbMatrix::from_topology("L-R-R").unwrap(),
+            &opts,
+            &mut |_| {},
+            &CancelToken::new(),
+        )
+        .unwrap();
+    let again = study
+        .fit(&first.matrix, &opts, &mut |_| {}, &CancelToken::new())
+        .unwrap();
     assert!(again.figures.objective <= first.figures.objective);
     if again.stop == StopReason::CouldNotImprove {
         assert_eq!(again.matrix, first.matrix);
@@ -174,17 +179,17 @@ fn fits_that_cannot_improve_say_so() {
 #[test]
 fn progress_and_cancellation() {
     let scene = Scene::builtin();
-    let baseline = Fidelity::Normal.baseline(&scene).unwrap();
+    let study = Study::as_given(&scene, Sampling::Fidelity(Fidelity::Normal)).unwrap();
     let start = PrbMatrix::from_topology("L-R-R-R").unwrap();
     let mut seen = Vec::new();
-    let r = fit(
-        &baseline,
-        &start,
-        &options(&scene, Fidelity::Normal),
-        &mut |p| seen.push((p.best_objective, p.evaluations, p.best.clone())),
-        &CancelToken::new(),
-    )
-    .unwrap();
+    let r = study
+        .fit(
+            &start,
+            &options(&scene, Fidelity::Normal),
+            &mut |p| seen.push((p.best_objective, p.evaluations, p.best.clone())),
+            &CancelToken::new(),
+        )
+        .unwrap();
     assert!(!seen.is_empty());
     assert!(
         seen.windows(2).all(|w| w[1].0 <= w[0].0),
@@ -194,19 +199,19 @@ fn progress_and_cancellation() {
 
     let cancel = CancelToken::new();
     let mut at_cancel = None;
-    let r = fit(
-        &baseline,
-        &start,
-        &options(&scene, Fidelity::Precise),
-        &mut |p| {
-            if at_cancel.is_none() {
-                at_cancel = Some(p.evaluations);
-                cancel.cancel();
-            }
-        },
-        &cancel,
-    )
-    .unwrap();
+    let r = study
+        .fit(
+            &start,
+            &options(&scene, Fidelity::Precise),
+            &mut |p| {
+                if at_cancel.is_none() {
+                    at_cancel = Some(p.evaluations);
+                    cancel.cancel();
+                }
+            },
+            &cancel,
+        )
+        .unwrap();
     assert_eq!(r.stop, StopReason::Cancelled);
     assert_eq!(
         Some(r.evaluations),
@@ -220,18 +225,18 @@ fn progress_and_cancellation() {
 #[test]
 fn fits_are_deterministic() {
     let scene = Scene::builtin();
-    let baseline = Fidelity::Normal.baseline(&scene).unwrap();
+    let study = Study::as_given(&scene, Sampling::Fidelity(Fidelity::Normal)).unwrap();
     let start = PrbMatrix::from_topology("L-R-R").unwrap();
     let run = || {
-        fit(
-            &baseline,
-            &start,
-            &options(&scene, Fidelity::Normal),
-            &mut |_| {},
-            &CancelToken::new(),
-        )
-        .unwrap()
-        .matrix
+        study
+            .fit(
+                &start,
+                &options(&scene, Fidelity::Normal),
+                &mut |_| {},
+                &CancelToken::new(),
+            )
+            .unwrap()
+            .matrix
     };
     assert_eq!(run(), run());
 }
@@ -271,9 +276,14 @@ fn cli_fit_saves_models_that_reload_exactly() {
         );
         // Evaluated again on the same (draft) baseline, effects decided as the CLI decides
         // them: the same figures, exactly.
-        let (scene, _) =
-            prbfit::select::resolve_effects(&Scene::builtin(), Resolution::default()).unwrap();
-        let baseline = Fidelity::Draft.baseline(&scene).unwrap();
+        let (scene, _) = prbfit::study::resolve_effects(
+            &Scene::builtin(),
+            Resolution::default(),
+            &CancelToken::new(),
+        )
+        .unwrap();
+        let study = Study::as_given(&scene, Sampling::Fidelity(Fidelity::Draft)).unwrap();
+        let baseline = study.baseline().unwrap().clone();
         let f = evaluate(&model.prb, &baseline, 1.0).unwrap().figures;
         assert_eq!(f.objective, record.figures.objective);
         assert_eq!(f.max_pos_err, record.figures.max_pos_err);

@@ -12,7 +12,8 @@ use prbfit::eval::Baseline;
 use prbfit::fit::{CancelToken, Fidelity};
 use prbfit::prb::PrbMatrix;
 use prbfit::scene::{EffectsChoice, Scene};
-use prbfit::select::{decide_effects, resolve_effects, select, AUTO_FRACTION};
+use prbfit::study::effects::{decide_effects, AUTO_FRACTION};
+use prbfit::study::{resolve_effects, Sampling, Study};
 
 fn scene(name: &str) -> Scene {
     let p = format!("{}/assets/scenes/{name}.toml", env!("CARGO_MANIFEST_DIR"));
@@ -47,7 +48,7 @@ fn change_fraction(scene: &Scene, effects: Effects) -> f64 {
 #[test]
 fn slender_steel_needs_only_plane_strain() {
     let s = scene("steel-flexure");
-    let d = decide_effects(&s.beam, &s.loads, &s.accuracy, Resolution::default()).unwrap();
+    let d = decide_effects(&s, Resolution::default(), &CancelToken::new()).unwrap();
     assert_eq!(d.effects, Effects::NONE.with_plane_strain(true), "{d:?}");
     assert!(d.impacts[3].fraction_of_target > 1.0, "{d:?}");
     let dropped = change_fraction(&s, d.effects);
@@ -61,7 +62,7 @@ fn slender_steel_needs_only_plane_strain() {
 #[test]
 fn short_rubber_keeps_what_it_needs() {
     let s = scene("urethane-joint");
-    let d = decide_effects(&s.beam, &s.loads, &s.accuracy, Resolution::default()).unwrap();
+    let d = decide_effects(&s, Resolution::default(), &CancelToken::new()).unwrap();
     let full = Effects::ALL.with_plane_strain(true);
     assert_eq!(d.effects, full, "{d:?}");
     // Each kept effect is kept for a reason: dropping it alone exceeds the fraction.
@@ -100,7 +101,8 @@ fn short_rubber_keeps_what_it_needs() {
 fn auto_dropped_effects_are_small_on_every_scene() {
     for name in ["default", "steel-flexure", "urethane-joint"] {
         let s = scene(name);
-        let (resolved, decision) = resolve_effects(&s, Resolution::default()).unwrap();
+        let (resolved, decision) =
+            resolve_effects(&s, Resolution::default(), &CancelToken::new()).unwrap();
         let d = decision.expect("the example scenes use auto");
         assert_eq!(resolved.beam.effects, EffectsChoice::Fixed(d.effects));
         let f = change_fraction(&s, d.effects);
@@ -113,16 +115,12 @@ fn auto_dropped_effects_are_small_on_every_scene() {
 #[test]
 fn the_simplest_sufficient_model_is_chosen() {
     for name in ["default", "steel-flexure", "urethane-joint"] {
-        let (s, _) = resolve_effects(&scene(name), Resolution::default()).unwrap();
-        let baseline = Fidelity::Normal.baseline(&s).unwrap();
-        let sel = select(
-            &s,
-            &baseline,
-            Fidelity::Normal,
-            &CancelToken::new(),
-            &mut |_| {},
-        )
-        .unwrap();
+        let (s, _) =
+            resolve_effects(&scene(name), Resolution::default(), &CancelToken::new()).unwrap();
+        let study = Study::as_given(&s, Sampling::Fidelity(Fidelity::Normal)).unwrap();
+        let sel = study
+            .select(Fidelity::Normal, &CancelToken::new(), &mut |_| {})
+            .unwrap();
         println!("{name}: chosen {:?}", sel.chosen.map(|i| &sel.rows[i].name));
         match sel.chosen {
             Some(i) => {

@@ -7,6 +7,7 @@ use std::time::{Duration, Instant};
 use prbfit::fit::Fidelity;
 use prbfit::prb::{Column, PrbMatrix};
 use prbfit::scene::Scene;
+use prbfit::study::{Sampling, Study};
 use prbfit::tui::app::{Activity, App, Command, Panel, PromptKind, DEBOUNCE};
 use prbfit::tui::worker::{baseline_view, model_view, FitStatus, WorkerMsg};
 use ratatui::crossterm::event::{KeyCode, KeyEvent, KeyModifiers};
@@ -95,7 +96,8 @@ fn paused_live_refit_only_judges() {
 fn stale_results_are_dropped() {
     let mut app = app();
     let scene = Scene::builtin();
-    let baseline = Fidelity::Draft.baseline(&scene).unwrap();
+    let study = Study::as_given(&scene, Sampling::Fidelity(Fidelity::Draft)).unwrap();
+    let baseline = study.baseline().unwrap().clone();
     let old = app.submit(true);
     let new = app.submit(true);
     let (Command::Submit(old), Command::Submit(new)) = (old, new) else {
@@ -441,7 +443,6 @@ fn a_slow_baseline_is_cancelled_by_a_newer_job() {
 /// Enter loads the selected row's model and closes the view; Esc closes and cancels.
 #[test]
 fn selection_view() {
-    use prbfit::select::select;
     use prbfit::tui::worker::JobKind;
     let t0 = Instant::now();
     let mut app = app();
@@ -453,15 +454,14 @@ fn selection_view() {
     assert!(app.select.as_ref().unwrap().running);
 
     let scene = Scene::builtin();
-    let baseline = Fidelity::Draft.baseline(&scene).unwrap();
-    let sel = select(
-        &scene,
-        &baseline,
-        Fidelity::Draft,
-        &prbfit::fit::CancelToken::new(),
-        &mut |_| {},
-    )
-    .unwrap();
+    let study = Study::as_given(&scene, Sampling::Fidelity(Fidelity::Draft)).unwrap();
+    let sel = study
+        .select(
+            Fidelity::Draft,
+            &prbfit::fit::CancelToken::new(),
+            &mut |_| {},
+        )
+        .unwrap();
     // A row for an older job is ignored.
     assert!(!app.on_worker(WorkerMsg::SelectRow {
         id: job.id - 1,
@@ -781,7 +781,8 @@ fn help_lists_every_key() {
 
 /// A fitted model of `matrix`'s topology as a worker's Done for job `id` would bring it.
 fn done_with_fit(app: &App, id: u64, matrix: PrbMatrix) -> WorkerMsg {
-    let baseline = Fidelity::Draft.baseline(&app.scene).unwrap();
+    let study = Study::as_given(&app.scene, Sampling::Fidelity(Fidelity::Draft)).unwrap();
+    let baseline = study.baseline().unwrap().clone();
     let view = model_view(&matrix, &baseline, 1.0).unwrap();
     let report = prbfit::fit::FitReport {
         matrix,
@@ -1197,7 +1198,8 @@ fn published_models_are_judged_not_refitted() {
     }
     // A done judge leaves Chen's values in the cells.
     let id = app.current_job.as_ref().unwrap().0;
-    let baseline = Fidelity::Draft.baseline(&app.scene).unwrap();
+    let study = Study::as_given(&app.scene, Sampling::Fidelity(Fidelity::Draft)).unwrap();
+    let baseline = study.baseline().unwrap().clone();
     app.on_worker(WorkerMsg::Done {
         id,
         baseline: std::sync::Arc::new(baseline_view(&baseline, None)),

@@ -19,6 +19,7 @@ use prbfit::eval::{beam_against_data, evaluate, Baseline};
 use prbfit::fit::Fidelity;
 use prbfit::io::ModelFile;
 use prbfit::scene::Scene;
+use prbfit::study::{Sampling, Study};
 use prbfit::tui::app::{Activity, App, Command, EditTarget, Panel, Tone, DEBOUNCE};
 use prbfit::tui::run_command;
 use prbfit::tui::state::beam::BeamField;
@@ -507,7 +508,11 @@ fn stale_results_draw_without_panicking() {
     }
     let mut data = app_on(&strip());
     let builtin = App::new(Scene::builtin(), None);
-    let b = Fidelity::Normal.baseline(&builtin.scene).unwrap();
+    let b = Study::as_given(&builtin.scene, Sampling::Fidelity(Fidelity::Normal))
+        .unwrap()
+        .baseline()
+        .unwrap()
+        .clone();
     data.baseline = Some(Arc::new(prbfit::tui::worker::baseline_view(&b, None)));
     data.model = Some(prbfit::tui::worker::model_view(&builtin.matrix, &b, 1.0).unwrap());
     data.loads_state.row = 7;
@@ -524,7 +529,11 @@ mod no_panics {
     fn judged() -> App {
         use prbfit::tui::worker::{baseline_view, measured_view, model_view};
         let mut app = app_on(&strip());
-        let b = Fidelity::Normal.baseline(&app.scene).unwrap();
+        let b = Study::as_given(&app.scene, Sampling::Fidelity(Fidelity::Normal))
+            .unwrap()
+            .baseline()
+            .unwrap()
+            .clone();
         let mut view = baseline_view(&b, None);
         view.measured = Some(
             measured_view(

@@ -9,6 +9,7 @@ use std::sync::Arc;
 
 use prbfit::fit::{Fidelity, StopReason};
 use prbfit::scene::Scene;
+use prbfit::study::{Sampling, Study};
 use prbfit::tui::app::{Activity, App, EditTarget, Panel, PromptKind, TextBox};
 use prbfit::tui::ui::draw;
 use prbfit::tui::worker::{baseline_view, model_view};
@@ -20,7 +21,8 @@ use ratatui::Terminal;
 /// (deterministic: the same solver and matrix the worker would use).
 fn judged_app() -> App {
     let mut app = App::new(Scene::builtin(), None);
-    let baseline = Fidelity::Normal.baseline(&app.scene).unwrap();
+    let study = Study::as_given(&app.scene, Sampling::Fidelity(Fidelity::Normal)).unwrap();
+    let baseline = study.baseline().unwrap().clone();
     app.baseline = Some(Arc::new(baseline_view(&baseline, None)));
     app.model = Some(model_view(&app.matrix, &baseline, 1.0).unwrap());
     app.activity = Activity::Done {
@@ -49,7 +51,8 @@ fn main_screen_120x40() {
 #[test]
 fn comparing_with_chen_120x40() {
     let mut app = judged_app();
-    let baseline = Fidelity::Normal.baseline(&app.scene).unwrap();
+    let study = Study::as_given(&app.scene, Sampling::Fidelity(Fidelity::Normal)).unwrap();
+    let baseline = study.baseline().unwrap().clone();
     let chen = prbfit::io::ModelFile::load("chen-3r").unwrap().prb;
     app.compare = Some(("chen-3r".into(), chen.clone()));
     app.compare_view = Some((
@@ -162,19 +165,13 @@ fn colours_and_no_color() {
 #[test]
 fn selection_view_120x40() {
     use prbfit::fit::CancelToken;
-    use prbfit::select::select;
-    use prbfit::tradeoff::{Knob, TradeoffRow};
+    use prbfit::study::tradeoff::{Knob, TradeoffRow};
     use prbfit::tui::state::select::SelectState;
     let mut app = judged_app();
-    let baseline = Fidelity::Normal.baseline(&app.scene).unwrap();
-    let mut sel = select(
-        &app.scene,
-        &baseline,
-        Fidelity::Normal,
-        &CancelToken::new(),
-        &mut |_| {},
-    )
-    .unwrap();
+    let study = Study::as_given(&app.scene, Sampling::Fidelity(Fidelity::Normal)).unwrap();
+    let mut sel = study
+        .select(Fidelity::Normal, &CancelToken::new(), &mut |_| {})
+        .unwrap();
     for (i, r) in sel.rows.iter_mut().enumerate() {
         r.eval_seconds_per_case = 1e-6 * (1.0 + i as f64 / 10.0);
         r.fit_seconds = if r.published {
@@ -486,19 +483,12 @@ fn mechanism_fail_is_red() {
 #[test]
 fn mechanism_selection_view_120x40() {
     use prbfit::fit::CancelToken;
-    use prbfit::select::select_mechanism;
     use prbfit::tui::state::select::SelectState;
     let mut app = judged_mechanism("fixed-guided", "su-3r");
-    let exact = app.mech_exact.clone().unwrap();
-    let mut sel = select_mechanism(
-        &app.scene,
-        &exact.mechanism,
-        &exact.cases,
-        Fidelity::Draft,
-        &CancelToken::new(),
-        &mut |_| {},
-    )
-    .unwrap();
+    let study = Study::new(&app.scene, Sampling::Fidelity(Fidelity::Draft)).unwrap();
+    let mut sel = study
+        .select(Fidelity::Draft, &CancelToken::new(), &mut |_| {})
+        .unwrap();
     for (i, r) in sel.rows.iter_mut().enumerate() {
         r.eval_seconds_per_case = 1e-6 * (2.0 + i as f64 / 10.0);
         r.fit_seconds = if r.published {
@@ -530,7 +520,8 @@ fn judged_data_app() -> App {
     let path =
         std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/wide-strip-fea.toml");
     let mut app = App::new(Scene::from_file(&path).unwrap(), Some(path));
-    let baseline = Fidelity::Normal.baseline(&app.scene).unwrap();
+    let study = Study::as_given(&app.scene, Sampling::Fidelity(Fidelity::Normal)).unwrap();
+    let baseline = study.baseline().unwrap().clone();
     let mut view = baseline_view(&baseline, None);
     view.measured = Some(
         measured_view(

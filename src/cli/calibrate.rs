@@ -8,64 +8,52 @@ use anyhow::Result;
 use serde::Serialize;
 
 use prbfit::beam::Resolution;
-use prbfit::eval::{
-    calibrate, calibrate_mechanism, BeamParam, CalibrateError, Calibration, ErrorFigures,
-};
-use prbfit::mech::figures::MechFigures;
+use prbfit::mech::figures::Figures;
+use prbfit::study::calibrate::{calibrate, BeamParam, CalibrateError, Calibration};
 
 use super::args::CalibrateArgs;
 use super::output::{emit, num, safe};
 use super::{bad, load_scene, resolve_scene};
 
-/// What `calibrate` found: `F` is the figures the beam is judged by (a cantilever's, or a
-/// mechanism's beam mechanism's).
+/// What `calibrate` found: the beam's (a mechanism's beam mechanism's) figures against the
+/// data before and after.
 #[derive(Debug, Serialize)]
-pub struct CalibrateOutput<F> {
+pub struct CalibrateOutput {
     #[serde(flatten)]
-    calibration: Calibration<F>,
+    calibration: Calibration,
     /// `value / nominal` (on a mechanism, the ratio every flexure's value was scaled by).
     ratio: f64,
     scene: String,
     data: String,
     seconds: f64,
+    /// The scene is a mechanism (its beam mechanism is calibrated).
+    #[serde(skip)]
+    mechanism: bool,
 }
 
-/// How a report's line gives a beam's figures against the data.
-pub trait FigureLine {
-    /// What is judged ("beam", "beam mechanism").
-    const WHAT: &'static str;
-    /// The figures, after the label.
-    fn line(&self) -> String;
-}
-
-impl FigureLine for ErrorFigures {
-    const WHAT: &'static str = "beam";
-    fn line(&self) -> String {
-        format!(
-            "rms pos {:.3e}, max pos {:.3e} L; rms ang {:.3e}, max ang {:.3e} rad; J {:.4e}",
-            self.rms_pos_err, self.max_pos_err, self.rms_ang_err, self.max_ang_err, self.objective
-        )
-    }
-}
-
-impl FigureLine for MechFigures {
-    const WHAT: &'static str = "beam mechanism";
-    fn line(&self) -> String {
+/// A beam's (`mechanism`: a beam mechanism's) figures against the data, after the label.
+fn figure_line(f: &Figures, mechanism: bool) -> String {
+    if mechanism {
         format!(
             "max pos {:.3e} L, max ang {:.3e} rad, reaction rms {:.3e} max {:.3e}; J {:.4e}",
-            self.max_pos_err,
-            self.max_ang_err,
-            self.rms_force_err,
-            self.max_force_err,
-            self.objective
+            f.max_pos_err,
+            f.max_ang_err,
+            f.rms_force_err.unwrap_or(0.0),
+            f.max_force(),
+            f.objective
+        )
+    } else {
+        format!(
+            "rms pos {:.3e}, max pos {:.3e} L; rms ang {:.3e}, max ang {:.3e} rad; J {:.4e}",
+            f.rms_pos_err, f.max_pos_err, f.rms_ang_err, f.max_ang_err, f.objective
         )
     }
 }
 
-impl<F: FigureLine> fmt::Display for CalibrateOutput<F> {
+impl fmt::Display for CalibrateOutput {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let c = &self.calibration;
-        let mechanism = F::WHAT != ErrorFigures::WHAT;
+        let mechanism = self.mechanism;
         writeln!(
             f,
             "scene: {} ({}truth: measured data {})",
@@ -102,30 +90,15 @@ impl<F: FigureLine> fmt::Display for CalibrateOutput<F> {
                 num(self.ratio),
             )?;
         }
+        let what = if mechanism { "beam mechanism" } else { "beam" };
         for (label, e) in [("nominal", &c.nominal_figures), ("calibrated", &c.figures)] {
-            writeln!(f, "{} against the data, {label:<10}: {}", F::WHAT, e.line())?;
+            writeln!(
+                f,
+                "{what} against the data, {label:<10}: {}",
+                figure_line(e, mechanism)
+            )?;
         }
         writeln!(f, "{} evaluations, {:.2} s", c.evaluations, self.seconds)
-    }
-}
-
-impl<F: Serialize + FigureLine> CalibrateOutput<F> {
-    /// The report of `calibration` on `scene`'s data `data`, started at `t0`.
-    fn emit(
-        calibration: Calibration<F>,
-        scene: &prbfit::scene::Scene,
-        data: String,
-        t0: Instant,
-        json: bool,
-    ) -> Result<()> {
-        let out = CalibrateOutput {
-            ratio: calibration.value / calibration.nominal,
-            calibration,
-            scene: scene.name.clone(),
-            data,
-            seconds: t0.elapsed().as_secs_f64(),
-        };
-        emit(&out, json)
     }
 }
 
@@ -148,10 +121,14 @@ pub fn run(args: CalibrateArgs) -> Result<()> {
     let data = truth.file.clone();
     let (scene, _) = resolve_scene(&scene)?;
     let t0 = Instant::now();
-    if scene.mechanism.is_some() {
-        let calibration = calibrate_mechanism(&scene, param, Resolution::default())?;
-        return CalibrateOutput::emit(calibration, &scene, data, t0, args.common.json);
-    }
     let calibration = calibrate(&scene, param, Resolution::default())?;
-    CalibrateOutput::emit(calibration, &scene, data, t0, args.common.json)
+    let out = CalibrateOutput {
+        ratio: calibration.value / calibration.nominal,
+        calibration,
+        scene: scene.name.clone(),
+        data,
+        seconds: t0.elapsed().as_secs_f64(),
+        mechanism: scene.mechanism.is_some(),
+    };
+    emit(&out, args.common.json)
 }

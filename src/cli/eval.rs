@@ -1,4 +1,11 @@
-//! `prbfit eval`: PRB models judged against the beam, at one load or over the scene.
+//! `prbfit eval`: PRB models judged against the scene's truth (the beam, the beam mechanism,
+//! or measured data), at one load or over the scene. Every model is judged on one study
+//! ([`prbfit::study::Study::judge`]); the report reads as the scene's cases do (DESIGN §4's
+//! tips, §8's stage).
+//!
+//! A model that cannot follow the scene (a 1R asked to keep its tip angle) is a row saying
+//! so, `meets_targets` false; with every model failing there is nothing to report and the
+//! status is 1.
 
 use std::fmt;
 use std::time::Instant;
@@ -7,16 +14,20 @@ use anyhow::{Context, Result};
 use serde::Serialize;
 
 use prbfit::beam::{BeamSolver, Load, Resolution, TipPose};
-use prbfit::cancel::CancelToken;
-use prbfit::eval::{evaluate, Baseline, CaseError, ErrorFigures};
+use prbfit::eval::CaseError;
 use prbfit::io::ModelFile;
+use prbfit::mech::figures::{Figures, JudgedCase};
 use prbfit::prb::{PrbMatrix, PrbSolver};
-use prbfit::scene::{Accuracy, Scene};
-use prbfit::select::EffectsDecision;
+use prbfit::scene::{Accuracy, Mechanism, Scene, COORDINATE_KEYS};
+use prbfit::si::MechUnits;
+use prbfit::study::{CaseForm, EffectsDecision, Sampling};
 
 use super::args::EvalArgs;
-use super::output::{emit, met, num, safe, DecisionLine, Progress, TruthInfo, TruthLine};
-use super::{bad, load_scene, parse_matrix, resolve_scene, scene_model};
+use super::output::{emit, met, num, safe, DecisionLine, TruthInfo, TruthLine};
+use super::stage::{
+    count, drive_line, refuse_flag, tidy, units_line, DriveInfo, LOADS_ARE_DRIVES, LOAD_NAMES,
+};
+use super::{bad, load_scene, parse_matrix, scene_model, study};
 
 /// One model's row, or several under `models` (DESIGN §6).
 #[derive(Debug, Serialize)]
@@ -101,9 +112,9 @@ impl fmt::Display for AtLoadReport {
     }
 }
 
-/// One case of a scene evaluation: the PRB tip, the beam tip, the errors.
+/// One case of a cantilever's evaluation: the PRB tip, the beam tip, the errors.
 #[derive(Debug, Serialize)]
-pub struct CaseRow {
+pub struct TipRow {
     load: Load,
     #[serde(flatten)]
     prb: TipPose,
@@ -112,14 +123,73 @@ pub struct CaseRow {
     ang_err: f64,
 }
 
-impl From<&CaseError> for CaseRow {
-    fn from(c: &CaseError) -> CaseRow {
-        CaseRow {
-            load: c.load,
-            prb: c.prb,
-            beam: c.beam,
-            pos_err: c.pos_err,
-            ang_err: c.ang_err,
+/// A mechanism case's stage as judged: pose and load, as §8 writes them.
+#[derive(Debug, Serialize)]
+pub struct StageOnly {
+    stage: [f64; 3],
+    stage_load: [f64; 3],
+}
+
+/// One case of a mechanism's evaluation: the PRB stage, the truth's stage, the errors.
+#[derive(Debug, Serialize)]
+pub struct StageRow {
+    /// From 1.
+    drive: usize,
+    fraction: f64,
+    /// The PRB mechanism's stage pose.
+    stage: [f64; 3],
+    /// The PRB mechanism's stage load (given or reaction).
+    stage_load: [f64; 3],
+    /// The truth's stage.
+    beam: StageOnly,
+    pos_err: f64,
+    ang_err: f64,
+    force_err: f64,
+    /// The largest flexure tip position error, units of that flexure's `L`.
+    tip_err: f64,
+}
+
+/// One case, in the form of the scene's cases.
+#[derive(Debug, Serialize)]
+#[serde(untagged)]
+pub enum CaseRow {
+    /// A cantilever's.
+    Tip(TipRow),
+    /// A mechanism's.
+    Stage(StageRow),
+}
+
+impl CaseRow {
+    fn new(c: &JudgedCase, form: CaseForm) -> CaseRow {
+        match (form, c.model.flexures.first(), c.truth.flexures.first()) {
+            (CaseForm::Tip, Some(prb), Some(beam)) => CaseRow::Tip(TipRow {
+                load: prb.wrench,
+                prb: prb.tip,
+                beam: beam.tip,
+                pos_err: c.pos_err,
+                ang_err: c.ang_err,
+            }),
+            _ => CaseRow::Stage(StageRow {
+                drive: c.path,
+                fraction: c.fraction,
+                stage: c.model.stage,
+                stage_load: c.model.stage_load,
+                beam: StageOnly {
+                    stage: c.truth.stage,
+                    stage_load: c.truth.stage_load,
+                },
+                pos_err: c.pos_err,
+                ang_err: c.ang_err,
+                force_err: c.force_err,
+                tip_err: c.tip_err,
+            }),
+        }
+    }
+
+    fn stage(&self) -> Option<&StageRow> {
+        match self {
+            CaseRow::Stage(s) => Some(s),
+            CaseRow::Tip(_) => None,
         }
     }
 }
@@ -130,34 +200,61 @@ pub struct ModelRow {
     model: String,
     prb: String,
     topology: String,
-    #[serde(flatten)]
-    figures: ErrorFigures,
+    /// The figures; absent when the model cannot follow the scene.
+    #[serde(flatten, skip_serializing_if = "Option::is_none")]
+    figures: Option<Figures>,
     meets_targets: bool,
+    /// Why the PRB model could not be solved, when it could not.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    failure: Option<String>,
     seconds: f64,
     cases: Vec<CaseRow>,
 }
 
 /// `eval` over the scene.
 #[derive(Debug, Serialize)]
-pub struct SceneReport {
+pub struct EvalReport {
     #[serde(flatten)]
     models: OneOrMany<ModelRow>,
     scene: String,
     effects_decision: Option<EffectsDecision>,
-    /// A data scene's truth, and the beam's own error against it.
+    /// A data scene's truth (DESIGN §9): the file, and the beam (mechanism) against it.
     #[serde(skip_serializing_if = "Option::is_none")]
     truth: Option<TruthInfo>,
     baseline_seconds: f64,
+    /// A mechanism's drives.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    drives: Option<Vec<DriveInfo>>,
+    /// A mechanism's reaction scale `S_c` of each stage coordinate (nondimensional); 0 where
+    /// no drive prescribes the coordinate.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    reaction_scale: Option<[f64; 3]>,
+    #[serde(skip)]
+    form: CaseForm,
     #[serde(skip)]
     cases: usize,
     #[serde(skip)]
     accuracy: Accuracy,
     #[serde(skip)]
     angle_weight: f64,
+    #[serde(skip)]
+    force_weight: f64,
+    #[serde(skip)]
+    mechanism: Mechanism,
 }
 
-impl fmt::Display for SceneReport {
+impl fmt::Display for EvalReport {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self.form {
+            CaseForm::Tip => self.fmt_tip(f),
+            CaseForm::Stage => self.fmt_stage(f),
+        }
+    }
+}
+
+impl EvalReport {
+    /// The text of a cantilever's evaluation.
+    fn fmt_tip(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         writeln!(
             f,
             "scene: {} ({} load cases)",
@@ -179,20 +276,203 @@ impl fmt::Display for SceneReport {
             "model", "rms pos", "max pos", "rms ang", "max ang", "J"
         )?;
         for r in self.models.rows() {
-            let m = &r.figures;
-            writeln!(
-                f,
-                "{:<12} {:>10.3e} {:>10.3e} {:>10.3e} {:>10.3e} {:>11.4e}  {}",
-                safe(&r.model),
-                m.rms_pos_err,
-                m.max_pos_err,
-                m.rms_ang_err,
-                m.max_ang_err,
-                m.objective,
-                met(r.meets_targets)
-            )?;
+            match (&r.figures, &r.failure) {
+                (Some(m), _) => writeln!(
+                    f,
+                    "{:<12} {:>10.3e} {:>10.3e} {:>10.3e} {:>10.3e} {:>11.4e}  {}",
+                    safe(&r.model),
+                    m.rms_pos_err,
+                    m.max_pos_err,
+                    m.rms_ang_err,
+                    m.max_ang_err,
+                    m.objective,
+                    met(r.meets_targets)
+                )?,
+                (None, failure) => writeln!(
+                    f,
+                    "{:<12} cannot follow the scene: {}",
+                    safe(&r.model),
+                    safe(failure.as_deref().unwrap_or("no solution"))
+                )?,
+            }
         }
         writeln!(f, "baseline: {:.3} ms", self.baseline_seconds * 1e3)
+    }
+
+    /// Per drive, the table of what the drive produces: the loaded coordinates' motion and
+    /// the prescribed ones' reactions, beam against PRB.
+    fn case_table(&self, f: &mut fmt::Formatter<'_>, row: &ModelRow) -> fmt::Result {
+        let drives = self.drives.as_deref().unwrap_or_default();
+        let units = MechUnits::new(&self.mechanism);
+        let (dist, factor) = (units.distance, units.per_metre);
+        let truth = if self.truth.is_some() { "data" } else { "beam" };
+        for (info, drive) in drives.iter().zip(&self.mechanism.drives) {
+            writeln!(f)?;
+            writeln!(
+                f,
+                "{}: {}",
+                safe(&row.model),
+                drive_line(info.drive, drive, &units)
+            )?;
+            // The columns: the drive's own prescribed motions (the abscissa), then per
+            // coordinate the output, beam and PRB.
+            let mut head = format!("{:>6}", "frac");
+            for (c, (disp, _)) in COORDINATE_KEYS.iter().enumerate() {
+                if info.prescribed[c] && drive.coordinates[c].value() != 0.0 {
+                    let unit = if c == 2 { "deg" } else { dist };
+                    head.push_str(&format!(" {:>10}", format!("{disp} {unit}")));
+                }
+            }
+            head.push_str(" |");
+            for (c, (disp, _)) in COORDINATE_KEYS.iter().enumerate() {
+                let name = if info.prescribed[c] {
+                    format!("{}*", LOAD_NAMES[c])
+                } else if c == 2 {
+                    format!("{disp} deg")
+                } else {
+                    format!("{disp} {dist}")
+                };
+                head.push_str(&format!(" {:>11} {:>11}", format!("{truth} {name}"), "PRB"));
+            }
+            head.push_str(&format!(
+                " | {:>9} {:>9} {:>9}",
+                "pos_err", "ang_err", "force_err"
+            ));
+            writeln!(f, "{head}")?;
+            // An output in SI: the reaction (N, N m) or the motion (mm or m, degrees).
+            let output = |c: usize, stage: &[f64; 3], load: &[f64; 3]| {
+                let v = if info.prescribed[c] {
+                    load[c] * units.load(c)
+                } else if c == 2 {
+                    stage[c].to_degrees()
+                } else {
+                    stage[c] * units.length * factor
+                };
+                tidy(v, 5)
+            };
+            for c in row
+                .cases
+                .iter()
+                .filter_map(CaseRow::stage)
+                .filter(|c| c.drive == info.drive)
+            {
+                let mut line = format!("{:>6.3}", c.fraction);
+                for k in 0..3 {
+                    if info.prescribed[k] && drive.coordinates[k].value() != 0.0 {
+                        let v = if k == 2 {
+                            c.beam.stage[k].to_degrees()
+                        } else {
+                            c.beam.stage[k] * units.length * factor
+                        };
+                        line.push_str(&format!(" {v:>10.4}"));
+                    }
+                }
+                line.push_str(" |");
+                for k in 0..3 {
+                    line.push_str(&format!(
+                        " {:>11.5} {:>11.5}",
+                        output(k, &c.beam.stage, &c.beam.stage_load),
+                        output(k, &c.stage, &c.stage_load)
+                    ));
+                }
+                line.push_str(&format!(
+                    " | {:>9.2e} {:>9.2e} {:>9.2e}",
+                    c.pos_err, c.ang_err, c.force_err
+                ));
+                writeln!(f, "{line}")?;
+            }
+        }
+        Ok(())
+    }
+
+    /// The text of a mechanism scene's evaluation.
+    fn fmt_stage(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let cases = self.mechanism.case_count();
+        writeln!(
+            f,
+            "scene: {} (mechanism: {}, {}, {})",
+            safe(&self.scene),
+            count(self.mechanism.flexures.len(), "flexure"),
+            count(self.mechanism.drives.len(), "drive path"),
+            count(usize::try_from(cases).unwrap_or(usize::MAX), "case")
+        )?;
+        write!(f, "{}", DecisionLine(&self.effects_decision))?;
+        write!(f, "{}", TruthLine(&self.truth))?;
+        write!(f, "{}", units_line(&MechUnits::new(&self.mechanism)))?;
+        writeln!(
+            f,
+            "targets: max position error {} L, max angle error {} rad, max reaction error {} \
+             (of each prescribed coordinate's largest reaction); weights: angle {}, force {}",
+            num(self.accuracy.max_pos_err),
+            num(self.accuracy.max_ang_err),
+            num(self.accuracy.max_force_err),
+            num(self.angle_weight),
+            num(self.force_weight)
+        )?;
+        for row in self.models.rows().iter().filter(|r| r.failure.is_none()) {
+            self.case_table(f, row)?;
+        }
+        writeln!(f)?;
+        let w = self
+            .models
+            .rows()
+            .iter()
+            .map(|r| safe(&r.model).chars().count())
+            .fold(12, usize::max);
+        let per_case = 1e6 / (self.mechanism.case_count().max(1) as f64);
+        writeln!(
+            f,
+            "{:<w$} {:>9} {:>9} {:>9} {:>9} {:>9} {:>9} {:>10} {:>9} {:>8}  targets",
+            "model",
+            "rms pos",
+            "max pos",
+            "rms ang",
+            "max ang",
+            "rms force",
+            "max force",
+            "J",
+            "max tip",
+            "us/case"
+        )?;
+        for r in self.models.rows() {
+            match (&r.figures, &r.failure) {
+                (Some(m), _) => writeln!(
+                    f,
+                    "{:<w$} {:>9.2e} {:>9.2e} {:>9.2e} {:>9.2e} {:>9.2e} {:>9.2e} {:>10.3e} {:>9} {:>8.1}  {}",
+                    safe(&r.model),
+                    m.rms_pos_err,
+                    m.max_pos_err,
+                    m.rms_ang_err,
+                    m.max_ang_err,
+                    m.rms_force_err.unwrap_or(0.0),
+                    m.max_force(),
+                    m.objective,
+                    m.max_tip_err
+                        .map_or_else(|| "-".to_string(), |t| format!("{t:.2e}")),
+                    r.seconds * per_case,
+                    met(r.meets_targets)
+                )?,
+                (None, failure) => writeln!(
+                    f,
+                    "{:<w$} cannot follow the mechanism: {}",
+                    safe(&r.model),
+                    failure.as_deref().unwrap_or("no solution")
+                )?,
+            }
+        }
+        if self.truth.is_some() {
+            // A rig measures the stage, not the flexures' tips.
+            writeln!(
+                f,
+                "(max tip: not judged on measured data, which has no flexure tips)"
+            )
+        } else {
+            writeln!(
+                f,
+                "baseline (exact mechanism): {:.3} ms",
+                self.baseline_seconds * 1e3
+            )
+        }
     }
 }
 
@@ -217,20 +497,85 @@ pub(super) fn named_models(args: &EvalArgs, scene: &Scene) -> Result<Vec<(String
 /// Runs `prbfit eval`.
 pub fn run(args: EvalArgs) -> Result<()> {
     let scene = load_scene(&args.common)?;
-    if scene.mechanism.is_some() {
-        let (scene, decision) = resolve_scene(&scene)?;
-        if let Some(mechanism) = &scene.mechanism {
-            return super::mech::eval(&scene, mechanism, decision, &args);
-        }
+    if let Some(load) = args.load {
+        return at_load(&args, &scene, load);
     }
-    let (scene, decision) = resolve_scene(&scene)?;
+    let resolution = super::resolution(&scene, args.tol)?;
     let models = named_models(&args, &scene)?;
-    let resolution = Resolution::with_tol(args.tol);
-    let json = args.common.json;
-    let weight = scene.fit.angle_weight;
-    let beam = scene.beam.model();
+    let study = study(&scene, Sampling::Every(resolution))?;
+    let form = study.case_form();
+    let scene = study.scene();
+    let accuracy = scene.accuracy;
+    let mut rows = Vec::new();
+    let mut scale = None;
+    for (name, matrix) in models {
+        let t0 = Instant::now();
+        let mut row = ModelRow {
+            model: name,
+            prb: matrix.to_text(),
+            topology: matrix.topology(),
+            figures: None,
+            meets_targets: false,
+            failure: None,
+            seconds: 0.0,
+            cases: Vec::new(),
+        };
+        match study.judge(&matrix) {
+            Ok(e) => {
+                scale = Some(e.reaction_scale.map(|s| s.unwrap_or(0.0)));
+                row.meets_targets = e.figures.meets(&accuracy);
+                row.figures = Some(e.figures);
+                row.cases = e.cases.iter().map(|c| CaseRow::new(c, form)).collect();
+            }
+            Err(e) => row.failure = Some(e.to_string()),
+        }
+        row.seconds = t0.elapsed().as_secs_f64();
+        rows.push(row);
+    }
+    if rows.iter().all(|r| r.failure.is_some()) {
+        let reasons: Vec<String> = rows
+            .iter()
+            .filter_map(|r| {
+                r.failure
+                    .as_ref()
+                    .map(|why| format!("model {}: {why}", safe(&r.model)))
+            })
+            .collect();
+        anyhow::bail!(
+            "no model given can follow the {} of \"{}\": {}",
+            match form {
+                CaseForm::Tip => "loads",
+                CaseForm::Stage => "mechanism",
+            },
+            safe(&scene.name),
+            reasons.join("; ")
+        );
+    }
+    let mechanism = form == CaseForm::Stage;
+    let report = EvalReport {
+        truth: TruthInfo::of(&study),
+        models: OneOrMany::new(rows),
+        scene: scene.name.clone(),
+        effects_decision: study.decision().cloned(),
+        baseline_seconds: study.seconds(),
+        drives: mechanism.then(|| DriveInfo::all(study.mechanism())),
+        reaction_scale: scale.filter(|_| mechanism),
+        form,
+        cases: study.case_count(),
+        accuracy,
+        angle_weight: scene.fit.angle_weight,
+        force_weight: scene.fit.force_weight,
+        mechanism: study.mechanism().clone(),
+    };
+    emit(&report, args.common.json)
+}
 
-    if let (Some(_), Some(truth)) = (args.load, &scene.truth) {
+/// `eval --load`: the models against the cantilever's beam at one load.
+fn at_load(args: &EvalArgs, scene: &Scene, load: Load) -> Result<()> {
+    if scene.mechanism.is_some() {
+        return Err(refuse_flag("--load", scene, LOADS_ARE_DRIVES));
+    }
+    if let Some(truth) = &scene.truth {
         return Err(bad(format!(
             "--load: \"{}\" is a data scene: its load cases are the rows of {} (judge the \
              model over them without --load)",
@@ -238,69 +583,27 @@ pub fn run(args: EvalArgs) -> Result<()> {
             safe(&truth.file)
         )));
     }
-    if let Some(load) = args.load {
-        let solver = BeamSolver::new(beam, resolution)
-            .map_err(|e| bad(format!("--tol {}: {e}", num(args.tol))))?;
-        let sol = solver.solve(load).context("baseline beam")?;
-        let mut rows = Vec::new();
-        for (name, m) in models {
-            let prb = PrbSolver::new(&m, beam.axial_compliance())
-                .solve(load)
-                .with_context(|| format!("model {name}"))?;
-            let case = CaseError::new(load, sol.tip, prb.tip);
-            rows.push(AtLoad {
-                model: name,
-                prb: m.to_text(),
-                load,
-                tip: case.prb,
-                pos_err: case.pos_err,
-                ang_err: case.ang_err,
-                beam: case.beam,
-            });
-        }
-        return emit(&AtLoadReport(OneOrMany::new(rows)), json);
-    }
-
-    // One baseline for every model: the beam, or a data scene's measurements.
-    let mut progress = Progress::new("solving the beam");
-    let n_paths = scene.loads.len();
-    let baseline = match &scene.truth {
-        Some(truth) => Baseline::from_data(beam, truth),
-        None => Baseline::solve(
-            beam,
-            &scene.loads,
-            resolution,
-            &CancelToken::new(),
-            &mut |done, cases| {
-                progress.update(|| format!("load path {done}/{n_paths}, {cases} cases"));
-            },
-        )
-        .context("baseline beam")?,
-    };
-    progress.finish();
+    let (scene, _) = super::resolve_scene(scene)?;
+    let models = named_models(args, &scene)?;
+    let beam = scene.beam.model();
+    let solver = BeamSolver::new(beam, Resolution::with_tol(args.tol))
+        .map_err(|e| bad(format!("--tol {}: {e}", num(args.tol))))?;
+    let sol = solver.solve(load).context("baseline beam")?;
     let mut rows = Vec::new();
     for (name, m) in models {
-        let t0 = Instant::now();
-        let e = evaluate(&m, &baseline, weight).with_context(|| format!("model {name}"))?;
-        rows.push(ModelRow {
+        let prb = PrbSolver::new(&m, beam.axial_compliance())
+            .solve(load)
+            .with_context(|| format!("model {name}"))?;
+        let case = CaseError::new(load, sol.tip, prb.tip);
+        rows.push(AtLoad {
             model: name,
             prb: m.to_text(),
-            topology: m.topology(),
-            figures: e.figures,
-            meets_targets: e.figures.meets(&scene.accuracy),
-            seconds: t0.elapsed().as_secs_f64(),
-            cases: e.cases.iter().map(CaseRow::from).collect(),
+            load,
+            tip: case.prb,
+            pos_err: case.pos_err,
+            ang_err: case.ang_err,
+            beam: case.beam,
         });
     }
-    let report = SceneReport {
-        truth: TruthInfo::of(&scene),
-        models: OneOrMany::new(rows),
-        scene: scene.name.clone(),
-        effects_decision: decision,
-        baseline_seconds: baseline.seconds,
-        cases: baseline.case_count(),
-        accuracy: scene.accuracy,
-        angle_weight: weight,
-    };
-    emit(&report, json)
+    emit(&AtLoadReport(OneOrMany::new(rows)), args.common.json)
 }

@@ -1,22 +1,24 @@
-//! `prbfit export`: a model written for another tool. On a mechanism scene (DESIGN §8) the
-//! whole PRB mechanism is written (MuJoCo MJCF); other formats are refused as bad input
-//! (exit status 2) naming the ones that work.
+//! `prbfit export`: a model written for another tool, by
+//! [`prbfit::study::Study::export`]. On a mechanism scene (DESIGN §8) the whole PRB mechanism
+//! is written (MuJoCo MJCF) or the model file; other formats are refused as bad input (exit
+//! status 2) naming the ones that work.
 
 use std::fmt;
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 use serde::Serialize;
 
-use prbfit::export::{export, export_mechanism, ExportError, ExportInput, MechExportInput};
+use prbfit::export::ExportError;
 use prbfit::format::Format;
 use prbfit::io::files::{check_target, write_atomic};
 use prbfit::io::ModelFile;
 use prbfit::prb::PrbMatrix;
 use prbfit::scene::Scene;
+use prbfit::study::Sampling;
 
 use super::args::ExportArgs;
 use super::output::{emit, safe};
-use super::{bad, load_scene, parse_matrix, resolve_scene, scene_model};
+use super::{bad, load_scene, parse_matrix, scene_model, study};
 
 /// What was written.
 #[derive(Debug, Serialize)]
@@ -50,32 +52,10 @@ pub fn run(args: ExportArgs) -> Result<()> {
     check_target(&args.output, args.force)?;
     let scene = load_scene(&args.common)?;
     let (name, matrix) = model(&args, &scene)?;
-    let (scene, _) = resolve_scene(&scene)?;
-    let text = match &scene.mechanism {
-        Some(mechanism) => {
-            let input = MechExportInput {
-                name,
-                matrix: &matrix,
-                scene: &scene,
-                mechanism,
-                fidelity: args.fidelity,
-                density: args.density,
-            };
-            export_mechanism(&input, format).map_err(input_error)?
-        }
-        None => {
-            let baseline = args.fidelity.baseline(&scene).context("baseline beam")?;
-            let input = ExportInput {
-                name,
-                matrix: &matrix,
-                scene: &scene,
-                baseline: &baseline,
-                fidelity: args.fidelity.to_string(),
-                density: args.density,
-            };
-            export(&input, format).map_err(input_error)?
-        }
-    };
+    let study = study(&scene, Sampling::Fidelity(args.fidelity))?;
+    let text = study
+        .export(&name, &matrix, format, args.density)
+        .map_err(input_error)?;
     write_atomic(&args.output, text.as_bytes(), args.force)?;
     let out = ExportOutput {
         output: args.output.display().to_string(),

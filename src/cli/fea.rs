@@ -12,7 +12,7 @@ use prbfit::beam::{Load, Resolution, TipPose};
 use prbfit::eval::Baseline;
 use prbfit::fea::{self, Ccx, CcxError, FeaCase, FeaError, Mesh, Section, Taper};
 use prbfit::io::files::{check_target, write_atomic};
-use prbfit::select::EffectsDecision;
+use prbfit::study::EffectsDecision;
 
 use super::args::FeaArgs;
 use super::output::{emit, safe, DecisionLine, Progress};

@@ -1,24 +1,25 @@
-//! `prbfit fit`: the free cells of a matrix fitted to the beam over the scene's loads.
+//! `prbfit fit`: the free cells of a matrix fitted to the scene's truth (the beam over its
+//! loads, the beam mechanism along its drives — one matrix for every flexure — or measured
+//! data), by [`prbfit::study::Study::fit`].
 
 use std::fmt;
-use std::time::Instant;
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 use serde::Serialize;
 
-use prbfit::eval::ErrorFigures;
 use prbfit::fidelity::Fidelity;
-use prbfit::fit::{fit, CancelToken, FitError, FitOptions, FitProgress, StopReason};
+use prbfit::fit::{CancelToken, FitOptions, FitProgress, SearchError, StopReason};
 use prbfit::format::Format;
 use prbfit::io::files::{check_target, write_atomic};
 use prbfit::io::ModelFile;
+use prbfit::mech::figures::Figures;
 use prbfit::prb::PrbMatrix;
 use prbfit::scene::{Accuracy, Scene};
-use prbfit::select::EffectsDecision;
+use prbfit::study::{CaseForm, EffectsDecision, FitError, Sampling};
 
 use super::args::FitArgs;
 use super::output::{emit, met, num, safe, DecisionLine, Progress, TruthInfo, TruthLine};
-use super::{bad, load_scene, parse_matrix, resolve_scene, scene_model};
+use super::{bad, load_scene, parse_matrix, scene_model, study};
 
 /// What `fit` found.
 #[derive(Debug, Serialize)]
@@ -26,7 +27,7 @@ pub struct FitOutput {
     prb: String,
     topology: String,
     #[serde(flatten)]
-    figures: ErrorFigures,
+    figures: Figures,
     start_objective: f64,
     meets_targets: bool,
     iterations: u32,
@@ -40,6 +41,7 @@ pub struct FitOutput {
     truth: Option<TruthInfo>,
     baseline_seconds: f64,
     seconds: f64,
+    /// The model file written (`-o`).
     #[serde(skip_serializing_if = "Option::is_none")]
     saved: Option<String>,
     #[serde(skip)]
@@ -48,10 +50,22 @@ pub struct FitOutput {
     matrix: PrbMatrix,
     #[serde(skip)]
     accuracy: Accuracy,
+    #[serde(skip)]
+    form: CaseForm,
 }
 
 impl fmt::Display for FitOutput {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self.form {
+            CaseForm::Tip => self.fmt_tip(f),
+            CaseForm::Stage => self.fmt_stage(f),
+        }
+    }
+}
+
+impl FitOutput {
+    /// The text of a cantilever's fit.
+    fn fmt_tip(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let m = &self.figures;
         write!(f, "{}", DecisionLine(&self.effects_decision))?;
         write!(f, "{}", TruthLine(&self.truth))?;
@@ -89,9 +103,58 @@ impl fmt::Display for FitOutput {
         }
         Ok(())
     }
+
+    /// The text of a mechanism scene's fit.
+    fn fmt_stage(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let m = &self.figures;
+        writeln!(
+            f,
+            "scene: {} (mechanism, {} cases at {} fidelity)",
+            safe(&self.scene),
+            self.cases,
+            self.fidelity
+        )?;
+        write!(f, "{}", DecisionLine(&self.effects_decision))?;
+        write!(f, "{}", TruthLine(&self.truth))?;
+        writeln!(f, "fitted {}: {}", self.topology, self.matrix)?;
+        writeln!(
+            f,
+            "J = {:.4e} (start {:.4e}); position error max {:.3e} L; angle error max {:.3e} rad; \
+             reaction error rms {:.3e} max {:.3e}",
+            m.objective,
+            self.start_objective,
+            m.max_pos_err,
+            m.max_ang_err,
+            m.rms_force_err.unwrap_or(0.0),
+            m.max_force()
+        )?;
+        writeln!(
+            f,
+            "targets ({} L, {} rad, reaction {}): {}",
+            num(self.accuracy.max_pos_err),
+            num(self.accuracy.max_ang_err),
+            num(self.accuracy.max_force_err),
+            met(self.meets_targets)
+        )?;
+        if let Some(path) = &self.saved {
+            writeln!(f, "saved {}", safe(path))?;
+        }
+        let truth = if self.truth.is_some() {
+            "against the measured data".to_string()
+        } else {
+            format!("exact mechanism {:.1} ms", self.baseline_seconds * 1e3)
+        };
+        writeln!(
+            f,
+            "{}; {} iterations, {} evaluations, {:.1} ms ({truth})",
+            self.stop_reason,
+            self.iterations,
+            self.evaluations,
+            self.seconds * 1e3,
+        )
+    }
 }
 
-/// Runs `prbfit fit`.
 /// The matrix a fit starts from: `--topology`, `--prb`, or the scene's own model.
 pub(super) fn start_matrix(args: &FitArgs, scene: &Scene) -> Result<PrbMatrix> {
     Ok(match (&args.topology, &args.prb) {
@@ -131,41 +194,35 @@ pub(super) fn show(progress: &mut Progress, p: &FitProgress) {
     })
 }
 
+/// Runs `prbfit fit`.
 pub fn run(args: FitArgs) -> Result<()> {
     let scene = load_scene(&args.common)?;
-    if scene.mechanism.is_some() {
-        let (scene, decision) = resolve_scene(&scene)?;
-        if let Some(mechanism) = &scene.mechanism {
-            return super::mech::fit(&scene, mechanism, decision, &args);
-        }
-    }
-    let (scene, decision) = resolve_scene(&scene)?;
     let start = start_matrix(&args, &scene)?;
     let format = model_file_target(&args)?;
-    let t0 = Instant::now();
-    let baseline = args.fidelity.baseline(&scene).context("baseline beam")?;
+    let t0 = std::time::Instant::now();
+    let study = study(&scene, Sampling::Fidelity(args.fidelity))?;
+    let scene = study.scene();
     let options = FitOptions {
         fidelity: args.fidelity,
         angle_weight: scene.fit.angle_weight,
         seed: args.seed,
     };
     let mut progress = Progress::new("fitting");
-    let report = fit(
-        &baseline,
-        &start,
-        &options,
-        &mut |p| show(&mut progress, p),
-        &CancelToken::new(),
-    )
-    .map_err(|e| match e {
-        FitError::Param(p) => bad(format!("--prb: {p}")),
-        other => anyhow::Error::new(other),
-    })?;
+    let report = study
+        .fit(
+            &start,
+            &options,
+            &mut |p| show(&mut progress, p),
+            &CancelToken::new(),
+        )
+        .map_err(|e| match e {
+            FitError::Search(SearchError::Param(p)) => bad(format!("--prb: {p}")),
+            other => anyhow::Error::new(other),
+        })?;
     progress.finish();
-    let seconds = t0.elapsed().as_secs_f64();
     let figures = report.figures;
     if let (Some(path), Some(format)) = (&args.output, format) {
-        let model = ModelFile::fitted(&report.matrix, &scene, &args.fidelity.to_string(), &figures);
+        let model = ModelFile::fitted(&report.matrix, scene, &args.fidelity.to_string(), &figures);
         let text = match format {
             Format::Json => model.to_json()?,
             _ => model.to_toml()?,
@@ -182,15 +239,16 @@ pub fn run(args: FitArgs) -> Result<()> {
         evaluations: report.evaluations,
         stop_reason: report.stop,
         fidelity: args.fidelity,
-        cases: baseline.case_count(),
-        effects_decision: decision,
-        truth: TruthInfo::of(&scene),
-        baseline_seconds: baseline.seconds,
-        seconds,
+        cases: study.case_count(),
+        effects_decision: study.decision().cloned(),
+        truth: TruthInfo::of(&study),
+        baseline_seconds: study.seconds(),
+        seconds: t0.elapsed().as_secs_f64(),
         saved: args.output.as_ref().map(|p| p.display().to_string()),
-        scene: scene.name,
+        scene: scene.name.clone(),
         matrix: report.matrix,
         accuracy: scene.accuracy,
+        form: study.case_form(),
     };
     emit(&out, args.common.json)
 }

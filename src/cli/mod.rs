@@ -12,11 +12,11 @@ mod eval;
 mod export;
 mod fea;
 mod fit;
-mod mech;
 mod output;
 mod plot;
 mod select;
 mod solve;
+mod stage;
 mod tradeoff;
 
 use std::path::PathBuf;
@@ -26,10 +26,11 @@ use anyhow::{Context, Result};
 use clap::{CommandFactory, FromArgMatches};
 
 use prbfit::beam::Resolution;
+use prbfit::cancel::CancelToken;
 use prbfit::io::files::{ReadError, WriteError};
 use prbfit::prb::PrbMatrix;
 use prbfit::scene::{Scene, SceneError};
-use prbfit::select::{resolve_effects, EffectsDecision};
+use prbfit::study::{resolve_effects, EffectsDecision, Sampling, Study};
 
 use args::{Cli, Command, Common};
 
@@ -204,7 +205,34 @@ fn refuse_data(scene: &Scene, command: &str, why: &str) -> Result<()> {
 
 /// The scene with `effects = "auto"` decided, and the decision.
 fn resolve_scene(scene: &Scene) -> Result<(Scene, Option<EffectsDecision>)> {
-    resolve_effects(scene, Resolution::default()).context("deciding the beam effects")
+    resolve_effects(scene, Resolution::default(), &CancelToken::new())
+        .context("deciding the beam effects")
+}
+
+/// The beam resolution of `--tol`, checked on every flexure's beam so that a bad `--tol` is
+/// bad input naming the flag.
+fn resolution(scene: &Scene, tol: f64) -> Result<Resolution> {
+    let resolution = Resolution::with_tol(tol);
+    Study::check_resolution(scene, resolution)
+        .map_err(|e| bad(format!("--tol {}: {e}", output::num(tol))))?;
+    Ok(resolution)
+}
+
+/// The study of `scene` (its effects decided, its truth solved as `sampling` says), with a
+/// progress line; a failure names the scene.
+fn study(scene: &Scene, sampling: Sampling) -> Result<Study> {
+    let mut progress = output::Progress::new("solving the truth");
+    let study = Study::solve(
+        scene,
+        sampling,
+        &CancelToken::new(),
+        &mut |done, paths, cases| {
+            progress.update(|| format!("path {done}/{paths}, {cases} cases"));
+        },
+    )
+    .with_context(|| format!("scene \"{}\"", output::safe(&scene.name)))?;
+    progress.finish();
+    Ok(study)
 }
 
 /// The cantilever scene `command` works on, with `effects = "auto"` decided, and the

@@ -10,7 +10,8 @@ use std::io::Write;
 
 use serde::Serialize;
 
-use prbfit::select::EffectsDecision;
+use prbfit::mech::figures::Figures;
+use prbfit::study::{CaseForm, EffectsDecision, Study};
 
 /// The reader of stdout has gone (a closed pipe): stop quietly.
 #[derive(Debug, thiserror::Error)]
@@ -273,39 +274,28 @@ pub struct TruthInfo {
     /// The beam theory's own error against the data (the scene's nominal `[beam]`; a
     /// mechanism's exact beam mechanism along the measured drives).
     #[serde(skip_serializing_if = "Option::is_none")]
-    beam_vs_data: Option<BesideFigures>,
+    beam_vs_data: Option<Figures>,
     /// Why the beam could not be judged, when it could not.
     #[serde(skip_serializing_if = "Option::is_none")]
     beam_failure: Option<String>,
-}
-
-/// The beam's figures against the data: a cantilever's five, a mechanism's seven (§8).
-#[derive(Debug, Serialize)]
-#[serde(untagged)]
-pub enum BesideFigures {
-    /// A cantilever's beam.
-    Beam(prbfit::eval::ErrorFigures),
-    /// A mechanism's exact (beam) mechanism.
-    Mechanism(prbfit::mech::figures::MechFigures),
+    /// How the scene's cases read (the beam's line or the beam mechanism's).
+    #[serde(skip)]
+    form: CaseForm,
 }
 
 impl TruthInfo {
-    /// The truth of `scene`, if it is a data scene (a mechanism's judged with the scene's
-    /// mechanism, effects decided).
-    pub fn of(scene: &prbfit::scene::Scene) -> Option<TruthInfo> {
+    /// The truth of `study`, if it is measured data, with the scene's own beam (beam
+    /// mechanism) judged against it.
+    pub fn of(study: &Study) -> Option<TruthInfo> {
+        let scene = study.scene();
         let truth = scene.truth.as_ref()?;
-        let resolution = prbfit::beam::Resolution::default();
-        let (beam_vs_data, beam_failure) = match &scene.mechanism {
-            Some(m) => match prbfit::mech::measured::beam_against_data(scene, m, resolution) {
-                Ok(e) => (e.map(|e| BesideFigures::Mechanism(e.figures)), None),
-                Err(e) => (None, Some(e.to_string())),
-            },
-            None => match prbfit::eval::beam_against_data(scene, resolution) {
-                Ok(e) => (e.map(|e| BesideFigures::Beam(e.figures)), None),
-                Err(e) => (None, Some(e.to_string())),
-            },
+        let (beam_vs_data, beam_failure) = match study.beam_against_data() {
+            Some(Ok(f)) => (Some(f), None),
+            Some(Err(e)) => (None, Some(e)),
+            None => (None, None),
         };
         Some(TruthInfo {
+            form: study.case_form(),
             data: truth.file.clone(),
             sha256: truth.sha256.clone(),
             rows: truth.row_count(),
@@ -334,17 +324,21 @@ impl Display for TruthLine<'_> {
             t.sha256.get(..12).unwrap_or(&t.sha256)
         )?;
         match (&t.beam_vs_data, &t.beam_failure) {
-            (Some(BesideFigures::Beam(b)), _) => writeln!(
+            (Some(b), _) if t.form == CaseForm::Tip => writeln!(
                 f,
                 "the scene's beam against the data: rms pos {:.3e}, max pos {:.3e} L; rms ang \
                  {:.3e}, max ang {:.3e} rad; J {:.4e}",
                 b.rms_pos_err, b.max_pos_err, b.rms_ang_err, b.max_ang_err, b.objective
             ),
-            (Some(BesideFigures::Mechanism(b)), _) => writeln!(
+            (Some(b), _) => writeln!(
                 f,
                 "the scene's beam mechanism against the data: max pos {:.3e} L, max ang {:.3e} \
                  rad, reaction rms {:.3e} max {:.3e}; J {:.4e}",
-                b.max_pos_err, b.max_ang_err, b.rms_force_err, b.max_force_err, b.objective
+                b.max_pos_err,
+                b.max_ang_err,
+                b.rms_force_err.unwrap_or(0.0),
+                b.max_force(),
+                b.objective
             ),
             (None, Some(why)) => writeln!(f, "the scene's beam against the data: {}", safe(why)),
             (None, None) => Ok(()),

@@ -229,9 +229,12 @@ pub fn run(args: PlotArgs, matches: Option<&ArgMatches>) -> Result<()> {
             models.len()
         )));
     }
-    let baseline = args.fidelity.baseline(&scene).context("baseline beam")?;
+    let study = super::study(&scene, prbfit::study::Sampling::Fidelity(args.fidelity))?;
+    let baseline = study
+        .baseline()
+        .context("internal error: a cantilever plot on a mechanism scene")?;
     let mut figure =
-        Figure::build(&scene, &baseline, &models, args.path, args.kind).map_err(|e| match e {
+        Figure::build(&scene, baseline, &models, args.path, args.kind).map_err(|e| match e {
             PlotError::NoSuchPath { .. } => bad(format!("--path {}: {e}", args.path)),
             PlotError::TooManyModels { .. } => bad(format!("--model/--prb: {e}")),
             PlotError::KindNotForScene { .. } => bad(e.to_string()),

@@ -5,82 +5,70 @@
 use std::fmt;
 use std::time::Instant;
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 use serde::Serialize;
 
-use prbfit::beam::Resolution;
-use prbfit::eval::ErrorFigures;
-use prbfit::fit::mech::MechFitError;
 use prbfit::fit::CancelToken;
-use prbfit::mech::figures::MechFigures;
-use prbfit::scene::{Accuracy, Mechanism, Scene};
-use prbfit::select::{
-    select, select_mechanism, EffectsDecision, Judged, Rung, Selection, Unfollowed,
-};
+use prbfit::mech::figures::Figures;
+use prbfit::scene::{Accuracy, Scene};
+use prbfit::study::select::{Rung, Selection, Unfollowed};
+use prbfit::study::{CaseForm, EffectsDecision, Sampling};
 
 use super::args::SelectArgs;
 use super::output::{emit, num, safe, DecisionLine, Progress, TruthInfo, TruthLine};
-use super::{load_scene, resolve_scene};
+use super::{load_scene, study};
 
-/// The figures' own columns in the text table.
-trait Columns: Judged {
-    /// The header of the figures' columns.
-    fn header() -> String;
-    /// The row's cells.
-    fn cells(&self) -> String;
-    /// The targets line.
-    fn targets(accuracy: &Accuracy) -> String;
+/// The figures' own columns in the text table: the header, a row's cells, the targets line;
+/// a mechanism's have the reaction error beside the stage's position and angle errors.
+fn header(form: CaseForm) -> String {
+    match form {
+        CaseForm::Tip => format!("{:>11} {:>10} {:>10}", "J", "max pos", "max ang"),
+        CaseForm::Stage => format!(
+            "{:>11} {:>10} {:>10} {:>10}",
+            "J", "max pos", "max ang", "max force"
+        ),
+    }
 }
 
-impl Columns for ErrorFigures {
-    fn header() -> String {
-        format!("{:>11} {:>10} {:>10}", "J", "max pos", "max ang")
-    }
-    fn cells(&self) -> String {
-        format!(
+fn cells(f: &Figures, form: CaseForm) -> String {
+    match form {
+        CaseForm::Tip => format!(
             "{:>11.4e} {:>10.3e} {:>10.3e}",
-            self.objective, self.max_pos_err, self.max_ang_err
-        )
+            f.objective, f.max_pos_err, f.max_ang_err
+        ),
+        CaseForm::Stage => format!(
+            "{:>11.4e} {:>10.3e} {:>10.3e} {:>10.3e}",
+            f.objective,
+            f.max_pos_err,
+            f.max_ang_err,
+            f.max_force()
+        ),
     }
-    fn targets(a: &Accuracy) -> String {
-        format!(
+}
+
+fn targets(a: &Accuracy, form: CaseForm) -> String {
+    match form {
+        CaseForm::Tip => format!(
             "targets: max position error {} L, max angle error {} rad",
             num(a.max_pos_err),
             num(a.max_ang_err)
-        )
-    }
-}
-
-impl Columns for MechFigures {
-    fn header() -> String {
-        format!(
-            "{:>11} {:>10} {:>10} {:>10}",
-            "J", "max pos", "max ang", "max force"
-        )
-    }
-    fn cells(&self) -> String {
-        format!(
-            "{:>11.4e} {:>10.3e} {:>10.3e} {:>10.3e}",
-            self.objective, self.max_pos_err, self.max_ang_err, self.max_force_err
-        )
-    }
-    fn targets(a: &Accuracy) -> String {
-        format!(
+        ),
+        CaseForm::Stage => format!(
             "targets: max stage position error {} L, max stage angle error {} rad, max reaction \
              error {} of the largest",
             num(a.max_pos_err),
             num(a.max_ang_err),
             num(a.max_force_err)
-        )
+        ),
     }
 }
 
 /// The table and the choice.
 #[derive(Debug, Serialize)]
-pub struct SelectOutput<F: Judged = ErrorFigures> {
-    rows: Vec<Rung<F>>,
-    chosen: Option<Rung<F>>,
-    closest: Option<Rung<F>>,
+pub struct SelectOutput {
+    rows: Vec<Rung>,
+    chosen: Option<Rung>,
+    closest: Option<Rung>,
     unfollowed: Vec<Unfollowed>,
     fidelity: prbfit::fidelity::Fidelity,
     scene: String,
@@ -95,17 +83,17 @@ pub struct SelectOutput<F: Judged = ErrorFigures> {
     #[serde(skip)]
     chosen_index: Option<usize>,
     #[serde(skip)]
-    what: &'static str,
+    form: CaseForm,
 }
 
-impl<F: Judged> SelectOutput<F> {
+impl SelectOutput {
     fn new(
-        selection: Selection<F>,
+        selection: Selection,
         scene: &Scene,
+        form: CaseForm,
         effects_decision: Option<EffectsDecision>,
-        cases: usize,
-        seconds: f64,
-    ) -> SelectOutput<F> {
+        (truth, cases, seconds): (Option<TruthInfo>, usize, f64),
+    ) -> SelectOutput {
         let row = |i: Option<usize>| i.and_then(|i| selection.rows.get(i).cloned());
         SelectOutput {
             chosen: row(selection.chosen),
@@ -117,38 +105,37 @@ impl<F: Judged> SelectOutput<F> {
             scene: scene.name.clone(),
             targets: scene.accuracy,
             effects_decision,
-            truth: TruthInfo::of(scene),
+            truth,
             seconds,
             cases,
-            what: if scene.mechanism.is_some() {
-                "mechanism cases"
-            } else {
-                "load cases"
-            },
+            form,
         }
     }
 }
 
-impl<F: Columns> fmt::Display for SelectOutput<F> {
+impl fmt::Display for SelectOutput {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         writeln!(
             f,
             "scene: {} ({} {}, {} fidelity)",
             safe(&self.scene),
             self.cases,
-            self.what,
+            match self.form {
+                CaseForm::Tip => "load cases",
+                CaseForm::Stage => "mechanism cases",
+            },
             self.fidelity
         )?;
         write!(f, "{}", DecisionLine(&self.effects_decision))?;
         write!(f, "{}", TruthLine(&self.truth))?;
-        writeln!(f, "{}", F::targets(&self.targets))?;
+        writeln!(f, "{}", targets(&self.targets, self.form))?;
         writeln!(
             f,
             "{:<12} {:<11} {:>3} {} {:>11} {:>9}  targets",
             "model",
             "topology",
             "dof",
-            F::header(),
+            header(self.form),
             "us/case",
             "fit ms"
         )?;
@@ -164,7 +151,7 @@ impl<F: Columns> fmt::Display for SelectOutput<F> {
                 r.name,
                 r.topology,
                 r.dof,
-                r.figures.cells(),
+                cells(&r.figures, self.form),
                 r.eval_seconds_per_case * 1e6,
                 r.fit_seconds * 1e3,
                 if r.meets_targets { "met" } else { "not met" },
@@ -196,66 +183,24 @@ impl<F: Columns> fmt::Display for SelectOutput<F> {
 pub fn run(args: SelectArgs) -> Result<()> {
     let scene = load_scene(&args.common)?;
     let t0 = Instant::now();
-    let (scene, decision) = resolve_scene(&scene)?;
-    if let Some(mechanism) = &scene.mechanism {
-        return run_mechanism(&args, &scene, mechanism, decision, t0);
-    }
-    let baseline = args.fidelity.baseline(&scene).context("baseline beam")?;
+    let study = study(&scene, Sampling::Fidelity(args.fidelity))?;
     let mut progress = Progress::new("selecting");
     let mut done = 0;
-    let selection = select(
-        &scene,
-        &baseline,
-        args.fidelity,
-        &CancelToken::new(),
-        &mut |row| {
-            done += 1;
-            progress.update(|| format!("{done} models judged, last {}", row.name));
-        },
-    )?;
+    let selection = study.select(args.fidelity, &CancelToken::new(), &mut |row| {
+        done += 1;
+        progress.update(|| format!("{done} models judged, last {}", row.name));
+    })?;
     progress.finish();
     let out = SelectOutput::new(
         selection,
-        &scene,
-        decision,
-        baseline.case_count(),
-        t0.elapsed().as_secs_f64(),
-    );
-    emit(&out, args.common.json)
-}
-
-/// `prbfit select` on a mechanism scene: the exact mechanism is solved once (at the default
-/// resolution, as `fit` does; a data scene's truth is its data), then the ladder is fitted on
-/// it.
-fn run_mechanism(
-    args: &SelectArgs,
-    scene: &Scene,
-    mechanism: &Mechanism,
-    decision: Option<EffectsDecision>,
-    t0: Instant,
-) -> Result<()> {
-    let exact = super::mech::truth(scene, mechanism, Resolution::default())?;
-    let mut progress = Progress::new("selecting");
-    let mut done = 0;
-    let selection = select_mechanism(
-        scene,
-        mechanism,
-        &exact,
-        args.fidelity,
-        &CancelToken::new(),
-        &mut |row| {
-            done += 1;
-            progress.update(|| format!("{done} models judged, last {}", row.name));
-        },
-    )
-    .map_err(|e: MechFitError| anyhow::Error::new(e))?;
-    progress.finish();
-    let out = SelectOutput::new(
-        selection,
-        scene,
-        decision,
-        exact.iter().map(Vec::len).sum(),
-        t0.elapsed().as_secs_f64(),
+        study.scene(),
+        study.case_form(),
+        study.decision().cloned(),
+        (
+            TruthInfo::of(&study),
+            study.case_count(),
+            t0.elapsed().as_secs_f64(),
+        ),
     );
     emit(&out, args.common.json)
 }

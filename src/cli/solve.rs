@@ -1,4 +1,14 @@
-//! `prbfit solve`: the baseline beam's tip under one load, or over every case of the scene.
+//! `prbfit solve`: the truth the models are judged against: the baseline beam's tip under one
+//! load or over every case of the scene; on a mechanism scene (DESIGN §8) the beam mechanism
+//! along every drive, each case as §8 writes it: `stage` `[dx, dy, dphi]` and `stage_load`
+//! `[alpha_x, alpha_y, beta]` in flexure 1's units, and per flexure its `tip` `[a, b, phi]`
+//! and `wrench` `[alpha_x, alpha_y, beta]` in its own frame and units. The text form adds
+//! millimetres (or metres), degrees, newtons and newton metres through flexure 1's `L` and
+//! `E I0`, and marks which loads are reactions (prescribed coordinates).
+//!
+//! A mechanism that cannot follow a drive path (a critical point, no equilibrium, a motion
+//! nothing can make) is a failed computation, exit status 1, as for a beam past a critical
+//! point, with one line naming the drive and how far along it the path got.
 
 use std::fmt;
 use std::time::Instant;
@@ -8,11 +18,16 @@ use serde::Serialize;
 
 use prbfit::beam::{BeamModel, BeamSolution, BeamSolver, Effects, Load, ModelError, Resolution};
 use prbfit::beam::{ShapePoint, TipPose};
-use prbfit::scene::Scene;
-use prbfit::select::EffectsDecision;
+use prbfit::mech::MechCase;
+use prbfit::scene::{Mechanism, Scene};
+use prbfit::si::MechUnits;
+use prbfit::study::{EffectsDecision, Sampling};
 
 use super::args::SolveArgs;
-use super::output::{num, safe, DecisionLine, Progress};
+use super::output::{emit, num, safe, DecisionLine, Progress};
+use super::stage::{
+    count, drive_line, refuse_flag, tidy, units_line, DriveInfo, LOADS_ARE_DRIVES, LOAD_NAMES,
+};
 use super::{bad, load_scene, resolve_scene};
 
 /// The beam as solved, for the reports.
@@ -146,6 +161,175 @@ impl fmt::Display for SceneCases {
     }
 }
 
+/// One flexure of one case, §8's arrays.
+#[derive(Debug, Serialize)]
+pub struct FlexureRow {
+    /// `[a, b, phi]`, its own frame and units.
+    tip: [f64; 3],
+    /// `[alpha_x, alpha_y, beta]`, its own frame and units.
+    wrench: [f64; 3],
+    /// Stable under its wrench as a dead load.
+    load_stable: bool,
+}
+
+/// One case of `solve` on a mechanism.
+#[derive(Debug, Serialize)]
+pub struct StageCase {
+    /// From 1.
+    drive: usize,
+    fraction: f64,
+    stage: [f64; 3],
+    stage_load: [f64; 3],
+    flexures: Vec<FlexureRow>,
+    iterations: u32,
+}
+
+impl StageCase {
+    fn new(drive: usize, c: &MechCase) -> StageCase {
+        StageCase {
+            drive,
+            fraction: c.fraction,
+            stage: c.stage,
+            stage_load: c.stage_load,
+            flexures: c
+                .flexures
+                .iter()
+                .map(|f| FlexureRow {
+                    tip: [f.tip.a, f.tip.b, f.tip.phi],
+                    wrench: [f.wrench.alpha_x, f.wrench.alpha_y, f.wrench.beta],
+                    load_stable: f.load_stable,
+                })
+                .collect(),
+            iterations: c.iterations,
+        }
+    }
+}
+
+/// `solve` on a mechanism scene: the beam mechanism along every drive.
+#[derive(Debug, Serialize)]
+pub struct StageCases {
+    scene: String,
+    flexure_count: usize,
+    drives: Vec<DriveInfo>,
+    tol: f64,
+    cases: Vec<StageCase>,
+    seconds: f64,
+    effects_decision: Option<EffectsDecision>,
+    #[serde(skip)]
+    mechanism: Mechanism,
+}
+
+impl fmt::Display for StageCases {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let units = MechUnits::new(&self.mechanism);
+        let (dist, factor) = (units.distance, units.per_metre);
+        writeln!(
+            f,
+            "scene: {} (mechanism: {}, {})",
+            safe(&self.scene),
+            count(self.flexure_count, "flexure"),
+            count(self.drives.len(), "drive path")
+        )?;
+        write!(f, "{}", DecisionLine(&self.effects_decision))?;
+        write!(f, "{}", units_line(&units))?;
+        for (info, drive) in self.drives.iter().zip(&self.mechanism.drives) {
+            writeln!(f)?;
+            writeln!(f, "{}", drive_line(info.drive, drive, &units))?;
+            let star = |c: usize| if info.prescribed[c] { "*" } else { " " };
+            writeln!(
+                f,
+                "{:>6} | {:>9} {:>9} {:>9} | {:>9} {:>9} | {:>9} {:>9} {:>9} | {:>11} {:>11} {:>11}",
+                "frac",
+                "dx/L",
+                "dy/L",
+                "dphi deg",
+                format!("dx {dist}"),
+                format!("dy {dist}"),
+                format!("alpha_x{}", star(0)),
+                format!("alpha_y{}", star(1)),
+                format!("beta{}", star(2)),
+                format!("{}{}", LOAD_NAMES[0], star(0)),
+                format!("{}{}", LOAD_NAMES[1], star(1)),
+                format!("{}{}", LOAD_NAMES[2], star(2)),
+            )?;
+            for c in self.cases.iter().filter(|c| c.drive == info.drive) {
+                let (s, l) = (c.stage, c.stage_load);
+                writeln!(
+                    f,
+                    "{:>6.3} | {:>9.5} {:>9.5} {:>9.4} | {:>9.4} {:>9.4} | {:>9.4} {:>9.4} {:>9.4} | {:>11.5} {:>11.5} {:>11.6}",
+                    c.fraction,
+                    s[0],
+                    s[1],
+                    s[2].to_degrees(),
+                    s[0] * units.length * factor,
+                    s[1] * units.length * factor,
+                    tidy(l[0], 4),
+                    tidy(l[1], 4),
+                    tidy(l[2], 4),
+                    tidy(l[0] * units.load(0), 5),
+                    tidy(l[1] * units.load(1), 5),
+                    tidy(l[2] * units.load(2), 6),
+                )?;
+            }
+        }
+        writeln!(
+            f,
+            "{} cases in {:.3} ms",
+            self.cases.len(),
+            self.seconds * 1e3
+        )
+    }
+}
+
+/// `prbfit solve` on a mechanism scene: the beam mechanism (DESIGN §8) along every drive.
+fn solve_stage(scene: &Scene, args: &SolveArgs) -> Result<()> {
+    if args.load.is_some() {
+        return Err(refuse_flag("--load", scene, LOADS_ARE_DRIVES));
+    }
+    let beam_flags = [
+        ("--effects", args.effects.is_some()),
+        ("--slenderness", args.slenderness.is_some()),
+        ("--nu", args.nu.is_some()),
+        ("--kappa", args.kappa.is_some()),
+    ];
+    if let Some((flag, _)) = beam_flags.iter().find(|(_, given)| *given) {
+        return Err(refuse_flag(
+            flag,
+            scene,
+            "its flexures are the scene's [beam] with each [[flexures]] table's overrides \
+             (edit them in the scene)",
+        ));
+    }
+    if args.shape {
+        return Err(refuse_flag(
+            "--shape",
+            scene,
+            "the deformed shapes of a mechanism's flexures are not reported yet",
+        ));
+    }
+    let resolution = super::resolution(scene, args.tol)?;
+    let t0 = Instant::now();
+    let study = super::study(scene, Sampling::Every(resolution))?;
+    let mechanism = study.mechanism();
+    let cases = study
+        .truth()
+        .iter()
+        .enumerate()
+        .flat_map(|(i, path)| path.iter().map(move |c| StageCase::new(i + 1, c)))
+        .collect();
+    let report = StageCases {
+        effects_decision: study.decision().cloned(),
+        scene: scene.name.clone(),
+        flexure_count: mechanism.flexures.len(),
+        drives: DriveInfo::all(mechanism),
+        tol: args.tol,
+        cases,
+        seconds: t0.elapsed().as_secs_f64(),
+        mechanism: mechanism.clone(),
+    };
+    emit(&report, args.common.json)
+}
+
 /// The beam of the scene with the command-line overrides applied; errors name the flag.
 fn beam_model(scene: &Scene, args: &SolveArgs) -> Result<BeamModel> {
     let base = scene.beam.model();
@@ -186,10 +370,7 @@ pub fn run(args: SolveArgs) -> Result<()> {
         "solves the beam along [[loads]], and a data scene's loads are its rows",
     )?;
     if scene.mechanism.is_some() {
-        let (scene, decision) = resolve_scene(&scene)?;
-        if let Some(mechanism) = &scene.mechanism {
-            return super::mech::solve(&scene, mechanism, decision, &args);
-        }
+        return solve_stage(&scene, &args);
     }
     let (scene, decision) = if args.effects.is_some() {
         (scene, None)

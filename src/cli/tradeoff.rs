@@ -7,8 +7,8 @@ use serde::Serialize;
 
 use prbfit::fit::CancelToken;
 use prbfit::prb::PrbMatrix;
-use prbfit::select::EffectsDecision;
-use prbfit::tradeoff::{measure, Knob};
+use prbfit::study::tradeoff::{measure, Knob};
+use prbfit::study::EffectsDecision;
 
 use super::args::TradeoffArgs;
 use super::output::{emit, safe, DecisionLine};

@@ -31,7 +31,6 @@
 //! `presets` (what each [`Fidelity`] means for the fit).
 
 pub mod lm;
-pub mod mech;
 mod objective;
 mod param;
 mod presets;
@@ -45,7 +44,7 @@ use std::time::Instant;
 use nalgebra::DVector;
 use serde::Serialize;
 
-use crate::eval::{evaluate, Baseline, ErrorFigures, EvalError};
+use crate::mech::figures::Figures;
 use crate::prb::PrbMatrix;
 
 pub use crate::cancel::CancelToken;
@@ -88,11 +87,11 @@ impl Default for FitOptions {
 impl FitOptions {
     /// Checks the options: the angle weight must be a finite number >= 0 (a NaN weight would
     /// turn every figure into NaN later, far from its cause).
-    pub fn validate(&self) -> Result<(), FitError> {
+    pub fn validate(&self) -> Result<(), SearchError> {
         if self.angle_weight.is_finite() && self.angle_weight >= 0.0 {
             Ok(())
         } else {
-            Err(FitError::AngleWeight(self.angle_weight))
+            Err(SearchError::AngleWeight(self.angle_weight))
         }
     }
 }
@@ -126,14 +125,13 @@ impl fmt::Display for StopReason {
     }
 }
 
-/// What a fit found; `F` is the figures of its kind of scene (a mechanism's are
-/// `crate::mech::figures::MechFigures`).
+/// What a fit found.
 #[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct FitReport<F = ErrorFigures> {
+pub struct FitReport {
     /// The fitted matrix (the start when nothing better was found).
     pub matrix: PrbMatrix,
-    /// On the fit's baseline (or the scene's exact mechanism).
-    pub figures: F,
+    /// On the fit's truth (as sampled at its fidelity).
+    pub figures: Figures,
     /// `J` of the starting matrix (the penalty value if it cannot follow the loads).
     pub start_objective: f64,
     /// Swarm iterations plus polish iterations.
@@ -148,35 +146,15 @@ pub struct FitReport<F = ErrorFigures> {
     pub fidelity: Fidelity,
 }
 
-/// A fit that cannot start or ends with no usable model.
+/// A fit that cannot start.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
-pub enum FitError {
+pub enum SearchError {
     /// The matrix cannot be fitted as given.
     #[error(transparent)]
     Param(#[from] ParamError),
     /// A bad option.
     #[error("angle weight must be a finite number >= 0, got {}", crate::text::bounded(*.0))]
     AngleWeight(f64),
-    /// Even the best parameters found cannot follow the scene's loads.
-    #[error("no fitted model follows every load of the scene: {0}")]
-    NoFeasibleModel(EvalError),
-}
-
-/// Fits the free cells of `start` against `baseline`.
-pub fn fit(
-    baseline: &Baseline,
-    start: &PrbMatrix,
-    options: &FitOptions,
-    progress: &mut dyn FnMut(&FitProgress),
-    cancel: &CancelToken,
-) -> Result<FitReport, FitError> {
-    let t0 = Instant::now();
-    options.validate()?;
-    let target = CantileverTarget::new(baseline, options.angle_weight);
-    let found = search(&target, start, options, progress, cancel)?;
-    let e = evaluate(&found.matrix, baseline, options.angle_weight)
-        .map_err(FitError::NoFeasibleModel)?;
-    Ok(found.report(e.figures, t0, options.fidelity))
 }
 
 /// What [`search`] found.
@@ -196,7 +174,7 @@ pub struct Found {
 
 impl Found {
     /// The report of this search, judged by `figures`, started at `t0`.
-    pub fn report<F>(self, figures: F, t0: Instant, fidelity: Fidelity) -> FitReport<F> {
+    pub fn report(self, figures: Figures, t0: Instant, fidelity: Fidelity) -> FitReport {
         FitReport {
             matrix: self.matrix,
             figures,
@@ -210,7 +188,8 @@ impl Found {
     }
 }
 
-/// The fit's search for any [`Target`] (the single beam's loads, a mechanism's drives):
+/// The fit's search for any [`Target`] (a cantilever's loads, a mechanism's drives; the
+/// study's `fit` chooses it):
 /// starts, the swarm and the polish of `options.fidelity`, reporting progress and stopping
 /// soon after `cancel`.
 pub fn search(
@@ -219,7 +198,7 @@ pub fn search(
     options: &FitOptions,
     progress: &mut dyn FnMut(&FitProgress),
     cancel: &CancelToken,
-) -> Result<Found, FitError> {
+) -> Result<Found, SearchError> {
     let t0 = Instant::now();
     options.validate()?;
     let param = Parameterisation::new(start)?;

@@ -62,6 +62,8 @@ pub struct CantileverTarget<'a> {
     baseline: &'a Baseline,
     angle_scale: f64,
     case_scale: f64,
+    /// `J` of errors exactly at the accuracy targets (0: no floor).
+    target_objective: f64,
 }
 
 impl<'a> CantileverTarget<'a> {
@@ -71,13 +73,26 @@ impl<'a> CantileverTarget<'a> {
             baseline,
             angle_scale: angle_weight.sqrt(),
             case_scale: 1.0 / (baseline.case_count().max(1) as f64).sqrt(),
+            target_objective: 0.0,
         }
+    }
+
+    /// The target whose polish may stop once `J` is a `fraction^2` part of
+    /// `target_objective`, the `J` of errors exactly at the scene's accuracy targets
+    /// ([`Target::objective_floor`]).
+    pub fn with_target_objective(mut self, target_objective: f64) -> CantileverTarget<'a> {
+        self.target_objective = target_objective;
+        self
     }
 }
 
 impl Target for CantileverTarget<'_> {
     fn len(&self) -> usize {
         3 * self.baseline.case_count()
+    }
+
+    fn objective_floor(&self, fraction: f64) -> f64 {
+        fraction * fraction * self.target_objective
     }
 
     fn residuals(&self, matrix: &PrbMatrix, out: &mut Vec<f64>) {

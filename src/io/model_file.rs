@@ -7,10 +7,9 @@ use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
-use crate::eval::ErrorFigures;
-use crate::mech::figures::MechFigures;
+use crate::mech::figures::Figures;
 use crate::prb::{published, PrbMatrix};
-use crate::scene::{Mechanism, Scene, SceneError};
+use crate::scene::{Scene, SceneError};
 use crate::si::{load_range, si_model, LoadRange, SiModel};
 
 /// A PRB model file. Unknown keys are allowed (richer exports carry more), but what is
@@ -53,15 +52,16 @@ pub struct FitRecord {
     pub fidelity: String,
     /// `w` in J.
     pub angle_weight: f64,
-    /// The five figures on the scene.
+    /// The figures on the scene: §4's five, with a mechanism's reaction figures where some
+    /// coordinate is prescribed and its flexure tip error where the truth has flexure tips.
     #[serde(flatten)]
-    pub figures: ErrorFigures,
+    pub figures: Figures,
     /// Data scenes (DESIGN §9): the data the model was fitted to (its figures are against
     /// the data); absent when the truth was the beam.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub truth: Option<TruthRecord>,
-    /// Mechanism scenes (DESIGN §8): the reaction figures, `J`'s force weight and the model
-    /// in SI for every flexure; absent for a cantilever fit.
+    /// Mechanism scenes (DESIGN §8): `J`'s force weight and the model in SI for every
+    /// flexure; absent for a cantilever fit.
     #[serde(default, flatten, skip_serializing_if = "Option::is_none")]
     pub mechanism: Option<MechRecord>,
     /// The prbfit that made the file.
@@ -87,12 +87,6 @@ pub struct TruthRecord {
 pub struct MechRecord {
     /// `w_f` in `J`.
     pub force_weight: f64,
-    /// RMS of the reaction error, a fraction of each prescribed coordinate's largest reaction.
-    pub rms_force_err: f64,
-    /// Largest reaction error.
-    pub max_force_err: f64,
-    /// Largest flexure tip position error, units of that flexure's `L`.
-    pub max_tip_err: f64,
     /// The matrix in SI for each flexure in order (its own `L` and `E I0`).
     pub flexure_si: Vec<SiModel>,
 }
@@ -171,16 +165,35 @@ impl ModelFile {
         Ok(())
     }
 
-    /// A fitted (or hand-made) model of `scene`'s beam, with provenance.
+    /// A fitted (or hand-made) model of `scene` judged by `figures`, with provenance. On a
+    /// mechanism scene (DESIGN §8) the record adds `J`'s force weight and the model in SI for
+    /// every flexure (`si` is flexure 1's, which sets the mechanism's units); a mechanism has
+    /// drives, not a cantilever's load range, so `load_range` is absent.
     pub fn fitted(
         matrix: &PrbMatrix,
         scene: &Scene,
         fidelity: &str,
-        figures: &ErrorFigures,
+        figures: &Figures,
     ) -> ModelFile {
+        let mechanism = scene.mechanism.as_ref().map(|m| MechRecord {
+            force_weight: scene.fit.force_weight,
+            flexure_si: m
+                .flexures
+                .iter()
+                .map(|f| si_model(matrix, &f.beam))
+                .collect(),
+        });
+        let title = match &mechanism {
+            Some(_) => format!(
+                "{} fitted to the mechanism {}",
+                matrix.topology(),
+                scene.name
+            ),
+            None => format!("{} fitted to {}", matrix.topology(), scene.name),
+        };
         ModelFile {
             name: format!("fitted-{}", matrix.topology().to_lowercase()),
-            title: Some(format!("{} fitted to {}", matrix.topology(), scene.name)),
+            title: Some(title),
             topology: Some(matrix.topology()),
             source: Some(format!(
                 "prbfit {}, fidelity {fidelity}",
@@ -188,6 +201,13 @@ impl ModelFile {
             )),
             conversion: None,
             prb: matrix.clone(),
+            si: match &mechanism {
+                Some(m) => m.flexure_si.first().cloned(),
+                None => Some(si_model(matrix, &scene.beam)),
+            },
+            load_range: mechanism
+                .is_none()
+                .then(|| load_range(&scene.beam, &scene.loads)),
             fit: Some(FitRecord {
                 scene: scene.name.clone(),
                 fidelity: fidelity.to_string(),
@@ -198,57 +218,11 @@ impl ModelFile {
                     sha256: t.sha256.clone(),
                     rows: t.row_count(),
                 }),
-                mechanism: None,
+                mechanism,
                 prbfit_version: env!("CARGO_PKG_VERSION").to_string(),
                 created: super::files::utc_timestamp(),
             }),
-            si: Some(si_model(matrix, &scene.beam)),
-            load_range: Some(load_range(&scene.beam, &scene.loads)),
         }
-    }
-
-    /// A model fitted on `mechanism` (the mechanism of `scene`), with provenance: the stage
-    /// figures and the reaction figures of DESIGN §8, and the model in SI for every flexure
-    /// (`si` is flexure 1's, which sets the mechanism's units). A mechanism has drives, not a
-    /// cantilever's load range, so `load_range` is absent.
-    pub fn fitted_mechanism(
-        matrix: &PrbMatrix,
-        scene: &Scene,
-        mechanism: &Mechanism,
-        fidelity: &str,
-        figures: &MechFigures,
-    ) -> ModelFile {
-        let flexure_si: Vec<SiModel> = mechanism
-            .flexures
-            .iter()
-            .map(|f| si_model(matrix, &f.beam))
-            .collect();
-        // The stage's five figures of §4 (`objective` is §8's `J`, the reaction term included).
-        let stage = ErrorFigures {
-            rms_pos_err: figures.rms_pos_err,
-            max_pos_err: figures.max_pos_err,
-            rms_ang_err: figures.rms_ang_err,
-            max_ang_err: figures.max_ang_err,
-            objective: figures.objective,
-        };
-        let mut file = ModelFile::fitted(matrix, scene, fidelity, &stage);
-        file.title = Some(format!(
-            "{} fitted to the mechanism {}",
-            matrix.topology(),
-            scene.name
-        ));
-        file.si = flexure_si.first().cloned();
-        file.load_range = None;
-        if let Some(fit) = file.fit.as_mut() {
-            fit.mechanism = Some(MechRecord {
-                force_weight: scene.fit.force_weight,
-                rms_force_err: figures.rms_force_err,
-                max_force_err: figures.max_force_err,
-                max_tip_err: figures.max_tip_err,
-                flexure_si,
-            });
-        }
-        file
     }
 }
 
@@ -291,12 +265,15 @@ mod tests {
     fn fit_records_flatten_the_figures() {
         let scene = Scene::builtin();
         let m = PrbMatrix::parse("0.15,inf,inf; 0.85,2.2525,inf").unwrap();
-        let figures = ErrorFigures {
+        let figures = Figures {
             rms_pos_err: 1.0,
             max_pos_err: 2.0,
             rms_ang_err: 3.0,
             max_ang_err: 4.0,
             objective: 5.0,
+            rms_force_err: None,
+            max_force_err: None,
+            max_tip_err: None,
         };
         let file = ModelFile::fitted(&m, &scene, "normal", &figures);
         let text = file.to_toml().unwrap();
@@ -319,17 +296,17 @@ mod tests {
         let scene = Scene::from_file(Path::new(path)).unwrap();
         let mechanism = scene.mechanism.clone().unwrap();
         let m = PrbMatrix::parse("0.1,inf,inf; 0.8,3,inf; 0.1,3,inf").unwrap();
-        let figures = MechFigures {
+        let figures = Figures {
             rms_pos_err: 1.0,
             max_pos_err: 2.0,
             rms_ang_err: 3.0,
             max_ang_err: 4.0,
             objective: 5.0,
-            rms_force_err: 6.0,
-            max_force_err: 7.0,
-            max_tip_err: 8.0,
+            rms_force_err: Some(6.0),
+            max_force_err: Some(7.0),
+            max_tip_err: Some(8.0),
         };
-        let file = ModelFile::fitted_mechanism(&m, &scene, &mechanism, "normal", &figures);
+        let file = ModelFile::fitted(&m, &scene, "normal", &figures);
         let record = file.fit.as_ref().unwrap().mechanism.as_ref().unwrap();
         assert_eq!(record.flexure_si.len(), mechanism.flexures.len());
         assert_eq!(file.si.as_ref(), record.flexure_si.first());

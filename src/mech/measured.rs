@@ -11,7 +11,7 @@ use crate::beam::Resolution;
 use crate::scene::data::StageData;
 use crate::scene::{Coordinate, Mechanism, Scene};
 
-use super::figures::{compare, CompareError, MechEvaluation};
+use super::figures::{compare, CompareError, Judgement};
 use super::{exact, MechCase, MechError};
 
 /// The truth a mechanism scene's PRB models are judged and fitted against, one `Vec` of
@@ -56,7 +56,7 @@ pub fn beam_against_data(
     scene: &Scene,
     mechanism: &Mechanism,
     resolution: Resolution,
-) -> Result<Option<MechEvaluation>, BesideError> {
+) -> Result<Option<Judgement>, BesideError> {
     let Some(stage) = scene.truth.as_ref().and_then(|t| t.stage.as_ref()) else {
         return Ok(None);
     };

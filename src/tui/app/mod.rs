@@ -20,7 +20,6 @@ use crate::cancel::CancelToken;
 use crate::fit::{Fidelity, FitReport, StopReason};
 use crate::format::Format;
 use crate::io::ModelFile;
-use crate::mech::figures::MechFigures;
 use crate::prb::published::NAMES as PUBLISHED;
 use crate::prb::{Column, PrbMatrix};
 use crate::scene::data::Units;
@@ -305,7 +304,7 @@ pub struct App {
     /// The selection view, when open.
     pub select: Option<SelectState>,
     /// The selection view of a mechanism scene, when open.
-    pub mech_select: Option<SelectState<MechFigures>>,
+    pub mech_select: Option<SelectState>,
     /// The matrix came from the scene's `[prb] matrix`: the first job judges it as saved.
     model_from_scene: bool,
     /// The density the exported links get (kg/m^3).

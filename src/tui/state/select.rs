@@ -1,21 +1,19 @@
 //! The model-selection view: the ladder's table (rows arrive as they are fitted), its choice
-//! and the trade-off measurements, with a cursor over the rows. On a mechanism scene the rows
-//! carry the mechanism's figures (`SelectState<MechFigures>`) and the models that cannot
-//! follow the mechanism are listed instead of the trade-off.
+//! and the trade-off measurements, with a cursor over the rows. On a mechanism scene the
+//! models that cannot follow the mechanism are listed instead of the trade-off.
 
-use crate::eval::ErrorFigures;
-use crate::select::{Rung, Selection, Unfollowed};
-use crate::tradeoff::Knob;
+use crate::study::select::{Rung, Selection, Unfollowed};
+use crate::study::tradeoff::Knob;
 
 use super::step;
 
-/// The selection view's state; `F` is the figures of the scene's kind.
+/// The selection view's state.
 #[derive(Debug, Clone, PartialEq)]
-pub struct SelectState<F = ErrorFigures> {
+pub struct SelectState {
     /// The selection job whose rows these are.
     pub job: u64,
     /// The rows so far.
-    pub rows: Vec<Rung<F>>,
+    pub rows: Vec<Rung>,
     /// The simplest row meeting the targets, once known.
     pub chosen: Option<usize>,
     /// The row closest to the targets, once known.
@@ -30,9 +28,9 @@ pub struct SelectState<F = ErrorFigures> {
     pub unfollowed: Vec<Unfollowed>,
 }
 
-impl<F> SelectState<F> {
+impl SelectState {
     /// An empty view for selection job `job`, running.
-    pub fn new(job: u64) -> SelectState<F> {
+    pub fn new(job: u64) -> SelectState {
         SelectState {
             job,
             rows: Vec::new(),
@@ -51,7 +49,7 @@ impl<F> SelectState<F> {
     }
 
     /// A row of job `job` arrived; rows of another job are dropped.
-    pub fn on_row(&mut self, job: u64, row: Rung<F>) -> bool {
+    pub fn on_row(&mut self, job: u64, row: Rung) -> bool {
         if job != self.job {
             return false;
         }
@@ -60,7 +58,7 @@ impl<F> SelectState<F> {
     }
 
     /// The whole selection of job `job` arrived; the cursor goes to its choice.
-    pub fn on_done(&mut self, job: u64, selection: Selection<F>, knobs: Vec<Knob>) -> bool {
+    pub fn on_done(&mut self, job: u64, selection: Selection, knobs: Vec<Knob>) -> bool {
         if job != self.job {
             return false;
         }
@@ -75,7 +73,7 @@ impl<F> SelectState<F> {
     }
 
     /// The row under the cursor.
-    pub fn selected_row(&self) -> Option<&Rung<F>> {
+    pub fn selected_row(&self) -> Option<&Rung> {
         self.rows.get(self.selected)
     }
 }

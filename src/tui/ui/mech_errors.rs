@@ -58,7 +58,7 @@ impl<'a> View<'a> {
                 let judged = e.beam_against_data(w, w_f)?;
                 let mut per_drive: Vec<Vec<CaseErrors>> = vec![Vec::new(); e.cases.len()];
                 for c in judged.iter().flat_map(|j| &j.cases) {
-                    if let Some(d) = per_drive.get_mut(c.drive.wrapping_sub(1)) {
+                    if let Some(d) = per_drive.get_mut(c.path.wrapping_sub(1)) {
                         d.push(CaseErrors {
                             pos: c.pos_err,
                             ang: c.ang_err,

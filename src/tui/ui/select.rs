@@ -1,7 +1,7 @@
 //! The model-selection view: the topology ladder's table (rows as they are fitted, the
 //! chosen or closest marked) over the speed/accuracy trade-off chart. On a mechanism scene
 //! the table has the reaction error beside the stage's position and angle errors
-//! ([`Columns`]), and the models that cannot follow the mechanism are listed under it.
+//! ([`columns`]), and the models that cannot follow the mechanism are listed under it.
 
 use ratatui::layout::{Constraint, Direction, Layout, Rect};
 use ratatui::style::{Color, Modifier, Style};
@@ -12,8 +12,7 @@ use ratatui::widgets::{
 };
 use ratatui::Frame;
 
-use crate::eval::ErrorFigures;
-use crate::mech::figures::MechFigures;
+use crate::mech::figures::Figures;
 use crate::scene::Accuracy;
 
 use super::super::app::App;
@@ -21,51 +20,38 @@ use super::super::state::select::SelectState;
 use super::super::units::trim_number;
 use super::{sanitize_terminal, Palette, PATH_COLORS};
 
-/// The figure columns of a selection table: their headers, widths and cells.
-pub trait Columns {
-    /// A mechanism's figures (its selection lists the models that cannot follow it, not the
-    /// trade-off).
-    const MECHANISM: bool;
-    /// The headers, after `model`, `topology` and `dof`.
-    const HEADERS: &'static [&'static str];
-    /// Their widths.
-    const WIDTHS: &'static [u16];
-    /// The row's cells.
-    fn cells(&self) -> Vec<String>;
-}
-
-impl Columns for ErrorFigures {
-    const MECHANISM: bool = false;
-    const HEADERS: &'static [&'static str] = &["J", "max pos", "max ang"];
-    const WIDTHS: &'static [u16] = &[10, 8, 9];
-    fn cells(&self) -> Vec<String> {
-        vec![
-            format!("{:.3e}", self.objective),
-            format!("{}%", trim_number(self.max_pos_err * 100.0, 3)),
-            format!("{}deg", trim_number(self.max_ang_err.to_degrees(), 3)),
-        ]
+/// The figure columns of a selection table, after `model`, `topology` and `dof`: their
+/// headers and widths; a mechanism's have the reaction error beside the stage's.
+pub fn columns(mechanism: bool) -> (&'static [&'static str], &'static [u16]) {
+    if mechanism {
+        (&["J", "max force", "max pos", "max ang"], &[10, 10, 8, 9])
+    } else {
+        (&["J", "max pos", "max ang"], &[10, 8, 9])
     }
 }
 
-impl Columns for MechFigures {
-    const MECHANISM: bool = true;
-    const HEADERS: &'static [&'static str] = &["J", "max force", "max pos", "max ang"];
-    const WIDTHS: &'static [u16] = &[10, 10, 8, 9];
-    fn cells(&self) -> Vec<String> {
-        vec![
-            format!("{:.3e}", self.objective),
-            format!("{}%", trim_number(self.max_force_err * 100.0, 3)),
-            format!("{}%", trim_number(self.max_pos_err * 100.0, 3)),
-            format!("{}deg", trim_number(self.max_ang_err.to_degrees(), 3)),
-        ]
+/// A row's cells under [`columns`].
+pub fn cells_of(figures: &Figures, mechanism: bool) -> Vec<String> {
+    let mut out = vec![format!("{:.3e}", figures.objective)];
+    if mechanism {
+        out.push(format!("{}%", trim_number(figures.max_force() * 100.0, 3)));
     }
+    out.push(format!("{}%", trim_number(figures.max_pos_err * 100.0, 3)));
+    out.push(format!(
+        "{}deg",
+        trim_number(figures.max_ang_err.to_degrees(), 3)
+    ));
+    out
 }
 
-/// What the selection view draws; `F` is the figures of the scene's kind.
+/// What the selection view draws.
 #[derive(Debug, Clone)]
-pub struct View<'a, F = ErrorFigures> {
+pub struct View<'a> {
     /// The rows, the choice, the trade-off and the cursor.
-    pub state: &'a SelectState<F>,
+    pub state: &'a SelectState,
+    /// The scene is a mechanism (its selection lists the models that cannot follow it, not
+    /// the trade-off).
+    pub mechanism: bool,
     /// The scene's targets.
     pub accuracy: Accuracy,
     /// The scene's truth is measured data (no trade-off to measure).
@@ -79,6 +65,7 @@ impl<'a> View<'a> {
     pub fn new(app: &'a App) -> Option<View<'a>> {
         Some(View {
             state: app.select.as_ref()?,
+            mechanism: false,
             accuracy: app.scene.accuracy,
             data: app.is_data(),
             pal: Palette { mono: app.mono },
@@ -86,11 +73,12 @@ impl<'a> View<'a> {
     }
 }
 
-impl<'a> View<'a, MechFigures> {
+impl<'a> View<'a> {
     /// The selection view of a mechanism scene, when open.
-    pub fn mechanism(app: &'a App) -> Option<View<'a, MechFigures>> {
+    pub fn mechanism(app: &'a App) -> Option<View<'a>> {
         Some(View {
             state: app.mech_select.as_ref()?,
+            mechanism: true,
             accuracy: app.scene.accuracy,
             data: app.is_data(),
             pal: Palette { mono: app.mono },
@@ -100,9 +88,9 @@ impl<'a> View<'a, MechFigures> {
 
 /// Draws the selection view: the ladder table over the trade-off chart (on a mechanism
 /// scene, over the models that cannot follow it).
-pub fn draw<F: Columns>(frame: &mut Frame, area: Rect, v: &View<'_, F>) {
+pub fn draw(frame: &mut Frame, area: Rect, v: &View<'_>) {
     let (view, pal) = (v.state, v.pal);
-    let mechanism = F::MECHANISM;
+    let mechanism = v.mechanism;
     frame.render_widget(Clear, area);
     let state = if view.running {
         if view.rows.is_empty() {
@@ -128,10 +116,11 @@ pub fn draw<F: Columns>(frame: &mut Frame, area: Rect, v: &View<'_, F>) {
         ])
         .split(area);
     let acc = &v.accuracy;
+    let (headers, column_widths) = columns(mechanism);
     let header = Row::new(
         ["model", "topology", "dof"]
             .iter()
-            .chain(F::HEADERS)
+            .chain(headers)
             .chain(&["us/case", "fit ms", "targets"])
             .copied()
             .collect::<Vec<_>>(),
@@ -160,7 +149,7 @@ pub fn draw<F: Columns>(frame: &mut Frame, area: Rect, v: &View<'_, F>) {
                 Cell::from(r.topology.clone()),
                 Cell::from(r.dof.to_string()),
             ];
-            cells.extend(r.figures.cells().into_iter().map(Cell::from));
+            cells.extend(cells_of(&r.figures, mechanism).into_iter().map(Cell::from));
             cells.extend([
                 Cell::from(format!("{:.2}", r.eval_seconds_per_case * 1e6)),
                 Cell::from(format!("{:.0}", r.fit_seconds * 1e3)),
@@ -174,7 +163,7 @@ pub fn draw<F: Columns>(frame: &mut Frame, area: Rect, v: &View<'_, F>) {
         .collect();
     let widths: Vec<Constraint> = [11, 11, 4]
         .iter()
-        .chain(F::WIDTHS)
+        .chain(column_widths)
         .chain(&[8, 7])
         .map(|&w| Constraint::Length(w))
         .chain(std::iter::once(Constraint::Min(8)))
@@ -270,7 +259,7 @@ pub fn draw<F: Columns>(frame: &mut Frame, area: Rect, v: &View<'_, F>) {
 
 /// A mechanism selection's lower part: the models that cannot follow the mechanism and why
 /// (the trade-off is measured on cantilever scenes only, and none on measured data).
-fn draw_unfollowed<F>(frame: &mut Frame, area: Rect, view: &SelectState<F>, data: bool) {
+fn draw_unfollowed(frame: &mut Frame, area: Rect, view: &SelectState, data: bool) {
     let block = Block::default()
         .borders(Borders::ALL)
         .title(" Models that cannot follow the mechanism ");

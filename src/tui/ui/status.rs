@@ -13,9 +13,8 @@ use ratatui::text::{Line, Span};
 use ratatui::widgets::Paragraph;
 use ratatui::Frame;
 
-use crate::eval::ErrorFigures;
 use crate::fit::Fidelity;
-use crate::mech::figures::MechFigures;
+use crate::mech::figures::Figures as ModelFigures;
 use crate::scene::{Accuracy, Mechanism};
 
 use super::super::app::{Activity, App, Tone};
@@ -77,10 +76,10 @@ pub fn draw_title(frame: &mut Frame, area: Rect, view: &TitleView) {
 #[derive(Debug, Clone, Copy)]
 pub enum Figures<'a> {
     /// A cantilever's: J, tip position and angle errors.
-    Beam(&'a ErrorFigures),
+    Beam(&'a ModelFigures),
     /// A mechanism's (DESIGN §8): J, and of the reaction, stage position and stage angle
     /// errors those the drives have (`shown`: force, position, angle).
-    Mech(&'a MechFigures, [bool; 3]),
+    Mech(&'a ModelFigures, [bool; 3]),
 }
 
 /// Which of a mechanism's errors exist: force (some drive prescribes a coordinate),
@@ -117,9 +116,9 @@ pub struct DataLine<'a> {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum BesideFigures {
     /// The scene's beam at the measured loads.
-    Beam(ErrorFigures),
+    Beam(ModelFigures),
     /// The beam mechanism along the measured drives.
-    Mech(MechFigures, [bool; 3]),
+    Mech(ModelFigures, [bool; 3]),
 }
 
 impl BesideFigures {
@@ -233,7 +232,7 @@ fn figure_spans(f: Figures, acc: &Accuracy, pal: Palette) -> Vec<Span<'static>> 
             f.objective,
             f.max_pos_err,
             f.max_ang_err,
-            f.max_force_err,
+            f.max_force(),
             shown,
         ),
     };

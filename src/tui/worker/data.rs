@@ -7,7 +7,8 @@
 
 use crate::beam::{BeamSolver, Resolution, SolveError, TipPose};
 use crate::cancel::CancelToken;
-use crate::eval::{CaseError, ErrorFigures};
+use crate::eval::{tip_figures, CaseError};
+use crate::mech::figures::Figures;
 use crate::scene::data::DataTruth;
 use crate::scene::BeamSpec;
 
@@ -38,8 +39,8 @@ pub struct BeamBeside {
 impl BeamBeside {
     /// The beam's figures against the data, with `w = angle_weight` in `J` (taken when
     /// drawn, so an edit of the weight needs no new solve).
-    pub fn figures(&self, angle_weight: f64) -> ErrorFigures {
-        ErrorFigures::from_cases(&self.cases, angle_weight)
+    pub fn figures(&self, angle_weight: f64) -> Figures {
+        tip_figures(&self.cases, angle_weight)
     }
 }
 

@@ -19,16 +19,15 @@
 use std::sync::Arc;
 use std::time::Instant;
 
-use crate::beam::Effects;
-use crate::fit::mech::{fit_mechanism, MechFitReport, MECH_TOL};
-use crate::fit::{Fidelity, FitOptions};
-use crate::mech::figures::{compare, MechEvaluation, MechFigures};
+use crate::beam::{Effects, Resolution};
+use crate::fit::{Fidelity, FitOptions, FitReport};
+use crate::mech::figures::{compare, Figures, Judgement};
 use crate::mech::pose::{self, Pose};
-use crate::mech::{exact, measured, prb, MechCase};
+use crate::mech::{exact, prb, MechCase};
 use crate::prb::PrbMatrix;
 use crate::scene::data::DataTruth;
 use crate::scene::{Accuracy, BeamSpec, Mechanism, Scene};
-use crate::select::{resolve_effects, select_mechanism, EffectsDecision};
+use crate::study::{resolve_effects, EffectsDecision, Sampling, Study, PRB_TOL};
 
 use super::{FitStatus, Job, JobKind, WorkerMsg};
 
@@ -71,7 +70,7 @@ impl MechBaselineView {
         &self,
         angle_weight: f64,
         force_weight: f64,
-    ) -> Option<Result<MechEvaluation, String>> {
+    ) -> Option<Result<Judgement, String>> {
         let m = self.measured.as_ref()?;
         Some(match &m.beam {
             Ok(beam) => compare(
@@ -117,8 +116,8 @@ pub struct CaseErrors {
 pub struct MechModelView {
     /// The matrix in every flexure.
     pub matrix: PrbMatrix,
-    /// The seven figures of DESIGN §8.
-    pub figures: MechFigures,
+    /// The figures of DESIGN §8.
+    pub figures: Figures,
     /// Per drive, the PRB mechanism's cases.
     pub cases: Vec<Vec<MechCase>>,
     /// Per drive, per case, its errors.
@@ -143,23 +142,41 @@ struct Key {
 pub(super) struct Solved {
     key: Key,
     view: Arc<MechBaselineView>,
+    study: Arc<Study>,
 }
 
 /// The truth of `scene` (a mechanism scene) at `fidelity`'s resolution, with
 /// `effects = "auto"` decided as for every scene ([`resolve_effects`]): the exact mechanism,
-/// or a data scene's measured cases ([`measured::truth`]) with the beam mechanism solved
+/// or a data scene's measured cases (`measured::truth`) with the beam mechanism solved
 /// along the measured drives beside them.
 pub fn mech_baseline_view(scene: &Scene, fidelity: Fidelity) -> Result<MechBaselineView, String> {
-    let t0 = Instant::now();
-    let resolution = fidelity.resolution();
-    let (resolved, decision) = resolve_effects(scene, resolution)
+    view_of(&mech_study(scene, fidelity)?)
+}
+
+/// The study of `scene` (a mechanism scene) at `fidelity`, its `auto` effects decided as
+/// every front end decides them.
+fn mech_study(scene: &Scene, fidelity: Fidelity) -> Result<Study, String> {
+    let cancel = crate::cancel::CancelToken::new();
+    let (resolved, decision) = resolve_effects(scene, Resolution::default(), &cancel)
         .map_err(|e| format!("the beam effects cannot be decided: {e}"))?;
-    let mechanism = resolved
-        .mechanism
-        .clone()
-        .ok_or("internal error: a mechanism job on a cantilever scene")?;
-    let cases = measured::truth(&resolved, &mechanism, resolution)
-        .map_err(|e| format!("the exact (beam) mechanism: {e}"))?;
+    Study::decided(
+        resolved,
+        decision,
+        Sampling::Fidelity(fidelity),
+        &cancel,
+        &mut |_, _, _| {},
+    )
+    .map_err(|e| e.to_string())
+}
+
+/// What the charts draw of a mechanism study's truth.
+fn view_of(study: &Study) -> Result<MechBaselineView, String> {
+    let t0 = Instant::now();
+    let resolution = study.sampling().resolution();
+    let resolved = study.scene();
+    let decision = study.decision().cloned();
+    let mechanism = study.mechanism().clone();
+    let cases = study.truth().to_vec();
     let (poses, measured) = match &resolved.truth {
         None => (
             pose::exact(&mechanism, resolution, &cases)
@@ -195,7 +212,7 @@ pub fn mech_baseline_view(scene: &Scene, fidelity: Fidelity) -> Result<MechBasel
         cases,
         poses,
         measured,
-        seconds: t0.elapsed().as_secs_f64(),
+        seconds: study.seconds() + t0.elapsed().as_secs_f64(),
     })
 }
 
@@ -208,7 +225,7 @@ pub fn mech_model_view(
     force_weight: f64,
 ) -> Result<MechModelView, String> {
     let m = &exact.mechanism;
-    let cases = prb::solve(m, matrix, MECH_TOL).map_err(|e| {
+    let cases = prb::solve(m, matrix, PRB_TOL).map_err(|e| {
         format!(
             "the PRB mechanism ({}) cannot follow: {e}",
             matrix.topology()
@@ -219,7 +236,7 @@ pub fn mech_model_view(
     let mut errors: Vec<Vec<CaseErrors>> =
         cases.iter().map(|d| Vec::with_capacity(d.len())).collect();
     for c in &e.cases {
-        if let Some(drive) = errors.get_mut(c.drive.wrapping_sub(1)) {
+        if let Some(drive) = errors.get_mut(c.path.wrapping_sub(1)) {
             drive.push(CaseErrors {
                 pos: c.pos_err,
                 ang: c.ang_err,
@@ -237,7 +254,10 @@ pub fn mech_model_view(
 }
 
 /// The truth for `job`: the cached one when nothing it depends on changed.
-fn solve_exact(job: &Job, cache: &mut Option<Solved>) -> Result<Arc<MechBaselineView>, String> {
+fn solve_exact(
+    job: &Job,
+    cache: &mut Option<Solved>,
+) -> Result<(Arc<MechBaselineView>, Arc<Study>), String> {
     let mechanism = job
         .scene
         .mechanism
@@ -251,14 +271,16 @@ fn solve_exact(job: &Job, cache: &mut Option<Solved>) -> Result<Arc<MechBaseline
         truth: job.scene.truth.clone(),
     };
     if let Some(c) = cache.as_ref().filter(|c| c.key == key) {
-        return Ok(c.view.clone());
+        return Ok((c.view.clone(), c.study.clone()));
     }
-    let view = Arc::new(mech_baseline_view(&job.scene, job.fidelity)?);
+    let study = Arc::new(mech_study(&job.scene, job.fidelity)?);
+    let view = Arc::new(view_of(&study)?);
     *cache = Some(Solved {
         key,
         view: view.clone(),
+        study: study.clone(),
     });
-    Ok(view)
+    Ok((view, study))
 }
 
 /// Runs a judge, fit or compare job on a mechanism scene.
@@ -268,14 +290,14 @@ pub(super) fn run_job(
     send: &dyn Fn(WorkerMsg),
 ) -> Result<(), String> {
     let t0 = Instant::now();
-    let exact = solve_exact(job, cache)?;
+    let (exact, study) = solve_exact(job, cache)?;
     if let JobKind::Export {
         path,
         density,
         overwrite,
     } = &job.kind
     {
-        let result = export_file(job, &exact, path, *density, *overwrite);
+        let result = export_file(job, &study, path, *density, *overwrite);
         send(WorkerMsg::Exported {
             id: job.id,
             path: path.clone(),
@@ -287,20 +309,14 @@ pub(super) fn run_job(
         return Ok(());
     }
     if job.kind == JobKind::Select {
-        let selection = select_mechanism(
-            &job.scene,
-            &exact.mechanism,
-            &exact.cases,
-            job.fidelity,
-            &job.cancel,
-            &mut |row| {
+        let selection = study
+            .select(job.fidelity, &job.cancel, &mut |row| {
                 send(WorkerMsg::MechSelectRow {
                     id: job.id,
                     row: Box::new(row.clone()),
                 })
-            },
-        )
-        .map_err(|e| format!("selection: {e}"))?;
+            })
+            .map_err(|e| format!("selection: {e}"))?;
         send(WorkerMsg::MechSelectDone {
             id: job.id,
             selection: Box::new(selection),
@@ -367,17 +383,9 @@ pub(super) fn run_job(
             send(progress(model, status));
         }
     };
-    let report: MechFitReport = fit_mechanism(
-        &exact.mechanism,
-        &exact.cases,
-        &job.matrix,
-        &options,
-        w_f,
-        &job.scene.accuracy,
-        &mut on_progress,
-        &job.cancel,
-    )
-    .map_err(|e| format!("fit: {e}"))?;
+    let report: FitReport = study
+        .fit(&job.matrix, &options, &mut on_progress, &job.cancel)
+        .map_err(|e| format!("fit: {e}"))?;
     let model = mech_model_view(&exact, &report.matrix, w, w_f)?;
     send(WorkerMsg::MechDone {
         id: job.id,
@@ -394,12 +402,12 @@ pub(super) fn run_job(
 /// in the format the path's extension names; over an existing file only when `overwrite`.
 fn export_file(
     job: &Job,
-    exact: &MechBaselineView,
+    study: &Study,
     path: &std::path::Path,
     density: f64,
     overwrite: bool,
 ) -> Result<(), String> {
-    use crate::export::{export_mechanism, mechanism_formats, MechExportInput};
+    use crate::export::mechanism_formats;
     use crate::format::Format;
     let supported = || {
         mechanism_formats()
@@ -415,17 +423,9 @@ fn export_file(
             supported()
         )
     })?;
-    // The scene as solved: its flexures' effects decided.
-    let mut scene = (*job.scene).clone();
-    scene.mechanism = Some(exact.mechanism.clone());
-    let input = MechExportInput {
-        name: format!("{}-mechanism", job.matrix.topology().to_lowercase()),
-        matrix: &job.matrix,
-        scene: &scene,
-        mechanism: &exact.mechanism,
-        fidelity: job.fidelity,
-        density,
-    };
-    let text = export_mechanism(&input, format).map_err(|e| e.to_string())?;
+    let name = format!("{}-mechanism", job.matrix.topology().to_lowercase());
+    let text = study
+        .export(&name, &job.matrix, format, density)
+        .map_err(|e| e.to_string())?;
     crate::io::files::write_atomic(path, text.as_bytes(), overwrite).map_err(super::write_error)
 }

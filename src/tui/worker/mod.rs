@@ -30,26 +30,23 @@ pub use mech::{
     MechModelView,
 };
 
-use std::borrow::Cow;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::sync::mpsc::{channel, Receiver, Sender};
 use std::sync::Arc;
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
-use crate::beam::Effects;
-use crate::beam::Load;
+use crate::beam::{Effects, Load, Resolution};
 use crate::cancel::CancelToken;
-use crate::eval::{Baseline, CaseError, ErrorFigures};
-use crate::fit::mech::MechFitReport;
-use crate::fit::{fit, Fidelity, FitOptions, FitReport};
+use crate::eval::{tip_figures, Baseline, CaseError};
+use crate::fit::{Fidelity, FitOptions, FitReport};
+use crate::mech::figures::Figures;
 use crate::prb::{PrbMatrix, PrbSolver};
 use crate::scene::data::DataTruth;
-use crate::scene::{Accuracy, BeamSpec, EffectsChoice, LoadPath, Scene};
-use crate::select::{
-    decide_effects_cancellable, select, EffectsDecision, MechRung, MechSelection, Rung, Selection,
-};
-use crate::tradeoff::Knob;
+use crate::scene::{Accuracy, BeamSpec, LoadPath, Scene};
+use crate::study::select::{Rung, Selection};
+use crate::study::tradeoff::Knob;
+use crate::study::{resolve_effects, EffectsDecision, Sampling, Study};
 
 use super::latest_job::{Cancellable, LatestJob, Taken};
 
@@ -135,7 +132,7 @@ pub struct ModelView {
     /// The matrix judged.
     pub matrix: PrbMatrix,
     /// Its objective and maximum errors.
-    pub figures: ErrorFigures,
+    pub figures: Figures,
     /// Per case, the tip errors.
     pub cases: Vec<CaseError>,
     /// Per case, the linkage: root, then every segment's end.
@@ -238,7 +235,7 @@ pub enum WorkerMsg {
         /// The model.
         model: Box<MechModelView>,
         /// The fit's report (none for a judge job).
-        report: Option<Box<MechFitReport>>,
+        report: Option<Box<FitReport>>,
         /// Time the job took.
         seconds: f64,
         /// The job's compare model, judged on the same exact mechanism.
@@ -249,14 +246,14 @@ pub enum WorkerMsg {
         /// The job.
         id: u64,
         /// The row.
-        row: Box<MechRung>,
+        row: Box<Rung>,
     },
     /// A mechanism scene's whole selection.
     MechSelectDone {
         /// The job.
         id: u64,
         /// The ladder, its choice and the models that cannot follow.
-        selection: Box<MechSelection>,
+        selection: Box<Selection>,
     },
     /// A mechanism compare job's model, judged.
     MechCompared {
@@ -398,9 +395,17 @@ impl BaselineKey {
 #[derive(Clone)]
 struct Solved {
     key: BaselineKey,
-    baseline: Arc<Baseline>,
+    study: Arc<Study>,
     view: Arc<BaselineView>,
-    beam: BeamSpec,
+}
+
+impl Solved {
+    /// The cantilever's beam solutions (a cantilever study always has them).
+    fn baseline(&self) -> Result<&Baseline, String> {
+        self.study
+            .baseline()
+            .ok_or_else(|| "internal error: a cantilever job on a mechanism scene".to_string())
+    }
 }
 
 fn worker_loop(jobs: &LatestJob<Job>, out: &Sender<WorkerMsg>) {
@@ -473,7 +478,7 @@ pub fn model_view(
     }
     Ok(ModelView {
         matrix: matrix.clone(),
-        figures: ErrorFigures::from_cases(&cases, angle_weight),
+        figures: tip_figures(&cases, angle_weight),
         cases,
         linkages,
     })
@@ -503,67 +508,41 @@ fn solve_baseline(job: &Job, cache: &mut Option<Solved>) -> Result<Solved, Strin
     if let Some(c) = cache.as_ref().filter(|c| c.key == key) {
         return Ok(c.clone());
     }
-    let scene = &job.scene;
-    // `auto` effects are decided here, off the UI thread.
-    let (beam, decision) = match scene.beam.effects {
-        EffectsChoice::Auto => {
-            let d = decide_effects_cancellable(
-                &scene.beam,
-                &scene.loads,
-                &scene.accuracy,
-                job.fidelity.resolution(),
-                &job.cancel,
-            )
-            .map_err(|e| format!("the beam cannot be solved: {e}"))?;
-            let mut b = scene.beam;
-            b.effects = EffectsChoice::Fixed(d.effects);
-            (b, Some(d))
-        }
-        EffectsChoice::Fixed(_) => (scene.beam, None),
-    };
-    let (b, measured) = match &scene.truth {
-        // Measured data is what it is (no resolution or sampling to choose), as the CLI's
-        // `Fidelity::baseline` takes it; the beam beside it is solved at the fidelity's
-        // resolution.
-        Some(truth) => {
-            let measured = measured_view(truth, &beam, job.fidelity.resolution(), &job.cancel)
-                .map_err(|Cancelled| "cancelled".to_string())?;
-            (Baseline::from_data(beam.model(), truth), Some(measured))
-        }
-        // Cancellable: a load the beam struggles with never keeps the worker from a newer job.
-        None => (
-            Baseline::solve(
-                beam.model(),
-                &job.fidelity.sample(&scene.loads),
-                job.fidelity.resolution(),
-                &job.cancel,
-                &mut |_, _| {},
-            )
-            .map_err(|e| format!("the beam cannot be solved: {e}"))?,
-            None,
+    // `auto` effects are decided here, off the UI thread, as every front end decides them;
+    // the truth is the study's (cancellable: a load the beam struggles with never keeps the
+    // worker from a newer job).
+    let (scene, decision) = resolve_effects(&job.scene, Resolution::default(), &job.cancel)
+        .map_err(|e| format!("the beam cannot be solved: {e}"))?;
+    let study = Study::decided(
+        scene,
+        decision.clone(),
+        Sampling::Fidelity(job.fidelity),
+        &job.cancel,
+        &mut |_, _, _| {},
+    )
+    .map_err(|e| format!("the beam cannot be solved: {e}"))?;
+    let beam = study.scene().beam;
+    // Measured data is what it is (no resolution or sampling to choose); the beam beside it
+    // is solved at the fidelity's resolution.
+    let measured = match &study.scene().truth {
+        Some(truth) => Some(
+            measured_view(truth, &beam, job.fidelity.resolution(), &job.cancel)
+                .map_err(|Cancelled| "cancelled".to_string())?,
         ),
+        None => None,
     };
-    let mut view = baseline_view(&b, decision);
+    let b = study
+        .baseline()
+        .ok_or("internal error: a cantilever job on a mechanism scene")?;
+    let mut view = baseline_view(b, decision);
     view.measured = measured;
     let solved = Solved {
         key,
         view: Arc::new(view),
-        baseline: Arc::new(b),
-        beam,
+        study: Arc::new(study),
     };
     *cache = Some(solved.clone());
     Ok(solved)
-}
-
-/// The job's scene with its beam's effects as solved (`auto` replaced by the decision).
-fn solved_scene(scene: &Scene, beam: BeamSpec) -> Cow<'_, Scene> {
-    if scene.beam == beam {
-        Cow::Borrowed(scene)
-    } else {
-        let mut s = scene.clone();
-        s.beam = beam;
-        Cow::Owned(s)
-    }
 }
 
 fn run_job(
@@ -586,7 +565,7 @@ fn run_job(
         return mech::run_job(job, mech_cache, &send);
     }
     let solved = solve_baseline(job, cache)?;
-    let baseline = &solved.baseline;
+    let baseline = solved.baseline()?;
     match &job.kind {
         JobKind::Select => return run_selection(job, &solved, &send),
         JobKind::Export {
@@ -668,14 +647,10 @@ fn run_job(
             send(progress(model, status));
         }
     };
-    let report = fit(
-        baseline,
-        &job.matrix,
-        &options,
-        &mut on_progress,
-        &job.cancel,
-    )
-    .map_err(|e| format!("fit: {e}"))?;
+    let report = solved
+        .study
+        .fit(&job.matrix, &options, &mut on_progress, &job.cancel)
+        .map_err(|e| format!("fit: {e}"))?;
     let model = model_view(&report.matrix, baseline, angle_weight)?;
     send(WorkerMsg::Done {
         id: job.id,
@@ -690,26 +665,22 @@ fn run_job(
 
 /// The selection table, row by row, then the trade-off measurements.
 fn run_selection(job: &Job, solved: &Solved, send: &dyn Fn(WorkerMsg)) -> Result<(), String> {
-    let scene = solved_scene(&job.scene, solved.beam);
-    let selection = select(
-        &scene,
-        &solved.baseline,
-        job.fidelity,
-        &job.cancel,
-        &mut |row| {
+    let scene = solved.study.scene();
+    let selection = solved
+        .study
+        .select(job.fidelity, &job.cancel, &mut |row| {
             send(WorkerMsg::SelectRow {
                 id: job.id,
                 row: Box::new(row.clone()),
             });
-        },
-    )
-    .map_err(|e| format!("selection: {e}"))?;
+        })
+        .map_err(|e| format!("selection: {e}"))?;
     // The trade-off measures the beam's resolution and the load sampling, which measured
     // data does not have (the CLI's `tradeoff` refuses a data scene for the same reason).
     let knobs = if scene.truth.is_some() {
         Vec::new()
     } else {
-        crate::tradeoff::measure(&scene, &job.matrix, &job.cancel)
+        crate::study::tradeoff::measure(scene, &job.matrix, &job.cancel)
             .map_err(|e| format!("trade-off: {e}"))?
     };
     send(WorkerMsg::SelectDone {
@@ -729,7 +700,6 @@ fn export_file(
     density: f64,
     overwrite: bool,
 ) -> Result<(), String> {
-    use crate::export::{export, ExportInput};
     use crate::format::Format;
     let format = Format::from_path(path).ok_or_else(|| {
         format!(
@@ -737,16 +707,11 @@ fn export_file(
             path.display()
         )
     })?;
-    let scene = solved_scene(&job.scene, solved.beam);
-    let input = ExportInput {
-        name: format!("{}-model", job.matrix.topology().to_lowercase()),
-        matrix: &job.matrix,
-        scene: &scene,
-        baseline: &solved.baseline,
-        fidelity: job.fidelity.to_string(),
-        density,
-    };
-    let text = export(&input, format).map_err(|e| e.to_string())?;
+    let name = format!("{}-model", job.matrix.topology().to_lowercase());
+    let text = solved
+        .study
+        .export(&name, &job.matrix, format, density)
+        .map_err(|e| e.to_string())?;
     crate::io::files::write_atomic(path, text.as_bytes(), overwrite).map_err(write_error)
 }
 

@@ -13,11 +13,14 @@ use std::time::Instant;
 use serde::Serialize;
 
 use crate::beam::Resolution;
-use crate::eval::{evaluate, Baseline, BaselineError};
-use crate::fit::{fit, CancelToken, Fidelity, FitError, FitOptions};
+use crate::eval::{Baseline, BaselineError};
+use crate::fit::{CancelToken, Fidelity, FitOptions};
 use crate::prb::PrbMatrix;
 use crate::scene::{LoadPath, Scene};
-use crate::select::{eval_cost, ladder};
+
+use super::fit::FitError;
+use super::select::ladder;
+use super::{Sampling, Study, StudyError};
 
 /// One measured setting of a knob.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -54,6 +57,16 @@ pub enum TradeoffError {
     /// A fit of the starting model or of a ladder topology failed.
     #[error(transparent)]
     Fit(#[from] FitError),
+    /// The truth of a sampling could not be had.
+    #[error(transparent)]
+    Study(#[from] StudyError),
+}
+
+/// The study of `scene` (effects decided) over `paths` at `sampling`.
+fn study_on(scene: &Scene, paths: &[LoadPath], sampling: Sampling) -> Result<Study, StudyError> {
+    let mut s = scene.clone();
+    s.loads = paths.to_vec();
+    Study::decided(s, None, sampling, &CancelToken::new(), &mut |_, _, _| {})
 }
 
 fn median(mut v: Vec<f64>) -> f64 {
@@ -117,32 +130,28 @@ pub fn measure(
         return Ok(knobs);
     }
     // The fitted knobs are judged on a dense, precise reference sampling.
-    let reference = Baseline::for_model(
-        model,
-        &scene
-            .loads
-            .iter()
-            .map(|p| LoadPath {
-                end: p.end,
-                steps: p.steps * 4,
-            })
-            .collect::<Vec<_>>(),
-        Resolution::with_tol(1e-10),
+    let reference = study_on(
+        scene,
+        &scaled(&scene.loads, 4.0),
+        Sampling::Every(Resolution::with_tol(1e-10)),
     )?;
+    let j_on_reference = |m: &PrbMatrix| {
+        reference
+            .judge(m)
+            .map(|e| e.figures.objective)
+            .unwrap_or(f64::INFINITY)
+    };
     let fit_on = |paths: &[LoadPath], fidelity: Fidelity| -> Result<(f64, f64), TradeoffError> {
         let t0 = Instant::now();
-        let baseline = Baseline::for_model(model, paths, fidelity.resolution())?;
+        let study = study_on(scene, paths, Sampling::Every(fidelity.resolution()))?;
         let options = FitOptions {
             fidelity,
             angle_weight: weight,
             seed: 1,
         };
-        let report = fit(&baseline, start, &options, &mut |_| {}, &CancelToken::new())?;
+        let report = study.fit(start, &options, &mut |_| {}, &CancelToken::new())?;
         let seconds = t0.elapsed().as_secs_f64();
-        let j = evaluate(&report.matrix, &reference, weight)
-            .map(|e| e.figures.objective)
-            .unwrap_or(f64::INFINITY);
-        Ok((seconds, j))
+        Ok((seconds, j_on_reference(&report.matrix)))
     };
 
     if cancel.is_cancelled() {
@@ -189,7 +198,7 @@ pub fn measure(
         return Ok(knobs);
     }
     let mut rows = Vec::new();
-    let baseline = Fidelity::Normal.baseline(scene)?;
+    let study = study_on(scene, &scene.loads, Sampling::Fidelity(Fidelity::Normal))?;
     for topo in ladder(model.effects) {
         // `ladder` lists only fixed names made of `L`, `R` and `RP` segments, which
         // `from_topology` always accepts (`select`'s `ladder_topologies_are_valid` checks
@@ -201,17 +210,9 @@ pub fn measure(
             angle_weight: weight,
             seed: 1,
         };
-        let report = fit(
-            &baseline,
-            &start,
-            &options,
-            &mut |_| {},
-            &CancelToken::new(),
-        )?;
-        let per_case = eval_cost(&report.matrix, &baseline, weight);
-        let j = evaluate(&report.matrix, &reference, weight)
-            .map(|e| e.figures.objective)
-            .unwrap_or(f64::INFINITY);
+        let report = study.fit(&start, &options, &mut |_| {}, &CancelToken::new())?;
+        let per_case = study.eval_cost(&report.matrix);
+        let j = j_on_reference(&report.matrix);
         rows.push(TradeoffRow {
             setting: topo.to_string(),
             seconds: per_case,

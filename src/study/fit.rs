@@ -1,0 +1,257 @@
+//! The fit on a study (DESIGN §4, §8): the free cells of a matrix that make the PRB model
+//! follow the truth, minimising the scene's `J`, by the search of [`crate::fit`] (starts,
+//! swarm, polish, presets, progress, cancel) on one of two targets: a cantilever's
+//! ([`CantileverTarget`]: three residuals per load case from the chain's own statics along
+//! each load path) or a mechanism's (one residual per stage coordinate per case from the PRB
+//! mechanism along each drive). Both are the same `J`, and both stop their polish once `J` is
+//! a negligible part of the scene's targets ([`target_objective`]).
+//!
+//! The mechanism's residuals: a loaded coordinate's motion error (`sqrt(w)` times it for the
+//! angle), a prescribed one's reaction error over its reaction scale times `sqrt(w_f)`, all
+//! over `sqrt(n)`; their squares sum to `J = mean(e_pos^2 + w e_ang^2 + w_f e_force^2)`. A
+//! drive a trial model cannot follow costs [`PENALTY`] for every residual of its cases.
+
+use std::time::Instant;
+
+use crate::fit::{
+    search, CancelToken, CantileverTarget, FitOptions, FitProgress, FitReport, SearchError, Target,
+    PENALTY,
+};
+use crate::mech::figures::{compare, reaction_scales, signed_errors, CompareError};
+use crate::mech::{prb, MechCase};
+use crate::prb::PrbMatrix;
+use crate::scene::{Accuracy, Drive, Mechanism};
+
+use super::{JudgeError, Study, PRB_TOL};
+
+/// Why a fit has no model to report.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum FitError {
+    /// The search could not start.
+    #[error(transparent)]
+    Search(#[from] SearchError),
+    /// The truth does not pair with the scene's paths (a bug if ever seen).
+    #[error(transparent)]
+    Compare(#[from] CompareError),
+    /// Even the best matrix found cannot follow the scene.
+    #[error("no fitted model follows every load of the scene: {0}")]
+    NoFeasibleModel(JudgeError),
+}
+
+/// `J` of errors exactly at the accuracy targets, per kind of error the paths have: the
+/// smallest of `max_pos_err^2` (some position loaded), `w max_ang_err^2` (the angle loaded)
+/// and `w_f max_force_err^2` (some coordinate prescribed); 0 when none counts.
+pub fn target_objective(
+    drives: &[Drive],
+    angle_weight: f64,
+    force_weight: f64,
+    accuracy: &Accuracy,
+) -> f64 {
+    let coordinates = || drives.iter().flat_map(|d| d.coordinates.iter().enumerate());
+    let mut j = f64::INFINITY;
+    if coordinates().any(|(c, k)| c < 2 && !k.is_prescribed()) {
+        j = j.min(accuracy.max_pos_err.powi(2));
+    }
+    if coordinates().any(|(c, k)| c == 2 && !k.is_prescribed()) && angle_weight > 0.0 {
+        j = j.min(angle_weight * accuracy.max_ang_err.powi(2));
+    }
+    if coordinates().any(|(_, k)| k.is_prescribed()) && force_weight > 0.0 {
+        j = j.min(force_weight * accuracy.max_force_err.powi(2));
+    }
+    if j.is_finite() {
+        j
+    } else {
+        0.0
+    }
+}
+
+impl Study {
+    /// Fits the free cells of `start` so the PRB model follows the truth (`options`' angle
+    /// weight and the scene's force weight in `J`), reporting progress and stopping soon
+    /// after `cancel`; the report's figures are the fitted matrix judged on the truth.
+    pub fn fit(
+        &self,
+        start: &PrbMatrix,
+        options: &FitOptions,
+        progress: &mut dyn FnMut(&FitProgress),
+        cancel: &CancelToken,
+    ) -> Result<FitReport, FitError> {
+        let t0 = Instant::now();
+        options.validate()?;
+        let (w, w_f) = (options.angle_weight, self.scene().fit.force_weight);
+        let floor_j = target_objective(self.drives(), w, w_f, &self.scene().accuracy);
+        let found = match self.baseline() {
+            Some(baseline) => {
+                let target = CantileverTarget::new(baseline, w).with_target_objective(floor_j);
+                search(&target, start, options, progress, cancel)?
+            }
+            None => {
+                let target = MechanismTarget::new(
+                    self.mechanism(),
+                    self.truth(),
+                    w,
+                    w_f,
+                    &self.scene().accuracy,
+                )?;
+                search(&target, start, options, progress, cancel)?
+            }
+        };
+        let judged = self
+            .judge_weighted(&found.matrix, w)
+            .map_err(FitError::NoFeasibleModel)?;
+        Ok(found.report(judged.figures, t0, options.fidelity))
+    }
+}
+
+/// A mechanism's drives as the fit's target.
+struct MechanismTarget<'a> {
+    mechanism: &'a Mechanism,
+    exact: &'a [Vec<MechCase>],
+    reaction_scale: [Option<f64>; 3],
+    /// `sqrt` of the weights of the three coordinates' errors as loaded (position, position,
+    /// angle) and prescribed (reaction), over `sqrt(n)`.
+    loaded_scale: [f64; 3],
+    prescribed_scale: f64,
+    cases: usize,
+    /// `J` of errors exactly at the accuracy targets, per kind of error the scene has: the
+    /// smallest of `max_pos_err^2` (some position loaded), `w max_ang_err^2` (the angle
+    /// loaded) and `w_f max_force_err^2` (some coordinate prescribed).
+    target_objective: f64,
+}
+
+impl<'a> MechanismTarget<'a> {
+    /// The target of `mechanism` whose truth is `exact` (one path per drive), with `J`'s
+    /// angle and force weights.
+    fn new(
+        mechanism: &'a Mechanism,
+        exact: &'a [Vec<MechCase>],
+        angle_weight: f64,
+        force_weight: f64,
+        accuracy: &Accuracy,
+    ) -> Result<MechanismTarget<'a>, CompareError> {
+        let target_objective =
+            target_objective(&mechanism.drives, angle_weight, force_weight, accuracy);
+        // Checks that the truth pairs with the drives, as every judgement will.
+        compare(&mechanism.drives, exact, exact, 1.0, 1.0)?;
+        let reaction_scale = reaction_scales(&mechanism.drives, exact);
+        let cases: usize = exact.iter().map(Vec::len).sum();
+        let per_case = 1.0 / (cases.max(1) as f64).sqrt();
+        Ok(MechanismTarget {
+            mechanism,
+            exact,
+            reaction_scale,
+            loaded_scale: [per_case, per_case, angle_weight.sqrt() * per_case],
+            prescribed_scale: force_weight.sqrt() * per_case,
+            cases,
+            target_objective,
+        })
+    }
+}
+
+impl Target for MechanismTarget<'_> {
+    fn len(&self) -> usize {
+        3 * self.cases
+    }
+
+    /// Errors at `fraction` of the nearest accuracy target: `fraction^2` times the `J` of
+    /// errors exactly on target.
+    fn objective_floor(&self, fraction: f64) -> f64 {
+        fraction * fraction * self.target_objective
+    }
+
+    fn residuals(&self, matrix: &PrbMatrix, out: &mut Vec<f64>) {
+        out.clear();
+        let solver = prb::solver(self.mechanism, matrix, PRB_TOL).for_trials();
+        for (i, (drive, exact)) in self.mechanism.drives.iter().zip(self.exact).enumerate() {
+            match solver.solve_path(&self.mechanism.drive_path(drive), i + 1) {
+                Ok(cases) if cases.len() == exact.len() => {
+                    for (p, e) in cases.iter().zip(exact) {
+                        let errors = signed_errors(drive, p, e, &self.reaction_scale);
+                        for (c, err) in errors.iter().enumerate() {
+                            let scale = if drive.coordinates[c].is_prescribed() {
+                                self.prescribed_scale
+                            } else {
+                                self.loaded_scale[c]
+                            };
+                            out.push((err * scale).clamp(-PENALTY, PENALTY));
+                        }
+                    }
+                }
+                _ => out.extend(std::iter::repeat_n(PENALTY, 3 * exact.len())),
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::beam::{Effects, Resolution};
+    use crate::mech::exact;
+    use crate::scene::{Attach, BeamSpec, Coordinate, Drive, EffectsChoice, Flexure};
+    use Coordinate::{Loaded, Prescribed};
+
+    /// The residuals' squares sum to the `J` that `compare` reports, on a mechanism with
+    /// loaded and prescribed coordinates in two drives: the fit minimises what eval judges.
+    #[test]
+    fn residuals_square_to_the_figures_objective() {
+        let beam = BeamSpec {
+            length: 1.0,
+            width: 1.0,
+            thickness: 0.01,
+            youngs_modulus: 12e6,
+            poisson_ratio: 0.3,
+            shear_coefficient: None,
+            effects: EffectsChoice::Fixed(Effects::NONE),
+        };
+        let flexure = |y: f64| Flexure {
+            root: [0.0, y],
+            angle: 0.0,
+            attach: Attach::Clamped,
+            beam,
+        };
+        let m = Mechanism {
+            flexures: vec![flexure(0.3), flexure(-0.3)],
+            stage_point: [1.0, 0.0],
+            drives: vec![
+                Drive::proportional([Loaded(1.0), Prescribed(0.2), Loaded(0.3)], 3),
+                Drive::proportional([Loaded(-2.0), Loaded(4.0), Loaded(0.5)], 2),
+            ],
+        };
+        let exact = exact::solve(&m, Resolution::with_tol(1e-10)).unwrap();
+        let su =
+            PrbMatrix::parse("0.10,inf,inf; 0.35,3.51,inf; 0.40,2.99,inf; 0.15,2.58,inf").unwrap();
+        let (w, w_f) = (0.7, 2.5);
+        let target = MechanismTarget::new(&m, &exact, w, w_f, &Accuracy::default()).unwrap();
+        let mut r = Vec::new();
+        target.residuals(&su, &mut r);
+        assert_eq!(r.len(), target.len());
+        let j: f64 = r.iter().map(|v| v * v).sum();
+        let prb_cases = prb::solve(&m, &su, PRB_TOL).unwrap();
+        let figures = compare(&m.drives, &prb_cases, &exact, w, w_f)
+            .unwrap()
+            .figures;
+        assert!(j > 0.0);
+        assert!(
+            (j - figures.objective).abs() <= 1e-12 * figures.objective,
+            "{j} vs {figures:?}"
+        );
+
+        // The floor: the nearest target's J. Position and angle are loaded, one coordinate
+        // is prescribed: min(0.1^2, 0.7 * 0.02^2, 2.5 * 0.005^2) = 6.25e-5.
+        let accuracy = Accuracy {
+            max_pos_err: 0.1,
+            max_ang_err: 0.02,
+            max_force_err: 0.005,
+        };
+        let target = MechanismTarget::new(&m, &exact, w, w_f, &accuracy).unwrap();
+        let floor = target.objective_floor(1e-3);
+        assert!((floor - 1e-6 * 6.25e-5).abs() < 1e-18, "{floor}");
+        // With nothing prescribed and the angle unweighted, only position counts: 0.1^2.
+        let mut loaded = m.clone();
+        loaded.drives[0].coordinates[1] = Loaded(0.5);
+        let exact = exact::solve(&loaded, Resolution::with_tol(1e-10)).unwrap();
+        let target = MechanismTarget::new(&loaded, &exact, 0.0, w_f, &accuracy).unwrap();
+        assert!((target.objective_floor(1e-3) - 1e-6 * 1e-2).abs() < 1e-18);
+    }
+}
