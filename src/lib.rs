@@ -1,17 +1,26 @@
-//! prbfit: finds the best pseudo-rigid-body (PRB) model of a compliant cantilever beam.
+//! prbfit: finds the best pseudo-rigid-body (PRB) model of a compliant beam, alone (a
+//! cantilever) or inside the mechanism it serves, against the large-deflection beam or
+//! against measured data.
 //!
-//! The library is the numerical core (no terminal, no files except through [`scene`]):
-//! - [`beam`]: the large-deflection baseline beam (DESIGN §2),
-//! - [`eval`]: a PRB model judged against the beam over a scene (DESIGN §4),
-//! - [`export`]: model files, MuJoCo, URDF, SDF and CSV,
-//! - [`fea`]: the beam as a CalculiX model along the scene's loads (DESIGN §9),
-//! - [`fit`]: optimal PRB parameters for any topology (DESIGN §4),
-//! - [`plot`]: charts for reports (deformed shapes, tip errors) as SVG or PNG,
-//! - [`prb`]: the PRB matrix, topology names, kinematics and statics (DESIGN §3),
-//! - [`select`]: automatic beam effects and the topology ladder (the simplest model that
-//!   meets the scene's targets),
-//! - [`tradeoff`]: the speed/accuracy trade measured along each knob,
-//! - [`scene`]: scene files — beam, load paths, accuracy targets (DESIGN §5),
+//! The library is the numerical core and its files; the binary's command line (`cli`) and
+//! the terminal UI ([`tui`]) are two front ends over one problem, [`study`]. Bottom up (a
+//! module uses only those before it; `tests/layering.rs` checks it):
+//! - [`cancel`], [`text`], [`linalg`]: a cancel token, safe text, small dense solvers;
+//! - [`beam`]: the large-deflection baseline beam (DESIGN §2);
+//! - [`prb`]: the PRB matrix, topology names, kinematics and statics (DESIGN §3);
+//! - [`scene`]: scene files — beam, load paths, mechanisms, measured data, targets (§5, §8,
+//!   §9);
+//! - [`mech`]: flexure mechanisms solved with the beam or a PRB model, and the error
+//!   [`mech::figures`] of every kind of scene (§4, §8);
+//! - [`si`], [`fidelity`], [`format`]: SI conversions, the fit presets, file formats;
+//! - [`eval`]: a cantilever's beam solutions along its load paths (the fast path of the
+//!   one-flexure mechanism) and its tip errors;
+//! - [`fit`]: the search for optimal PRB parameters on any target (§4);
+//! - [`io`], [`fea`], [`export`]: model files, CalculiX in the loop (§9), simulator formats;
+//! - [`study`]: ONE problem (§7): a scene's truth — the beam, the beam mechanism or measured
+//!   data — and what every front end asks of it: judge, fit, select, calibrate, effects,
+//!   export, trade-off;
+//! - [`plot`]: charts for reports as SVG or PNG;
 //! - [`tui`]: the terminal UI (the only module that touches the terminal).
 
 pub mod beam;

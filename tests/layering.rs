@@ -6,9 +6,9 @@
 use std::path::Path;
 
 /// Bottom first; each module may use those before it. `cli` is the binary and sits on top.
-const LAYERS: [&str; 19] = [
+const LAYERS: [&str; 18] = [
     "cancel", "text", "linalg", "beam", "prb", "scene", "mech", "si", "fidelity", "format", "eval",
-    "fit", "select", "tradeoff", "io", "fea", "export", "plot", "tui",
+    "fit", "io", "fea", "export", "study", "plot", "tui",
 ];
 
 fn rank(module: &str) -> Option<usize> {

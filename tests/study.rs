@@ -1,0 +1,144 @@
+//! One problem (DESIGN §7, §8): a plain cantilever is the one-flexure mechanism whose stage
+//! is its tip, every coordinate loaded. The study keeps the cantilever's fast paths (the
+//! beam's shooting along each load path, the chain's own statics), so this checks that they
+//! give what the mechanism's general paths give on the same scene written as a mechanism
+//! (`study::truth::one_flexure`): the beam mechanism shot from the root and the PRB
+//! mechanism's closed-chain Newton. DESIGN §8 promises the figures do not change.
+//!
+//! Tolerances, from the methods' errors:
+//! - the truths: both solved at tol 1e-10 (a tip good to `claimed_tip_error`, 1e-9, from
+//!   two different shootings): the stages agree to 1e-8.
+//! - eval figures: an error figure is a difference of tips, each good to 1e-9 (the beam) and
+//!   to the Newton tolerance of its PRB solver (`PRB_TOL` = 1e-8 on the mechanism's
+//!   residuals, quadratically converged far below it): asserted at 1e-7 absolute (units of
+//!   L, radians), and `J` (a mean of squared errors) at 1e-6 relative.
+//! - fitted `J`: the same search on residuals that agree that closely, from the same starts
+//!   and seed, ends at the same optimum: 1e-6 relative (issue 23).
+#![allow(clippy::unwrap_used, clippy::expect_used)] // tests: a failure should panic
+
+use std::path::Path;
+
+use prbfit::beam::{Effects, Resolution};
+use prbfit::fit::{CancelToken, Fidelity, FitOptions};
+use prbfit::prb::PrbMatrix;
+use prbfit::scene::{EffectsChoice, Scene};
+use prbfit::study::truth::one_flexure;
+use prbfit::study::{CaseForm, Figures, Sampling, Study};
+
+fn scene(name: &str) -> Scene {
+    let p = format!("{}/assets/scenes/{name}.toml", env!("CARGO_MANIFEST_DIR"));
+    Scene::from_file(Path::new(&p)).unwrap()
+}
+
+/// The scenes of the check, their effects fixed (plane strain left out: a cantilever takes
+/// each case's own plate fraction, a mechanism's flexure its ends' only, DESIGN §2 and
+/// `beam::plate`, so with plane strain the two are different models, not one model twice).
+fn cases() -> Vec<(String, Scene)> {
+    let mut out = Vec::new();
+    for (name, effects) in [
+        ("default", Effects::NONE),
+        ("default", Effects::ALL),
+        ("steel-flexure", Effects::ALL),
+        ("urethane-joint", Effects::ALL),
+        ("tapered-flexure", Effects::NONE),
+    ] {
+        let mut s = scene(name);
+        s.beam.effects = EffectsChoice::Fixed(effects);
+        out.push((format!("{name} [{effects}]"), s));
+    }
+    out
+}
+
+/// The same scene written as the one-flexure mechanism of DESIGN §8.
+fn as_mechanism(s: &Scene) -> Scene {
+    let mut m = s.clone();
+    m.mechanism = Some(one_flexure(s));
+    m.loads.clear();
+    m
+}
+
+fn figures_agree(what: &str, tip: &Figures, stage: &Figures) {
+    for (name, a, b) in [
+        ("rms_pos_err", tip.rms_pos_err, stage.rms_pos_err),
+        ("max_pos_err", tip.max_pos_err, stage.max_pos_err),
+        ("rms_ang_err", tip.rms_ang_err, stage.rms_ang_err),
+        ("max_ang_err", tip.max_ang_err, stage.max_ang_err),
+    ] {
+        assert!((a - b).abs() <= 1e-7, "{what}: {name} {a} vs {b}");
+    }
+    let (j, k) = (tip.objective, stage.objective);
+    assert!((j - k).abs() <= 1e-6 * j.max(k), "{what}: J {j} vs {k}");
+}
+
+#[test]
+fn a_cantilever_judges_as_its_one_flexure_mechanism() {
+    let resolution = Resolution::with_tol(1e-10);
+    for (name, s) in cases() {
+        let cantilever = Study::new(&s, Sampling::Every(resolution)).unwrap();
+        let mechanism = Study::new(&as_mechanism(&s), Sampling::Every(resolution)).unwrap();
+        assert_eq!(cantilever.case_form(), CaseForm::Tip);
+        assert_eq!(mechanism.case_form(), CaseForm::Stage);
+        assert_eq!(cantilever.case_count(), mechanism.case_count(), "{name}");
+        // The truths: the beam shot along each load path, the beam mechanism shot from the
+        // root, case by case.
+        let mut worst = 0.0_f64;
+        for (a, b) in cantilever
+            .truth()
+            .iter()
+            .flatten()
+            .zip(mechanism.truth().iter().flatten())
+        {
+            assert!((a.fraction - b.fraction).abs() < 1e-12);
+            for c in 0..3 {
+                worst = worst.max((a.stage[c] - b.stage[c]).abs());
+            }
+        }
+        assert!(worst < 1e-8, "{name}: stages differ by {worst:e}");
+        for model in ["howell-1r", "su-3r", "chen-3r"] {
+            let m = prbfit::io::ModelFile::load(model).unwrap().prb;
+            let tip = cantilever.judge(&m).unwrap().figures;
+            let stage = mechanism.judge(&m).unwrap().figures;
+            println!(
+                "{name} {model}: J {:.6e} (cantilever) {:.6e} (one-flexure mechanism); max pos \
+                 {:.3e} {:.3e}",
+                tip.objective, stage.objective, tip.max_pos_err, stage.max_pos_err
+            );
+            figures_agree(&format!("{name} {model}"), &tip, &stage);
+            // Nothing is prescribed: no reaction figures in either; the cantilever has no
+            // flexure tip figure (its stage is its tip), the mechanism's is its stage's.
+            assert_eq!(tip.max_force_err, None);
+            assert_eq!(stage.max_force_err, None);
+            assert_eq!(tip.max_tip_err, None);
+            let t = stage.max_tip_err.unwrap();
+            assert!((t - stage.max_pos_err).abs() < 1e-12, "{name}: {t} vs pos");
+        }
+    }
+}
+
+#[test]
+fn a_cantilever_fits_as_its_one_flexure_mechanism() {
+    for (name, s) in cases().into_iter().take(3) {
+        let sampling = Sampling::Fidelity(Fidelity::Normal);
+        let cantilever = Study::new(&s, sampling).unwrap();
+        let mechanism = Study::new(&as_mechanism(&s), sampling).unwrap();
+        let options = FitOptions {
+            fidelity: Fidelity::Normal,
+            angle_weight: s.fit.angle_weight,
+            seed: 1,
+        };
+        let start = PrbMatrix::from_topology("L-R-R").unwrap();
+        let fit = |study: &Study| {
+            study
+                .fit(&start, &options, &mut |_| {}, &CancelToken::new())
+                .unwrap()
+        };
+        let (a, b) = (fit(&cantilever), fit(&mechanism));
+        let (j, k) = (a.figures.objective, b.figures.objective);
+        println!(
+            "{name}: fitted 2R J {j:.9e} (cantilever, {} evaluations) {k:.9e} (one-flexure \
+             mechanism, {} evaluations)",
+            a.evaluations, b.evaluations
+        );
+        assert!((j - k).abs() <= 1e-6 * j.max(k), "{name}: J {j} vs {k}");
+    }
+}
