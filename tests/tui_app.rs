@@ -732,10 +732,7 @@ fn guide_key_table_is_the_keymap() {
     use prbfit::tui::keymap::KEYMAP;
     let guide = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/docs/ui.md"))
         .expect("docs/ui.md");
-    let section = guide
-        .split("\n## Keys")
-        .nth(1)
-        .expect("a section \"Keys\"");
+    let section = guide.split("\n## Keys").nth(1).expect("a section \"Keys\"");
     let section = section.split("\n## ").next().unwrap_or(section);
     let mut lines = section.lines().skip_while(|l| l.trim() != "| key | does |");
     assert!(lines.next().is_some(), "a `| key | does |` table");
@@ -756,7 +753,10 @@ fn guide_key_table_is_the_keymap() {
         assert!(rows.contains(k), "docs/ui.md lacks the keymap's row {k:?}");
     }
     for r in &rows {
-        assert!(keymap.contains(r), "docs/ui.md row {r:?} is not in the keymap");
+        assert!(
+            keymap.contains(r),
+            "docs/ui.md row {r:?} is not in the keymap"
+        );
     }
     assert_eq!(rows, keymap, "same order");
 }
