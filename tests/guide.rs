@@ -14,7 +14,8 @@
 //! side, so no two pages write the same file name.
 //!
 //! The second test checks the guide's links: every relative link of README.md and docs/*.md
-//! names a file that exists, and docs/README.md (the table of contents) links every page.
+//! names a file that exists (and a heading of it, for a `#anchor`), and docs/README.md (the
+//! table of contents) links every page.
 #![allow(clippy::unwrap_used, clippy::expect_used)] // tests: a failure should panic
 
 use std::fs;
@@ -69,21 +70,56 @@ fn every_console_block_prints_what_the_page_shows() {
     cases.run();
 }
 
-/// The targets of a page's inline links `[text](target)`, without `#anchors`; web links and
-/// pure anchors are left out.
-fn relative_links(text: &str) -> Vec<String> {
+/// A page's inline links `[text](target)` to other files of the guide, as (file, anchor):
+/// web links are left out, and a link to an anchor of the page itself has the page's name.
+fn relative_links(page: &Path, text: &str) -> Vec<(PathBuf, Option<String>)> {
     let mut links = Vec::new();
     let mut rest = text;
     while let Some(i) = rest.find("](") {
         rest = &rest[i + 2..];
         let Some(end) = rest.find(')') else { break };
-        let target = rest[..end].split('#').next().unwrap_or("");
-        if !target.is_empty() && !target.contains("://") && !target.starts_with("mailto:") {
-            links.push(target.to_string());
-        }
+        let target = &rest[..end];
         rest = &rest[end..];
+        if target.contains("://") || target.starts_with("mailto:") {
+            continue;
+        }
+        let (file, anchor) = match target.split_once('#') {
+            Some((file, anchor)) => (file, Some(anchor.to_string())),
+            None => (target, None),
+        };
+        let file = if file.is_empty() {
+            page.to_path_buf()
+        } else {
+            page.parent().unwrap().join(file)
+        };
+        links.push((file, anchor));
     }
     links
+}
+
+/// The anchors GitHub gives a markdown file's headings: lower case, spaces to `-`, and only
+/// letters, digits, `-` and `_` kept.
+fn anchors(text: &str) -> Vec<String> {
+    let mut in_fence = false;
+    let mut anchors = Vec::new();
+    for line in text.lines() {
+        if line.starts_with("```") {
+            in_fence = !in_fence;
+        } else if !in_fence && line.starts_with('#') {
+            let heading = line.trim_start_matches('#').trim();
+            let anchor: String = heading
+                .to_lowercase()
+                .chars()
+                .filter_map(|c| match c {
+                    ' ' => Some('-'),
+                    c if c.is_alphanumeric() || c == '-' || c == '_' => Some(c),
+                    _ => None,
+                })
+                .collect();
+            anchors.push(anchor);
+        }
+    }
+    anchors
 }
 
 #[test]
@@ -91,22 +127,35 @@ fn every_link_of_the_guide_names_a_file_and_the_contents_list_every_page() {
     let mut broken = Vec::new();
     for page in pages() {
         let text = fs::read_to_string(&page).unwrap();
-        for link in relative_links(&text) {
-            if !page.parent().unwrap().join(&link).exists() {
-                broken.push(format!("{}: {link}", page.display()));
+        for (file, anchor) in relative_links(&page, &text) {
+            if !file.exists() {
+                broken.push(format!(
+                    "{}: {} (no such file)",
+                    page.display(),
+                    file.display()
+                ));
+            } else if let Some(anchor) = anchor {
+                let target = fs::read_to_string(&file).unwrap_or_default();
+                if !anchors(&target).contains(&anchor) {
+                    broken.push(format!("{}: {}#{anchor}", page.display(), file.display()));
+                }
             }
         }
     }
-    assert!(broken.is_empty(), "links to no file: {broken:#?}");
+    assert!(broken.is_empty(), "links to nothing: {broken:#?}");
 
-    let contents = fs::read_to_string(root().join("docs/README.md")).unwrap();
-    let listed = relative_links(&contents);
+    let contents_page = root().join("docs/README.md");
+    let contents = fs::read_to_string(&contents_page).unwrap();
+    let listed: Vec<PathBuf> = relative_links(&contents_page, &contents)
+        .into_iter()
+        .map(|(file, _)| file)
+        .collect();
     for page in pages().iter().skip(1) {
-        let name = page.file_name().unwrap().to_str().unwrap();
-        if name != "README.md" {
+        if *page != contents_page {
             assert!(
-                listed.iter().any(|l| l == name),
-                "docs/README.md does not link {name}"
+                listed.contains(page),
+                "docs/README.md does not link {}",
+                page.display()
             );
         }
     }
