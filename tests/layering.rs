@@ -1,4 +1,4 @@
-//! The house rule of the layout (README "Layout"): a module uses only modules below it, so
+//! The house rule of the layout (docs/architecture.md): a module uses only modules below it, so
 //! the numerical core never reaches the files, the terminal or the commands. This test reads
 //! the sources and fails on any `crate::X` path in code (not in comments) that points up.
 #![allow(clippy::unwrap_used, clippy::expect_used)] // tests: a failure should panic

@@ -725,17 +725,14 @@ fn export_survives_a_refit() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
-/// README.md's key table (section "The terminal UI") is the keymap: every entry with the
+/// The guide's key table (docs/ui.md, section "Keys") is the keymap: every entry with the
 /// same text, in the same order, and nothing else.
 #[test]
-fn readme_key_table_is_the_keymap() {
+fn guide_key_table_is_the_keymap() {
     use prbfit::tui::keymap::KEYMAP;
-    let readme = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/README.md"))
-        .expect("README.md");
-    let section = readme
-        .split("\n## The terminal UI")
-        .nth(1)
-        .expect("a section \"The terminal UI\"");
+    let guide = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/docs/ui.md"))
+        .expect("docs/ui.md");
+    let section = guide.split("\n## Keys").nth(1).expect("a section \"Keys\"");
     let section = section.split("\n## ").next().unwrap_or(section);
     let mut lines = section.lines().skip_while(|l| l.trim() != "| key | does |");
     assert!(lines.next().is_some(), "a `| key | does |` table");
@@ -753,10 +750,13 @@ fn readme_key_table_is_the_keymap() {
         .map(|e| (e.keys.to_string(), e.does.to_string()))
         .collect();
     for k in &keymap {
-        assert!(rows.contains(k), "README lacks the keymap's row {k:?}");
+        assert!(rows.contains(k), "docs/ui.md lacks the keymap's row {k:?}");
     }
     for r in &rows {
-        assert!(keymap.contains(r), "README row {r:?} is not in the keymap");
+        assert!(
+            keymap.contains(r),
+            "docs/ui.md row {r:?} is not in the keymap"
+        );
     }
     assert_eq!(rows, keymap, "same order");
 }

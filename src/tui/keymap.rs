@@ -1,6 +1,7 @@
 //! Every key the UI takes, in one table that the key handling, the help overlay (`?`) and
 //! the hint line all read, so they cannot drift apart (gitui's `key_list.rs` with the
-//! `CommandInfo` of each tab). README.md's key table is this table, checked by a test.
+//! `CommandInfo` of each tab). The guide's key table (docs/ui.md) is this table, checked by a
+//! test.
 //!
 //! Text entry (a field's editor, a prompt) has its own rows, scope [`Scope::TEXT`]: the
 //! readline keys; any other character is typed (the first one over a pre-filled value
@@ -192,8 +193,8 @@ pub struct Hint {
     pub edits_rows: bool,
 }
 
-/// A row of the key table: its keys as written in the help and README, what they do, where
-/// they apply, the bindings, and the hints.
+/// A row of the key table: its keys as written in the help and the guide, what they do,
+/// where they apply, the bindings, and the hints.
 #[derive(Debug, Clone, Copy)]
 pub struct Entry {
     /// The keys, as written: `Tab / Shift-Tab`.
@@ -254,7 +255,7 @@ const fn rows_hint(text: &'static str, scope: Scope) -> Hint {
 
 const ALL: Scope = Scope::PANELS;
 
-/// The key table, in the order of the help and the README, which is also the hint line's.
+/// The key table, in the order of the help and the guide, which is also the hint line's.
 pub const KEYMAP: &[Entry] = &[
     Entry {
         keys: "?, F1",
