@@ -88,20 +88,6 @@ impl App {
             }
         });
     }
-
-    /// `scene`, a beam edit of the current one, with its data converted again with the
-    /// edited beam ([`DataTruth::rebased`](crate::scene::data::DataTruth::rebased)) and
-    /// its load paths following the rows.
-    pub(super) fn rebase_data(&self, mut scene: Scene) -> Result<Scene, String> {
-        if scene.beam == self.scene.beam {
-            return Ok(scene);
-        }
-        if let Some(t) = &scene.truth {
-            let t = t.rebased(&self.scene.beam, &scene.beam)?;
-            scene.set_measured(t.paths, t.units, t.sha256);
-        }
-        Ok(scene)
-    }
 }
 
 /// Why a mechanism data scene's drives cannot be edited.

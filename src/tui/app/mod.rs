@@ -224,12 +224,10 @@ pub fn parse_density(text: &str) -> Result<f64, String> {
     }
 }
 
-/// Checks an edited scene by the rules a scene file obeys ([`Scene::validate`]).
+/// Checks an edited scene by the rules a scene file obeys ([`Scene::validate`]), as the UI
+/// shows a broken one: `key: message`, the reader's words without the file and line.
 pub fn validate_scene(scene: &Scene) -> Result<(), String> {
-    scene.validate().map_err(|e| match e.key {
-        Some(key) => format!("{key}: {}", e.message),
-        None => e.message,
-    })
+    scene.check_rules().map_err(|e| e.to_string())
 }
 
 /// A job waiting out the debounce.
@@ -1029,10 +1027,9 @@ impl App {
             EditTarget::Load { row, col } => {
                 let old = self.scene.loads.get(*row).ok_or("no such load path")?;
                 let path = loads::edited(old, *col, text, self.si_beam())?;
-                if path != *old {
-                    self.scene.loads[*row] = path;
-                    self.scene_dirty = true;
-                }
+                let mut scene = self.scene.clone();
+                scene.loads[*row] = path;
+                self.take_scene(scene)?;
             }
             EditTarget::Cell { row, col } => {
                 let m =
@@ -1047,19 +1044,12 @@ impl App {
         Ok(())
     }
 
-    /// Takes an edited scene if it obeys the scene file's rules (on a mechanism scene the
-    /// flexures first follow a beam edit: [`mech_state::rebased`]; on a data scene the rows
-    /// are converted again with the edited beam).
-    fn take_scene(&mut self, mut scene: Scene) -> Result<(), String> {
-        if let Some(m) = &scene.mechanism {
-            if scene.beam != self.scene.beam {
-                scene.mechanism = Some(mech_state::rebased(m, &self.scene.beam, &scene.beam));
-            }
-            mech_state::validate(&scene)?;
-        } else {
-            scene = self.rebase_data(scene)?;
-            validate_scene(&scene)?;
-        }
+    /// Takes an edited scene if it obeys the scene's rules ([`Scene::validate`], the rules
+    /// the scene file's reader applies), after what follows the beam followed a beam edit
+    /// ([`Scene::rebased`]: a mechanism's flexures, a data scene's rows).
+    fn take_scene(&mut self, scene: Scene) -> Result<(), String> {
+        let scene = scene.rebased(&self.scene.beam)?;
+        validate_scene(&scene)?;
         if scene != self.scene {
             self.scene = scene;
             self.scene_dirty = true;

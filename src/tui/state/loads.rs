@@ -8,7 +8,7 @@
 //! rescales the alphas so that Fx, Fy and Mz stay ([`held_forces`]).
 
 use crate::beam::Load;
-use crate::scene::{BeamSpec, LoadPath, Scene, MAX_STEPS};
+use crate::scene::{rules, BeamSpec, LoadPath, Scene};
 use crate::si::load_factors;
 
 use super::super::units::{parse_quantity, trim_number, Quantity};
@@ -150,7 +150,9 @@ pub fn load_text(path: &LoadPath, col: usize, si: Option<&BeamSpec>) -> String {
 }
 
 /// `path` with column `col` set from `text` (in SI for `si`'s beam when given); an error (and
-/// nothing changed) if invalid.
+/// nothing changed) if the text is not a value of the column's kind (a step count by the
+/// scene's step rule, [`rules::steps`]). The path's and the scene's rules are checked by the
+/// caller ([`Scene::validate`]).
 pub fn edited(
     path: &LoadPath,
     col: usize,
@@ -163,10 +165,7 @@ pub fn edited(
             .trim()
             .parse()
             .map_err(|_| format!("steps: `{}` is not a whole number", text.trim()))?;
-        if !(1..=MAX_STEPS).contains(&steps) {
-            return Err(format!("steps must be 1 to {MAX_STEPS}"));
-        }
-        path.steps = steps as u32;
+        path.steps = rules::steps(steps).map_err(|m| format!("steps: {m}"))?;
     } else {
         let v = parse_quantity(text, Quantity::Plain)
             .map_err(|e| format!("{}: {e}", LOAD_COLUMNS[col.min(2)]))?
@@ -175,9 +174,6 @@ pub fn edited(
             0 => path.end.alpha_x = v,
             1 => path.end.alpha_y = v,
             _ => path.end.beta = v,
-        }
-        if path.end.magnitude() == 0.0 {
-            return Err("a load path cannot be all zero".into());
         }
     }
     Ok(path)
