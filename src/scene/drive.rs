@@ -88,7 +88,7 @@ impl Drive {
     }
 }
 
-/// A drive path as the solvers follow it, nondimensional (see [`Mechanism::nondimensional`]):
+/// A drive path as the solvers follow it, nondimensional (see [`Mechanism::nondimensional`](super::Mechanism::nondimensional)):
 /// the stage coordinates' kinds and their values along the path's parameter `lambda` in
 /// `[0, 1]`, with the path's cases at `k / steps`.
 #[derive(Debug, Clone, PartialEq)]

@@ -4,9 +4,10 @@
 //! The reader does what only a file can get wrong: a key or table it does not know, a value
 //! of the wrong type, a name that is no choice (`effects`, `attach`), tables that do not go
 //! together (`[[drives]]` without `[[flexures]]`, `[[loads]]` beside `[truth]`), a matrix
-//! that does not parse. It fills in the defaults and records where each key sits
-//! ([`spans`](self)), then checks the scene by its rules ([`Scene::validate`], the same
-//! rules every editor applies) and places a broken rule at the line of its key.
+//! that does not parse. It fills in the defaults and records where each key sits, then
+//! checks the scene by its rules ([`Scene::check_rules`], the rules every editor applies)
+//! and places a broken rule at the line of its key (or of the table holding a defaulted
+//! key).
 //!
 //! `mech.rs` reads the mechanism tables, `spans.rs` keeps the keys' places; this file reads
 //! the rest and puts the scene together.
