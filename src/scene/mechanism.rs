@@ -70,7 +70,8 @@ impl Flexure {
     }
 }
 
-/// A validated mechanism, SI.
+/// A mechanism, SI: valid when [`Mechanism::validate`] says so, as every mechanism a scene
+/// file gives and every edit the UI takes.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Mechanism {
     /// In order; flexure 1 sets the scale.

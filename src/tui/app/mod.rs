@@ -1163,9 +1163,16 @@ impl App {
         match self.focus {
             Panel::Loads if self.is_data() => self.refuse_load_edit(),
             Panel::Loads => {
-                self.loads_state.add(&mut self.scene);
-                self.scene_dirty = true;
-                self.changed(now);
+                // A copy may take the scene past its case limit: the scene's rules decide.
+                let (mut scene, row) = (self.scene.clone(), self.loads_state.row);
+                self.loads_state.add(&mut scene);
+                match self.take_scene(scene) {
+                    Ok(()) => self.changed(now),
+                    Err(e) => {
+                        self.loads_state.row = row;
+                        self.set_error(format!("rejected: {e}"));
+                    }
+                }
             }
             Panel::Matrix => match self.matrix_state.split_row(&self.matrix) {
                 Ok(m) => {
