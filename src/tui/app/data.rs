@@ -88,6 +88,13 @@ impl App {
             }
         });
     }
+
+    /// `scene`, a beam edit of the current one, with its data converted again with the
+    /// edited beam and its load paths following the rows: the scene's own edit,
+    /// [`Scene::rebased`].
+    pub(super) fn rebase_data(&self, scene: Scene) -> Result<Scene, String> {
+        scene.rebased(&self.scene.beam)
+    }
 }
 
 /// Why a mechanism data scene's drives cannot be edited.

@@ -150,9 +150,10 @@ pub fn load_text(path: &LoadPath, col: usize, si: Option<&BeamSpec>) -> String {
 }
 
 /// `path` with column `col` set from `text` (in SI for `si`'s beam when given); an error (and
-/// nothing changed) if the text is not a value of the column's kind (a step count by the
-/// scene's step rule, [`rules::steps`]). The path's and the scene's rules are checked by the
-/// caller ([`Scene::validate`]).
+/// nothing changed) if the text is not a value of the column's kind or the path breaks the
+/// scene's rules for a path ([`LoadPath::validate`], the rules the scene file's reader
+/// applies; a step count by [`rules::steps`]), said as `key: message` with the path's own
+/// keys (`steps: ...`).
 pub fn edited(
     path: &LoadPath,
     col: usize,
@@ -176,5 +177,6 @@ pub fn edited(
             _ => path.end.beta = v,
         }
     }
+    path.validate().map_err(|e| e.to_string())?;
     Ok(path)
 }
