@@ -181,40 +181,6 @@ fn invalid_edits_change_nothing() {
     }
 }
 
-/// A load-path edit meets the scene file's rules: a path edited to all zero is refused with
-/// the message the reader gives that file (the path's own, without the file's line and
-/// `loads[3]`), and a step count by the file's step rule.
-#[test]
-fn load_edits_are_refused_with_the_readers_words() {
-    let t0 = Instant::now();
-    let mut app = app();
-    app.focus = Panel::Loads;
-    // Path 3 is a pure moment: beta to zero leaves nothing.
-    app.loads_state.row = 2;
-    app.loads_state.col = 2;
-    let mut bad = app.scene.clone();
-    bad.loads[2].end.beta = 0.0;
-    let file = Scene::from_toml_str(&bad.to_toml(), "s.toml").unwrap_err();
-    assert!(file.line.is_some(), "{file}");
-    assert_eq!(file.key.as_deref(), Some("loads[3]"));
-    assert!(
-        file.message.starts_with("the load path is all zero"),
-        "{file}"
-    );
-    edit(&mut app, "0", t0);
-    let (message, _) = app.message.clone().expect("a message");
-    assert!(message.contains(&file.message), "{message} / {file}");
-    assert_eq!(app.scene, Scene::builtin());
-    app.loads_state.col = 3;
-    edit(&mut app, "-3", t0);
-    let (message, _) = app.message.clone().expect("a message");
-    assert!(
-        message.contains("steps: must be a whole number from 1 to 10000, got -3"),
-        "{message}"
-    );
-    assert_eq!(app.scene, Scene::builtin());
-}
-
 /// Engineering input is accepted: 0.5 mm, 200 GPa; a gamma edit keeps the sum at 1.
 #[test]
 fn valid_edits_apply() {

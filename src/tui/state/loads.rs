@@ -180,3 +180,36 @@ pub fn edited(
     path.validate().map_err(|e| e.to_string())?;
     Ok(path)
 }
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used)]
+
+    use super::*;
+
+    /// A load-path edit meets the scene file's rules and says what the reader says of that
+    /// file (the path's own key, without the file's line and `loads[3]`): a path edited to
+    /// all zero, a step count by the file's step rule.
+    #[test]
+    fn edits_are_refused_with_the_readers_words() {
+        let scene = Scene::builtin();
+        // Path 3 is a pure moment: beta to zero leaves nothing.
+        let mut bad = scene.clone();
+        bad.loads[2].end.beta = 0.0;
+        let file = Scene::from_toml_str(&bad.to_toml(), "s.toml").unwrap_err();
+        assert!(file.line.is_some(), "{file}");
+        assert_eq!(file.key.as_deref(), Some("loads[3]"));
+        assert_eq!(edited(&scene.loads[2], 2, "0", None), Err(file.message));
+        bad.loads[2].end.beta = 2.0;
+        bad.loads[2].steps = 0;
+        let file = Scene::from_toml_str(&bad.to_toml(), "s.toml").unwrap_err();
+        assert_eq!(file.key.as_deref(), Some("loads[3].steps"));
+        let ui = edited(&scene.loads[2], 3, "0", None).unwrap_err();
+        assert_eq!(ui, format!("steps: {}", file.message));
+        assert_eq!(
+            edited(&scene.loads[2], 3, "-3", None).unwrap_err(),
+            "steps: must be a whole number from 1 to 10000, got -3"
+        );
+        assert_eq!(edited(&scene.loads[2], 3, "7", None).unwrap().steps, 7);
+    }
+}
