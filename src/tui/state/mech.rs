@@ -293,13 +293,13 @@ pub fn toggled(
 }
 
 /// `m` with the stage point at `p`; couplers whose stage end sat on the old stage point
-/// stay on it: [`Mechanism::with_stage_point`], kept here for callers of the panel's API.
+/// stay on it: the scene's own edit, [`Mechanism::with_stage_point`].
 pub fn moved_stage_point(m: &Mechanism, p: [f64; 2]) -> Mechanism {
     m.with_stage_point(p)
 }
 
-/// `m` after the scene's beam went from `old` to `new`: [`Mechanism::rebased`], kept here
-/// for callers of the panel's API.
+/// `m` after the scene's beam went from `old` to `new` (what the app does to a mechanism on
+/// a beam edit): the scene's own edit, [`Mechanism::rebased`].
 pub fn rebased(m: &Mechanism, old: &BeamSpec, new: &BeamSpec) -> Mechanism {
     m.rebased(old, new)
 }
