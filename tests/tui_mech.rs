@@ -123,6 +123,45 @@ fn invalid_mechanism_edits_change_nothing() {
     }
 }
 
+/// A UI edit meets the rule the scene file's reader applies, and says what the reader says
+/// (its key and message, without the file and line): the stage point onto the flexure's tip
+/// (the coupler, which ends on it, would have no length), and a negative beam thickness.
+#[test]
+fn edits_are_refused_with_the_readers_words() {
+    let t0 = Instant::now();
+    let reader_says = |scene: &Scene| {
+        let e = Scene::from_toml_str(&scene.to_toml(), "s.toml").unwrap_err();
+        assert!(e.line.is_some(), "{e}");
+        format!("{}: {}", e.key.unwrap(), e.message)
+    };
+    let mut app = at_field("slider-crank", MechField::StagePoint);
+    let mut bad = app.scene.clone();
+    let m = bad.mechanism.as_ref().unwrap();
+    bad.mechanism = Some(m.with_stage_point(m.flexures[0].tip()));
+    let words = reader_says(&bad);
+    assert!(words.starts_with("flexures[1].link_to: the coupler would have zero length"));
+    let before = app.scene.clone();
+    edit(&mut app, "50, 0", t0);
+    let (message, _) = app.message.clone().expect("a message");
+    assert!(message.contains(&words), "{message} / {words}");
+    assert_eq!(app.scene, before);
+
+    let mut app = App::new(scene("slider-crank"), None);
+    app.focus = Panel::Beam;
+    app.beam_state.row = 2;
+    let mut bad = app.scene.clone();
+    bad.beam.thickness = -0.001;
+    let words = reader_says(&bad);
+    assert_eq!(
+        words,
+        "beam.thickness: must be a finite number > 0, got -0.001"
+    );
+    edit(&mut app, "-1 mm", t0);
+    let (message, _) = app.message.clone().expect("a message");
+    assert!(message.contains(&words), "{message} / {words}");
+    assert_eq!(app.scene, before);
+}
+
 /// `p` on a prescribed coordinate makes it the load that holds the exact mechanism where
 /// the drive took it, and back; on the attach row it cycles the attachments that make a
 /// valid mechanism.

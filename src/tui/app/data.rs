@@ -90,17 +90,10 @@ impl App {
     }
 
     /// `scene`, a beam edit of the current one, with its data converted again with the
-    /// edited beam ([`DataTruth::rebased`](crate::scene::data::DataTruth::rebased)) and
-    /// its load paths following the rows.
-    pub(super) fn rebase_data(&self, mut scene: Scene) -> Result<Scene, String> {
-        if scene.beam == self.scene.beam {
-            return Ok(scene);
-        }
-        if let Some(t) = &scene.truth {
-            let t = t.rebased(&self.scene.beam, &scene.beam)?;
-            scene.set_measured(t.paths, t.units, t.sha256);
-        }
-        Ok(scene)
+    /// edited beam and its load paths following the rows: the scene's own edit,
+    /// [`Scene::rebased`].
+    pub(super) fn rebase_data(&self, scene: Scene) -> Result<Scene, String> {
+        scene.rebased(&self.scene.beam)
     }
 }
 

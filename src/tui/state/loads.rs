@@ -8,7 +8,7 @@
 //! rescales the alphas so that Fx, Fy and Mz stay ([`held_forces`]).
 
 use crate::beam::Load;
-use crate::scene::{BeamSpec, LoadPath, Scene, MAX_STEPS};
+use crate::scene::{rules, BeamSpec, LoadPath, Scene};
 use crate::si::load_factors;
 
 use super::super::units::{parse_quantity, trim_number, Quantity};
@@ -150,7 +150,10 @@ pub fn load_text(path: &LoadPath, col: usize, si: Option<&BeamSpec>) -> String {
 }
 
 /// `path` with column `col` set from `text` (in SI for `si`'s beam when given); an error (and
-/// nothing changed) if invalid.
+/// nothing changed) if the text is not a value of the column's kind or the path breaks the
+/// scene's rules for a path ([`LoadPath::validate`], the rules the scene file's reader
+/// applies; a step count by [`rules::steps`]), said as `key: message` with the path's own
+/// keys (`steps: ...`).
 pub fn edited(
     path: &LoadPath,
     col: usize,
@@ -163,10 +166,7 @@ pub fn edited(
             .trim()
             .parse()
             .map_err(|_| format!("steps: `{}` is not a whole number", text.trim()))?;
-        if !(1..=MAX_STEPS).contains(&steps) {
-            return Err(format!("steps must be 1 to {MAX_STEPS}"));
-        }
-        path.steps = steps as u32;
+        path.steps = rules::steps(steps).map_err(|m| format!("steps: {m}"))?;
     } else {
         let v = parse_quantity(text, Quantity::Plain)
             .map_err(|e| format!("{}: {e}", LOAD_COLUMNS[col.min(2)]))?
@@ -176,9 +176,40 @@ pub fn edited(
             1 => path.end.alpha_y = v,
             _ => path.end.beta = v,
         }
-        if path.end.magnitude() == 0.0 {
-            return Err("a load path cannot be all zero".into());
-        }
     }
+    path.validate().map_err(|e| e.to_string())?;
     Ok(path)
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used)]
+
+    use super::*;
+
+    /// A load-path edit meets the scene file's rules and says what the reader says of that
+    /// file (the path's own key, without the file's line and `loads[3]`): a path edited to
+    /// all zero, a step count by the file's step rule.
+    #[test]
+    fn edits_are_refused_with_the_readers_words() {
+        let scene = Scene::builtin();
+        // Path 3 is a pure moment: beta to zero leaves nothing.
+        let mut bad = scene.clone();
+        bad.loads[2].end.beta = 0.0;
+        let file = Scene::from_toml_str(&bad.to_toml(), "s.toml").unwrap_err();
+        assert!(file.line.is_some(), "{file}");
+        assert_eq!(file.key.as_deref(), Some("loads[3]"));
+        assert_eq!(edited(&scene.loads[2], 2, "0", None), Err(file.message));
+        bad.loads[2].end.beta = 2.0;
+        bad.loads[2].steps = 0;
+        let file = Scene::from_toml_str(&bad.to_toml(), "s.toml").unwrap_err();
+        assert_eq!(file.key.as_deref(), Some("loads[3].steps"));
+        let ui = edited(&scene.loads[2], 3, "0", None).unwrap_err();
+        assert_eq!(ui, format!("steps: {}", file.message));
+        assert_eq!(
+            edited(&scene.loads[2], 3, "-3", None).unwrap_err(),
+            "steps: must be a whole number from 1 to 10000, got -3"
+        );
+        assert_eq!(edited(&scene.loads[2], 3, "7", None).unwrap().steps, 7);
+    }
 }

@@ -9,18 +9,18 @@
 //! `dx`, `dy`, `dphi` when prescribed, `Fx`, `Fy`, `Mz` when loaded.
 //!
 //! Edits never leave an invalid mechanism: each returns a new [`Mechanism`], which the app
-//! checks by the scene file's own rules ([`validate`]) before taking it. Two edits carry
-//! what a designer would expect along: a coupler whose stage end sat on the stage point stays
-//! on it when the stage point moves, and a beam edit reaches every flexure that does not
-//! override that value ([`rebased`]).
+//! checks by the scene's rules ([`Scene::validate`], the rules the scene file's reader
+//! applies) before taking it. Two edits carry what a designer would expect along, by the
+//! scene's own edits: a coupler whose stage end sat on the stage point stays on it when the
+//! stage point moves ([`Mechanism::with_stage_point`]), and a beam edit reaches every flexure
+//! that does not override that value ([`Mechanism::rebased`]).
 
-use crate::scene::{
-    Attach, BeamSpec, Coordinate, Flexure, Mechanism, Scene, COORDINATE_KEYS, MAX_STEPS,
-};
+use crate::scene::{rules, Attach, BeamSpec, Coordinate, Mechanism, Scene, COORDINATE_KEYS};
 use crate::si::MechUnits;
 
-use super::super::units::{parse_quantity, trim_number, Quantity};
+use super::super::units::trim_number;
 use super::super::worker::MechBaselineView;
+use super::mech_text::{dist, parse_angle, parse_point, parse_value, point_text, value_text};
 use super::step;
 
 /// One editable value of a mechanism.
@@ -207,7 +207,7 @@ impl MechField {
             }
             MechField::StagePoint => {
                 let p = parse_point(text, &u).map_err(|e| format!("stage point: {e}"))?;
-                out = moved_stage_point(m, p);
+                out = m.with_stage_point(p);
             }
             MechField::Coordinate { drive, c } => {
                 let d = out.drives.get_mut(drive).ok_or("no such drive")?;
@@ -226,10 +226,7 @@ impl MechField {
                     .trim()
                     .parse()
                     .map_err(|_| format!("steps: `{}` is not a whole number", text.trim()))?;
-                if !(1..=MAX_STEPS).contains(&steps) {
-                    return Err(format!("steps must be 1 to {MAX_STEPS}"));
-                }
-                d.steps = steps as u32;
+                d.steps = rules::steps(steps).map_err(|m| format!("steps: {m}"))?;
             }
         }
         Ok(out)
@@ -296,68 +293,22 @@ pub fn toggled(
 }
 
 /// `m` with the stage point at `p`; couplers whose stage end sat on the old stage point
-/// stay on it.
+/// stay on it: the scene's own edit, [`Mechanism::with_stage_point`].
 pub fn moved_stage_point(m: &Mechanism, p: [f64; 2]) -> Mechanism {
-    let mut out = m.clone();
-    let old = m.stage_point;
-    for f in &mut out.flexures {
-        if let Attach::Link { to } = &mut f.attach {
-            if *to == old {
-                *to = p;
-            }
-        }
-    }
-    out.stage_point = p;
-    out
+    m.with_stage_point(p)
 }
 
-/// `m` after the scene's beam went from `old` to `new`: every flexure value that was the
-/// scene's (not overridden) follows it, the shear coefficient and the effects always do (a
-/// flexure cannot override them); the stage point follows flexure 1's unloaded tip when it
-/// sat on it, and couplers ending on the stage point follow that.
+/// `m` after the scene's beam went from `old` to `new` (what the app does to a mechanism on
+/// a beam edit): the scene's own edit, [`Mechanism::rebased`].
 pub fn rebased(m: &Mechanism, old: &BeamSpec, new: &BeamSpec) -> Mechanism {
-    let tip_before = m.flexures.first().map(Flexure::tip);
-    let mut out = m.clone();
-    for f in &mut out.flexures {
-        let b = &mut f.beam;
-        for (mine, was, now) in [
-            (&mut b.length, old.length, new.length),
-            (&mut b.width, old.width, new.width),
-            (&mut b.thickness, old.thickness, new.thickness),
-            (
-                &mut b.youngs_modulus,
-                old.youngs_modulus,
-                new.youngs_modulus,
-            ),
-            (&mut b.poisson_ratio, old.poisson_ratio, new.poisson_ratio),
-        ] {
-            if *mine == was {
-                *mine = now;
-            }
-        }
-        b.shear_coefficient = new.shear_coefficient;
-        b.effects = new.effects;
-    }
-    match (tip_before, out.flexures.first().map(Flexure::tip)) {
-        (Some(before), Some(after)) if before == m.stage_point && before != after => {
-            moved_stage_point(&out, after)
-        }
-        _ => out,
-    }
+    m.rebased(old, new)
 }
 
-/// Checks a mechanism scene by the rules its file obeys: the scene's own
-/// ([`Scene::validate`]) and the mechanism's (a coupler of zero length, two flexures on one
-/// line, a drive that goes nowhere, too many cases), read back from the scene's TOML.
+/// Checks a mechanism scene by the rules its file obeys ([`Scene::validate`], which holds
+/// the mechanism's: [`Mechanism::validate`]), as the panel shows a broken one:
+/// `key: message`.
 pub fn validate(scene: &Scene) -> Result<(), String> {
-    let name = |e: crate::scene::SceneError| match e.key {
-        Some(key) => format!("{key}: {}", e.message),
-        None => e.message,
-    };
-    scene.validate().map_err(name)?;
-    Scene::from_toml_str(&scene.to_toml(), &scene.name)
-        .map(|_| ())
-        .map_err(name)
+    scene.check_rules().map_err(|e| e.to_string())
 }
 
 /// The mechanism panel's cursor and what the mechanism charts show.
@@ -432,109 +383,6 @@ pub fn key_name(c: usize, k: Coordinate) -> String {
         let mut s = load.to_string();
         s.replace_range(..1, &load[..1].to_uppercase());
         s
-    }
-}
-
-/// A coordinate's end value in display units, with its unit: `15 mm`, `0 deg`, `2.5 N`.
-fn value_text(c: usize, k: Coordinate, u: &MechUnits) -> String {
-    let unit = match (k.is_prescribed(), c == 2) {
-        (true, true) => "deg",
-        (true, false) => u.distance,
-        (false, true) => "N m",
-        (false, false) => "N",
-    };
-    format!("{} {unit}", trim_number(u.input(c, k), 6))
-}
-
-/// A point in display units: `67.68, -17.68 mm`.
-fn point_text(p: [f64; 2], u: &MechUnits) -> String {
-    format!(
-        "{}, {} {}",
-        trim_number(p[0] * u.per_metre, 5),
-        trim_number(p[1] * u.per_metre, 5),
-        u.distance
-    )
-}
-
-fn dist(a: [f64; 2], b: [f64; 2]) -> f64 {
-    (a[0] - b[0]).hypot(a[1] - b[1])
-}
-
-/// A length typed in the panel, m: bare numbers are in the display unit.
-fn parse_length(text: &str, u: &MechUnits) -> Result<f64, String> {
-    match text.trim().parse::<f64>() {
-        Ok(v) if v.is_finite() => Ok(v / u.per_metre),
-        Ok(_) => Err(format!("`{}` is not a finite number", text.trim())),
-        Err(_) => parse_quantity(text, Quantity::Length),
-    }
-}
-
-/// `x, y` with an optional unit after either number (one after `y` applies to a bare `x`).
-fn parse_point(text: &str, u: &MechUnits) -> Result<[f64; 2], String> {
-    let parts: Vec<&str> = text.split(',').collect();
-    let [x, y] = parts.as_slice() else {
-        return Err(format!(
-            "type x, y (e.g. `50, -10` in {} or `0.05, -0.01 m`)",
-            u.distance
-        ));
-    };
-    let y_value = parse_length(y, u)?;
-    let x_value = match x.trim().parse::<f64>() {
-        // A bare x takes y's unit: "50, -10 mm".
-        Ok(v) if v.is_finite() => {
-            let unit = y.trim().trim_start_matches(|ch: char| {
-                ch.is_ascii_digit() || matches!(ch, '.' | '-' | '+' | 'e' | 'E')
-            });
-            if unit.trim().is_empty() {
-                v / u.per_metre
-            } else {
-                parse_quantity(&format!("{v} {}", unit.trim()), Quantity::Length)?
-            }
-        }
-        _ => parse_length(x, u)?,
-    };
-    Ok([x_value, y_value])
-}
-
-/// An angle typed in degrees (bare or `deg`) or radians (`rad`), returned in radians.
-fn parse_angle(text: &str) -> Result<f64, String> {
-    let t = text.trim();
-    let (number, radians) = if let Some(n) = t.strip_suffix("rad") {
-        (n, true)
-    } else if let Some(n) = t.strip_suffix("deg").or_else(|| t.strip_suffix('°')) {
-        (n, false)
-    } else {
-        (t, false)
-    };
-    let v = parse_quantity(number, Quantity::Plain)?;
-    Ok(if radians { v } else { v.to_radians() })
-}
-
-/// A coordinate's end value typed in display units (mm, deg, N, N m) or with its own unit,
-/// returned in SI (m, rad, N, N m).
-fn parse_value(c: usize, k: Coordinate, text: &str, u: &MechUnits) -> Result<f64, String> {
-    match (k.is_prescribed(), c == 2) {
-        (true, false) => parse_length(text, u),
-        (true, true) => parse_angle(text),
-        (false, rotation) => {
-            let t = text.trim();
-            let units: &[(&str, f64)] = if rotation {
-                &[
-                    ("N mm", 1e-3),
-                    ("Nmm", 1e-3),
-                    ("N m", 1.0),
-                    ("Nm", 1.0),
-                    ("N·m", 1.0),
-                ]
-            } else {
-                &[("mN", 1e-3), ("kN", 1e3), ("N", 1.0)]
-            };
-            let (number, factor) = units
-                .iter()
-                .find_map(|(unit, f)| t.strip_suffix(unit).map(|n| (n, *f)))
-                .unwrap_or((t, 1.0));
-            Ok(parse_quantity(number, Quantity::Plain)? * factor)
-        }
     }
 }
 
@@ -627,6 +475,24 @@ mod tests {
         };
         s.mechanism = Some(bad);
         assert!(validate(&s).unwrap_err().contains("zero length"));
+    }
+
+    /// A stage-point edit meets the scene file's rule: onto the flexure's tip (where the
+    /// coupler, which ends on the stage point, would have no length) it is refused with the
+    /// key and message the reader gives for that mechanism, without the line.
+    #[test]
+    fn a_stage_point_edit_meets_the_file_rule() {
+        let mut s = slider_crank();
+        let m = s.mechanism.clone().unwrap();
+        s.mechanism = Some(MechField::StagePoint.edited(&m, "50, 0").unwrap());
+        let ui = validate(&s).unwrap_err();
+        let file = Scene::from_toml_str(&s.to_toml(), "s.toml").unwrap_err();
+        assert!(file.line.is_some(), "{file}");
+        assert_eq!(ui, format!("{}: {}", file.key.unwrap(), file.message));
+        assert!(
+            ui.starts_with("flexures[1].link_to: the coupler would have zero length"),
+            "{ui}"
+        );
     }
 
     #[test]

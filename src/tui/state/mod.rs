@@ -6,7 +6,8 @@
 //! - [`beam`]: the beam's fields and the scene's targets;
 //! - [`loads`]: the load-path table;
 //! - [`matrix`]: the PRB matrix table (nondimensional or SI), gamma rebalancing;
-//! - [`mech`]: a mechanism scene's flexures, stage and drives, in place of the load paths;
+//! - [`mech`]: a mechanism scene's flexures, stage and drives, in place of the load paths
+//!   (`mech_text.rs`: how its values are shown and typed);
 //! - [`select`]: the model-selection view;
 //! - [`text`]: the text box of the editors and prompts (cursor, readline keys).
 
@@ -14,6 +15,7 @@ pub mod beam;
 pub mod loads;
 pub mod matrix;
 pub mod mech;
+mod mech_text;
 pub mod select;
 pub mod text;
 

@@ -1,0 +1,128 @@
+//! The value rules a scene is built from: a number that must be positive, finite, a ratio in
+//! `[0, 0.5)`, a step count, a slenderness, and the limits on steps and cases.
+//!
+//! Each rule returns what is wrong in words (`must be a finite number > 0, got -1`); the
+//! `validate` method of each scene type ([`BeamSpec`](super::BeamSpec),
+//! [`LoadPath`](super::LoadPath), [`Flexure`](super::Flexure), [`Drive`](super::Drive),
+//! [`Mechanism`](super::Mechanism), [`Scene`](super::Scene), ...) applies them to its fields
+//! and names the key. The TOML reader and every editor (the UI) apply those methods, so
+//! this file and those methods are the one place that says what a valid scene is.
+
+use crate::beam::{Load, MAX_SLENDERNESS};
+use crate::text::bounded;
+
+/// The most load steps one path may ask for.
+pub const MAX_STEPS: i64 = 10_000;
+
+/// The most load cases a scene may have over all its paths. A solve costs tens of
+/// microseconds per case and a fit evaluates every case hundreds of times, so this is already
+/// minutes of fitting; a scene with more is a mistake (a generated file run wild), refused
+/// before any work.
+pub const MAX_CASES: u64 = 100_000;
+
+/// A finite number `> 0`.
+pub fn positive(v: f64) -> Result<(), String> {
+    (v.is_finite() && v > 0.0)
+        .then_some(())
+        .ok_or_else(|| format!("must be a finite number > 0, got {}", bounded(v)))
+}
+
+/// Poisson's ratio: in `[0, 0.5)`.
+pub fn poisson_ratio(v: f64) -> Result<(), String> {
+    (v.is_finite() && (0.0..0.5).contains(&v))
+        .then_some(())
+        .ok_or_else(|| format!("must be in [0, 0.5), got {}", bounded(v)))
+}
+
+/// A finite number `>= 0`.
+pub fn non_negative(v: f64) -> Result<(), String> {
+    (v.is_finite() && v >= 0.0)
+        .then_some(())
+        .ok_or_else(|| format!("must be a finite number >= 0, got {}", bounded(v)))
+}
+
+/// A finite number.
+pub fn finite(v: f64) -> Result<(), String> {
+    v.is_finite()
+        .then_some(())
+        .ok_or_else(|| format!("must be a finite number, got {}", bounded(v)))
+}
+
+/// A point with finite coordinates.
+pub fn point(p: [f64; 2]) -> Result<(), String> {
+    p.into_iter().try_for_each(finite)
+}
+
+/// The thickness against the length: `1 <= L/t0 <= MAX_SLENDERNESS`.
+pub fn slenderness(thickness: f64, length: f64) -> Result<(), String> {
+    if thickness > length {
+        return Err(format!(
+            "a beam must be at least as long as it is thick (slenderness L/t0 >= 1), \
+             got thickness {} > length {}",
+            bounded(thickness),
+            bounded(length)
+        ));
+    }
+    if length / thickness > MAX_SLENDERNESS {
+        return Err(format!(
+            "slenderness L/t0 = {:e} is beyond the {MAX_SLENDERNESS:e} prbfit models",
+            length / thickness
+        ));
+    }
+    Ok(())
+}
+
+/// A path's step count, `1..=MAX_STEPS`, as the `u32` a path holds: the checked conversion
+/// from what a file or an editor gives (any whole number).
+pub fn steps(v: i64) -> Result<u32, String> {
+    (1..=MAX_STEPS)
+        .contains(&v)
+        .then_some(v as u32)
+        .ok_or_else(|| format!("must be a whole number from 1 to {MAX_STEPS}, got {v}"))
+}
+
+/// The cases over all of a scene's paths (each path's steps; `paths` names them: `paths`,
+/// `drive paths`) against [`MAX_CASES`].
+pub fn case_count(steps: impl Iterator<Item = u32>, paths: &str) -> Result<(), String> {
+    let (mut n, mut count) = (0_u64, 0_usize);
+    for s in steps {
+        n += u64::from(s);
+        count += 1;
+    }
+    (n <= MAX_CASES).then_some(()).ok_or_else(|| {
+        format!("{n} load cases over {count} {paths} is more than the {MAX_CASES} a scene may have")
+    })
+}
+
+/// A load path's end load is not zero.
+pub fn nonzero(end: &Load) -> Result<(), String> {
+    (end.magnitude() != 0.0)
+        .then_some(())
+        .ok_or_else(|| "the load path is all zero: give alpha_x, alpha_y or beta".into())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rules_say_what_is_allowed() {
+        assert!(positive(1e-9).is_ok() && positive(0.0).is_err());
+        assert!(positive(f64::INFINITY).unwrap_err().contains("got inf"));
+        assert!(poisson_ratio(0.0).is_ok() && poisson_ratio(0.5).is_err());
+        assert!(non_negative(0.0).is_ok() && non_negative(-1.0).is_err());
+        assert!(point([0.0, 1.0]).is_ok() && point([f64::NAN, 0.0]).is_err());
+        assert_eq!(steps(10), Ok(10));
+        assert!(steps(0).unwrap_err().contains("from 1 to 10000, got 0"));
+        assert!(steps(-3).unwrap_err().contains("got -3"));
+        assert!(steps(i64::MAX).is_err());
+        assert!(slenderness(2.0, 1.0)
+            .unwrap_err()
+            .contains("at least as long"));
+        let e = case_count([10_000_u32; 11].into_iter(), "drive paths").unwrap_err();
+        assert_eq!(
+            e,
+            "110000 load cases over 11 drive paths is more than the 100000 a scene may have"
+        );
+    }
+}
