@@ -6,59 +6,13 @@ use crate::text::bounded_prec;
 use std::cell::RefCell;
 use std::ops::ControlFlow;
 
-use serde::Serialize;
-
 use crate::eval::{Baseline, CaseError};
 use crate::prb::{PrbMatrix, PrbSolver};
 use crate::scene::Scene;
 
 use super::errors::{ErrorCurve, ErrorPoint, ErrorsChart, ModelErrors};
-use super::mech::ForceStrokeChart;
 use super::shapes::{Linkage, ModelShapes, ShapesChart};
-use super::{ChartKind, PlotError, MODEL_RGB};
-
-/// A model to draw: its name in the legend and its matrix.
-#[derive(Debug, Clone, PartialEq)]
-pub struct PlotModel {
-    /// The legend's text.
-    pub name: String,
-    /// The PRB matrix.
-    pub matrix: PrbMatrix,
-}
-
-/// A load path (or a mechanism's drive path) a model could not follow to its end: it is
-/// drawn as far as it got.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct Unfollowed {
-    /// The model's name.
-    pub model: String,
-    /// The load path (a mechanism's drive), 1-based.
-    pub path: usize,
-    /// Cases of the path the model reached.
-    pub reached: usize,
-    /// Cases of the path.
-    pub steps: usize,
-    /// Why it stopped, when the solver says (mechanism drives).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub reason: Option<String>,
-}
-
-/// A whole figure: its title and the panels its kind asks for.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Figure {
-    /// Which panels.
-    pub kind: ChartKind,
-    /// Over the whole canvas.
-    pub title: String,
-    /// The deformed shapes, when the kind has them.
-    pub shapes: Option<ShapesChart>,
-    /// The tip errors, when the kind has them.
-    pub errors: Option<ErrorsChart>,
-    /// A mechanism's reactions against the stroke and motions against the load.
-    pub force_stroke: Option<ForceStrokeChart>,
-    /// Load paths some model could not follow to the end.
-    pub unfollowed: Vec<Unfollowed>,
-}
+use super::{ChartKind, Figure, PlotError, PlotModel, Unfollowed, MODEL_RGB};
 
 /// One model's equilibrium at one case: its tip error and its linkage.
 struct ModelCase {

@@ -22,54 +22,12 @@ use crate::mech::{exact, prb, MechCase, MechError};
 use crate::scene::{Drive, Mechanism, Scene, COORDINATE_KEYS};
 use crate::si::MechUnits;
 
-use super::data::{Figure, PlotModel, Unfollowed};
-use super::{ChartKind, PlotError, MODEL_RGB};
+use super::strokes::{ForceStrokeChart, Output, StrokePanel};
+use super::{ChartKind, Figure, PlotError, PlotModel, Unfollowed, MODEL_RGB};
 
 /// Below this (nondimensional, over every beam case) an output is identically zero and gets
 /// no panel: a coupler pinned at the stage point carries no moment there, whatever the drive.
 const TRIVIAL: f64 = 1e-9;
-
-/// What a panel's ordinate is.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Output {
-    /// The reaction of a prescribed stage coordinate.
-    Reaction,
-    /// The motion of a loaded stage coordinate.
-    Motion,
-}
-
-/// One panel: one output of one drive, beam and models.
-#[derive(Debug, Clone, PartialEq)]
-pub struct StrokePanel {
-    /// The drive path, from 1.
-    pub drive: usize,
-    /// The stage coordinate: 0 `x`, 1 `y`, 2 `phi`.
-    pub coordinate: usize,
-    /// Reaction or motion.
-    pub output: Output,
-    /// Over the panel.
-    pub title: String,
-    /// The abscissa's name and unit.
-    pub x_label: String,
-    /// The ordinate's name and unit.
-    pub y_label: String,
-    /// The exact mechanism: `[abscissa, ordinate]` in SI (display units), from rest.
-    pub beam: Vec<[f64; 2]>,
-    /// Per model, in the models' order, as far as it got; empty when it could not move.
-    pub models: Vec<Vec<[f64; 2]>>,
-}
-
-/// The force–stroke chart of a mechanism scene.
-#[derive(Debug, Clone, PartialEq)]
-pub struct ForceStrokeChart {
-    /// The legend's text per model, in order (a model that cannot follow every drive says
-    /// so).
-    pub legend: Vec<String>,
-    /// Drive by drive, reactions before motions, `x`, `y`, `phi`.
-    pub panels: Vec<StrokePanel>,
-    /// The truth is measured data (DESIGN §9): its cases are drawn as markers, not a curve.
-    pub measured: bool,
-}
 
 /// A drive's abscissa: the input that varies (or the fraction), in display units.
 #[derive(Debug, Clone)]

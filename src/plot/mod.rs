@@ -33,10 +33,11 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 use serde::Serialize;
 
-pub use data::{Figure, PlotModel, Unfollowed};
+use crate::prb::PrbMatrix;
+
 pub use errors::{ErrorCurve, ErrorPoint, ErrorsChart, ModelErrors};
-pub use mech::{ForceStrokeChart, Output, StrokePanel};
 pub use shapes::{equal_aspect_bounds, Linkage, ModelShapes, ShapesChart};
+pub use strokes::{ForceStrokeChart, Output, StrokePanel};
 
 /// Which charts a figure holds. `shapes` and `errors` are a cantilever scene's, `force` and
 /// `motion` a mechanism scene's; `all` is every chart the scene has.
@@ -245,6 +246,49 @@ pub(crate) fn model_colour(i: usize) -> RGBColor {
 
 /// The font family every text is drawn in (registered from the embedded DejaVu Sans).
 pub(crate) const FONT: &str = "sans-serif";
+
+/// A model to draw: its name in the legend and its matrix.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PlotModel {
+    /// The legend's text.
+    pub name: String,
+    /// The PRB matrix.
+    pub matrix: PrbMatrix,
+}
+
+/// A load path (or a mechanism's drive path) a model could not follow to its end: it is
+/// drawn as far as it got.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Unfollowed {
+    /// The model's name.
+    pub model: String,
+    /// The load path (a mechanism's drive), 1-based.
+    pub path: usize,
+    /// Cases of the path the model reached.
+    pub reached: usize,
+    /// Cases of the path.
+    pub steps: usize,
+    /// Why it stopped, when the solver says (mechanism drives).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub reason: Option<String>,
+}
+
+/// A whole figure: its title and the panels its kind asks for.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Figure {
+    /// Which panels.
+    pub kind: ChartKind,
+    /// Over the whole canvas.
+    pub title: String,
+    /// The deformed shapes, when the kind has them.
+    pub shapes: Option<ShapesChart>,
+    /// The tip errors, when the kind has them.
+    pub errors: Option<ErrorsChart>,
+    /// A mechanism's reactions against the stroke and motions against the load.
+    pub force_stroke: Option<ForceStrokeChart>,
+    /// Load paths some model could not follow to the end.
+    pub unfollowed: Vec<Unfollowed>,
+}
 
 /// Pixel sizes of the canvas of a cantilever scene's figure for each kind: (width, height).
 /// (A mechanism's figure is sized by its panels: [`Figure::size`].)

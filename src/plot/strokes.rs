@@ -6,8 +6,49 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use super::errors::bounds;
-use super::mech::{ForceStrokeChart, StrokePanel};
 use super::{drawing, model_colour, rgb, PlotError, BEAM_RGB, FONT, MEASURED_RGB};
+
+/// What a panel's ordinate is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Output {
+    /// The reaction of a prescribed stage coordinate.
+    Reaction,
+    /// The motion of a loaded stage coordinate.
+    Motion,
+}
+
+/// One panel: one output of one drive, beam and models.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StrokePanel {
+    /// The drive path, from 1.
+    pub drive: usize,
+    /// The stage coordinate: 0 `x`, 1 `y`, 2 `phi`.
+    pub coordinate: usize,
+    /// Reaction or motion.
+    pub output: Output,
+    /// Over the panel.
+    pub title: String,
+    /// The abscissa's name and unit.
+    pub x_label: String,
+    /// The ordinate's name and unit.
+    pub y_label: String,
+    /// The exact mechanism: `[abscissa, ordinate]` in SI (display units), from rest.
+    pub beam: Vec<[f64; 2]>,
+    /// Per model, in the models' order, as far as it got; empty when it could not move.
+    pub models: Vec<Vec<[f64; 2]>>,
+}
+
+/// The force–stroke chart of a mechanism scene.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ForceStrokeChart {
+    /// The legend's text per model, in order (a model that cannot follow every drive says
+    /// so).
+    pub legend: Vec<String>,
+    /// Drive by drive, reactions before motions, `x`, `y`, `phi`.
+    pub panels: Vec<StrokePanel>,
+    /// The truth is measured data (DESIGN §9): its cases are drawn as markers, not a curve.
+    pub measured: bool,
+}
 
 /// One panel's pixel size.
 const PANEL: (u32, u32) = (680, 460);

@@ -17,8 +17,9 @@ use ratatui::Frame;
 
 use crate::mech::MechCase;
 use crate::plot::errors::bounds;
-use crate::plot::mech::{stroke_panels, Output, StrokePanel};
+use crate::plot::mech::stroke_panels;
 use crate::plot::ChartKind;
+use crate::plot::{Output, StrokePanel};
 use crate::scene::COORDINATE_KEYS;
 
 use super::super::app::App;
