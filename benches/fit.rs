@@ -123,7 +123,7 @@ fn main() {
                     last = Some((m, evals));
                 }
                 let (m, evals) = last.unwrap();
-                let j = evaluate(&m, &reference, scene.fit.angle_weight)
+                let j = evaluate(&m, reference, scene.fit.angle_weight)
                     .unwrap()
                     .figures
                     .objective;

@@ -12,7 +12,7 @@
 //!   §9);
 //! - [`mech`]: flexure mechanisms solved with the beam or a PRB model, and the error
 //!   [`mech::figures`] of every kind of scene (§4, §8);
-//! - [`si`], [`fidelity`], [`format`]: SI conversions, the fit presets, file formats;
+//! - [`si`], [`fidelity`], [`format`](mod@format): SI conversions, the fit presets, file formats;
 //! - [`eval`]: a cantilever's beam solutions along its load paths (the fast path of the
 //!   one-flexure mechanism) and its tip errors;
 //! - [`fit`]: the search for optimal PRB parameters on any target (§4);

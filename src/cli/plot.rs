@@ -16,11 +16,12 @@ use prbfit::plot::{
     MODEL_RGB,
 };
 use prbfit::scene::data::DataTruth;
-use prbfit::scene::{Mechanism, Scene, COORDINATE_KEYS};
+use prbfit::scene::{Scene, COORDINATE_KEYS};
+use prbfit::study::{CaseForm, Sampling, Study};
 
 use super::args::PlotArgs;
 use super::output::{emit, safe};
-use super::{bad, load_scene, parse_matrix, resolve_scene, scene_model};
+use super::{bad, load_scene, parse_matrix, scene_model, study};
 
 /// A model drawn.
 #[derive(Debug, Serialize)]
@@ -200,28 +201,36 @@ pub fn run(args: PlotArgs, matches: Option<&ArgMatches>) -> Result<()> {
     // Refuse before spending the time on a baseline.
     check_target(&args.output, args.force)?;
     let scene = load_scene(&args.common)?;
-    if scene.mechanism.is_some() {
-        let (scene, _) = resolve_scene(&scene)?;
-        if let Some(mechanism) = &scene.mechanism {
-            return run_mechanism(&args, matches, &scene, mechanism, format);
-        }
-    }
-    if !args.kind.has_shapes() && !args.kind.has_errors() {
+    let kind_fits = match scene.mechanism {
+        Some(_) => args.kind.has_force() || args.kind.has_motion(),
+        None => args.kind.has_shapes() || args.kind.has_errors(),
+    };
+    if !kind_fits {
         return Err(bad(PlotError::KindNotForScene {
             kind: args.kind,
-            mechanism: false,
+            mechanism: scene.mechanism.is_some(),
         }
         .to_string()));
     }
-    let (scene, _) = resolve_scene(&scene)?;
-    if args.path == 0 || args.path > scene.loads.len() {
+    if scene.mechanism.is_none() && (args.path == 0 || args.path > scene.loads.len()) {
         return Err(bad(format!(
             "--path {}: the scene has {} load path(s), numbered from 1",
             args.path,
             scene.loads.len()
         )));
     }
-    let models = models(&args, matches, &scene)?;
+    // The truth at the fidelity's resolution; a mechanism's drives drawn case by case as the
+    // scene gives them, a cantilever's load paths as the fit samples them.
+    let sampling = match scene.mechanism {
+        Some(_) => Sampling::Every(args.fidelity.resolution()),
+        None => Sampling::Fidelity(args.fidelity),
+    };
+    let study = study(&scene, sampling)?;
+    let scene = study.scene();
+    if study.case_form() == CaseForm::Stage {
+        return run_mechanism(&args, matches, &study, format);
+    }
+    let models = models(&args, matches, scene)?;
     if models.len() > MODEL_RGB.len() {
         return Err(bad(format!(
             "--model/--prb: at most {} models fit in one figure, got {}",
@@ -229,19 +238,18 @@ pub fn run(args: PlotArgs, matches: Option<&ArgMatches>) -> Result<()> {
             models.len()
         )));
     }
-    let study = super::study(&scene, prbfit::study::Sampling::Fidelity(args.fidelity))?;
     let baseline = study
         .baseline()
         .context("internal error: a cantilever plot on a mechanism scene")?;
     let mut figure =
-        Figure::build(&scene, baseline, &models, args.path, args.kind).map_err(|e| match e {
+        Figure::build(scene, baseline, &models, args.path, args.kind).map_err(|e| match e {
             PlotError::NoSuchPath { .. } => bad(format!("--path {}: {e}", args.path)),
             PlotError::TooManyModels { .. } => bad(format!("--model/--prb: {e}")),
             PlotError::KindNotForScene { .. } => bad(e.to_string()),
             other => anyhow::Error::new(other),
         })?;
     if let (Some(truth), true) = (&scene.truth, args.kind.has_shapes()) {
-        figure = figure.with_beam_beside(beam_beside(&scene, truth, args.path));
+        figure = figure.with_beam_beside(beam_beside(scene, truth, args.path));
     }
     write_figure(&args, format, figure, &models, Some(args.path))
 }
@@ -315,21 +323,15 @@ fn write_figure(
 }
 
 /// `prbfit plot` on a mechanism scene (DESIGN §8): the force–stroke chart of every drive,
-/// the exact mechanism at the fidelity's resolution and each model's PRB mechanism.
+/// the study's truth (the exact mechanism, or measured data) and each model's PRB mechanism.
 fn run_mechanism(
     args: &PlotArgs,
     matches: Option<&ArgMatches>,
-    scene: &Scene,
-    mechanism: &Mechanism,
+    study: &Study,
     format: ImageFormat,
 ) -> Result<()> {
+    let scene = study.scene();
     let kind_error = |e: PlotError| bad(e.to_string());
-    if !args.kind.has_force() && !args.kind.has_motion() {
-        return Err(kind_error(PlotError::KindNotForScene {
-            kind: args.kind,
-            mechanism: true,
-        }));
-    }
     if args.path != 1 {
         return Err(bad(format!(
             "--path {}: \"{}\" is a mechanism scene, and its figure draws every drive path \
@@ -346,11 +348,12 @@ fn run_mechanism(
             models.len()
         )));
     }
-    let figure = mech::figure(
+    let figure = mech::figure_from(
         scene,
-        mechanism,
+        study.mechanism(),
+        study.truth(),
         &models,
-        args.fidelity.resolution(),
+        args.fidelity.resolution().tol,
         args.kind,
     )
     .map_err(|e| match e {

@@ -18,7 +18,7 @@
 //! ([`MechError::Immobile`]), and is listed in [`Figure::unfollowed`].
 
 use crate::beam::Resolution;
-use crate::mech::{exact, prb, MechCase, MechError};
+use crate::mech::{prb, MechCase, MechError};
 use crate::scene::{Drive, Mechanism, Scene, COORDINATE_KEYS};
 use crate::si::MechUnits;
 
@@ -188,14 +188,6 @@ fn follow(mechanism: &Mechanism, matrix: &crate::prb::PrbMatrix, tol: f64) -> Fo
         }
     }
     out
-}
-
-/// The exact mechanism's cases along every drive, at `resolution`.
-pub fn beam_cases(
-    mechanism: &Mechanism,
-    resolution: Resolution,
-) -> Result<Vec<Vec<MechCase>>, PlotError> {
-    exact::solve(mechanism, resolution).map_err(PlotError::Exact)
 }
 
 /// The force–stroke figure of `models` on the mechanism of `scene`: the exact mechanism at
@@ -387,6 +379,7 @@ pub fn stroke_panels(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::mech::exact;
 
     /// A measured drive's rows need not be evenly spaced: each case is drawn at its own
     /// stroke (1, 4 and 5 mm here), not at its fraction of the end stroke.

@@ -126,9 +126,9 @@ fn fraction(change: (f64, f64), accuracy: &Accuracy) -> f64 {
 }
 
 /// Decides the effects of `scene` whatever its own choice says: a cantilever's from its beam
-/// under its load paths ([`decide_beam_effects`]), a mechanism's for every flexure whose
+/// under its load paths (`decide_beam_effects`), a mechanism's for every flexure whose
 /// effects are `auto` from the beam mechanism along its drives
-/// ([`decide_mechanism_effects`]). Stops soon after `cancel` is set (the UI's worker cancels
+/// (`decide_mechanism_effects`). Stops soon after `cancel` is set (the UI's worker cancels
 /// it when a newer edit arrives).
 pub fn decide_effects(
     scene: &Scene,

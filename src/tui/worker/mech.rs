@@ -63,7 +63,7 @@ impl MechBaselineView {
     }
 
     /// On a data scene, the beam mechanism judged against the measured cases as
-    /// [`measured::beam_against_data`] judges it (the data in the truth slot, the beam in
+    /// [`crate::mech::measured::beam_against_data`] judges it (the data in the truth slot, the beam in
     /// the model's), with the weights `w` and `w_f` (taken when drawn: an edit of a weight
     /// needs no new solve); or why it has none. `None` when the truth is the beam.
     pub fn beam_against_data(
