@@ -330,9 +330,10 @@ fn single_beam_flags_and_other_commands_are_refused() {
 }
 
 /// `fit -o` on a mechanism scene writes a model file that records the reaction figures and
-/// every flexure's SI model; read back with `eval --model FILE` at the fit's resolution (normal
-/// fidelity: tol 1e-8), the model gives the same figures (the same matrix on the same truth:
-/// equal to rounding); an existing file is kept without `--force`.
+/// every flexure's SI model; read back with `eval --model FILE` (whose default tol 1e-9 is the
+/// normal fit's truth's: a mechanism's truth is never solved coarser than the default), the
+/// model gives the same figures (the same matrix on the same truth: equal to rounding); an
+/// existing file is kept without `--force`.
 #[test]
 fn a_mechanism_fit_writes_a_model_file() {
     let ps = path("parallel-stage");
@@ -361,7 +362,7 @@ fn a_mechanism_fit_writes_a_model_file() {
     assert_eq!(record["flexure_si"].as_array().unwrap().len(), 1);
     assert!(model.get("load_range").is_none(), "{text}");
     let eval = json(&prbfit(&[
-        "eval", "--scene", &sc, "--model", &file, "--tol", "1e-8", "--json",
+        "eval", "--scene", &sc, "--model", &file, "--json",
     ]));
     let (a, b) = (
         eval["max_force_err"].as_f64().unwrap(),

@@ -129,6 +129,8 @@ pub struct Study {
     /// A cantilever's fast path: its beam solutions (or measured tips) along its load paths.
     beam: Option<Baseline>,
     sampling: Sampling,
+    /// The resolution the truth was solved at.
+    resolution: Resolution,
     seconds: f64,
 }
 
@@ -182,6 +184,7 @@ impl Study {
     ) -> Result<Study, StudyError> {
         let t0 = Instant::now();
         let resolution = sampling.resolution();
+        let mut truth_resolution = resolution;
         let (mechanism, beam, truth) = match &scene.mechanism {
             None => {
                 let baseline = match &scene.truth {
@@ -215,6 +218,18 @@ impl Study {
                 (mechanism, Some(baseline), cases)
             }
             Some(m) => {
+                // A mechanism's reactions are its flexures' stiffness times their tips'
+                // motion: a truth solved at a preset's coarse tolerance leaves its error in
+                // them (at draft's 1e-6, a 1e-3 part of the largest reaction on the
+                // slider-crank, more than the fit can then resolve). So a mechanism's truth is
+                // solved at the preset's tolerance or the default, whichever is finer.
+                let resolution = match sampling {
+                    Sampling::Fidelity(_) => {
+                        Resolution::with_tol(resolution.tol.min(Resolution::default().tol))
+                    }
+                    Sampling::Every(r) => r,
+                };
+                truth_resolution = resolution;
                 let mut mechanism = m.clone();
                 let cases = if scene.truth.is_some() {
                     measured::truth(&scene, &mechanism, resolution)?
@@ -245,6 +260,7 @@ impl Study {
             truth,
             beam,
             sampling,
+            resolution: truth_resolution,
             seconds: t0.elapsed().as_secs_f64(),
         })
     }
@@ -303,6 +319,12 @@ impl Study {
     /// How the truth was solved.
     pub fn sampling(&self) -> Sampling {
         self.sampling
+    }
+
+    /// The resolution the truth was solved at (a mechanism's: the sampling's, or the
+    /// default when that is finer).
+    pub fn resolution(&self) -> Resolution {
+        self.resolution
     }
 
     /// Wall-clock time of the truth's solves.
@@ -382,7 +404,7 @@ impl Study {
 
     /// The PRB mechanism's tolerance: [`PRB_TOL`], or the truth's own when finer.
     fn prb_tol(&self) -> f64 {
-        self.sampling.resolution().tol.min(PRB_TOL)
+        self.resolution.tol.min(PRB_TOL)
     }
 
     /// The scene's own beam (or beam mechanism) judged against its measured data (DESIGN
