@@ -256,6 +256,14 @@ fn model_files_name_the_data_and_its_hash() {
     );
 }
 
+/// `n` rows of path `path` whose load grows from the unloaded state (tips made up: only the
+/// reader sees them).
+fn growing_rows(path: usize, n: usize) -> String {
+    (1..=n)
+        .map(|k| format!("{path},0,{},0,0.9,0.3,0.4\n", k as f64 * 1e-3))
+        .collect()
+}
+
 /// Every malformed data file: exit status 2, naming the file, the line and the column.
 #[test]
 fn bad_data_files_name_file_line_and_column() {
@@ -314,6 +322,21 @@ fn bad_data_files_name_file_line_and_column() {
             "bad path number",
             format!("{head}one,0,1,0,0.9,0.3,0.4\n"),
             &["d.csv:2:1", "not a path number"],
+        ),
+        // The scene's limits (docs/cli.md, "Limits") hold for rows too, refused at the row
+        // that passes them: 10000 steps a path, 100000 cases in all.
+        (
+            "a path of 10001 rows",
+            format!("{head}{}", growing_rows(1, 10_001)),
+            &["d.csv:10002:1", "path 1", "10000 steps"],
+        ),
+        (
+            "100001 rows",
+            format!(
+                "{head}{}",
+                (1..=11).map(|p| growing_rows(p, 9_091)).collect::<String>()
+            ),
+            &["d.csv:100002:1", "100000 load cases"],
         ),
     ];
     common::assert_bad_data_files(&dir, &scene, cases);

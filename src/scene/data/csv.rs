@@ -186,6 +186,33 @@ impl<'a> Csv<'a> {
         magnitude: impl Fn(&R) -> f64,
         line_of: impl Fn(&R) -> usize,
     ) -> Result<(), SceneError> {
+        // A scene's limits hold for measured rows too, refused at the row that passes them
+        // (before anything is solved): a row is a case, a path's rows its steps.
+        let rows: usize = paths.iter().map(|p| p.1.len()).sum();
+        if u64::try_from(rows).unwrap_or(u64::MAX) >= crate::scene::MAX_CASES {
+            return Err(self.fail(
+                line_no,
+                1,
+                None,
+                format!(
+                    "more than the {} load cases (rows) a scene may have",
+                    crate::scene::MAX_CASES
+                ),
+            ));
+        }
+        if let Some(path) = paths.last().filter(|p| p.0 == id) {
+            if i64::try_from(path.1.len()).unwrap_or(i64::MAX) >= crate::scene::MAX_STEPS {
+                return Err(self.fail(
+                    line_no,
+                    1,
+                    None,
+                    format!(
+                        "path {id} has more than the {} steps (rows) a load path may have",
+                        crate::scene::MAX_STEPS
+                    ),
+                ));
+            }
+        }
         if paths.last().is_none_or(|p| p.0 != id) {
             if let Some(earlier) = paths.iter().find(|p| p.0 == id) {
                 return Err(self.fail(
