@@ -168,13 +168,13 @@ impl Baseline {
     /// evaluation, the fit's residuals, the UI's charts and the CSV export all go through it.
     ///
     /// A path the model cannot follow is handed to `on_failure` with the beam solutions of
-    /// the cases it did not reach: `Continue` goes on with the next path, `Break` stops with
-    /// that path's error.
+    /// the cases it did not reach and why: `Continue` goes on with the next path, `Break`
+    /// stops with that path's error.
     pub fn follow(
         &self,
         solver: &PrbSolver,
         mut visit: impl FnMut(&BeamSolution, &PrbCase<'_>),
-        mut on_failure: impl FnMut(&[BeamSolution]) -> ControlFlow<()>,
+        mut on_failure: impl FnMut(&[BeamSolution], &EvalError) -> ControlFlow<()>,
     ) -> Result<(), EvalError> {
         let mut start = 0;
         for (i, path) in self.paths.iter().enumerate() {
@@ -194,11 +194,12 @@ impl Baseline {
             };
             if let Err(source) = outcome {
                 let missed = &beam[reached.min(beam.len())..];
-                if on_failure(missed).is_break() {
-                    return Err(EvalError {
-                        path: i + 1,
-                        source,
-                    });
+                let error = EvalError {
+                    path: i + 1,
+                    source,
+                };
+                if on_failure(missed, &error).is_break() {
+                    return Err(error);
                 }
             }
         }
@@ -306,7 +307,7 @@ pub fn evaluate(
     baseline.follow(
         &solver,
         |beam, prb| cases.push(CaseError::new(prb.load, beam.tip, prb.tip)),
-        |_| ControlFlow::Break(()),
+        |_, _| ControlFlow::Break(()),
     )?;
     let figures = tip_figures(&cases, angle_weight);
     Ok(Evaluation { cases, figures })

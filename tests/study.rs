@@ -18,6 +18,8 @@
 
 use std::path::Path;
 
+mod common;
+
 use prbfit::beam::{Effects, Resolution};
 use prbfit::fit::{CancelToken, Fidelity, FitOptions};
 use prbfit::prb::PrbMatrix;
@@ -141,4 +143,108 @@ fn a_cantilever_fits_as_its_one_flexure_mechanism() {
         );
         assert!((j - k).abs() <= 1e-6 * j.max(k), "{name}: J {j} vs {k}");
     }
+}
+
+/// DESIGN §6: `eval` of a model that cannot follow one load path reports the figures over
+/// the cases it followed, names the path (`unfollowed: [{path, fraction, reason}]`, and a
+/// line in the text), does not meet the targets, and exits 0. The figures are those of the
+/// same model on the scene without that path (judged independently).
+#[test]
+fn eval_of_a_model_that_stops_on_one_path_reports_the_rest() {
+    // A long rigid root and a very soft joint: no equilibrium under the built-in scene's
+    // path 4 (force and moment) from its first case on; paths 1 to 3 are followed.
+    let soft = "0.9,inf,inf; 0.1,0.01,inf";
+    let out = common::prbfit(&["eval", "--prb", soft, "--json"]);
+    let v = common::json(&out);
+    let unfollowed = v["unfollowed"].as_array().unwrap();
+    assert_eq!(unfollowed.len(), 1, "{v}");
+    assert_eq!(unfollowed[0]["path"], 4);
+    assert_eq!(unfollowed[0]["fraction"], 0.0);
+    assert!(unfollowed[0]["reason"]
+        .as_str()
+        .unwrap()
+        .contains("critical point"));
+    assert_eq!(v["meets_targets"], false);
+    let builtin = Scene::builtin();
+    let followed: u32 = builtin.loads[..3].iter().map(|p| p.steps).sum();
+    assert_eq!(v["cases"].as_array().unwrap().len(), followed as usize);
+    // The same figures as the model on the first three paths alone.
+    let mut three = builtin.clone();
+    three.loads.truncate(3);
+    let study = Study::new(&three, Sampling::Every(Resolution::default())).unwrap();
+    let alone = study
+        .judge(&PrbMatrix::parse(soft).unwrap())
+        .unwrap()
+        .figures;
+    for (key, want) in [
+        ("objective", alone.objective),
+        ("max_pos_err", alone.max_pos_err),
+        ("rms_ang_err", alone.rms_ang_err),
+    ] {
+        let got = v[key].as_f64().unwrap();
+        assert!((got - want).abs() <= 1e-12 * want, "{key}: {got} vs {want}");
+    }
+    let text = common::prbfit(&["eval", "--prb", soft]);
+    common::succeeded(&text);
+    let text = String::from_utf8_lossy(&text.stdout);
+    assert!(
+        text.contains("load path 4 not followed past 0.0000"),
+        "{text}"
+    );
+    // A model that follows nothing at all is still a failure (exit 1).
+    let none = common::prbfit(&[
+        "eval",
+        "--scene",
+        &format!(
+            "{}/assets/scenes/fixed-guided.toml",
+            env!("CARGO_MANIFEST_DIR")
+        ),
+        "--model",
+        "howell-1r",
+    ]);
+    assert_eq!(none.status.code(), Some(1));
+}
+
+/// The same on a mechanism: the displacement-driven cantilever pushed 35 mm (0.7 L), where a
+/// chain whose only joint sits at mid-length cannot reach past about half its length
+/// sideways and stops part way along the drive; `eval` judges the cases before it and names
+/// the drive and the fraction reached.
+#[test]
+fn eval_of_a_mechanism_model_that_stops_part_way_reports_how_far() {
+    let dir = common::Scratch::new("study-partial");
+    let text = std::fs::read_to_string(format!(
+        "{}/assets/scenes/driven-cantilever.toml",
+        env!("CARGO_MANIFEST_DIR")
+    ))
+    .unwrap();
+    let deep: String = text
+        .lines()
+        .map(|l| {
+            if l.starts_with("dy = ") {
+                "dy = 0.035"
+            } else {
+                l
+            }
+        })
+        .collect::<Vec<_>>()
+        .join("\n");
+    let scene = dir.write("deep.toml", &deep);
+    let v = common::json(&common::prbfit(&[
+        "eval",
+        "--scene",
+        &scene,
+        "--prb",
+        "0.5,inf,inf; 0.5,2.0,inf",
+        "--json",
+    ]));
+    let unfollowed = v["unfollowed"].as_array().unwrap();
+    assert_eq!(unfollowed.len(), 1, "{v}");
+    assert_eq!(unfollowed[0]["path"], 1);
+    let reached = v["cases"].as_array().unwrap().len();
+    assert!((1..8).contains(&reached), "{v}");
+    let fraction = unfollowed[0]["fraction"].as_f64().unwrap();
+    assert!((fraction - reached as f64 / 8.0).abs() < 1e-12, "{v}");
+    assert!(!unfollowed[0]["reason"].as_str().unwrap().is_empty());
+    assert_eq!(v["meets_targets"], false);
+    assert!(v["max_force_err"].as_f64().unwrap().is_finite());
 }

@@ -3,9 +3,11 @@
 //! ([`prbfit::study::Study::judge`]); the report reads as the scene's cases do (DESIGN §4's
 //! tips, §8's stage).
 //!
-//! A model that cannot follow the scene (a 1R asked to keep its tip angle) is a row saying
-//! so, `meets_targets` false; with every model failing there is nothing to report and the
-//! status is 1.
+//! A model that cannot follow some load paths or drives to their end is judged over the
+//! cases it followed (DESIGN §6): its row lists `unfollowed: [{path, fraction, reason}]`, the
+//! text a line naming each, and it does not meet the targets. A model that follows no case
+//! at all (a 1R asked to keep its tip angle) is a row saying why; with every model failing
+//! there is nothing to report and the status is 1.
 
 use std::fmt;
 use std::time::Instant;
@@ -16,7 +18,7 @@ use serde::Serialize;
 use prbfit::beam::{BeamSolver, Load, Resolution, TipPose};
 use prbfit::eval::CaseError;
 use prbfit::io::ModelFile;
-use prbfit::mech::figures::{Figures, JudgedCase};
+use prbfit::mech::figures::{Figures, JudgedCase, UnfollowedPath};
 use prbfit::prb::{PrbMatrix, PrbSolver};
 use prbfit::scene::{Accuracy, Mechanism, Scene, COORDINATE_KEYS};
 use prbfit::si::MechUnits;
@@ -207,8 +209,29 @@ pub struct ModelRow {
     /// Why the PRB model could not be solved, when it could not.
     #[serde(skip_serializing_if = "Option::is_none")]
     failure: Option<String>,
+    /// The paths it could not follow to their end; its figures are over the cases it
+    /// followed.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    unfollowed: Vec<UnfollowedPath>,
     seconds: f64,
     cases: Vec<CaseRow>,
+}
+
+impl ModelRow {
+    /// One line per path the model could not follow to its end.
+    fn unfollowed_lines(&self, f: &mut fmt::Formatter<'_>, path: &str) -> fmt::Result {
+        for u in &self.unfollowed {
+            writeln!(
+                f,
+                "{}: {path} {} not followed past {:.4} of it: {}",
+                safe(&self.model),
+                u.path,
+                u.fraction,
+                safe(&u.reason)
+            )?;
+        }
+        Ok(())
+    }
 }
 
 /// `eval` over the scene.
@@ -295,6 +318,9 @@ impl EvalReport {
                     safe(failure.as_deref().unwrap_or("no solution"))
                 )?,
             }
+        }
+        for r in self.models.rows() {
+            r.unfollowed_lines(f, "load path")?;
         }
         writeln!(f, "baseline: {:.3} ms", self.baseline_seconds * 1e3)
     }
@@ -460,6 +486,9 @@ impl EvalReport {
                 )?,
             }
         }
+        for r in self.models.rows() {
+            r.unfollowed_lines(f, "drive")?;
+        }
         if self.truth.is_some() {
             // A rig measures the stage, not the flexures' tips.
             writeln!(
@@ -517,13 +546,17 @@ pub fn run(args: EvalArgs) -> Result<()> {
             figures: None,
             meets_targets: false,
             failure: None,
+            unfollowed: Vec::new(),
             seconds: 0.0,
             cases: Vec::new(),
         };
-        match study.judge(&matrix) {
+        match study.judge_followed(&matrix) {
             Ok(e) => {
                 scale = Some(e.reaction_scale.map(|s| s.unwrap_or(0.0)));
-                row.meets_targets = e.figures.meets(&accuracy);
+                // A model that stops short does not meet the targets, whatever its figures
+                // over the cases it reached.
+                row.meets_targets = e.figures.meets(&accuracy) && e.unfollowed.is_empty();
+                row.unfollowed = e.unfollowed;
                 row.figures = Some(e.figures);
                 row.cases = e.cases.iter().map(|c| CaseRow::new(c, form)).collect();
             }

@@ -44,7 +44,7 @@ pub fn write(matrix: &PrbMatrix, baseline: &Baseline, title: &str) -> Result<Str
                     let _ = writeln!(out, "{head},prb_linkage,{i},{},{},", p[0], p[1]);
                 }
             },
-            |_| ControlFlow::Break(()),
+            |_, _| ControlFlow::Break(()),
         )
         .map_err(|e| ExportError::Eval(e.to_string()))?;
     Ok(out)

@@ -115,7 +115,7 @@ impl Target for CantileverTarget<'_> {
                     da.clamp(-cap, cap),
                 ]);
             },
-            |missed| {
+            |missed, _| {
                 // The cases this model cannot reach.
                 let mut out = out.borrow_mut();
                 for _ in missed {

@@ -174,8 +174,23 @@ pub struct Judgement {
     /// The reaction scale `S_c` of each stage coordinate `[x, y, phi]` (nondimensional,
     /// flexure 1's units); `None` for a coordinate no drive prescribes.
     pub reaction_scale: [Option<f64>; 3],
-    /// Per case, path by path.
+    /// Per case, path by path: the followed ones.
     pub cases: Vec<JudgedCase>,
+    /// The paths the model could not follow to their end (DESIGN §6: the figures are over
+    /// the cases it followed); empty when it followed every case.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub unfollowed: Vec<UnfollowedPath>,
+}
+
+/// A load path or drive a model could not follow to its end.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct UnfollowedPath {
+    /// Which path (from 1).
+    pub path: usize,
+    /// The fraction of the path it reached (its last followed case's; 0 when none).
+    pub fraction: f64,
+    /// Why it stopped.
+    pub reason: String,
 }
 
 /// Why two sets of cases cannot be compared.
@@ -274,7 +289,54 @@ pub fn compare(
             });
         }
     }
-    let reaction_scale = reaction_scales(drives, truth);
+    Ok(compare_scaled(
+        drives,
+        model,
+        truth,
+        reaction_scales(drives, truth),
+        (angle_weight, force_weight),
+    ))
+}
+
+/// [`compare`] of a model that may have stopped short on some drives (a critical point the
+/// truth does not have): each drive's cases as far as the model got, paired with the
+/// truth's first ones, each coordinate's reaction scale still the whole truth's, so the
+/// figures over the followed cases read as the whole scene's would.
+///
+/// # Errors
+/// [`CompareError`] when the model has cases the truth does not (more of them, other
+/// fractions), or another number of drives.
+pub fn compare_followed(
+    drives: &[Drive],
+    model: &[Vec<MechCase>],
+    truth: &[Vec<MechCase>],
+    angle_weight: f64,
+    force_weight: f64,
+) -> Result<Judgement, CompareError> {
+    let reached: Vec<Vec<MechCase>> = truth
+        .iter()
+        .zip(model)
+        .map(|(t, m)| t[..m.len().min(t.len())].to_vec())
+        .collect();
+    // The strict checks on what was reached: same drives, same cases, same fractions.
+    compare(drives, model, &reached, angle_weight, force_weight)?;
+    Ok(compare_scaled(
+        drives,
+        model,
+        &reached,
+        reaction_scales(drives, truth),
+        (angle_weight, force_weight),
+    ))
+}
+
+/// The judgement of pairs of cases that line up, with the reaction scales `reaction_scale`.
+fn compare_scaled(
+    drives: &[Drive],
+    model: &[Vec<MechCase>],
+    truth: &[Vec<MechCase>],
+    reaction_scale: [Option<f64>; 3],
+    (angle_weight, force_weight): (f64, f64),
+) -> Judgement {
     let mut cases = Vec::new();
     for (i, ((drive, p_path), e_path)) in drives.iter().zip(model).zip(truth).enumerate() {
         let prescribed = drive.coordinates.map(|c| c.is_prescribed());
@@ -307,7 +369,7 @@ pub fn compare(
         }
     }
     let tips = truth.iter().flatten().any(|c| !c.flexures.is_empty());
-    Ok(Judgement {
+    Judgement {
         figures: Figures::from_cases(
             &cases,
             angle_weight,
@@ -317,7 +379,8 @@ pub fn compare(
         ),
         reaction_scale,
         cases,
-    })
+        unfollowed: Vec::new(),
+    }
 }
 
 /// One signed error per stage coordinate of a case pair: for a loaded coordinate the stage

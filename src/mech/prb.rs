@@ -107,3 +107,62 @@ pub fn solve(
 ) -> Result<Vec<Vec<MechCase>>, MechError> {
     solver(mechanism, matrix, tol).solve_all(mechanism)
 }
+
+/// One model along every drive: the cases it reached per drive, and why it stopped where it
+/// did not reach the end.
+pub struct Followed {
+    /// Per drive, the cases reached.
+    pub drives: Vec<Vec<MechCase>>,
+    /// Per drive, why it stopped, if it did.
+    pub failures: Vec<Option<MechError>>,
+}
+
+/// `matrix` in every flexure of `mechanism`, along each drive (through a measured drive's
+/// rows); where it stops at a critical point (or finds no equilibrium) after `k` cases, the
+/// drive's first `k` cases are solved again as a drive of their own (the same cases).
+pub fn follow(mechanism: &Mechanism, matrix: &PrbMatrix, tol: f64) -> Followed {
+    let solver = solver(mechanism, matrix, tol);
+    let mut out = Followed {
+        drives: Vec::with_capacity(mechanism.drives.len()),
+        failures: Vec::with_capacity(mechanism.drives.len()),
+    };
+    for (i, d) in mechanism.drives.iter().enumerate() {
+        let path = mechanism.drive_path(d);
+        let steps = path.steps.max(1);
+        match solver.solve_path(&path, i + 1) {
+            Ok(cases) => {
+                out.drives.push(cases);
+                out.failures.push(None);
+            }
+            Err(e) => {
+                let reached_fraction = match &e {
+                    MechError::Critical { fraction, .. }
+                    | MechError::NoEquilibrium { fraction, .. } => *fraction,
+                    MechError::Immobile { .. } | MechError::Flexure { .. } => 0.0,
+                };
+                // Cases sit at k / steps; the small margin absorbs the fraction's rounding.
+                let k = ((reached_fraction * f64::from(steps) + 1e-6).floor() as u32).min(steps);
+                let part = f64::from(k) / f64::from(steps);
+                let cases = if k == 0 {
+                    Vec::new()
+                } else {
+                    solver
+                        .solve_path(&path.first(k), i + 1)
+                        .map(|cases| {
+                            cases
+                                .into_iter()
+                                .map(|mut c| {
+                                    c.fraction *= part;
+                                    c
+                                })
+                                .collect()
+                        })
+                        .unwrap_or_default()
+                };
+                out.drives.push(cases);
+                out.failures.push(Some(e));
+            }
+        }
+    }
+    out
+}

@@ -188,7 +188,7 @@ fn follow(baseline: &Baseline, matrix: &PrbMatrix) -> Vec<Option<ModelCase>> {
                 points: solver.joint_positions(prb.q),
             }))
         },
-        |missed| {
+        |missed, _| {
             cases.borrow_mut().extend(missed.iter().map(|_| None));
             ControlFlow::Continue(())
         },

@@ -31,6 +31,8 @@ pub mod select;
 pub mod tradeoff;
 pub mod truth;
 
+use std::cell::{Cell, RefCell};
+use std::ops::ControlFlow;
 use std::time::Instant;
 
 use crate::beam::{BeamSolver, Resolution, SolveError};
@@ -41,7 +43,7 @@ use crate::mech::{exact, measured, prb, MechCase, MechError};
 use crate::prb::{PrbMatrix, PrbSolver};
 use crate::scene::{Drive, Mechanism, Scene};
 
-pub use crate::mech::figures::{CompareError, Figures, JudgedCase, Judgement};
+pub use crate::mech::figures::{CompareError, Figures, JudgedCase, Judgement, UnfollowedPath};
 pub use effects::{resolve_effects, EffectsDecision, EffectsError};
 pub use fit::FitError;
 
@@ -338,7 +340,8 @@ impl Study {
     }
 
     /// Judges `matrix` (in place of every flexure) against the truth, with the scene's
-    /// weights.
+    /// weights; a model that cannot follow every case is an error (the fit, the selection
+    /// and the exports judge whole models).
     pub fn judge(&self, matrix: &PrbMatrix) -> Result<Judgement, JudgeError> {
         self.judge_weighted(matrix, self.scene.fit.angle_weight)
     }
@@ -349,17 +352,36 @@ impl Study {
         matrix: &PrbMatrix,
         angle_weight: f64,
     ) -> Result<Judgement, JudgeError> {
+        self.judge_with(matrix, angle_weight, false)
+    }
+
+    /// Judges `matrix` over the cases it can follow (DESIGN §6, `eval`): a path it cannot
+    /// follow to its end is listed in [`Judgement::unfollowed`] with how far it got and why,
+    /// and the figures are over the cases it followed. An error only when it follows no case
+    /// at all.
+    pub fn judge_followed(&self, matrix: &PrbMatrix) -> Result<Judgement, JudgeError> {
+        self.judge_with(matrix, self.scene.fit.angle_weight, true)
+    }
+
+    fn judge_with(
+        &self,
+        matrix: &PrbMatrix,
+        angle_weight: f64,
+        partial: bool,
+    ) -> Result<Judgement, JudgeError> {
         let force_weight = self.scene.fit.force_weight;
-        match &self.beam {
+        let judgement = match &self.beam {
             Some(baseline) => {
                 let solver = PrbSolver::new(matrix, baseline.model.axial_compliance());
-                let mut cases = Vec::with_capacity(self.case_count());
-                let mut path = 0;
-                let mut k = 0;
-                baseline.follow(
+                let cases = RefCell::new(Vec::with_capacity(self.case_count()));
+                let unfollowed = RefCell::new(Vec::new());
+                let first_error = RefCell::new(None);
+                // The truth's path and case of the next beam solution visited.
+                let at = Cell::new((0usize, 0usize));
+                let outcome = baseline.follow(
                     &solver,
                     |b, prb| {
-                        // The truth's case of this beam solution: paths in order.
+                        let (mut path, mut k) = at.get();
                         while k >= self.truth.get(path).map_or(usize::MAX, Vec::len) {
                             path += 1;
                             k = 0;
@@ -369,7 +391,7 @@ impl Study {
                         let mut model =
                             truth::tip_case(truth.fraction, prb.load, prb.tip, prb.iterations);
                         model.joints = vec![prb.q.to_vec()];
-                        cases.push(JudgedCase {
+                        cases.borrow_mut().push(JudgedCase {
                             path: path + 1,
                             fraction: truth.fraction,
                             truth,
@@ -379,27 +401,76 @@ impl Study {
                             force_err: 0.0,
                             tip_err: 0.0,
                         });
-                        k += 1;
+                        at.set((path, k + 1));
                     },
-                    |_| std::ops::ControlFlow::Break(()),
-                )?;
-                Ok(Judgement {
+                    |missed, e| {
+                        if !partial {
+                            return ControlFlow::Break(());
+                        }
+                        let path = self.truth.get(e.path - 1).map_or(&[][..], Vec::as_slice);
+                        let reached = path.len().saturating_sub(missed.len());
+                        unfollowed.borrow_mut().push(UnfollowedPath {
+                            path: e.path,
+                            fraction: reached.checked_sub(1).map_or(0.0, |k| path[k].fraction),
+                            reason: e.source.to_string(),
+                        });
+                        first_error.borrow_mut().get_or_insert_with(|| e.clone());
+                        // The next case visited is the next path's first.
+                        at.set((e.path, 0));
+                        ControlFlow::Continue(())
+                    },
+                );
+                outcome?;
+                let cases = cases.into_inner();
+                if let (true, Some(e)) = (cases.is_empty(), first_error.into_inner()) {
+                    // No case followed: nothing to judge.
+                    return Err(e.into());
+                }
+                Judgement {
                     figures: Figures::from_cases(&cases, angle_weight, force_weight, false, false),
                     reaction_scale: [None; 3],
                     cases,
-                })
+                    unfollowed: unfollowed.into_inner(),
+                }
+            }
+            None if partial => {
+                let followed = prb::follow(&self.mechanism, matrix, self.prb_tol());
+                let mut judged = crate::mech::figures::compare_followed(
+                    &self.mechanism.drives,
+                    &followed.drives,
+                    &self.truth,
+                    angle_weight,
+                    force_weight,
+                )?;
+                for (i, failure) in followed.failures.into_iter().enumerate() {
+                    if let Some(e) = failure {
+                        judged.unfollowed.push(UnfollowedPath {
+                            path: i + 1,
+                            fraction: followed.drives[i].last().map_or(0.0, |c| c.fraction),
+                            reason: e.to_string(),
+                        });
+                    }
+                }
+                if judged.cases.is_empty() {
+                    // Nothing followed: the first drive's reason is the answer.
+                    if let Some(e) = prb::solve(&self.mechanism, matrix, self.prb_tol()).err() {
+                        return Err(e.into());
+                    }
+                }
+                judged
             }
             None => {
                 let model = prb::solve(&self.mechanism, matrix, self.prb_tol())?;
-                Ok(crate::mech::figures::compare(
+                crate::mech::figures::compare(
                     &self.mechanism.drives,
                     &model,
                     &self.truth,
                     angle_weight,
                     force_weight,
-                )?)
+                )?
             }
-        }
+        };
+        Ok(judgement)
     }
 
     /// The PRB mechanism's tolerance: [`PRB_TOL`], or the truth's own when finer.

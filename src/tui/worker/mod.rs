@@ -466,7 +466,7 @@ pub fn model_view(
                         .collect(),
                 );
             },
-            |_| std::ops::ControlFlow::Break(()),
+            |_, _| std::ops::ControlFlow::Break(()),
         )
         .map_err(|e| format!("the PRB model fails: {e}"))?;
     if cases.len() != baseline.case_count() {
