@@ -2,6 +2,7 @@
 //!
 //! The library is the numerical core (no terminal, no files except through [`scene`]):
 //! - [`beam`]: the large-deflection baseline beam (DESIGN §2),
+//! - [`continuation`]: the one path-following driver of the beam, PRB and mechanism solvers,
 //! - [`eval`]: a PRB model judged against the beam over a scene (DESIGN §4),
 //! - [`export`]: model files, MuJoCo, URDF, SDF and CSV,
 //! - [`fea`]: the beam as a CalculiX model along the scene's loads (DESIGN §9),
@@ -16,6 +17,7 @@
 
 pub mod beam;
 pub mod cancel;
+pub mod continuation;
 pub mod eval;
 pub mod export;
 pub mod fea;

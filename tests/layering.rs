@@ -6,9 +6,27 @@
 use std::path::Path;
 
 /// Bottom first; each module may use those before it. `cli` is the binary and sits on top.
-const LAYERS: [&str; 19] = [
-    "cancel", "text", "linalg", "beam", "prb", "scene", "mech", "si", "fidelity", "format", "eval",
-    "fit", "select", "tradeoff", "io", "fea", "export", "plot", "tui",
+const LAYERS: [&str; 20] = [
+    "cancel",
+    "continuation",
+    "text",
+    "linalg",
+    "beam",
+    "prb",
+    "scene",
+    "mech",
+    "si",
+    "fidelity",
+    "format",
+    "eval",
+    "fit",
+    "select",
+    "tradeoff",
+    "io",
+    "fea",
+    "export",
+    "plot",
+    "tui",
 ];
 
 fn rank(module: &str) -> Option<usize> {
