@@ -107,6 +107,11 @@ impl PrbCase<'_> {
 
 /// How hard a solver tries before it gives up on a load path. A fit's trial models use tight
 /// limits, so that failing ones cost little; the defaults suit a model being judged.
+///
+/// Only the smallest step reaches the continuation at present: the Newton limit and the
+/// per-case budget are checked and stored but have never been applied (every attempt may
+/// take 40 iterations, and no case has a budget), and applying them would change fitted
+/// results.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SolverLimits {
     /// Newton iterations one attempt may take before the continuation step is halved (from a
