@@ -51,10 +51,12 @@
 //! # Files
 //! - `load.rs`: the load, the tip pose, the shape's points;
 //! - `solver.rs`: [`BeamSolver`], its [`Resolution`] and [`EffortBudget`];
+//! - `solve.rs`: solving a load or a load path, with the plate correction case by case;
 //! - `solution.rs`: what a solve returns ([`BeamSolution`], [`SolveError`]);
 //! - `path.rs`: the beam as a problem of the continuation driver (predictor, branch and
-//!   stability tests, step caps, per-case report), segment counts and the first step;
-//! - `newton.rs`: multiple-shooting Newton at a fixed load and the Morse-index stability;
+//!   stability tests, step caps, per-case report) and its first step;
+//! - `newton.rs`: multiple-shooting Newton at a fixed load (and how many segments a load
+//!   needs) and the Morse-index stability;
 //! - `shoot.rs`, `band.rs`: the integrator and the banded linear solve;
 //! - `model.rs`, [`plate`]: the beam's constitutive law and the plate correction;
 //! - [`root`]: the shot from the clamp with the root moment given (for mechanisms).
@@ -68,6 +70,7 @@ pub mod plate;
 pub mod root;
 mod shoot;
 mod solution;
+mod solve;
 mod solver;
 
 pub use load::{Load, ShapePoint, TipPose};

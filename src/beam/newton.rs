@@ -1,15 +1,22 @@
 //! The beam's Newton iteration at a fixed load: multiple shooting with `(psi, M)` at the start
-//! of every segment as unknowns, the banded Jacobian from the variational equations, and the
-//! Morse-index stability of the shape it converges to (see the parent module for the method
-//! and its accuracy).
+//! of every segment as unknowns (as many segments as the load needs), the banded Jacobian
+//! from the variational equations, and the Morse-index stability of the shape it converges
+//! to (see the parent module for the method and its accuracy).
 
 use super::band::Band;
+use super::model::BeamModel;
 use super::shoot::{shoot, Meter, Samples, Segment, Shot, ShotFailure, ShotSettings, TipForce};
 use super::{BeamSolver, Convergence, Load, ShapePoint, TipPose};
 use crate::continuation::Effort;
 
 /// Newton gives up when its residual has not halved in this many shots.
 const STAGNATION_SHOTS: u32 = 8;
+/// Shooting segments are short enough that perturbations grow by at most about
+/// `exp(SEGMENT_GROWTH)` across one (they grow like `exp(sqrt(|alpha|) s)`).
+const SEGMENT_GROWTH: f64 = 3.0;
+/// Enough segments for `sqrt(alpha)` up to about 12000 (`alpha` ~ 1.5e8). The banded Newton
+/// system makes a segment cost little more than the integration steps it holds.
+const MAX_SEGMENTS: usize = 4096;
 
 /// The outcome of one Newton solve at a fixed load.
 pub(super) struct NewtonResult {
@@ -290,8 +297,7 @@ pub(super) struct Chain {
 /// at the tip: under a compression well past Euler's load `dM(L)` returns to positive values
 /// (for an axial load it is `cos(sqrt(alpha) s)`), and one long continuation step could land
 /// there with no sign change seen at the tip. A segment spans at most about
-/// [`SEGMENT_GROWTH`](super::path::SEGMENT_GROWTH) `< pi` of that oscillation's phase, so no
-/// zero can hide inside one.
+/// [`SEGMENT_GROWTH`] `< pi` of that oscillation's phase, so no zero can hide inside one.
 ///
 /// At huge loads the product grows like `exp(sqrt(alpha))`, past the range of a double, so
 /// it is rescaled as it goes and a stable equilibrium too stiff to represent saturates at
@@ -341,4 +347,38 @@ fn apply(nodes: &[[f64; 2]], update: &[f64]) -> Vec<[f64; 2]> {
             [n[0] + d_psi, n[1] + update[2 * k]]
         })
         .collect()
+}
+
+/// How many shooting segments a load path needs (see [`SEGMENT_GROWTH`]).
+///
+/// Near a straight stretch under a tension `F` perturbations of `psi` obey
+/// `psi'' = (1 + eps) F psi / (E I / E I0)`, so they grow at the rate
+/// `sqrt(F (1 + eps) / p^4)` (the stretch lengthens the lever, Poisson's shrink softens the
+/// section); under a compression they oscillate at up to `sqrt(F (1 + c_s F))`. The largest
+/// force on a proportional path is at its end. Past [`MAX_SEGMENTS`] (`alpha` beyond about
+/// 1.5e8) segments amplify more and Newton's basin shrinks; such loads usually end in the
+/// effort budget.
+pub(super) fn segment_count(model: &BeamModel, end: Load) -> usize {
+    let force = end.alpha_x.hypot(end.alpha_y);
+    let tension = match model.axial_strain(force) {
+        Ok((eps, _, p)) => (1.0 + eps.max(0.0)) * model.plate_compliance() / p.powi(4),
+        // A force the material cannot carry fails on the path anyway.
+        Err(_) => 1.0,
+    };
+    // Under compression the same perturbations oscillate instead, at the rate
+    // `sqrt(F (1 + c_s F))`: shear adds `gamma N` to `dM/ds`. Segments must also hold that
+    // oscillation to less than half a period (see `chain_stability`).
+    let compression = if model.effects.shear {
+        1.0 + model.shear_compliance() * force
+    } else {
+        1.0
+    };
+    let softening = tension.max(compression);
+    let rate = (force * softening).sqrt();
+    let wanted = (rate / SEGMENT_GROWTH).ceil();
+    if wanted.is_finite() {
+        (wanted as usize).clamp(1, MAX_SEGMENTS)
+    } else {
+        MAX_SEGMENTS
+    }
 }

@@ -4,7 +4,7 @@
 //! stability slope `dM(L)/dM(0)` (see the parent module for the method and its accuracy).
 
 use super::model::BeamModel;
-use super::newton::{Chain, NewtonFailure, NewtonResult};
+use super::newton::{segment_count, Chain, NewtonFailure, NewtonResult};
 use super::shoot::{Meter, ShotFailure};
 use super::{BeamSolution, BeamSolver, Convergence, Load, ShapePoint, SolveError, TipPose};
 use crate::continuation::{
@@ -34,13 +34,6 @@ const NEAR_CRITICAL_DIRECTION: f64 = 0.1;
 const MIN_STEP: f64 = 1e-7;
 /// Newton shots one continuation attempt may take.
 const MAX_NEWTON: u32 = 30;
-/// Shooting segments are short enough that perturbations grow by at most about
-/// `exp(SEGMENT_GROWTH)` across one (they grow like `exp(sqrt(|alpha|) s)`).
-pub(super) const SEGMENT_GROWTH: f64 = 3.0;
-/// Enough segments for `sqrt(alpha)` up to about 12000 (`alpha` ~ 1.5e8). The banded Newton
-/// system makes a segment cost little more than the integration steps it holds.
-const MAX_SEGMENTS: usize = 4096;
-
 /// The state at one point of a load path: `(psi, M)` at the start of every shooting segment,
 /// and what Newton found there.
 #[derive(Debug, Clone)]
@@ -377,40 +370,6 @@ impl PathProblem for BeamPath<'_> {
             Stop::Stuck(failure) => failure,
             Stop::Attempts | Stop::Rejections => self.exceeded(fraction, effort),
         }
-    }
-}
-
-/// How many shooting segments a load path needs (see [`SEGMENT_GROWTH`]).
-///
-/// Near a straight stretch under a tension `F` perturbations of `psi` obey
-/// `psi'' = (1 + eps) F psi / (E I / E I0)`, so they grow at the rate
-/// `sqrt(F (1 + eps) / p^4)` (the stretch lengthens the lever, Poisson's shrink softens the
-/// section); under a compression they oscillate at up to `sqrt(F (1 + c_s F))`. The largest
-/// force on a proportional path is at its end. Past [`MAX_SEGMENTS`] (`alpha` beyond about
-/// 1.5e8) segments amplify more and Newton's basin shrinks; such loads usually end in the
-/// effort budget.
-fn segment_count(model: &BeamModel, end: Load) -> usize {
-    let force = end.alpha_x.hypot(end.alpha_y);
-    let tension = match model.axial_strain(force) {
-        Ok((eps, _, p)) => (1.0 + eps.max(0.0)) * model.plate_compliance() / p.powi(4),
-        // A force the material cannot carry fails on the path anyway.
-        Err(_) => 1.0,
-    };
-    // Under compression the same perturbations oscillate instead, at the rate
-    // `sqrt(F (1 + c_s F))`: shear adds `gamma N` to `dM/ds`. Segments must also hold that
-    // oscillation to less than half a period (see `chain_stability`).
-    let compression = if model.effects.shear {
-        1.0 + model.shear_compliance() * force
-    } else {
-        1.0
-    };
-    let softening = tension.max(compression);
-    let rate = (force * softening).sqrt();
-    let wanted = (rate / SEGMENT_GROWTH).ceil();
-    if wanted.is_finite() {
-        (wanted as usize).clamp(1, MAX_SEGMENTS)
-    } else {
-        MAX_SEGMENTS
     }
 }
 

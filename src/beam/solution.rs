@@ -5,11 +5,7 @@ use std::fmt;
 
 use serde::Serialize;
 
-#[cfg(doc)]
-use super::{BeamSolver, EffortBudget};
 use super::{Load, ShapePoint, TipPose};
-#[cfg(doc)]
-use crate::cancel::CancelToken;
 
 /// How a solve ended. A solve that did not converge is an `Err`, so this records how well
 /// the accepted equilibrium is pinned down.

@@ -4,21 +4,18 @@
 //! analytic Jacobian, the critical-point indicator that Jacobian's determinant sign (and, at
 //! a stall, its equilibrated pivot spread). See the parent module for the honesty rules.
 
+use crate::beam::Load;
 use crate::continuation::{
     self, Corrected, Crossing, Effort, Growth, Halving, History, Limits, PathProblem, Stop, Tally,
     TestOrder,
 };
 use crate::linalg::lu_solve;
-use crate::scene::DrivePath;
+use crate::scene::{Coordinate, DrivePath, Mechanism};
 
 use super::solve::{FlexEval, FlexureModel, MechSolver};
 use super::system::equilibrate;
-use super::{MechCase, MechError};
+use super::{FlexureCase, MechCase, MechError};
 
-/// Newton iterations at one point of the path before the step is halved.
-pub(super) const MAX_NEWTON: u32 = 25;
-/// The smallest continuation step before giving up.
-pub(super) const MIN_STEP: f64 = 1e-6;
 /// An equilibrated Jacobian (see [`equilibrate`]) whose smallest pivot is this small next to
 /// its largest is singular: a regular mechanism's pivots are within a few orders of
 /// magnitude, an exactly singular one's at rounding (the beam's variational equations are
@@ -42,12 +39,12 @@ const REJECTIONS_PER_CASE: u32 = 200;
 const MAX_TIP_STEP: f64 = 0.3;
 /// A converged point of the path, with the flexures evaluated there.
 #[derive(Debug, Clone)]
-pub(super) struct Point {
-    pub lambda: f64,
-    pub x: Vec<f64>,
-    pub evals: Vec<FlexEval>,
+struct Point {
+    lambda: f64,
+    x: Vec<f64>,
+    evals: Vec<FlexEval>,
     /// The load the flexures put on the stage.
-    pub load: [f64; 3],
+    load: [f64; 3],
     /// The sign of the Jacobian's determinant there.
     det_sign: f64,
 }
@@ -65,12 +62,38 @@ struct MechPath<'a, M> {
 }
 
 impl<M: FlexureModel> MechSolver<M> {
-    /// The work of [`MechSolver::solve_path`].
-    pub(super) fn follow(
+    /// Solves one proportional drive path (`drive` nondimensional: see
+    /// `Mechanism::nondimensional`), returning the cases at `k / steps`. `index` names the
+    /// drive in errors (from 1).
+    pub fn solve_drive(
         &self,
-        path: &DrivePath,
+        drive: &[Coordinate; 3],
+        steps: u32,
         index: usize,
     ) -> Result<Vec<MechCase>, MechError> {
+        self.solve_path(&DrivePath::proportional(*drive, steps), index)
+    }
+
+    /// Solves one drive path (proportional, or through a measured path's rows in order),
+    /// returning the cases at `k / steps` (a measured path's rows). `index` names the drive
+    /// in errors (from 1).
+    pub fn solve_path(&self, path: &DrivePath, index: usize) -> Result<Vec<MechCase>, MechError> {
+        self.follow(path, index)
+    }
+
+    /// Every drive path of `mechanism` (whose geometry this solver was built from): one
+    /// `Vec` of cases per drive.
+    pub fn solve_all(&self, mechanism: &Mechanism) -> Result<Vec<Vec<MechCase>>, MechError> {
+        mechanism
+            .drives
+            .iter()
+            .enumerate()
+            .map(|(i, d)| self.solve_path(&mechanism.drive_path(d), i + 1))
+            .collect()
+    }
+
+    /// The work of [`MechSolver::solve_path`].
+    fn follow(&self, path: &DrivePath, index: usize) -> Result<Vec<MechCase>, MechError> {
         let steps = path.steps.max(1);
         let x0 = self.start(&path.end);
         let n = x0.len();
@@ -196,6 +219,46 @@ impl<M: FlexureModel> MechSolver<M> {
         equilibrate(&mut jac, n);
         let mut rhs = vec![0.0; n];
         lu_solve(&mut jac, &mut rhs, n).map_or(0.0, |lu| lu.pivot_ratio)
+    }
+
+    /// The reported case at an accepted point.
+    fn case(&self, path: &DrivePath, point: &Point, iterations: u32) -> MechCase {
+        let at = path.at(point.lambda);
+        let mut stage_load = point.load;
+        for (l, c) in stage_load.iter_mut().zip(&at) {
+            if let Coordinate::Loaded(v) = c {
+                *l = *v;
+            }
+        }
+        let flexures = point
+            .evals
+            .iter()
+            .enumerate()
+            .map(|(i, e)| {
+                let (w, _) = self.own_wrench(i, &point.x);
+                let o = self.offsets[i] + 3;
+                let z = &point.x[o..o + self.models[i].internal()];
+                FlexureCase {
+                    tip: e.tip,
+                    wrench: Load::new(w[0], w[1], e.tip_moment),
+                    load_stable: self.models[i].load_stable(e, w, z),
+                }
+            })
+            .collect();
+        let joints = self
+            .offsets
+            .iter()
+            .zip(&self.models)
+            .map(|(&o, m)| point.x[o + 3..o + 3 + m.internal()].to_vec())
+            .collect();
+        MechCase {
+            fraction: point.lambda,
+            stage: self.pose(&at, &point.x),
+            stage_load,
+            flexures,
+            iterations,
+            joints,
+        }
     }
 }
 

@@ -1,14 +1,13 @@
-//! The mechanism solver for any flexure model (the exact beam or a PRB chain): its public
-//! face, the drive paths it follows and the cases it reports. See the parent module for the
-//! formulation; the equations and their Jacobian are in `system.rs`, the continuation along
-//! a drive (Newton, critical-point tests) in `path.rs`.
+//! The mechanism solver for any flexure model (the exact beam or a PRB chain): the flexure
+//! models' interface, the solver and its limits. See the parent module for the formulation;
+//! the equations and their Jacobian are in `system.rs`; the drive paths it follows
+//! ([`MechSolver::solve_path`]: Newton, continuation, critical-point tests) and the cases it
+//! reports are in `path.rs`.
 
-use crate::beam::{Load, TipPose};
-use crate::scene::{Coordinate, DrivePath, Mechanism};
+use crate::beam::TipPose;
 
 use super::geometry::Geometry;
-use super::path::{Point, MAX_NEWTON, MIN_STEP};
-use super::{FlexureCase, MechCase, MechError, TipFailure};
+use super::TipFailure;
 
 /// A flexure whose state is given by three wrench parameters and, for a PRB chain, its
 /// joint coordinates: the exact beam (root shot) or a PRB chain (joint coordinates and tip
@@ -54,6 +53,10 @@ pub struct MechSolver<M> {
     pub(super) min_step: f64,
 }
 
+/// Newton iterations at one point of the path before the step is halved.
+const MAX_NEWTON: u32 = 25;
+/// The smallest continuation step before giving up.
+const MIN_STEP: f64 = 1e-6;
 /// Newton iterations per point for a fit's trial models: a healthy model needs three or
 /// four from the secant predictor; one that needs more is about to fail anyway.
 const TRIAL_NEWTON: u32 = 12;
@@ -98,75 +101,5 @@ impl<M: FlexureModel> MechSolver<M> {
     /// The geometry solved.
     pub fn geometry(&self) -> &Geometry {
         &self.geometry
-    }
-
-    /// Solves one proportional drive path (`drive` nondimensional: see
-    /// `Mechanism::nondimensional`), returning the cases at `k / steps`. `index` names the
-    /// drive in errors (from 1).
-    pub fn solve_drive(
-        &self,
-        drive: &[Coordinate; 3],
-        steps: u32,
-        index: usize,
-    ) -> Result<Vec<MechCase>, MechError> {
-        self.solve_path(&DrivePath::proportional(*drive, steps), index)
-    }
-
-    /// Solves one drive path (proportional, or through a measured path's rows in order),
-    /// returning the cases at `k / steps` (a measured path's rows). `index` names the drive
-    /// in errors (from 1).
-    pub fn solve_path(&self, path: &DrivePath, index: usize) -> Result<Vec<MechCase>, MechError> {
-        self.follow(path, index)
-    }
-
-    /// Every drive path of `mechanism` (whose geometry this solver was built from): one
-    /// `Vec` of cases per drive.
-    pub fn solve_all(&self, mechanism: &Mechanism) -> Result<Vec<Vec<MechCase>>, MechError> {
-        mechanism
-            .drives
-            .iter()
-            .enumerate()
-            .map(|(i, d)| self.solve_path(&mechanism.drive_path(d), i + 1))
-            .collect()
-    }
-
-    /// The reported case at an accepted point.
-    pub(super) fn case(&self, path: &DrivePath, point: &Point, iterations: u32) -> MechCase {
-        let at = path.at(point.lambda);
-        let mut stage_load = point.load;
-        for (l, c) in stage_load.iter_mut().zip(&at) {
-            if let Coordinate::Loaded(v) = c {
-                *l = *v;
-            }
-        }
-        let flexures = point
-            .evals
-            .iter()
-            .enumerate()
-            .map(|(i, e)| {
-                let (w, _) = self.own_wrench(i, &point.x);
-                let o = self.offsets[i] + 3;
-                let z = &point.x[o..o + self.models[i].internal()];
-                FlexureCase {
-                    tip: e.tip,
-                    wrench: Load::new(w[0], w[1], e.tip_moment),
-                    load_stable: self.models[i].load_stable(e, w, z),
-                }
-            })
-            .collect();
-        let joints = self
-            .offsets
-            .iter()
-            .zip(&self.models)
-            .map(|(&o, m)| point.x[o + 3..o + 3 + m.internal()].to_vec())
-            .collect();
-        MechCase {
-            fraction: point.lambda,
-            stage: self.pose(&at, &point.x),
-            stage_load,
-            flexures,
-            iterations,
-            joints,
-        }
     }
 }

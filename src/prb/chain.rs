@@ -1,11 +1,12 @@
-//! A PRB chain's kinematics and equilibrium equations (DESIGN §3), nondimensional: the tip
-//! of a configuration `q`, the residual `K q - tau(q)` with its analytic tangent stiffness,
-//! and the linearisation a closed mechanism's solver takes (see [`super::statics`] for the
-//! equations). Exact up to rounding: no approximation beyond the PRB model itself.
+//! A PRB chain as the solver holds it (DESIGN §3), nondimensional: its rows and degrees of
+//! freedom, the limits of its path following, and its kinematics and equilibrium equations:
+//! the tip of a configuration `q`, the residual `K q - tau(q)` with its analytic tangent
+//! stiffness, and the linearisation a closed mechanism's solver takes (see `statics.rs` for
+//! the equations). Exact up to rounding: no approximation beyond the PRB model itself.
 
 use crate::beam::{Load, TipPose};
 
-use super::statics::PrbSolver;
+use super::matrix::PrbMatrix;
 
 /// One degree of freedom: which row, and whether it is the joint angle or the extension.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -27,6 +28,131 @@ pub struct Linearised {
     pub tip_jacobian: Vec<f64>,
     /// Scratch.
     work: Workspace,
+}
+
+/// How hard a solver tries before it gives up on a load path. A fit's trial models use tight
+/// limits, so that failing ones cost little; the defaults suit a model being judged.
+///
+/// Only the smallest step reaches the continuation at present: the Newton limit and the
+/// per-case budget are checked and stored but have never been applied (every attempt may
+/// take 40 iterations, and no case has a budget), and applying them would change fitted
+/// results.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SolverLimits {
+    /// Newton iterations one attempt may take before the continuation step is halved (from a
+    /// good predictor Newton converges in a handful).
+    newton_limit: u32,
+    /// Newton iterations a load path may spend per case, all attempts counted (the path gets
+    /// `case_budget * steps + 100`).
+    case_budget: u32,
+    /// The smallest continuation step, as a fraction of the path, before giving up; a reported
+    /// critical load is located only to within it.
+    min_step: f64,
+}
+
+impl SolverLimits {
+    /// Validated limits: every count at least 1, the step in (0, 1). A `const` built with
+    /// this is checked when the crate compiles.
+    pub const fn new(newton_limit: u32, case_budget: u32, min_step: f64) -> SolverLimits {
+        assert!(newton_limit >= 1, "a Newton limit of 0 allows no iteration");
+        assert!(case_budget >= 1, "a case budget of 0 allows no iteration");
+        assert!(
+            min_step > 0.0 && min_step < 1.0,
+            "the smallest step must be in (0, 1)"
+        );
+        SolverLimits {
+            newton_limit,
+            case_budget,
+            min_step,
+        }
+    }
+
+    /// Checked at run time: the error says which limit is wrong.
+    pub fn checked(
+        newton_limit: u32,
+        case_budget: u32,
+        min_step: f64,
+    ) -> Result<SolverLimits, String> {
+        if newton_limit == 0 {
+            return Err("the Newton limit must be at least 1".into());
+        }
+        if case_budget == 0 {
+            return Err("the per-case Newton budget must be at least 1".into());
+        }
+        if !(min_step > 0.0 && min_step < 1.0) {
+            return Err(format!(
+                "the smallest continuation step must be in (0, 1), got {}",
+                crate::text::bounded(min_step)
+            ));
+        }
+        Ok(SolverLimits::new(newton_limit, case_budget, min_step))
+    }
+}
+
+impl Default for SolverLimits {
+    fn default() -> Self {
+        SolverLimits::new(MAX_NEWTON, u32::MAX, MIN_STEP)
+    }
+}
+
+/// Solves a PRB chain's statics. Cheap to build; holds no scratch between calls.
+#[derive(Debug, Clone)]
+pub struct PrbSolver {
+    pub(super) gamma: Vec<f64>,
+    pub(super) k_theta: Vec<f64>,
+    /// `k_ex / c_e` per row (infinite for rows without an extension spring).
+    pub(super) k_ex_scaled: Vec<f64>,
+    pub(super) dofs: Vec<Dof>,
+    /// The smallest continuation step before giving up on a load path.
+    pub(super) min_step: f64,
+    /// Newton iterations one load path may spend per case, all attempts counted.
+    case_budget: u32,
+    /// Newton iterations one attempt may take before the step is halved.
+    newton_limit: u32,
+}
+
+/// The smallest continuation step (a fraction of the path) of a model being judged.
+const MIN_STEP: f64 = 1e-7;
+/// Newton iterations one continuation attempt may take.
+pub(super) const MAX_NEWTON: u32 = 40;
+
+impl PrbSolver {
+    /// `axial_compliance` is `c_e = I0 / (A0 L^2) = 1 / (12 (L/t0)^2)` of the beam; it only
+    /// matters for extension springs.
+    pub fn new(matrix: &PrbMatrix, axial_compliance: f64) -> PrbSolver {
+        let rows = matrix.rows();
+        let mut dofs = Vec::new();
+        for (i, r) in rows.iter().enumerate() {
+            if r.has_revolute() {
+                dofs.push(Dof::Theta(i));
+            }
+            if r.has_prismatic() {
+                dofs.push(Dof::Delta(i));
+            }
+        }
+        PrbSolver {
+            gamma: rows.iter().map(|r| r.gamma).collect(),
+            k_theta: rows.iter().map(|r| r.k_theta).collect(),
+            k_ex_scaled: rows.iter().map(|r| r.k_ex / axial_compliance).collect(),
+            dofs,
+            min_step: MIN_STEP,
+            case_budget: u32::MAX,
+            newton_limit: MAX_NEWTON,
+        }
+    }
+
+    /// The solver with these effort limits (checked when the limits were made).
+    pub fn with_limits(mut self, limits: SolverLimits) -> PrbSolver {
+        self.newton_limit = limits.newton_limit;
+        self.case_budget = limits.case_budget;
+        self.min_step = limits.min_step;
+        self
+    }
+
+    /// Degrees of freedom of the chain.
+    pub fn dof_count(&self) -> usize {
+        self.dofs.len()
+    }
 }
 
 impl PrbSolver {
@@ -243,5 +369,27 @@ impl Workspace {
             step: vec![0.0; m],
             jac: vec![0.0; m * m],
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn limits_are_checked() {
+        assert!(SolverLimits::checked(0, 5, 1e-3)
+            .unwrap_err()
+            .contains("Newton limit"));
+        assert!(SolverLimits::checked(5, 0, 1e-3)
+            .unwrap_err()
+            .contains("budget"));
+        for bad in [0.0, -1.0, 1.0, f64::NAN] {
+            assert!(SolverLimits::checked(5, 5, bad).is_err(), "{bad}");
+        }
+        assert_eq!(
+            SolverLimits::checked(12, 20, 1e-3),
+            Ok(SolverLimits::new(12, 20, 1e-3))
+        );
     }
 }

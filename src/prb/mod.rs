@@ -8,6 +8,6 @@ mod path;
 pub mod published;
 mod statics;
 
-pub use chain::Linearised;
+pub use chain::{Linearised, PrbSolver, SolverLimits};
 pub use matrix::{Column, MatrixError, PrbMatrix, PrbRow, GAMMA_SUM_TOL, MAX_SPRING};
-pub use statics::{PrbCase, PrbError, PrbSolution, PrbSolver, SolverLimits};
+pub use path::{PrbCase, PrbError, PrbSolution};

@@ -1,7 +1,8 @@
 //! A PRB chain along a load curve, as a problem of the continuation driver
 //! ([`crate::continuation`]): the state is the configuration `q`, the corrector Newton on the
 //! analytic tangent stiffness, and the critical-point indicator that stiffness's positive
-//! definiteness (Cholesky succeeds), tested inside every Newton iteration.
+//! definiteness (Cholesky succeeds), tested inside every Newton iteration; and what a path
+//! hands back ([`PrbSolution`], [`PrbCase`], [`PrbError`]).
 //!
 //! Newton stops when no update moves a joint by more than `1e-13` (radians, units of L), so
 //! an accepted configuration is exact to rounding.
@@ -10,13 +11,87 @@ use crate::beam::{Load, TipPose};
 use crate::continuation::{self, Corrected, Effort, History, Limits, PathProblem, Stop, Tally};
 use crate::linalg::cholesky_solve;
 
-use super::chain::Workspace;
-use super::statics::{PrbCase, PrbError, PrbSolver};
+use super::chain::{PrbSolver, Workspace, MAX_NEWTON};
+
+/// Why a PRB equilibrium could not be found.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum PrbError {
+    /// The requested load has a NaN or infinite component; holds that load.
+    #[error("load is not finite: {0}")]
+    NonFiniteLoad(Load),
+    /// Continuation stalled: Newton diverged, the tip jumped off the followed branch, or the
+    /// iteration budget ran out before the end of the load path.
+    #[error(
+        "the PRB model has no equilibrium for {load} past {:.4} of the load path ({reason})",
+        fraction
+    )]
+    NoEquilibrium {
+        /// The end of the load path (nondimensional `alpha_x`, `alpha_y`, `beta`).
+        load: Load,
+        /// The last load-path fraction (0 to 1) where an equilibrium was accepted.
+        fraction: f64,
+        /// What stopped the continuation, in words.
+        reason: String,
+    },
+    /// The tangent stiffness stopped being positive definite on the load path: the chain
+    /// buckles or snaps through there, and the stable branch ends.
+    #[error(
+        "the PRB model reaches a critical point (its tangent stiffness turns singular) at {:.4} \
+         of the load path to {load}: it buckles or snaps there",
+        fraction
+    )]
+    Unstable {
+        /// The end of the load path (nondimensional `alpha_x`, `alpha_y`, `beta`).
+        load: Load,
+        /// The last load-path fraction (0 to 1) where a stable equilibrium was accepted.
+        fraction: f64,
+    },
+}
+
+/// An equilibrium of the chain.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PrbSolution {
+    /// The load solved for (nondimensional `alpha_x`, `alpha_y`, `beta`).
+    pub load: Load,
+    /// The chain's tip: `a`, `b` in units of L, `phi` (the last segment's angle `Theta_N`)
+    /// in radians.
+    pub tip: TipPose,
+    /// Joint angles (radians, revolute rows) and extensions (units of L, prismatic rows), in
+    /// row order.
+    pub q: Vec<f64>,
+    /// Newton iterations spent on this load, continuation sub-steps included.
+    pub iterations: u32,
+}
+
+/// One equilibrium as handed to a visitor: the configuration is borrowed, so following a load
+/// path allocates nothing per case.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PrbCase<'a> {
+    /// The load solved for (nondimensional `alpha_x`, `alpha_y`, `beta`).
+    pub load: Load,
+    /// The chain's tip: `a`, `b` in units of L, `phi` in radians.
+    pub tip: TipPose,
+    /// Joint angles (radians, revolute rows) and extensions (units of L, prismatic rows), in
+    /// row order; borrowed from the solver's buffer.
+    pub q: &'a [f64],
+    /// Newton iterations spent on this load, continuation sub-steps included.
+    pub iterations: u32,
+}
+
+impl PrbCase<'_> {
+    /// An owned copy of this equilibrium.
+    pub fn to_solution(&self) -> PrbSolution {
+        PrbSolution {
+            load: self.load,
+            tip: self.tip,
+            q: self.q.to_vec(),
+            iterations: self.iterations,
+        }
+    }
+}
 
 /// Newton stops when the update is below this (radians, units of L).
 const NEWTON_TOL: f64 = 1e-13;
-/// Newton iterations one continuation attempt may take.
-pub(super) const MAX_NEWTON: u32 = 40;
 /// No Newton update turns a joint by more than this (radians).
 const MAX_TURN: f64 = 0.5;
 /// No accepted step moves the tip by more than this (units of L, radians).
