@@ -6,6 +6,8 @@
 //! the terminal UI ([`tui`]) are two front ends over one problem, [`study`]. Bottom up (a
 //! module uses only those before it; `tests/layering.rs` checks it):
 //! - [`cancel`], [`text`], [`linalg`]: a cancel token, safe text, small dense solvers;
+//! - [`continuation`]: the one path-following driver of the beam, PRB and mechanism
+//!   solvers;
 //! - [`beam`]: the large-deflection baseline beam (DESIGN §2);
 //! - [`prb`]: the PRB matrix, topology names, kinematics and statics (DESIGN §3);
 //! - [`scene`]: scene files — beam, load paths, mechanisms, measured data, targets (§5, §8,
@@ -25,6 +27,7 @@
 
 pub mod beam;
 pub mod cancel;
+pub mod continuation;
 pub mod eval;
 pub mod export;
 pub mod fea;

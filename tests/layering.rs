@@ -6,9 +6,26 @@
 use std::path::Path;
 
 /// Bottom first; each module may use those before it. `cli` is the binary and sits on top.
-const LAYERS: [&str; 18] = [
-    "cancel", "text", "linalg", "beam", "prb", "scene", "mech", "si", "fidelity", "format", "eval",
-    "fit", "io", "fea", "export", "study", "plot", "tui",
+const LAYERS: [&str; 19] = [
+    "cancel",
+    "continuation",
+    "text",
+    "linalg",
+    "beam",
+    "prb",
+    "scene",
+    "mech",
+    "si",
+    "fidelity",
+    "format",
+    "eval",
+    "fit",
+    "io",
+    "fea",
+    "export",
+    "study",
+    "plot",
+    "tui",
 ];
 
 fn rank(module: &str) -> Option<usize> {

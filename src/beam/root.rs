@@ -9,8 +9,8 @@
 //! the root moment (the tip's compliance). The map has no folds, so a beam held by a
 //! mechanism past its own load-controlled limit point is as regular as any other.
 
-use super::shoot::{root_shot, shoot, Samples, Segment, ShotFailure, TipForce};
-use super::{BeamSolver, CaseContext, Load, ShapePoint, SolveError, TipPose};
+use super::shoot::{root_shot, shoot, Meter, Samples, Segment, ShotFailure, TipForce};
+use super::{BeamSolver, Load, ShapePoint, SolveError, TipPose};
 use crate::cancel::CancelToken;
 
 /// The beam shot from its clamp under a tip force and a root moment ([`BeamSolver::shoot_root`]).
@@ -47,12 +47,12 @@ impl BeamSolver {
             return Err(SolveError::NonFiniteLoad(load));
         }
         let cancel = CancelToken::new();
-        let mut case = CaseContext::new(self.budget, &self.model, &cancel);
+        let mut meter = Meter::new(self.budget.rk_steps, &self.model, &cancel);
         let mut settings = self.settings(load);
         settings.moment_scale = load.magnitude();
         let force = TipForce { alpha_x, alpha_y };
-        let (u, _) = root_shot(&self.model, force, m0, settings, &mut case.meter)
-            .map_err(|e| shot_error(e, load, &case))?;
+        let (u, _) = root_shot(&self.model, force, m0, settings, &mut meter)
+            .map_err(|e| shot_error(e, load, &meter))?;
         // Slots: psi, M, x, y; then d/dM0 (4..8), d/dalpha_x (8..12), d/dalpha_y (12..16).
         let row = |k: usize| [u[8 + k], u[12 + k], u[4 + k]];
         Ok(RootShot {
@@ -82,7 +82,7 @@ impl BeamSolver {
             return Err(SolveError::NonFiniteLoad(load));
         }
         let cancel = CancelToken::new();
-        let mut case = CaseContext::new(self.budget, &self.model, &cancel);
+        let mut meter = Meter::new(self.budget.rk_steps, &self.model, &cancel);
         let mut settings = self.settings(load);
         settings.moment_scale = load.magnitude();
         let segment = Segment {
@@ -104,15 +104,15 @@ impl BeamSolver {
             segment,
             settings,
             Some(samples),
-            &mut case.meter,
+            &mut meter,
         )
-        .map_err(|e| shot_error(e, load, &case))?;
+        .map_err(|e| shot_error(e, load, &meter))?;
         Ok(points)
     }
 }
 
 /// A failed shot from the clamp as the solver reports it.
-fn shot_error(e: ShotFailure, load: Load, case: &CaseContext<'_>) -> SolveError {
+fn shot_error(e: ShotFailure, load: Load, meter: &Meter<'_>) -> SolveError {
     let failure = |reason: &str| SolveError::NoConvergence {
         load,
         fraction: 0.0,
@@ -126,7 +126,13 @@ fn shot_error(e: ShotFailure, load: Load, case: &CaseContext<'_>) -> SolveError 
         },
         ShotFailure::StepBudget => failure("the integrator's step size collapsed"),
         ShotFailure::NonFinite => failure("the shot overflowed"),
-        ShotFailure::OutOfEffort => case.exceeded(load, 0.0),
+        ShotFailure::OutOfEffort => SolveError::EffortExceeded {
+            load,
+            fraction: 0.0,
+            steps: 0,
+            shots: 0,
+            rk_steps: meter.tries,
+        },
         ShotFailure::Cancelled => SolveError::Cancelled {
             load,
             fraction: 0.0,

@@ -70,9 +70,22 @@ pub(crate) struct Meter<'a> {
     pub cancel: &'a CancelToken,
 }
 
-impl Meter<'_> {
+impl<'a> Meter<'a> {
     /// Steps between looks at the cancel flag: a few microseconds of work.
     const CANCEL_STRIDE: u64 = 64;
+
+    /// A meter for one load case of `model`, allowing `limit` integration steps (the
+    /// [`EffortBudget`](super::EffortBudget)'s `rk_steps`).
+    pub(crate) fn new(limit: u64, model: &BeamModel, cancel: &'a CancelToken) -> Meter<'a> {
+        Meter {
+            tries: 0,
+            cost: 0,
+            // Poisson's law solves an equation for the strain at every evaluation.
+            weight: if model.effects.poisson { 2 } else { 1 },
+            limit,
+            cancel,
+        }
+    }
 
     #[inline]
     fn tick(&mut self) -> Result<(), ShotFailure> {

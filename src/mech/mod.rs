@@ -25,10 +25,11 @@
 //!
 //! Newton's method solves the system with its analytic Jacobian: the flexures' blocks from
 //! their models, chained with the rigid stage's and the couplers' geometry (checked against
-//! differences in `solve`'s tests). One iteration costs one integration of each beam, or one
-//! linearisation of each chain. The drive path is followed by continuation: the drive's end
-//! values are scaled by `lambda`, cases at `k / steps`, sub-steps that halve on failure, each
-//! started from a secant prediction of the last two accepted points.
+//! differences in `system.rs`'s tests). One iteration costs one integration of each beam, or
+//! one linearisation of each chain. The drive path is followed by continuation (the crate's
+//! one driver, [`crate::continuation`]; the mechanism's side of it in `path.rs`): the drive's
+//! end values are scaled by `lambda`, cases at `k / steps`, sub-steps that halve on failure,
+//! each started from a secant prediction of the last two accepted points.
 //!
 //! # Honesty
 //! - The sign of the Jacobian's determinant is watched along the path: it changes sign only
@@ -56,9 +57,11 @@ pub mod exact;
 pub mod figures;
 pub mod geometry;
 pub mod measured;
+mod path;
 pub mod pose;
 pub mod prb;
 pub mod solve;
+mod system;
 
 use serde::Serialize;
 

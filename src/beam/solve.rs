@@ -1,0 +1,113 @@
+//! Solving one load, or a proportional load path, from the unloaded beam (see the parent
+//! module for the method and its accuracy), with a wide section's plate correction applied
+//! case by case: each case is solved again at the plate fraction its narrow-beam shape gives.
+
+use super::{plate, BeamSolution, BeamSolver, Load, Resolution, SolveError};
+use crate::cancel::CancelToken;
+
+/// Shape points of the narrow-beam solutions that give a wide section's cases their plate
+/// fractions (the moment is averaged along the beam over them).
+const PLATE_SHAPE_POINTS: usize = 41;
+
+impl BeamSolver {
+    /// Solves one load by continuation from the unloaded beam.
+    pub fn solve(&self, load: Load) -> Result<BeamSolution, SolveError> {
+        self.solve_cancellable(load, &CancelToken::new())
+    }
+
+    /// As [`BeamSolver::solve`], stopping with [`SolveError::Cancelled`] soon after `cancel`
+    /// is cancelled.
+    pub fn solve_cancellable(
+        &self,
+        load: Load,
+        cancel: &CancelToken,
+    ) -> Result<BeamSolution, SolveError> {
+        if let Some(narrow) = self.plate_refined() {
+            let last = narrow.follow_to(load, cancel)?;
+            return self.with_case_plate(&last).solve_cancellable(load, cancel);
+        }
+        self.follow_to(load, cancel)
+    }
+
+    /// With plane strain on a section of known width, the narrow-beam solver whose solutions
+    /// give each case its plate fraction ([`plate::case_fraction`]); `None` otherwise.
+    fn plate_refined(&self) -> Option<BeamSolver> {
+        let m = &self.model;
+        if !m.effects.plane_strain || m.width_ratio().is_none() {
+            return None;
+        }
+        let narrow = m.narrow();
+        Some(BeamSolver {
+            model: narrow,
+            resolution: Resolution {
+                shape_points: self.resolution.shape_points.max(PLATE_SHAPE_POINTS),
+                ..self.resolution
+            },
+            budget: self.budget,
+        })
+    }
+
+    /// This solver with the plate fraction of the case whose narrow-beam solution is
+    /// `narrow`, and no width (so that it solves with that fraction as it is).
+    fn with_case_plate(&self, narrow: &BeamSolution) -> BeamSolver {
+        let m = &self.model;
+        let width_ratio = m.width_ratio().unwrap_or(f64::INFINITY);
+        let (phi, _) = plate::case_fraction(width_ratio, m.slenderness, m.nu, narrow);
+        let mut model = m.with_plate_fraction(phi);
+        model.forget_width();
+        BeamSolver { model, ..*self }
+    }
+
+    /// Solves the proportional path to `end`, returning the cases at `k / steps`,
+    /// `k = 1..=steps` (DESIGN §5). Each case warm-starts from the previous ones.
+    pub fn solve_path(&self, end: Load, steps: u32) -> Result<Vec<BeamSolution>, SolveError> {
+        self.solve_path_cancellable(end, steps, &CancelToken::new())
+    }
+
+    /// As [`BeamSolver::solve_path`], stopping with [`SolveError::Cancelled`] soon after
+    /// `cancel` is cancelled: the flag is read before every continuation step and every few
+    /// dozen integration steps, i.e. every few microseconds of work.
+    pub fn solve_path_cancellable(
+        &self,
+        end: Load,
+        steps: u32,
+        cancel: &CancelToken,
+    ) -> Result<Vec<BeamSolution>, SolveError> {
+        if let Some(narrow) = self.plate_refined() {
+            // Each case at its own plate fraction, solved from the unloaded beam along the
+            // same ray (so on the branch the path follows).
+            return narrow
+                .follow_path(end, steps, cancel)?
+                .iter()
+                .map(|c| self.with_case_plate(c).solve_cancellable(c.load, cancel))
+                .collect();
+        }
+        self.follow_path(end, steps, cancel)
+    }
+
+    /// The cases of the proportional path to `end` at `k / steps`, `k = 1..=steps` (one at
+    /// least), for a narrow beam or one with its plate fraction set.
+    fn follow_path(
+        &self,
+        end: Load,
+        steps: u32,
+        cancel: &CancelToken,
+    ) -> Result<Vec<BeamSolution>, SolveError> {
+        if !end.is_finite() {
+            return Err(SolveError::NonFiniteLoad(end));
+        }
+        self.follow(end, steps, cancel)
+    }
+
+    /// The last case of [`BeamSolver::follow_path`]: the load itself.
+    fn follow_to(&self, load: Load, cancel: &CancelToken) -> Result<BeamSolution, SolveError> {
+        let mut cases = self.follow_path(load, 1, cancel)?;
+        // The driver reports a case for each of its steps before it returns `Ok`, so a
+        // one-step path that succeeded holds exactly one.
+        #[allow(clippy::expect_used)]
+        let last = cases
+            .pop()
+            .expect("a successful one-step path has one case");
+        Ok(last)
+    }
+}

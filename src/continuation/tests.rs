@@ -1,0 +1,364 @@
+//! The driver on a toy problem with a known fold: `x - x^3 / 3 = mu lambda`, followed from
+//! `x = 0`. Its left side peaks at `2 / 3` (at `x = 1`, where `d/dx = 1 - x^2` vanishes), so
+//! a path to `mu = 1` has a limit point at `lambda = 2 / 3` and no equilibrium on its branch
+//! beyond; `mu = 1 / 2` has none.
+
+use super::*;
+
+/// The toy path, with knobs that force failures and a record of what the driver did.
+struct Fold {
+    mu: f64,
+    /// Attempts whose step (from the last accepted point) exceeds this fail.
+    fail_above: f64,
+    /// Cancels this token once this many cases are reported.
+    cancel_after: Option<(u32, CancelToken)>,
+    /// Every attempt's `lambda`, in order.
+    tried: Vec<f64>,
+    /// Every case reported: `(lambda, x, tally)`.
+    cases: Vec<(f64, f64, Tally)>,
+}
+
+impl Fold {
+    fn new(mu: f64) -> Fold {
+        Fold {
+            mu,
+            fail_above: f64::INFINITY,
+            cancel_after: None,
+            tried: Vec::new(),
+            cases: Vec::new(),
+        }
+    }
+}
+
+fn left(x: f64) -> f64 {
+    x - x * x * x / 3.0
+}
+
+impl PathProblem for Fold {
+    type Point = f64;
+    type Failure = String;
+    type Error = (Stop<String>, f64);
+
+    fn tangent(&self, start: &f64, _step: f64, trial: &mut f64) {
+        *trial = *start;
+    }
+
+    fn secant(&self, last: &f64, before: &f64, t: f64, trial: &mut f64) {
+        *trial = last + t * (last - before);
+    }
+
+    fn correct(
+        &mut self,
+        lambda: f64,
+        history: &History<f64>,
+        x: &mut f64,
+        effort: &mut Effort,
+    ) -> Corrected<String, Self::Error> {
+        self.tried.push(lambda);
+        if lambda - history.last().lambda > self.fail_above {
+            return Corrected::Failed("forced".into());
+        }
+        for iteration in 1..=effort.newton_limit() {
+            if !effort.spend_iteration() {
+                return Corrected::Failed("out of iterations".into());
+            }
+            let update = (left(*x) - self.mu * lambda) / (1.0 - *x * *x);
+            if !update.is_finite() {
+                return Corrected::Failed("singular".into());
+            }
+            *x -= update;
+            if update.abs() < 1e-13 {
+                return Corrected::Converged(iteration);
+            }
+        }
+        Corrected::Failed("Newton did not converge".into())
+    }
+
+    fn on_branch(&self, history: &History<f64>, x: &f64) -> Result<(), String> {
+        if (x - history.last().point).abs() > 0.5 {
+            return Err("jumped".into());
+        }
+        Ok(())
+    }
+
+    fn regular(&self, x: &f64) -> bool {
+        1.0 - x * x > 0.0
+    }
+
+    fn near_critical(&mut self, history: &History<f64>, _failure: &String) -> bool {
+        let x = history.last().point;
+        1.0 - x * x < 0.01
+    }
+
+    fn report(&mut self, lambda: f64, x: &f64, tally: Tally, _effort: &mut Effort) {
+        self.cases.push((lambda, *x, tally));
+        if let Some((after, token)) = &self.cancel_after {
+            if tally.case == *after {
+                token.cancel();
+            }
+        }
+    }
+
+    fn stop(&self, why: Stop<String>, fraction: f64, _effort: &Effort) -> Self::Error {
+        (why, fraction)
+    }
+}
+
+const STEPS: u32 = 10;
+
+/// The attempts' parameters, to rounding.
+fn assert_close(tried: &[f64], want: &[f64]) {
+    assert_eq!(tried.len(), want.len(), "{tried:?}");
+    for (t, w) in tried.iter().zip(want) {
+        assert!((t - w).abs() < 1e-12, "{tried:?} != {want:?}");
+    }
+}
+
+fn limits() -> Limits {
+    Limits::new(STEPS, 1e-7, 30)
+}
+
+#[test]
+fn a_path_without_a_fold_reaches_its_end() {
+    let mut toy = Fold::new(0.5);
+    follow(&mut toy, 0.0, STEPS, &limits(), None).unwrap();
+    assert_eq!(toy.cases.len(), STEPS as usize);
+    for (k, (lambda, x, tally)) in toy.cases.iter().enumerate() {
+        assert_eq!(*lambda, (k + 1) as f64 / STEPS as f64);
+        assert!((left(*x) - 0.5 * lambda).abs() < 1e-12, "case {k}: x = {x}");
+        assert_eq!(tally.case, k as u32 + 1);
+        assert!(tally.accepted >= 1 && tally.iterations >= 1);
+    }
+}
+
+#[test]
+fn a_limit_point_is_bisected_and_reported_as_critical() {
+    for order in [TestOrder::BranchFirst, TestOrder::IndicatorFirst] {
+        let mut toy = Fold::new(1.0);
+        let limits = Limits { order, ..limits() };
+        let (why, fraction) = follow(&mut toy, 0.0, STEPS, &limits, None).unwrap_err();
+        assert_eq!(why, Stop::Critical, "{order:?}");
+        // Located to within the smallest step (and Newton's slow convergence next to it).
+        assert!(
+            fraction <= 2.0 / 3.0 && fraction > 2.0 / 3.0 - 1e-5,
+            "{order:?}: {fraction}"
+        );
+        // Every case before the fold was reported, none after.
+        assert_eq!(toy.cases.len(), 6, "{order:?}");
+        assert!(toy.cases.iter().all(|c| c.1 < 1.0));
+    }
+}
+
+#[test]
+fn a_crossing_ends_the_path_at_once_when_asked() {
+    // A path whose corrector reports every point past lambda = 0.45 as critical.
+    struct Past(Fold);
+    impl PathProblem for Past {
+        type Point = f64;
+        type Failure = String;
+        type Error = (Stop<String>, f64);
+        fn tangent(&self, start: &f64, step: f64, trial: &mut f64) {
+            self.0.tangent(start, step, trial)
+        }
+        fn secant(&self, last: &f64, before: &f64, t: f64, trial: &mut f64) {
+            self.0.secant(last, before, t, trial)
+        }
+        fn correct(
+            &mut self,
+            lambda: f64,
+            history: &History<f64>,
+            x: &mut f64,
+            effort: &mut Effort,
+        ) -> Corrected<String, Self::Error> {
+            if lambda > 0.45 {
+                self.0.tried.push(lambda);
+                return Corrected::Critical;
+            }
+            self.0.correct(lambda, history, x, effort)
+        }
+        fn on_branch(&self, history: &History<f64>, x: &f64) -> Result<(), String> {
+            self.0.on_branch(history, x)
+        }
+        fn regular(&self, x: &f64) -> bool {
+            self.0.regular(x)
+        }
+        fn near_critical(&mut self, history: &History<f64>, failure: &String) -> bool {
+            self.0.near_critical(history, failure)
+        }
+        fn report(&mut self, lambda: f64, x: &f64, tally: Tally, effort: &mut Effort) {
+            self.0.report(lambda, x, tally, effort)
+        }
+        fn stop(&self, why: Stop<String>, fraction: f64, effort: &Effort) -> Self::Error {
+            self.0.stop(why, fraction, effort)
+        }
+    }
+    let run = |crossing| {
+        let mut toy = Past(Fold::new(0.5));
+        let limits = Limits {
+            crossing,
+            ..limits()
+        };
+        let err = follow(&mut toy, 0.0, STEPS, &limits, None).unwrap_err();
+        (err, toy.0.tried.len())
+    };
+    // Stop: the first crossing (at 0.5, after the four cases before it) ends the path at
+    // the last case, 0.4.
+    let ((why, fraction), tried) = run(Crossing::Stop);
+    assert_eq!((why, fraction, tried), (Stop::Critical, 0.4, 5));
+    // Bisect: halved down to the smallest step next to 0.45.
+    let ((why, fraction), tried) = run(Crossing::Bisect);
+    assert_eq!(why, Stop::Critical);
+    assert!(fraction <= 0.45 && fraction > 0.45 - 1e-6, "{fraction}");
+    assert!(tried > 20, "{tried}");
+
+    // A converged point past the fold (the indicator read off it) does the same: with the
+    // indicator tested first, the far root x < -sqrt(3) that Newton finds past the fold is a
+    // crossing, not a jump.
+    let mut toy = Fold::new(1.0);
+    let limits = Limits {
+        order: TestOrder::IndicatorFirst,
+        crossing: Crossing::Stop,
+        ..limits()
+    };
+    let (why, fraction) = follow(&mut toy, 0.0, STEPS, &limits, None).unwrap_err();
+    assert_eq!(why, Stop::Critical);
+    assert!(fraction <= 2.0 / 3.0, "{fraction}");
+}
+
+#[test]
+fn a_stall_away_from_a_fold_is_stuck_with_the_last_failure() {
+    let mut toy = Fold::new(0.5);
+    toy.fail_above = 0.0;
+    let (why, fraction) = follow(&mut toy, 0.0, STEPS, &limits(), None).unwrap_err();
+    assert_eq!(why, Stop::Stuck("forced".into()));
+    assert_eq!(fraction, 0.0);
+    // Halved from 0.1 until below 1e-7: 20 attempts.
+    assert_eq!(toy.tried.len(), 20);
+}
+
+#[test]
+fn halving_recovers_from_forced_failures() {
+    let mut toy = Fold::new(0.5);
+    toy.fail_above = 0.03;
+    follow(&mut toy, 0.0, STEPS, &limits(), None).unwrap();
+    assert_eq!(toy.cases.len(), STEPS as usize);
+    let first = toy.cases[0].2;
+    // 0.1 and 0.05 fail, 0.025 is accepted; then the step grows to 0.05 and fails again.
+    assert_close(&toy.tried[..4], &[0.1, 0.05, 0.025, 0.075]);
+    assert!(first.accepted >= 4, "{first:?}");
+    for (lambda, x, _) in &toy.cases {
+        assert!((left(*x) - 0.5 * lambda).abs() < 1e-12);
+    }
+}
+
+#[test]
+fn halving_the_tried_step_shortens_a_clipped_one_at_once() {
+    let run = |halving| {
+        let mut toy = Fold::new(0.5);
+        toy.fail_above = 0.05;
+        let limits = Limits {
+            first_step: 0.8,
+            halving,
+            ..limits()
+        };
+        follow(&mut toy, 0.0, STEPS, &limits, None).unwrap();
+        toy.tried[..5].to_vec()
+    };
+    // A first step of 0.8 is clipped at the first case, 0.1, and fails: halving the step
+    // tried goes to 0.05 at once, halving the step size retries 0.1 until it is below 0.1.
+    assert_close(&run(Halving::Tried), &[0.1, 0.05, 0.1, 0.2, 0.15]);
+    assert_close(&run(Halving::Step), &[0.1, 0.1, 0.1, 0.1, 0.05]);
+}
+
+#[test]
+fn growth_after_two_successes_keeps_the_step_that_worked() {
+    let run = |growth| {
+        let mut toy = Fold::new(0.5);
+        toy.fail_above = 0.03;
+        let limits = Limits { growth, ..limits() };
+        follow(&mut toy, 0.0, STEPS, &limits, None).unwrap();
+        toy.tried[..5].to_vec()
+    };
+    // 0.1 and 0.05 fail, 0.025 is accepted; doubling at once fails again at 0.075, waiting
+    // for a second success reaches 0.05 first and only then tries a step of 0.05.
+    assert_close(&run(Growth::Always), &[0.1, 0.05, 0.025, 0.075, 0.05]);
+    assert_close(
+        &run(Growth::AfterTwoSuccesses),
+        &[0.1, 0.05, 0.025, 0.05, 0.1],
+    );
+}
+
+#[test]
+fn a_step_within_the_snap_lands_on_the_case() {
+    let mut toy = Fold::new(0.5);
+    let limits = Limits {
+        first_step: 0.1 - 1e-13,
+        snap: 1e-12,
+        ..limits()
+    };
+    follow(&mut toy, 0.0, STEPS, &limits, None).unwrap();
+    assert_eq!(toy.tried[0], 0.1);
+}
+
+#[test]
+fn cancel_stops_the_path_before_the_next_attempt() {
+    let token = CancelToken::new();
+    let mut toy = Fold::new(0.5);
+    toy.cancel_after = Some((3, token.clone()));
+    let (why, fraction) = follow(&mut toy, 0.0, STEPS, &limits(), Some(&token)).unwrap_err();
+    assert_eq!(why, Stop::Cancelled);
+    assert_eq!(fraction, 0.3);
+    assert_eq!(toy.cases.len(), 3);
+    assert_eq!(toy.tried.len(), 3);
+
+    // Cancelled before it starts: nothing is tried.
+    let mut toy = Fold::new(0.5);
+    let (why, fraction) = follow(&mut toy, 0.0, STEPS, &limits(), Some(&token)).unwrap_err();
+    assert_eq!((why, fraction), (Stop::Cancelled, 0.0));
+    assert!(toy.tried.is_empty());
+}
+
+#[test]
+fn a_case_stops_when_its_effort_runs_out() {
+    let budgets = [
+        (
+            Limits {
+                attempts_per_case: Some(3),
+                ..limits()
+            },
+            Stop::Attempts,
+            3,
+        ),
+        (
+            Limits {
+                rejections_per_case: Some(3),
+                ..limits()
+            },
+            Stop::Rejections,
+            4,
+        ),
+    ];
+    for (limits, stop, tried) in budgets {
+        let mut toy = Fold::new(0.5);
+        toy.fail_above = 0.0;
+        let (why, fraction) = follow(&mut toy, 0.0, STEPS, &limits, None).unwrap_err();
+        assert_eq!((why, fraction), (stop, 0.0));
+        assert_eq!(toy.tried.len(), tried);
+    }
+    // Newton iterations per case: one attempt's worth and no more.
+    let mut toy = Fold::new(0.5);
+    let limits = Limits {
+        iterations_per_case: Some(2),
+        ..limits()
+    };
+    let (why, _) = follow(&mut toy, 0.0, STEPS, &limits, None).unwrap_err();
+    assert_eq!(why, Stop::Stuck("out of iterations".into()));
+}
+
+#[test]
+fn the_newton_limit_reaches_the_corrector() {
+    let mut toy = Fold::new(0.5);
+    let limits = Limits::new(STEPS, 1e-7, 1);
+    let (why, _) = follow(&mut toy, 0.0, STEPS, &limits, None).unwrap_err();
+    assert_eq!(why, Stop::Stuck("Newton did not converge".into()));
+}

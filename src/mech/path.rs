@@ -1,0 +1,354 @@
+//! A mechanism along a drive path, as a problem of the continuation driver
+//! ([`crate::continuation`]): the state is the unknown vector (flexure wrenches, chains'
+//! joint coordinates, the stage's loaded coordinates), the corrector damped Newton on the
+//! analytic Jacobian, the critical-point indicator that Jacobian's determinant sign (and, at
+//! a stall, its equilibrated pivot spread). See the parent module for the honesty rules.
+
+use crate::beam::Load;
+use crate::continuation::{
+    self, Corrected, Crossing, Effort, Growth, Halving, History, Limits, PathProblem, Stop, Tally,
+    TestOrder,
+};
+use crate::linalg::lu_solve;
+use crate::scene::{Coordinate, DrivePath, Mechanism};
+
+use super::solve::{FlexEval, FlexureModel, MechSolver};
+use super::system::equilibrate;
+use super::{FlexureCase, MechCase, MechError};
+
+/// An equilibrated Jacobian (see [`equilibrate`]) whose smallest pivot is this small next to
+/// its largest is singular: a regular mechanism's pivots are within a few orders of
+/// magnitude, an exactly singular one's at rounding (the beam's variational equations are
+/// integrated to a relative 1e-7 at most).
+const SINGULAR: f64 = 1e-5;
+/// Continuation that stalls where the equilibrated Jacobian's pivot spread has fallen below
+/// this fraction of the unloaded mechanism's has reached a limit point: the spread falls
+/// like the distance to the fold, and Newton's basin at a fixed drive fraction with it (the
+/// Su 3R parallel stage at `(Ax, Ay, B) = (-10, 6, 3)` stalls at 0.7% of its unloaded spread;
+/// the solved points of that design grid, beam and PRB, stay above 13%).
+const NEAR_CRITICAL: f64 = 0.02;
+/// Rejected continuation sub-steps one case of a drive may have. A healthy case has none
+/// or a few; a steep one more (the fixed-guided segment's last ninth of a 0.9 L stroke, where
+/// the force climbs steeply, has 67); a path that keeps failing in steps near the smallest
+/// (a sliver of progress, then rejected again: a steel flexure stretched along its axis, past
+/// the root shot's force range) could otherwise crawl for minutes, so past this the path is
+/// reported as not followed rather than left running.
+const REJECTIONS_PER_CASE: u32 = 200;
+/// No flexure tip moves by more than this (units of its `L`, radians) in one sub-step, so the
+/// path cannot hop to another branch.
+const MAX_TIP_STEP: f64 = 0.3;
+/// A converged point of the path, with the flexures evaluated there.
+#[derive(Debug, Clone)]
+struct Point {
+    lambda: f64,
+    x: Vec<f64>,
+    evals: Vec<FlexEval>,
+    /// The load the flexures put on the stage.
+    load: [f64; 3],
+    /// The sign of the Jacobian's determinant there.
+    det_sign: f64,
+}
+
+/// One drive path of one solver in progress.
+struct MechPath<'a, M> {
+    solver: &'a MechSolver<M>,
+    path: &'a DrivePath,
+    /// The drive's number in errors (from 1).
+    index: usize,
+    /// The unloaded pose's determinant sign and equilibrated pivot spread.
+    sign0: f64,
+    ratio0: f64,
+    cases: Vec<MechCase>,
+}
+
+impl<M: FlexureModel> MechSolver<M> {
+    /// Solves one proportional drive path (`drive` nondimensional: see
+    /// `Mechanism::nondimensional`), returning the cases at `k / steps`. `index` names the
+    /// drive in errors (from 1).
+    pub fn solve_drive(
+        &self,
+        drive: &[Coordinate; 3],
+        steps: u32,
+        index: usize,
+    ) -> Result<Vec<MechCase>, MechError> {
+        self.solve_path(&DrivePath::proportional(*drive, steps), index)
+    }
+
+    /// Solves one drive path (proportional, or through a measured path's rows in order),
+    /// returning the cases at `k / steps` (a measured path's rows). `index` names the drive
+    /// in errors (from 1).
+    pub fn solve_path(&self, path: &DrivePath, index: usize) -> Result<Vec<MechCase>, MechError> {
+        self.follow(path, index)
+    }
+
+    /// Every drive path of `mechanism` (whose geometry this solver was built from): one
+    /// `Vec` of cases per drive.
+    pub fn solve_all(&self, mechanism: &Mechanism) -> Result<Vec<Vec<MechCase>>, MechError> {
+        mechanism
+            .drives
+            .iter()
+            .enumerate()
+            .map(|(i, d)| self.solve_path(&mechanism.drive_path(d), i + 1))
+            .collect()
+    }
+
+    /// The work of [`MechSolver::solve_path`].
+    fn follow(&self, path: &DrivePath, index: usize) -> Result<Vec<MechCase>, MechError> {
+        let steps = path.steps.max(1);
+        let x0 = self.start(&path.end);
+        let n = x0.len();
+        // The unloaded pose: its Jacobian's sign is the reference, and a singular one means
+        // the drive asks for a motion nothing can make.
+        let at0 = path.at(0.0);
+        let sys0 = self.system(&at0, &x0)?;
+        let mut jac = self.jacobian(&at0, &x0, &sys0);
+        let mut rhs = vec![0.0; n];
+        let immobile = |ratio: f64| MechError::Immobile {
+            drive: index,
+            detail: format!("its smallest pivot is {ratio:.1e} of its largest"),
+        };
+        equilibrate(&mut jac, n);
+        let (sign0, ratio0) = match lu_solve(&mut jac, &mut rhs, n) {
+            Some(lu) if lu.pivot_ratio > SINGULAR => (lu.det_sign, lu.pivot_ratio),
+            other => return Err(immobile(other.map_or(0.0, |l| l.pivot_ratio))),
+        };
+        let start = Point {
+            lambda: 0.0,
+            x: x0,
+            evals: sys0.evals,
+            load: sys0.load,
+            det_sign: sign0,
+        };
+        let case_step = 1.0 / steps as f64;
+        let limits = Limits {
+            first_step: case_step,
+            max_step: case_step,
+            min_step: self.min_step,
+            min_step_relative: 0.0,
+            // Snap onto the case's fraction when within rounding of it, so the last case
+            // reports the drive's own end values.
+            snap: 1e-12,
+            halving: Halving::Step,
+            growth: Growth::AfterTwoSuccesses,
+            // A jump is rejected before the determinant's sign is read; a sign change ends
+            // the path at once (Newton converges on both sides of a fold).
+            order: TestOrder::BranchFirst,
+            crossing: Crossing::Stop,
+            newton_iterations: self.max_newton,
+            attempts_per_case: None,
+            rejections_per_case: Some(REJECTIONS_PER_CASE),
+            iterations_per_case: None,
+        };
+        let mut problem = MechPath {
+            solver: self,
+            path,
+            index,
+            sign0,
+            ratio0,
+            cases: Vec::with_capacity(steps as usize),
+        };
+        continuation::follow(&mut problem, start, steps, &limits, None)?;
+        Ok(problem.cases)
+    }
+
+    /// Newton at `lambda` from the guess `x`.
+    fn newton(
+        &self,
+        path: &DrivePath,
+        lambda: f64,
+        mut x: Vec<f64>,
+        effort: &mut Effort,
+    ) -> Result<(Point, u32), String> {
+        let n = x.len();
+        let at = path.at(lambda);
+        let mut sys = self.system(&at, &x).map_err(|e| e.to_string())?;
+        // The determinant's sign of the last Jacobian factored: at the last iterate but one,
+        // within Newton's last (tiny) step of the solution, so a converged point needs no
+        // Jacobian of its own.
+        let mut det_sign = None;
+        let limit = effort.newton_limit();
+        for iteration in 1..=limit {
+            effort.spend_iteration();
+            let converged = self.converged(&sys.residual, sys.load);
+            if let (true, Some(det_sign)) = (converged, det_sign) {
+                let point = Point {
+                    lambda,
+                    x,
+                    evals: sys.evals,
+                    load: sys.load,
+                    det_sign,
+                };
+                return Ok((point, iteration));
+            }
+            let mut jac = self.jacobian(&at, &x, &sys);
+            let mut step: Vec<f64> = sys.residual.iter().map(|v| -v).collect();
+            let lu = lu_solve(&mut jac, &mut step, n).ok_or("singular Jacobian")?;
+            det_sign = Some(lu.det_sign);
+            if converged {
+                continue;
+            }
+            // Damped: halve the step while the residual grows.
+            let norm0 = norm(&sys.residual);
+            let mut t = 1.0;
+            loop {
+                let trial: Vec<f64> = x.iter().zip(&step).map(|(a, d)| a + t * d).collect();
+                if let Ok(st) = self.system(&at, &trial) {
+                    if norm(&st.residual) < norm0 || t < 0.1 {
+                        (x, sys) = (trial, st);
+                        break;
+                    }
+                }
+                t *= 0.5;
+                if t < 0.01 {
+                    return Err("Newton's step does not reduce the residual".into());
+                }
+            }
+        }
+        Err(format!("Newton did not converge in {limit} iterations"))
+    }
+
+    /// The equilibrated Jacobian's smallest pivot over its largest at an accepted point (0
+    /// if it cannot be evaluated).
+    fn pivot_ratio(&self, path: &DrivePath, point: &Point) -> f64 {
+        let n = point.x.len();
+        let at = path.at(point.lambda);
+        let Ok(sys) = self.system(&at, &point.x) else {
+            return 0.0;
+        };
+        let mut jac = self.jacobian(&at, &point.x, &sys);
+        equilibrate(&mut jac, n);
+        let mut rhs = vec![0.0; n];
+        lu_solve(&mut jac, &mut rhs, n).map_or(0.0, |lu| lu.pivot_ratio)
+    }
+
+    /// The reported case at an accepted point.
+    fn case(&self, path: &DrivePath, point: &Point, iterations: u32) -> MechCase {
+        let at = path.at(point.lambda);
+        let mut stage_load = point.load;
+        for (l, c) in stage_load.iter_mut().zip(&at) {
+            if let Coordinate::Loaded(v) = c {
+                *l = *v;
+            }
+        }
+        let flexures = point
+            .evals
+            .iter()
+            .enumerate()
+            .map(|(i, e)| {
+                let (w, _) = self.own_wrench(i, &point.x);
+                let o = self.offsets[i] + 3;
+                let z = &point.x[o..o + self.models[i].internal()];
+                FlexureCase {
+                    tip: e.tip,
+                    wrench: Load::new(w[0], w[1], e.tip_moment),
+                    load_stable: self.models[i].load_stable(e, w, z),
+                }
+            })
+            .collect();
+        let joints = self
+            .offsets
+            .iter()
+            .zip(&self.models)
+            .map(|(&o, m)| point.x[o + 3..o + 3 + m.internal()].to_vec())
+            .collect();
+        MechCase {
+            fraction: point.lambda,
+            stage: self.pose(&at, &point.x),
+            stage_load,
+            flexures,
+            iterations,
+            joints,
+        }
+    }
+}
+
+impl<M: FlexureModel> PathProblem for MechPath<'_, M> {
+    type Point = Point;
+    type Failure = String;
+    type Error = MechError;
+
+    /// From the unloaded pose, the unloaded unknowns.
+    fn tangent(&self, start: &Point, _step: f64, trial: &mut Point) {
+        trial.x.clone_from(&start.x);
+    }
+
+    fn secant(&self, last: &Point, before: &Point, t: f64, trial: &mut Point) {
+        trial.x.clear();
+        trial
+            .x
+            .extend(last.x.iter().zip(&before.x).map(|(a, b)| a + t * (a - b)));
+    }
+
+    fn correct(
+        &mut self,
+        lambda: f64,
+        _history: &History<Point>,
+        trial: &mut Point,
+        effort: &mut Effort,
+    ) -> Corrected<String, MechError> {
+        let guess = std::mem::take(&mut trial.x);
+        match self.solver.newton(self.path, lambda, guess, effort) {
+            Ok((point, iterations)) => {
+                *trial = point;
+                Corrected::Converged(iterations)
+            }
+            Err(reason) => Corrected::Failed(reason),
+        }
+    }
+
+    /// No flexure tip moves by more than [`MAX_TIP_STEP`].
+    fn on_branch(&self, history: &History<Point>, trial: &Point) -> Result<(), String> {
+        let last = &history.last().point;
+        let jump = (0..self.solver.models.len()).fold(0.0_f64, |m, i| {
+            m.max(trial.evals[i].tip.max_diff(&last.evals[i].tip))
+        });
+        if jump <= MAX_TIP_STEP {
+            Ok(())
+        } else {
+            Err("the equilibrium jumps away from the path".to_string())
+        }
+    }
+
+    /// The Jacobian's determinant keeps the unloaded pose's sign: it changes only through a
+    /// singular Jacobian (a limit point or a bifurcation).
+    fn regular(&self, point: &Point) -> bool {
+        point.det_sign == self.sign0
+    }
+
+    /// Stuck next to a nearly singular Jacobian: a limit point, where the path turns back and
+    /// no equilibrium lies further along the drive.
+    fn near_critical(&mut self, history: &History<Point>, _failure: &String) -> bool {
+        self.solver.pivot_ratio(self.path, &history.last().point) < NEAR_CRITICAL * self.ratio0
+    }
+
+    fn report(&mut self, _lambda: f64, point: &Point, tally: Tally, _effort: &mut Effort) {
+        let case = self.solver.case(self.path, point, tally.iterations);
+        self.cases.push(case);
+    }
+
+    fn stop(&self, why: Stop<String>, fraction: f64, _effort: &Effort) -> MechError {
+        let no_equilibrium = |reason: String| MechError::NoEquilibrium {
+            drive: self.index,
+            fraction,
+            reason,
+        };
+        match why {
+            Stop::Critical => MechError::Critical {
+                drive: self.index,
+                fraction,
+            },
+            Stop::Stuck(reason) => no_equilibrium(reason),
+            Stop::Rejections => no_equilibrium(format!(
+                "continuation rejected more than {REJECTIONS_PER_CASE} sub-steps of one case \
+                 without reaching it"
+            )),
+            // Neither is ever asked for: a drive has no cancel token and no attempt budget.
+            Stop::Cancelled => no_equilibrium("cancelled".into()),
+            Stop::Attempts => no_equilibrium("the effort budget ran out".into()),
+        }
+    }
+}
+
+fn norm(v: &[f64]) -> f64 {
+    v.iter().map(|x| x * x).sum::<f64>().sqrt()
+}

@@ -1,0 +1,395 @@
+//! A PRB chain as the solver holds it (DESIGN §3), nondimensional: its rows and degrees of
+//! freedom, the limits of its path following, and its kinematics and equilibrium equations:
+//! the tip of a configuration `q`, the residual `K q - tau(q)` with its analytic tangent
+//! stiffness, and the linearisation a closed mechanism's solver takes (see `statics.rs` for
+//! the equations). Exact up to rounding: no approximation beyond the PRB model itself.
+
+use crate::beam::{Load, TipPose};
+
+use super::matrix::PrbMatrix;
+
+/// One degree of freedom: which row, and whether it is the joint angle or the extension.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) enum Dof {
+    Theta(usize),
+    Delta(usize),
+}
+
+/// A chain linearised at a configuration: see [`PrbSolver::linearise`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct Linearised {
+    /// The tip.
+    pub tip: TipPose,
+    /// `K q - tau(q)`, one row per degree of freedom.
+    pub residual: Vec<f64>,
+    /// Its Jacobian with respect to `q` (the tangent stiffness), row-major.
+    pub stiffness: Vec<f64>,
+    /// `d(a, b, phi) / dq`, 3 rows of `m`, row-major.
+    pub tip_jacobian: Vec<f64>,
+    /// Scratch.
+    work: Workspace,
+}
+
+/// How hard a solver tries before it gives up on a load path. A fit's trial models use tight
+/// limits, so that failing ones cost little; the defaults suit a model being judged.
+///
+/// Only the smallest step reaches the continuation at present: the Newton limit and the
+/// per-case budget are checked and stored but have never been applied (every attempt may
+/// take 40 iterations, and no case has a budget), and applying them would change fitted
+/// results.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SolverLimits {
+    /// Newton iterations one attempt may take before the continuation step is halved (from a
+    /// good predictor Newton converges in a handful).
+    newton_limit: u32,
+    /// Newton iterations a load path may spend per case, all attempts counted (the path gets
+    /// `case_budget * steps + 100`).
+    case_budget: u32,
+    /// The smallest continuation step, as a fraction of the path, before giving up; a reported
+    /// critical load is located only to within it.
+    min_step: f64,
+}
+
+impl SolverLimits {
+    /// Validated limits: every count at least 1, the step in (0, 1). A `const` built with
+    /// this is checked when the crate compiles.
+    pub const fn new(newton_limit: u32, case_budget: u32, min_step: f64) -> SolverLimits {
+        assert!(newton_limit >= 1, "a Newton limit of 0 allows no iteration");
+        assert!(case_budget >= 1, "a case budget of 0 allows no iteration");
+        assert!(
+            min_step > 0.0 && min_step < 1.0,
+            "the smallest step must be in (0, 1)"
+        );
+        SolverLimits {
+            newton_limit,
+            case_budget,
+            min_step,
+        }
+    }
+
+    /// Checked at run time: the error says which limit is wrong.
+    pub fn checked(
+        newton_limit: u32,
+        case_budget: u32,
+        min_step: f64,
+    ) -> Result<SolverLimits, String> {
+        if newton_limit == 0 {
+            return Err("the Newton limit must be at least 1".into());
+        }
+        if case_budget == 0 {
+            return Err("the per-case Newton budget must be at least 1".into());
+        }
+        if !(min_step > 0.0 && min_step < 1.0) {
+            return Err(format!(
+                "the smallest continuation step must be in (0, 1), got {}",
+                crate::text::bounded(min_step)
+            ));
+        }
+        Ok(SolverLimits::new(newton_limit, case_budget, min_step))
+    }
+}
+
+impl Default for SolverLimits {
+    fn default() -> Self {
+        SolverLimits::new(MAX_NEWTON, u32::MAX, MIN_STEP)
+    }
+}
+
+/// Solves a PRB chain's statics. Cheap to build; holds no scratch between calls.
+#[derive(Debug, Clone)]
+pub struct PrbSolver {
+    pub(super) gamma: Vec<f64>,
+    pub(super) k_theta: Vec<f64>,
+    /// `k_ex / c_e` per row (infinite for rows without an extension spring).
+    pub(super) k_ex_scaled: Vec<f64>,
+    pub(super) dofs: Vec<Dof>,
+    /// The smallest continuation step before giving up on a load path.
+    pub(super) min_step: f64,
+    /// Newton iterations one load path may spend per case, all attempts counted.
+    case_budget: u32,
+    /// Newton iterations one attempt may take before the step is halved.
+    newton_limit: u32,
+}
+
+/// The smallest continuation step (a fraction of the path) of a model being judged.
+const MIN_STEP: f64 = 1e-7;
+/// Newton iterations one continuation attempt may take.
+pub(super) const MAX_NEWTON: u32 = 40;
+
+impl PrbSolver {
+    /// `axial_compliance` is `c_e = I0 / (A0 L^2) = 1 / (12 (L/t0)^2)` of the beam; it only
+    /// matters for extension springs.
+    pub fn new(matrix: &PrbMatrix, axial_compliance: f64) -> PrbSolver {
+        let rows = matrix.rows();
+        let mut dofs = Vec::new();
+        for (i, r) in rows.iter().enumerate() {
+            if r.has_revolute() {
+                dofs.push(Dof::Theta(i));
+            }
+            if r.has_prismatic() {
+                dofs.push(Dof::Delta(i));
+            }
+        }
+        PrbSolver {
+            gamma: rows.iter().map(|r| r.gamma).collect(),
+            k_theta: rows.iter().map(|r| r.k_theta).collect(),
+            k_ex_scaled: rows.iter().map(|r| r.k_ex / axial_compliance).collect(),
+            dofs,
+            min_step: MIN_STEP,
+            case_budget: u32::MAX,
+            newton_limit: MAX_NEWTON,
+        }
+    }
+
+    /// The solver with these effort limits (checked when the limits were made).
+    pub fn with_limits(mut self, limits: SolverLimits) -> PrbSolver {
+        self.newton_limit = limits.newton_limit;
+        self.case_budget = limits.case_budget;
+        self.min_step = limits.min_step;
+        self
+    }
+
+    /// Degrees of freedom of the chain.
+    pub fn dof_count(&self) -> usize {
+        self.dofs.len()
+    }
+}
+
+impl PrbSolver {
+    /// Cumulative angles and lengths of the segments for configuration `q`.
+    pub(super) fn segments(&self, q: &[f64], theta_cum: &mut [f64], length: &mut [f64]) {
+        let n = self.gamma.len();
+        length[..n].copy_from_slice(&self.gamma);
+        theta_cum[..n].iter_mut().for_each(|t| *t = 0.0);
+        for (dof, &v) in self.dofs.iter().zip(q) {
+            match *dof {
+                Dof::Theta(i) => theta_cum[i] = v,
+                Dof::Delta(i) => length[i] += v,
+            }
+        }
+        for i in 1..n {
+            theta_cum[i] += theta_cum[i - 1];
+        }
+    }
+
+    /// The tip pose for configuration `q`.
+    pub fn tip_pose(&self, q: &[f64]) -> TipPose {
+        let mut ws = Workspace::new(self.gamma.len(), self.dofs.len());
+        self.tip(q, &mut ws)
+    }
+
+    pub(super) fn tip(&self, q: &[f64], ws: &mut Workspace) -> TipPose {
+        let n = self.gamma.len();
+        self.segments(q, &mut ws.theta_cum, &mut ws.length);
+        let (mut a, mut b) = (0.0, 0.0);
+        for j in 0..n {
+            let (s, c) = ws.theta_cum[j].sin_cos();
+            a += ws.length[j] * c;
+            b += ws.length[j] * s;
+        }
+        TipPose {
+            a,
+            b,
+            phi: ws.theta_cum[n - 1],
+        }
+    }
+
+    /// The root, every segment's end, in order: `n + 1` points for drawing the linkage.
+    pub fn joint_positions(&self, q: &[f64]) -> Vec<[f64; 2]> {
+        let n = self.gamma.len();
+        let mut theta_cum = vec![0.0; n];
+        let mut length = vec![0.0; n];
+        self.segments(q, &mut theta_cum, &mut length);
+        let mut pts = Vec::with_capacity(n + 1);
+        let (mut x, mut y) = (0.0, 0.0);
+        pts.push([x, y]);
+        for i in 0..n {
+            let (s, c) = theta_cum[i].sin_cos();
+            x += length[i] * c;
+            y += length[i] * s;
+            pts.push([x, y]);
+        }
+        pts
+    }
+
+    /// Residual `K q - tau(q)` and tangent stiffness (row-major, symmetric) at `q`.
+    /// Returns the tip pose too.
+    pub(super) fn residual(&self, load: Load, q: &[f64], ws: &mut Workspace) -> TipPose {
+        let n = self.gamma.len();
+        let m = self.dofs.len();
+        self.segments(q, &mut ws.theta_cum, &mut ws.length);
+        let (mut a, mut b) = (0.0, 0.0);
+        for j in 0..n {
+            let (s, c) = ws.theta_cum[j].sin_cos();
+            ws.axial[j] = load.alpha_x * c + load.alpha_y * s;
+            ws.transverse[j] = -load.alpha_x * s + load.alpha_y * c;
+            a += ws.length[j] * c;
+            b += ws.length[j] * s;
+        }
+        // Suffix sums: moment of the tip force about joint i, and its derivative.
+        let (mut sq, mut sn) = (0.0, 0.0);
+        for j in (0..n).rev() {
+            sq += ws.length[j] * ws.transverse[j];
+            sn += ws.length[j] * ws.axial[j];
+            ws.suffix_q[j] = sq;
+            ws.suffix_n[j] = sn;
+        }
+        for (r, dof) in self.dofs.iter().enumerate() {
+            ws.res[r] = match *dof {
+                Dof::Theta(i) => self.k_theta[i] * q[r] - (load.beta + ws.suffix_q[i]),
+                Dof::Delta(i) => self.k_ex_scaled[i] * q[r] - ws.axial[i],
+            };
+            for (c, other) in self.dofs.iter().enumerate() {
+                ws.jac[r * m + c] = match (*dof, *other) {
+                    (Dof::Theta(i), Dof::Theta(k)) => {
+                        let diag = if r == c { self.k_theta[i] } else { 0.0 };
+                        diag + ws.suffix_n[i.max(k)]
+                    }
+                    (Dof::Theta(i), Dof::Delta(p)) => {
+                        if p >= i {
+                            -ws.transverse[p]
+                        } else {
+                            0.0
+                        }
+                    }
+                    (Dof::Delta(p), Dof::Theta(k)) => {
+                        if k <= p {
+                            -ws.transverse[p]
+                        } else {
+                            0.0
+                        }
+                    }
+                    (Dof::Delta(p), Dof::Delta(_)) => {
+                        if r == c {
+                            self.k_ex_scaled[p]
+                        } else {
+                            0.0
+                        }
+                    }
+                };
+            }
+        }
+        TipPose {
+            a,
+            b,
+            phi: ws.theta_cum[n - 1],
+        }
+    }
+
+    /// The chain linearised at `q` under `load` (for solvers that take `q` and the load as
+    /// unknowns together, like a closed mechanism's): the residual `K q - tau(q)`, its
+    /// Jacobian with respect to `q`, the tip and the tip's Jacobian `d(a, b, phi) / dq`
+    /// (3 rows of `m`, row-major). `tau = J^T (alpha_x, alpha_y, beta)` is the virtual work
+    /// of the tip wrench, so the residual's derivative with respect to the wrench is minus
+    /// the tip Jacobian's transpose.
+    pub fn linearise(&self, load: Load, q: &[f64]) -> Linearised {
+        let mut out = self.linearised();
+        self.linearise_into(load, q, &mut out);
+        out
+    }
+
+    /// Storage for [`PrbSolver::linearise_into`], sized for this chain.
+    pub fn linearised(&self) -> Linearised {
+        let m = self.dofs.len();
+        Linearised {
+            tip: TipPose::STRAIGHT,
+            residual: vec![0.0; m],
+            stiffness: vec![0.0; m * m],
+            tip_jacobian: vec![0.0; 3 * m],
+            work: Workspace::new(self.gamma.len(), m),
+        }
+    }
+
+    /// [`PrbSolver::linearise`] into storage from [`PrbSolver::linearised`], allocating
+    /// nothing (a mechanism's Newton iteration calls it for every chain at every step).
+    pub fn linearise_into(&self, load: Load, q: &[f64], out: &mut Linearised) {
+        let n = self.gamma.len();
+        let m = self.dofs.len();
+        let ws = &mut out.work;
+        out.tip = self.residual(load, q, ws);
+        // Suffix sums of the segments' projections: d(a, b)/d(theta_i) turns everything
+        // beyond joint i.
+        let (mut sa, mut sb) = (0.0, 0.0);
+        for j in (0..n).rev() {
+            let (s, c) = ws.theta_cum[j].sin_cos();
+            sa -= ws.length[j] * s;
+            sb += ws.length[j] * c;
+            ws.suffix_q[j] = sa;
+            ws.suffix_n[j] = sb;
+        }
+        for (c, dof) in self.dofs.iter().enumerate() {
+            let (da, db, dphi) = match *dof {
+                Dof::Theta(i) => (ws.suffix_q[i], ws.suffix_n[i], 1.0),
+                Dof::Delta(i) => {
+                    let (s, co) = ws.theta_cum[i].sin_cos();
+                    (co, s, 0.0)
+                }
+            };
+            out.tip_jacobian[c] = da;
+            out.tip_jacobian[m + c] = db;
+            out.tip_jacobian[2 * m + c] = dphi;
+        }
+        out.residual.copy_from_slice(&ws.res[..m]);
+        out.stiffness.copy_from_slice(&ws.jac[..m * m]);
+    }
+
+    /// The residual and Jacobian at `q`, for testing the analytic Jacobian.
+    pub fn residual_and_jacobian(&self, load: Load, q: &[f64]) -> (Vec<f64>, Vec<f64>) {
+        let m = self.dofs.len();
+        let mut ws = Workspace::new(self.gamma.len(), m);
+        self.residual(load, q, &mut ws);
+        (ws.res[..m].to_vec(), ws.jac[..m * m].to_vec())
+    }
+}
+
+/// Scratch space for one path solve, so Newton allocates nothing.
+#[derive(Debug, Clone, PartialEq)]
+pub(super) struct Workspace {
+    theta_cum: Vec<f64>,
+    length: Vec<f64>,
+    axial: Vec<f64>,
+    transverse: Vec<f64>,
+    suffix_q: Vec<f64>,
+    suffix_n: Vec<f64>,
+    pub(super) res: Vec<f64>,
+    pub(super) step: Vec<f64>,
+    pub(super) jac: Vec<f64>,
+}
+
+impl Workspace {
+    pub(super) fn new(n: usize, m: usize) -> Workspace {
+        Workspace {
+            theta_cum: vec![0.0; n],
+            length: vec![0.0; n],
+            axial: vec![0.0; n],
+            transverse: vec![0.0; n],
+            suffix_q: vec![0.0; n],
+            suffix_n: vec![0.0; n],
+            res: vec![0.0; m],
+            step: vec![0.0; m],
+            jac: vec![0.0; m * m],
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn limits_are_checked() {
+        assert!(SolverLimits::checked(0, 5, 1e-3)
+            .unwrap_err()
+            .contains("Newton limit"));
+        assert!(SolverLimits::checked(5, 0, 1e-3)
+            .unwrap_err()
+            .contains("budget"));
+        for bad in [0.0, -1.0, 1.0, f64::NAN] {
+            assert!(SolverLimits::checked(5, 5, bad).is_err(), "{bad}");
+        }
+        assert_eq!(
+            SolverLimits::checked(12, 20, 1e-3),
+            Ok(SolverLimits::new(12, 20, 1e-3))
+        );
+    }
+}

@@ -1,0 +1,319 @@
+//! A PRB chain along a load curve, as a problem of the continuation driver
+//! ([`crate::continuation`]): the state is the configuration `q`, the corrector Newton on the
+//! analytic tangent stiffness, and the critical-point indicator that stiffness's positive
+//! definiteness (Cholesky succeeds), tested inside every Newton iteration; and what a path
+//! hands back ([`PrbSolution`], [`PrbCase`], [`PrbError`]).
+//!
+//! Newton stops when no update moves a joint by more than `1e-13` (radians, units of L), so
+//! an accepted configuration is exact to rounding.
+
+use crate::beam::{Load, TipPose};
+use crate::continuation::{self, Corrected, Effort, History, Limits, PathProblem, Stop, Tally};
+use crate::linalg::cholesky_solve;
+
+use super::chain::{PrbSolver, Workspace, MAX_NEWTON};
+
+/// Why a PRB equilibrium could not be found.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum PrbError {
+    /// The requested load has a NaN or infinite component; holds that load.
+    #[error("load is not finite: {0}")]
+    NonFiniteLoad(Load),
+    /// Continuation stalled: Newton diverged, the tip jumped off the followed branch, or the
+    /// iteration budget ran out before the end of the load path.
+    #[error(
+        "the PRB model has no equilibrium for {load} past {:.4} of the load path ({reason})",
+        fraction
+    )]
+    NoEquilibrium {
+        /// The end of the load path (nondimensional `alpha_x`, `alpha_y`, `beta`).
+        load: Load,
+        /// The last load-path fraction (0 to 1) where an equilibrium was accepted.
+        fraction: f64,
+        /// What stopped the continuation, in words.
+        reason: String,
+    },
+    /// The tangent stiffness stopped being positive definite on the load path: the chain
+    /// buckles or snaps through there, and the stable branch ends.
+    #[error(
+        "the PRB model reaches a critical point (its tangent stiffness turns singular) at {:.4} \
+         of the load path to {load}: it buckles or snaps there",
+        fraction
+    )]
+    Unstable {
+        /// The end of the load path (nondimensional `alpha_x`, `alpha_y`, `beta`).
+        load: Load,
+        /// The last load-path fraction (0 to 1) where a stable equilibrium was accepted.
+        fraction: f64,
+    },
+}
+
+/// An equilibrium of the chain.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PrbSolution {
+    /// The load solved for (nondimensional `alpha_x`, `alpha_y`, `beta`).
+    pub load: Load,
+    /// The chain's tip: `a`, `b` in units of L, `phi` (the last segment's angle `Theta_N`)
+    /// in radians.
+    pub tip: TipPose,
+    /// Joint angles (radians, revolute rows) and extensions (units of L, prismatic rows), in
+    /// row order.
+    pub q: Vec<f64>,
+    /// Newton iterations spent on this load, continuation sub-steps included.
+    pub iterations: u32,
+}
+
+/// One equilibrium as handed to a visitor: the configuration is borrowed, so following a load
+/// path allocates nothing per case.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PrbCase<'a> {
+    /// The load solved for (nondimensional `alpha_x`, `alpha_y`, `beta`).
+    pub load: Load,
+    /// The chain's tip: `a`, `b` in units of L, `phi` in radians.
+    pub tip: TipPose,
+    /// Joint angles (radians, revolute rows) and extensions (units of L, prismatic rows), in
+    /// row order; borrowed from the solver's buffer.
+    pub q: &'a [f64],
+    /// Newton iterations spent on this load, continuation sub-steps included.
+    pub iterations: u32,
+}
+
+impl PrbCase<'_> {
+    /// An owned copy of this equilibrium.
+    pub fn to_solution(&self) -> PrbSolution {
+        PrbSolution {
+            load: self.load,
+            tip: self.tip,
+            q: self.q.to_vec(),
+            iterations: self.iterations,
+        }
+    }
+}
+
+/// Newton stops when the update is below this (radians, units of L).
+const NEWTON_TOL: f64 = 1e-13;
+/// No Newton update turns a joint by more than this (radians).
+const MAX_TURN: f64 = 0.5;
+/// No accepted step moves the tip by more than this (units of L, radians).
+const MAX_TIP_JUMP: f64 = 1.0;
+
+/// Why Newton failed at a fixed load.
+#[derive(Debug, Clone, Copy)]
+enum Failure {
+    /// The tangent stiffness is not positive definite: an unstable or critical state.
+    NotPositiveDefinite,
+    Diverged,
+}
+
+/// Why an attempt was rejected, other than a critical point.
+#[derive(Debug, Clone, Copy)]
+enum Stall {
+    /// Newton did not converge.
+    Diverged,
+    /// Converged, but off the branch followed.
+    Jumped,
+}
+
+/// The state at one point of the path.
+#[derive(Debug, Clone)]
+struct Point {
+    /// The load there.
+    load: Load,
+    q: Vec<f64>,
+    tip: TipPose,
+    /// The tip the predictor expected (of the attempt that found this point).
+    predicted: TipPose,
+}
+
+/// One load curve of one chain in progress.
+struct PrbPath<'a, F, V> {
+    solver: &'a PrbSolver,
+    /// The end of the curve, named in errors.
+    end: Load,
+    load_at: F,
+    visit: V,
+    ws: Workspace,
+}
+
+impl PrbSolver {
+    /// Follows the load curve `load_at(lambda)`, `lambda` from 0 (unloaded) to 1 (`end`),
+    /// handing the cases at `k / steps` to `visit`.
+    pub(super) fn follow_with(
+        &self,
+        end: Load,
+        steps: u32,
+        load_at: impl Fn(f64) -> Load,
+        visit: impl FnMut(PrbCase<'_>),
+    ) -> Result<(), PrbError> {
+        if !end.is_finite() {
+            return Err(PrbError::NonFiniteLoad(end));
+        }
+        let steps = steps.max(1);
+        let m = self.dofs.len();
+        // The Newton limit and per-case budget of `SolverLimits` are not applied: the path
+        // has always run with MAX_NEWTON and no budget (its iterations were never counted),
+        // and applying them would change every fit's results. The smallest step is applied.
+        let limits = Limits::new(steps, self.min_step, MAX_NEWTON);
+        let mut path = PrbPath {
+            solver: self,
+            end,
+            load_at,
+            visit,
+            ws: Workspace::new(self.gamma.len(), m),
+        };
+        let start = Point {
+            load: Load::default(),
+            q: vec![0.0; m],
+            tip: TipPose::STRAIGHT,
+            predicted: TipPose::STRAIGHT,
+        };
+        continuation::follow(&mut path, start, steps, &limits, None)
+    }
+
+    /// Newton at a fixed load from `q` (updated in place). Returns the tip and iterations; a
+    /// tangent stiffness that is not positive definite (an unstable or critical state) fails.
+    fn newton(
+        &self,
+        load: Load,
+        q: &mut [f64],
+        ws: &mut Workspace,
+        effort: &mut Effort,
+    ) -> Result<(TipPose, u32), Failure> {
+        let m = self.dofs.len();
+        for iteration in 1..=effort.newton_limit() {
+            if !effort.spend_iteration() {
+                return Err(Failure::Diverged);
+            }
+            let tip = self.residual(load, q, ws);
+            ws.step[..m].copy_from_slice(&ws.res[..m]);
+            if !cholesky_solve(&mut ws.jac[..m * m], &mut ws.step[..m], m) {
+                return Err(Failure::NotPositiveDefinite);
+            }
+            let biggest = ws.step[..m].iter().fold(0.0_f64, |acc, v| acc.max(v.abs()));
+            if !biggest.is_finite() {
+                return Err(Failure::Diverged);
+            }
+            let scale = if biggest > MAX_TURN {
+                MAX_TURN / biggest
+            } else {
+                1.0
+            };
+            for (qi, si) in q.iter_mut().zip(&ws.step[..m]) {
+                *qi -= scale * si;
+            }
+            if biggest <= NEWTON_TOL {
+                // The last update moved nothing by more than NEWTON_TOL: the tip stands.
+                return Ok((tip, iteration));
+            }
+        }
+        Err(Failure::Diverged)
+    }
+}
+
+impl<F, V> PathProblem for PrbPath<'_, F, V>
+where
+    F: Fn(f64) -> Load,
+    V: FnMut(PrbCase<'_>),
+{
+    type Point = Point;
+    type Failure = Stall;
+    type Error = PrbError;
+
+    /// From the unloaded chain, the previous configuration.
+    fn tangent(&self, start: &Point, _step: f64, trial: &mut Point) {
+        trial.q.copy_from_slice(&start.q);
+        trial.tip = start.tip;
+    }
+
+    fn secant(&self, last: &Point, before: &Point, t: f64, trial: &mut Point) {
+        for ((q, q1), q0) in trial.q.iter_mut().zip(&last.q).zip(&before.q) {
+            *q = q1 + t * (q1 - q0);
+        }
+        let (p1, p0) = (&last.tip, &before.tip);
+        trial.tip = TipPose {
+            a: p1.a + t * (p1.a - p0.a),
+            b: p1.b + t * (p1.b - p0.b),
+            phi: p1.phi + t * (p1.phi - p0.phi),
+        };
+    }
+
+    fn correct(
+        &mut self,
+        lambda: f64,
+        _history: &History<Point>,
+        trial: &mut Point,
+        effort: &mut Effort,
+    ) -> Corrected<Stall, PrbError> {
+        trial.predicted = trial.tip;
+        trial.load = (self.load_at)(lambda);
+        match self
+            .solver
+            .newton(trial.load, &mut trial.q, &mut self.ws, effort)
+        {
+            Ok((tip, iterations)) => {
+                trial.tip = tip;
+                Corrected::Converged(iterations)
+            }
+            // Cholesky failed: an unstable state, bisected to the critical point.
+            Err(Failure::NotPositiveDefinite) => Corrected::Critical,
+            Err(Failure::Diverged) => Corrected::Failed(Stall::Diverged),
+        }
+    }
+
+    /// The tip may not jump, nor (once there is a secant) land far from the prediction.
+    fn on_branch(&self, history: &History<Point>, trial: &Point) -> Result<(), Stall> {
+        let prev_tip = &history.last().point.tip;
+        let jump = trial.tip.max_diff(prev_tip);
+        let off_prediction = trial.tip.max_diff(&trial.predicted);
+        if jump > MAX_TIP_JUMP
+            || (history.before().is_some()
+                && off_prediction > 0.15 + 0.5 * trial.predicted.max_diff(prev_tip))
+        {
+            return Err(Stall::Jumped);
+        }
+        Ok(())
+    }
+
+    /// Newton only converges where the tangent stiffness is positive definite (it reports
+    /// [`Corrected::Critical`] otherwise).
+    fn regular(&self, _point: &Point) -> bool {
+        true
+    }
+
+    /// A stall whose last attempt diverged or jumped is no critical point.
+    fn near_critical(&mut self, _history: &History<Point>, _failure: &Stall) -> bool {
+        false
+    }
+
+    fn report(&mut self, _lambda: f64, point: &Point, tally: Tally, _effort: &mut Effort) {
+        (self.visit)(PrbCase {
+            load: point.load,
+            tip: point.tip,
+            q: &point.q,
+            iterations: tally.iterations,
+        });
+    }
+
+    fn stop(&self, why: Stop<Stall>, fraction: f64, _effort: &Effort) -> PrbError {
+        let no_equilibrium = |reason: &str| PrbError::NoEquilibrium {
+            load: self.end,
+            fraction,
+            reason: reason.into(),
+        };
+        match why {
+            Stop::Critical => PrbError::Unstable {
+                load: self.end,
+                fraction,
+            },
+            Stop::Stuck(Stall::Diverged) => no_equilibrium("Newton did not converge"),
+            Stop::Stuck(Stall::Jumped) => {
+                no_equilibrium("the equilibrium jumps away from the path")
+            }
+            // Neither is ever asked for: a PRB path has no cancel token and no budget.
+            Stop::Cancelled => no_equilibrium("cancelled"),
+            Stop::Attempts | Stop::Rejections => {
+                no_equilibrium("the effort budget ran out before the load was reached")
+            }
+        }
+    }
+}
