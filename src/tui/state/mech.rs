@@ -15,11 +15,11 @@
 //! stage point moves ([`Mechanism::with_stage_point`]), and a beam edit reaches every flexure
 //! that does not override that value ([`Mechanism::rebased`]).
 
+use crate::mech::MechCase;
 use crate::scene::{rules, Attach, BeamSpec, Coordinate, Mechanism, Scene, COORDINATE_KEYS};
 use crate::si::MechUnits;
 
 use super::super::units::trim_number;
-use super::super::worker::MechBaselineView;
 use super::mech_text::{dist, parse_angle, parse_point, parse_value, point_text, value_text};
 use super::step;
 
@@ -237,12 +237,9 @@ impl MechField {
 /// (clamped, pinned, link, round again), or the coordinate of the other kind. A prescribed
 /// coordinate becomes the load that holds the exact mechanism where the drive took it (its
 /// reaction at the drive's end), a loaded one the motion that load caused, so the drive's
-/// end state stays where it was; with no exact solution yet, zero.
-pub fn toggled(
-    m: &Mechanism,
-    field: MechField,
-    exact: Option<&MechBaselineView>,
-) -> Vec<Mechanism> {
+/// end state `end` (the exact mechanism's last case of the drive) stays where it was; with no
+/// exact solution yet, zero.
+pub fn toggled(m: &Mechanism, field: MechField, end: Option<&MechCase>) -> Vec<Mechanism> {
     match field {
         MechField::Attach(i) => {
             let Some(f) = m.flexures.get(i) else {
@@ -266,11 +263,6 @@ pub fn toggled(
             let Some(d) = m.drives.get(drive) else {
                 return Vec::new();
             };
-            // The exact mechanism at the drive's end, in SI.
-            let end = exact
-                .filter(|v| v.mechanism.drives.get(drive) == Some(d))
-                .and_then(|v| v.cases.get(drive))
-                .and_then(|cases| cases.last());
             let (l, _) = m.scale();
             let u = MechUnits::new(m);
             let mut out = m.clone();
