@@ -28,6 +28,8 @@
 pub mod app;
 pub mod keymap;
 pub mod latest_job;
+#[cfg(test)]
+mod layering;
 pub mod panel;
 pub mod state;
 pub mod ui;
