@@ -542,10 +542,7 @@ mod no_panics {
 
     /// The strip judged once (as the worker would), for every case below.
     fn judged() -> App {
-        let mut app = app_on(&strip());
-        let b = Study::as_given(&app.edit.scene, Sampling::Fidelity(Fidelity::Normal)).unwrap();
-        app.shown.result = Some(common::tui::judged(&b, &app.edit.matrix));
-        app
+        common::tui::judged_as_given(Scene::from_file(&strip()).unwrap(), Some(strip()))
     }
 
     proptest! {

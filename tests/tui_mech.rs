@@ -23,20 +23,13 @@ use common::tui::{any_key, drive, edit, job_of, key, press, scene, scene_path, s
 
 /// The app on `name`, focused on the mechanism panel's row `field`.
 fn at_field(name: &str, field: MechField) -> App {
-    let mut app = App::new(scene(name), None);
-    app.edit.focus = Panel::Mechanism;
-    let m = app.edit.scene.mechanism.clone().unwrap();
-    app.edit.mech_state.row = fields(&m).iter().position(|f| *f == field).unwrap();
-    app
+    common::tui::at_field(&scene_path(name), field)
 }
 
-/// The app on `name` with the exact mechanism and `model`'s PRB mechanism shown.
+/// The app on `name` with the exact mechanism and `model`'s PRB mechanism shown, on the
+/// mechanism panel.
 fn judged(name: &str, model: &str) -> App {
-    let mut app = App::new(scene(name), None);
-    app.edit.matrix = ModelFile::load(model).unwrap().prb;
-    let study = study(&app.edit.scene, Fidelity::Normal);
-    app.shown.result = Some(common::tui::judged(&study, &app.edit.matrix));
-    app
+    common::tui::judged_mechanism(&scene_path(name), model, 0.0)
 }
 
 /// `prbfit tui MECH` starts on the mechanism (no refusal) and `o` opens one over a

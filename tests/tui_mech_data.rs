@@ -174,11 +174,7 @@ fn a_mechanism_data_scene_opens_and_fits_as_the_cli_does() {
 
 /// The app on the rig, on the mechanism panel, with the cursor on `field`.
 fn at(field: MechField) -> App {
-    let mut app = app_on(&rig());
-    app.edit.focus = Panel::Mechanism;
-    let m = app.edit.scene.mechanism.clone().unwrap();
-    app.edit.mech_state.row = fields(&m).iter().position(|f| *f == field).unwrap();
-    app
+    common::tui::at_field(&rig(), field)
 }
 
 /// The drives are the file's rows: on every drive row, Enter (edit), `p` (prescribed /

@@ -18,9 +18,7 @@ use ratatui::Terminal;
 /// The app as it is after the first job on the built-in scene, with results computed here
 /// (deterministic: the same solver and matrix the worker would use).
 fn judged_app() -> App {
-    let mut app = App::new(Scene::builtin(), None);
-    let study = Study::as_given(&app.edit.scene, Sampling::Fidelity(Fidelity::Normal)).unwrap();
-    app.shown.result = Some(common::tui::judged(&study, &app.edit.matrix));
+    let mut app = common::tui::judged_as_given(Scene::builtin(), None);
     app.jobs.activity = Activity::Done {
         seconds: 0.0123,
         stop: Some(StopReason::Converged),
@@ -507,9 +505,7 @@ fn mechanism_selection_view_120x40() {
 fn judged_data_app() -> App {
     let path =
         std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/wide-strip-fea.toml");
-    let mut app = App::new(Scene::from_file(&path).unwrap(), Some(path));
-    let study = Study::as_given(&app.edit.scene, Sampling::Fidelity(Fidelity::Normal)).unwrap();
-    app.shown.result = Some(common::tui::judged(&study, &app.edit.matrix));
+    let mut app = common::tui::judged_as_given(Scene::from_file(&path).unwrap(), Some(path));
     app.jobs.activity = Activity::Done {
         seconds: 0.0042,
         stop: None,

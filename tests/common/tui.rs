@@ -124,6 +124,33 @@ pub fn judged(study: &Study, matrix: &PrbMatrix) -> Judged {
     }
 }
 
+/// The app on `scene` (read from `path`, if any) with its own model judged on the scene's
+/// truth taken as given ([`Study::as_given`]) at normal fidelity, as the worker judges it
+/// (deterministic: no timing).
+pub fn judged_as_given(scene: Scene, path: Option<PathBuf>) -> App {
+    use prbfit::study::Sampling;
+    let mut app = App::new(scene, path);
+    let study =
+        Study::as_given(&app.edit.scene, Sampling::Fidelity(Fidelity::Normal)).expect("the study");
+    app.shown.result = Some(judged(&study, &app.edit.matrix));
+    app
+}
+
+/// The app on the mechanism scene file `path`, the mechanism panel focused with its cursor
+/// on `field`.
+pub fn at_field(path: &Path, field: prbfit::tui::state::mech::MechField) -> App {
+    use prbfit::tui::app::Panel;
+    use prbfit::tui::state::mech::fields;
+    let mut app = app_on(path);
+    app.edit.focus = Panel::Mechanism;
+    let m = app.edit.scene.mechanism.clone().expect("a mechanism scene");
+    app.edit.mech_state.row = fields(&m)
+        .iter()
+        .position(|f| *f == field)
+        .expect("the field");
+    app
+}
+
 /// The study of `scene` at `fidelity` as the worker solves it (`auto` effects decided).
 pub fn study(scene: &Scene, fidelity: Fidelity) -> Study {
     study_of(scene, fidelity, &CancelToken::new()).expect("the study")
