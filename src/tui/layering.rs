@@ -2,7 +2,8 @@
 //! below them ([`ORDER`]), and no file uses another that uses it back, directly or through
 //! others (a parent `mod.rs` and its children included). The sources are read as text: every
 //! path in code (not in comments) that starts at `super`, `self`, `crate::tui` or, in a
-//! `mod.rs`, at one of its child modules is resolved to the file it names.
+//! `mod.rs`, at one of its child modules is resolved to the file it names (an inline
+//! `mod tests` is read as its file: its paths name files with `crate::tui::`).
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};

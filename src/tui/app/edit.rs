@@ -16,6 +16,7 @@ use crate::study::CaseForm;
 
 use super::super::panel::Panel;
 use super::super::state::beam::{toggled_effect, BeamField, BeamState};
+use super::super::state::checked;
 use super::super::state::loads::{self, held_forces, Hold, LoadsState};
 use super::super::state::matrix::MatrixState;
 use super::super::state::mech::{self as mech_state, MechField, MechState};
@@ -44,14 +45,6 @@ pub enum EditTarget {
     },
     /// A row of the mechanism panel.
     Mech(MechField),
-}
-
-/// Checks an edited scene by the rules a scene file obeys ([`Scene::validate`]).
-pub fn validate_scene(scene: &Scene) -> Result<(), String> {
-    scene.validate().map_err(|e| match e.key {
-        Some(key) => format!("{key}: {}", e.message),
-        None => e.message,
-    })
 }
 
 /// The scene, the model and the panels' states.
@@ -317,19 +310,12 @@ impl Editing {
         Ok(())
     }
 
-    /// Takes an edited scene if it obeys the scene file's rules (the scene's own edit,
-    /// [`Scene::rebased`], first carries a beam edit to a mechanism's flexures and a data
-    /// scene's rows).
-    fn take_scene(&mut self, mut scene: Scene) -> Result<(), String> {
-        if let Some(m) = &scene.mechanism {
-            if scene.beam != self.scene.beam {
-                scene.mechanism = Some(mech_state::rebased(m, &self.scene.beam, &scene.beam));
-            }
-            mech_state::validate(&scene)?;
-        } else {
-            scene = scene.rebased(&self.scene.beam)?;
-            validate_scene(&scene)?;
-        }
+    /// Takes an edited scene, of any kind, if it obeys the scene file's rules
+    /// ([`checked`]); the scene's own edit, [`Scene::rebased`], first carries a beam edit to
+    /// a mechanism's flexures and a data scene's rows.
+    fn take_scene(&mut self, scene: Scene) -> Result<(), String> {
+        let scene = scene.rebased(&self.scene.beam)?;
+        checked(&scene)?;
         if scene != self.scene {
             self.scene = scene;
             self.scene_dirty = true;

@@ -34,7 +34,7 @@ use crate::scene::Scene;
 pub use super::panel::Panel;
 pub use super::state::text::TextBox;
 pub use dialog::{parse_density, Command, PromptKind, Tone, DEFAULT_DENSITY};
-pub use edit::{validate_scene, EditTarget, Editing};
+pub use edit::{EditTarget, Editing};
 pub use jobs::{Activity, JobClient, DEBOUNCE};
 pub use shown::{Judged, Shown};
 

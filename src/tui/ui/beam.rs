@@ -9,7 +9,7 @@ use ratatui::Frame;
 use super::super::app::{App, EditTarget, Panel};
 use super::super::state::beam::BeamField;
 use super::super::units::trim_number;
-use super::parts::{panel_block, shown, Palette};
+use super::parts::{field_text, panel_block, Palette};
 
 /// What the beam panel draws.
 #[derive(Debug, Clone, PartialEq)]
@@ -36,7 +36,7 @@ impl View {
                 .iter()
                 .map(|&f| {
                     let text = f.text(&app.edit.scene, app.shown.decided_effects());
-                    let (text, editing) = shown(app, &EditTarget::Beam(f), text);
+                    let (text, editing) = field_text(app, &EditTarget::Beam(f), text);
                     (f.label(), text, editing)
                 })
                 .collect(),

@@ -12,7 +12,7 @@ use super::super::app::{App, EditTarget, Panel};
 use super::super::state::loads::{
     alpha_text, load_text, si_text, Hold, LOAD_COLUMNS, LOAD_COLUMNS_SI,
 };
-use super::parts::{panel_block, shown, Palette, PATH_COLORS};
+use super::parts::{field_text, panel_block, Palette, PATH_COLORS};
 
 /// What the load panel draws.
 #[derive(Debug, Clone, PartialEq)]
@@ -49,7 +49,7 @@ impl View {
                 .map(|(row, path)| {
                     (0..LOAD_COLUMNS.len())
                         .map(|col| {
-                            shown(
+                            field_text(
                                 app,
                                 &EditTarget::Load { row, col },
                                 load_text(path, col, app.edit.si_beam()),

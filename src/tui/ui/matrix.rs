@@ -10,7 +10,7 @@ use ratatui::Frame;
 use crate::prb::Column;
 
 use super::super::app::{App, EditTarget, Panel};
-use super::parts::{panel_block, shown, Palette};
+use super::parts::{field_text, panel_block, Palette};
 
 /// How a cell looks.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -65,7 +65,8 @@ impl View {
                         } else {
                             CellKind::Free
                         };
-                        let (text, editing) = shown(app, &EditTarget::Cell { row: r, col }, text);
+                        let (text, editing) =
+                            field_text(app, &EditTarget::Cell { row: r, col }, text);
                         (text, kind, editing)
                     })
                     .collect()

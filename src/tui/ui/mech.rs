@@ -10,7 +10,7 @@ use ratatui::Frame;
 
 use super::super::app::{App, EditTarget, Panel};
 use super::super::state::mech::fields;
-use super::parts::{panel_block, shown, Palette};
+use super::parts::{field_text, panel_block, Palette};
 
 /// What the mechanism panel draws.
 #[derive(Debug, Clone, PartialEq)]
@@ -55,7 +55,7 @@ impl View {
             let mut last_group = String::new();
             for f in fields(m) {
                 let group = f.group();
-                let (text, editing) = shown(app, &EditTarget::Mech(f), f.text(m));
+                let (text, editing) = field_text(app, &EditTarget::Mech(f), f.text(m));
                 let head = if group == last_group {
                     String::new()
                 } else {

@@ -85,7 +85,7 @@ pub fn panel_block<'a>(title: impl Into<Cow<'a, str>>, focused: bool, pal: Palet
 }
 
 /// The text of a field, or its editor (with a cursor) when being edited.
-pub fn shown(app: &App, target: &EditTarget, text: String) -> (String, bool) {
+pub fn field_text(app: &App, target: &EditTarget, text: String) -> (String, bool) {
     match &app.edit.editing {
         Some((t, tb)) if t == target => (tb.with_cursor(), true),
         _ => (text, false),
