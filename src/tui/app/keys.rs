@@ -1,7 +1,6 @@
 //! The key handling: one key at a time to whatever has it (the prompt, the field being
 //! edited, the help, the selection view, else the focused panel), each through the
-//! [`keymap`](super::super::keymap), so the keys, the help and the hint line cannot drift
-//! apart.
+//! [`keymap`], so the keys, the help and the hint line cannot drift apart.
 
 use std::time::Instant;
 
@@ -239,13 +238,5 @@ impl App {
             }
             Err(err) => self.set_error(format!("rejected: {err}")),
         }
-    }
-
-    /// How many cases the shown path has in the truth shown.
-    pub fn shown_cases(&self) -> usize {
-        self.shown
-            .truth()
-            .and_then(|t| t.cases.get(self.edit.shown_path()))
-            .map_or(0, Vec::len)
     }
 }

@@ -128,6 +128,14 @@ impl App {
         self.open_prompt(PromptKind::ConfirmOverwrite, String::new());
     }
 
+    /// How many cases the path the charts show has in the truth shown.
+    pub fn shown_cases(&self) -> usize {
+        self.shown
+            .truth()
+            .and_then(|t| t.cases.get(self.edit.shown_path()))
+            .map_or(0, Vec::len)
+    }
+
     fn open_prompt(&mut self, kind: PromptKind, text: String) {
         self.prompt = Some((kind, TextBox::new(text)));
     }

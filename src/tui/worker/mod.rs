@@ -29,8 +29,8 @@ mod view;
 
 pub use job::{FitStatus, Job, JobKind, WorkerMsg};
 pub use run::{study_of, write_error};
-pub use truth::{truth_view, Cancelled};
-pub use view::{model_cases, model_view, per_path, MeasuredView, ModelView, TruthView};
+pub use truth::truth_view;
+pub use view::{model_cases, model_view, MeasuredView, ModelView, TruthView};
 
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::sync::mpsc::{channel, Receiver, Sender};

@@ -25,16 +25,16 @@ use crate::study::Study;
 
 use super::view::{per_path, MeasuredView, TruthView};
 
-/// Why [`truth_view`] has no answer: the job was cancelled.
+/// The job was cancelled while the beam beside the data was being solved.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Cancelled;
+struct Cancelled;
 
 /// The charts' view of `study`'s truth, the beam beside a data scene's data solved at the
 /// study's resolution. A beam that cannot follow the data is no failure (the data are the
 /// truth; the beam is only shown beside them): the view says why instead.
 ///
 /// # Errors
-/// [`Cancelled`] soon after `cancel` is set; the exact mechanism's shapes, when its beams
+/// `cancelled` soon after `cancel` is set; the exact mechanism's shapes, when its beams
 /// cannot be shot again (a resolution the solver refuses).
 pub fn truth_view(study: &Study, cancel: &CancelToken) -> Result<TruthView, String> {
     let t0 = Instant::now();
