@@ -92,11 +92,9 @@ impl Shown {
         (same && compared.model.matrix == *matrix).then_some((name.as_str(), &compared.model))
     }
 
-    /// What `auto` effects were decided as, once the worker decided them.
+    /// What the scene's `auto` effects were decided as, once the worker decided them.
     pub fn decided_effects(&self) -> Option<Effects> {
-        self.truth()
-            .filter(|t| t.decision.is_some())
-            .map(|t| t.effects)
+        Some(self.truth()?.decision.as_ref()?.effects)
     }
 
     /// Whether the selection view is open.

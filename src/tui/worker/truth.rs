@@ -13,7 +13,7 @@
 
 use std::time::Instant;
 
-use crate::beam::{BeamSolver, Effects, Resolution, SolveError, TipPose};
+use crate::beam::{BeamSolver, Resolution, SolveError, TipPose};
 use crate::cancel::CancelToken;
 use crate::eval::{Baseline, CaseError};
 use crate::mech::figures::{compare, JudgedCase};
@@ -59,16 +59,10 @@ pub fn truth_view(study: &Study, cancel: &CancelToken) -> Result<TruthView, Stri
             (poses, Some(measured))
         }
     };
-    let effects = mechanism
-        .flexures
-        .first()
-        .map_or(Effects::ALL, |f| f.beam.effects.resolve());
     Ok(TruthView {
         form: study.case_form(),
         unloaded: pose::unloaded(&mechanism),
-        // A decision names the effects only where the flexures use them.
-        decision: study.decision().cloned().filter(|d| d.effects == effects),
-        effects,
+        decision: study.decision().cloned(),
         mechanism,
         cases,
         poses,

@@ -10,7 +10,6 @@
 //! ([`pose::chains`]). A data scene's truth is its measured cases, with the scene's beam
 //! (or beam mechanism) beside them ([`MeasuredView`], built in `worker/truth.rs`).
 
-use crate::beam::Effects;
 use crate::mech::figures::{has_reactions, Figures, JudgedCase};
 use crate::mech::pose::{self, Pose};
 use crate::mech::MechCase;
@@ -26,9 +25,8 @@ pub struct TruthView {
     /// The scene as a mechanism (a cantilever's is its one-flexure mechanism), its effects
     /// decided and its paths as sampled (a data scene's are its measured paths).
     pub mechanism: Mechanism,
-    /// Flexure 1's effects as solved.
-    pub effects: Effects,
-    /// How `auto` effects were decided, when they were.
+    /// How the scene's `auto` effects were decided, when they were (a mechanism's flexures
+    /// that set their own keep them).
     pub decision: Option<EffectsDecision>,
     /// Per path, the truth's cases: the beam's (or beam mechanism's), or the measured ones.
     pub cases: Vec<Vec<MechCase>>,
