@@ -9,7 +9,7 @@ use prbfit::prb::{Column, PrbMatrix};
 use prbfit::scene::Scene;
 use prbfit::study::{Sampling, Study};
 use prbfit::tui::app::{Activity, App, Command, Panel, PromptKind, DEBOUNCE};
-use prbfit::tui::worker::{baseline_view, model_view, FitStatus, WorkerMsg};
+use prbfit::tui::worker::{model_view, truth_view, FitStatus, TruthView, WorkerMsg};
 use ratatui::crossterm::event::{KeyCode, KeyEvent, KeyModifiers};
 
 mod common;
@@ -20,16 +20,21 @@ fn app() -> App {
     App::new(Scene::builtin(), None)
 }
 
+/// The charts' view of `study`'s truth, as the worker sends it.
+fn truth_of(study: &Study) -> TruthView {
+    truth_view(study, &prbfit::cancel::CancelToken::new()).unwrap()
+}
+
 #[test]
 fn an_edit_queues_exactly_one_job() {
     let mut app = app();
     let t0 = Instant::now();
-    app.focus = Panel::Matrix;
-    app.matrix_state.row = 1;
-    app.matrix_state.col = 1;
+    app.edit.focus = Panel::Matrix;
+    app.edit.matrix_state.row = 1;
+    app.edit.matrix_state.col = 1;
     let cmds = edit(&mut app, "4.2", t0);
     assert_eq!(jobs(&cmds), 0, "debounced, not sent at once");
-    assert_eq!(app.matrix.rows()[1].k_theta, 4.2);
+    assert_eq!(app.edit.matrix.rows()[1].k_theta, 4.2);
     assert!(app.tick(t0 + DEBOUNCE / 2).is_none());
     let sent = app.tick(t0 + DEBOUNCE);
     match sent {
@@ -50,9 +55,9 @@ fn an_edit_queues_exactly_one_job() {
 fn quick_edits_coalesce_into_one_job() {
     let mut app = app();
     let t0 = Instant::now();
-    app.focus = Panel::Matrix;
-    app.matrix_state.row = 2;
-    app.matrix_state.col = 1;
+    app.edit.focus = Panel::Matrix;
+    app.edit.matrix_state.row = 2;
+    app.edit.matrix_state.col = 1;
     edit(&mut app, "3", t0);
     edit(&mut app, "3.5", t0 + DEBOUNCE / 2);
     assert!(
@@ -76,9 +81,9 @@ fn paused_live_refit_only_judges() {
     let mut app = app();
     let t0 = Instant::now();
     app.on_key(key(KeyCode::Char(' ')), t0);
-    assert!(!app.live);
-    app.focus = Panel::Matrix;
-    app.matrix_state.col = 1;
+    assert!(!app.jobs.live);
+    app.edit.focus = Panel::Matrix;
+    app.edit.matrix_state.col = 1;
     edit(&mut app, "2.5", t0);
     match app.tick(t0 + DEBOUNCE) {
         Some(Command::Submit(job)) => assert_eq!(job.kind, prbfit::tui::worker::JobKind::Judge),
@@ -97,7 +102,6 @@ fn stale_results_are_dropped() {
     let mut app = app();
     let scene = Scene::builtin();
     let study = Study::as_given(&scene, Sampling::Fidelity(Fidelity::Draft)).unwrap();
-    let baseline = study.baseline().unwrap().clone();
     let old = app.submit(true);
     let new = app.submit(true);
     let (Command::Submit(old), Command::Submit(new)) = (old, new) else {
@@ -108,11 +112,11 @@ fn stale_results_are_dropped() {
         "sending a newer job cancels the older"
     );
     assert!(!new.cancel.is_cancelled());
-    let view = model_view(&app.matrix, &baseline, 1.0).unwrap();
-    let base = std::sync::Arc::new(baseline_view(&baseline, None));
+    let view = model_view(&study, &app.edit.matrix).unwrap();
+    let truth = std::sync::Arc::new(truth_of(&study));
     let stale = WorkerMsg::Progress {
         id: old.id,
-        baseline: base.clone(),
+        truth: truth.clone(),
         model: Box::new(view.clone()),
         status: FitStatus {
             iteration: 3,
@@ -122,11 +126,11 @@ fn stale_results_are_dropped() {
         compare: None,
     };
     assert!(!app.on_worker(stale));
-    assert!(app.model.is_none() && app.baseline.is_none());
-    assert_eq!(app.activity, Activity::Waiting);
+    assert!(app.shown.result.is_none());
+    assert_eq!(app.jobs.activity, Activity::Waiting);
     let fresh = WorkerMsg::Progress {
         id: new.id,
-        baseline: base,
+        truth,
         model: Box::new(view),
         status: FitStatus {
             iteration: 1,
@@ -136,8 +140,8 @@ fn stale_results_are_dropped() {
         compare: None,
     };
     assert!(app.on_worker(fresh));
-    assert!(app.model.is_some() && app.baseline.is_some());
-    assert!(matches!(app.activity, Activity::Fitting(_)));
+    assert!(app.shown.model().is_some() && app.shown.truth().is_some());
+    assert!(matches!(app.jobs.activity, Activity::Fitting(_)));
 }
 
 /// Invalid entries are rejected with a message, the old value kept and no job queued.
@@ -159,23 +163,23 @@ fn invalid_edits_change_nothing() {
     ];
     for &(panel, row, col, text, needle) in cases {
         let mut app = app();
-        let (scene, matrix) = (app.scene.clone(), app.matrix.clone());
-        app.focus = panel;
+        let (scene, matrix) = (app.edit.scene.clone(), app.edit.matrix.clone());
+        app.edit.focus = panel;
         match panel {
             Panel::Matrix => {
-                app.matrix_state.row = row;
-                app.matrix_state.col = col;
+                app.edit.matrix_state.row = row;
+                app.edit.matrix_state.col = col;
             }
-            Panel::Beam => app.beam_state.row = row,
+            Panel::Beam => app.edit.beam_state.row = row,
             Panel::Loads => {
-                app.loads_state.row = row;
-                app.loads_state.col = col;
+                app.edit.loads_state.row = row;
+                app.edit.loads_state.col = col;
             }
-            Panel::Mechanism => app.mech_state.row = row,
+            Panel::Mechanism => app.edit.mech_state.row = row,
         }
         edit(&mut app, text, t0);
-        assert_eq!(app.scene, scene, "{text}");
-        assert_eq!(app.matrix, matrix, "{text}");
+        assert_eq!(app.edit.scene, scene, "{text}");
+        assert_eq!(app.edit.matrix, matrix, "{text}");
         let (message, _) = app.message.clone().expect("a message");
         assert!(message.to_lowercase().contains(needle), "{text}: {message}");
         assert!(app.tick(t0 + DEBOUNCE * 2).is_none(), "{text}: no job");
@@ -188,56 +192,56 @@ fn invalid_edits_change_nothing() {
 fn valid_edits_apply() {
     let t0 = Instant::now();
     let mut app = app();
-    app.focus = Panel::Beam;
-    app.beam_state.row = 2;
+    app.edit.focus = Panel::Beam;
+    app.edit.beam_state.row = 2;
     edit(&mut app, "0.4 mm", t0);
-    assert!((app.scene.beam.thickness - 0.4e-3).abs() < 1e-15);
-    app.beam_state.row = 3;
+    assert!((app.edit.scene.beam.thickness - 0.4e-3).abs() < 1e-15);
+    app.edit.beam_state.row = 3;
     edit(&mut app, "190GPa", t0);
-    assert_eq!(app.scene.beam.youngs_modulus, 190e9);
-    app.beam_state.row = 6;
+    assert_eq!(app.edit.scene.beam.youngs_modulus, 190e9);
+    app.edit.beam_state.row = 6;
     edit(&mut app, "shear,extension", t0);
-    assert_eq!(app.scene.beam.effects.to_string(), "shear,extension");
-    assert!(app.scene_dirty);
+    assert_eq!(app.edit.scene.beam.effects.to_string(), "shear,extension");
+    assert!(app.edit.scene_dirty);
 
-    app.focus = Panel::Matrix;
-    app.matrix_state.row = 0;
-    app.matrix_state.col = 0;
+    app.edit.focus = Panel::Matrix;
+    app.edit.matrix_state.row = 0;
+    app.edit.matrix_state.col = 0;
     edit(&mut app, "0.2", t0);
-    let sum: f64 = app.matrix.rows().iter().map(|r| r.gamma).sum();
+    let sum: f64 = app.edit.matrix.rows().iter().map(|r| r.gamma).sum();
     assert!((sum - 1.0).abs() < 1e-12);
-    assert_eq!(app.matrix.rows()[0].gamma, 0.2);
+    assert_eq!(app.edit.matrix.rows()[0].gamma, 0.2);
     // inf turns a joint off.
-    app.matrix_state.row = 3;
-    app.matrix_state.col = 1;
+    app.edit.matrix_state.row = 3;
+    app.edit.matrix_state.col = 1;
     edit(&mut app, "inf", t0);
-    assert_eq!(app.matrix.topology(), "L-R-R-L");
+    assert_eq!(app.edit.matrix.topology(), "L-R-R-L");
 }
 
 #[test]
 fn effect_toggles_keep_poisson_with_extension() {
     let t0 = Instant::now();
     let mut app = app();
-    app.focus = Panel::Beam;
+    app.edit.focus = Panel::Beam;
     // auto means all on; 2 switches extension off, and poisson with it.
     app.on_key(key(KeyCode::Char('2')), t0);
-    assert_eq!(app.scene.beam.effects.to_string(), "shear");
+    assert_eq!(app.edit.scene.beam.effects.to_string(), "shear");
     app.on_key(key(KeyCode::Char('3')), t0);
     assert_eq!(
-        app.scene.beam.effects.to_string(),
+        app.edit.scene.beam.effects.to_string(),
         "shear,extension,poisson"
     );
     app.on_key(key(KeyCode::Char('1')), t0);
-    assert_eq!(app.scene.beam.effects.to_string(), "extension,poisson");
+    assert_eq!(app.edit.scene.beam.effects.to_string(), "extension,poisson");
     // 4 switches plane strain (the plate stiffening of wide sections) alone.
     app.on_key(key(KeyCode::Char('4')), t0);
     assert_eq!(
-        app.scene.beam.effects.to_string(),
+        app.edit.scene.beam.effects.to_string(),
         "extension,poisson,plane_strain"
     );
     app.on_key(key(KeyCode::Char('4')), t0);
-    assert_eq!(app.scene.beam.effects.to_string(), "extension,poisson");
-    assert!(app.scene_dirty);
+    assert_eq!(app.edit.scene.beam.effects.to_string(), "extension,poisson");
+    assert!(app.edit.scene_dirty);
     assert!(app.tick(t0 + DEBOUNCE).is_some());
 }
 
@@ -245,24 +249,24 @@ fn effect_toggles_keep_poisson_with_extension() {
 fn free_flags_rows_and_presets() {
     let t0 = Instant::now();
     let mut app = app();
-    app.focus = Panel::Matrix;
-    app.matrix_state.row = 1;
-    app.matrix_state.col = 1;
+    app.edit.focus = Panel::Matrix;
+    app.edit.matrix_state.row = 1;
+    app.edit.matrix_state.col = 1;
     app.on_key(key(KeyCode::Char('f')), t0);
-    assert!(!app.matrix.rows()[1].is_free(Column::KTheta));
+    assert!(!app.edit.matrix.rows()[1].is_free(Column::KTheta));
     assert!(app.tick(t0 + DEBOUNCE).is_some(), "a flag change refits");
-    app.matrix_state.col = 2;
+    app.edit.matrix_state.col = 2;
     app.on_key(key(KeyCode::Char('f')), t0);
     assert!(
         app.message.as_ref().unwrap().0.contains("inf"),
         "inf cells are not parameters"
     );
-    let n = app.matrix.len();
+    let n = app.edit.matrix.len();
     app.on_key(key(KeyCode::Char('a')), t0);
-    assert_eq!(app.matrix.len(), n + 1);
+    assert_eq!(app.edit.matrix.len(), n + 1);
     app.on_key(key(KeyCode::Char('d')), t0);
     app.on_key(key(KeyCode::Char('d')), t0);
-    assert_eq!(app.matrix.len(), n - 1);
+    assert_eq!(app.edit.matrix.len(), n - 1);
     app.on_key(key(KeyCode::Char('t')), t0);
     assert!(matches!(app.prompt, Some((PromptKind::Topology, _))));
     for _ in 0..20 {
@@ -270,9 +274,9 @@ fn free_flags_rows_and_presets() {
     }
     type_text(&mut app, "L-RP", t0);
     app.on_key(key(KeyCode::Enter), t0);
-    assert_eq!(app.matrix, PrbMatrix::from_topology("L-RP").unwrap());
+    assert_eq!(app.edit.matrix, PrbMatrix::from_topology("L-RP").unwrap());
     app.on_key(key(KeyCode::Char('m')), t0);
-    assert_eq!(app.matrix.topology(), "L-R", "howell-1r first");
+    assert_eq!(app.edit.matrix.topology(), "L-R", "howell-1r first");
 }
 
 #[test]
@@ -283,8 +287,8 @@ fn quitting_with_unsaved_changes_asks() {
     assert!(app.quit, "nothing unsaved: quits at once");
 
     let mut app = self::app();
-    app.focus = Panel::Loads;
-    app.loads_state.col = 1;
+    app.edit.focus = Panel::Loads;
+    app.edit.loads_state.col = 1;
     edit(&mut app, "4", t0);
     app.on_key(key(KeyCode::Char('q')), t0);
     assert!(!app.quit);
@@ -330,8 +334,8 @@ mod no_panics {
                                     w in 1u16..140, h in 1u16..50) {
             let mut app = App::new(Scene::builtin(), None);
             drive(&mut app, &keys, w, h);
-            prop_assert!(app.matrix.validate().is_ok());
-            let again = Scene::from_toml_str(&app.scene.to_toml(), "check");
+            prop_assert!(app.edit.matrix.validate().is_ok());
+            let again = Scene::from_toml_str(&app.edit.scene.to_toml(), "check");
             prop_assert!(again.is_ok(), "{:?}", again);
         }
     }
@@ -346,7 +350,7 @@ fn worker_reports_failures_and_goes_on() {
     let worker = Worker::spawn().unwrap();
     let mut app = app();
     // An exactly axial push far past Euler's load: the beam has no unique answer.
-    app.scene.loads[0].end = Load::new(-30.0, 0.0, 0.0);
+    app.edit.scene.loads[0].end = Load::new(-30.0, 0.0, 0.0);
     let Command::Submit(job) = app.submit(false) else {
         panic!()
     };
@@ -364,8 +368,8 @@ fn worker_reports_failures_and_goes_on() {
         other => panic!("expected a failure, got {other:?}"),
     }
     app.on_worker(msg);
-    assert!(matches!(app.activity, Activity::Failed(_)));
-    app.scene = Scene::builtin();
+    assert!(matches!(app.jobs.activity, Activity::Failed(_)));
+    app.edit.scene = Scene::builtin();
     let Command::Submit(job) = app.submit(true) else {
         panic!()
     };
@@ -383,8 +387,11 @@ fn worker_reports_failures_and_goes_on() {
             break;
         }
     }
-    assert!(matches!(app.activity, Activity::Done { stop: Some(_), .. }));
-    assert!(app.report.is_some() && app.baseline.is_some() && app.model.is_some());
+    assert!(matches!(
+        app.jobs.activity,
+        Activity::Done { stop: Some(_), .. }
+    ));
+    assert!(app.shown.report.is_some() && app.shown.result.is_some());
 }
 
 /// Issue 11: load paths the beam needs a minute for (a hundred paths to alpha_y = 1e8, each
@@ -397,8 +404,8 @@ fn a_slow_baseline_is_cancelled_by_a_newer_job() {
     use prbfit::tui::worker::Worker;
     let worker = Worker::spawn().unwrap();
     let mut app = app();
-    app.scene.beam.effects = prbfit::scene::EffectsChoice::Fixed(prbfit::beam::Effects::NONE);
-    app.scene.loads = vec![
+    app.edit.scene.beam.effects = prbfit::scene::EffectsChoice::Fixed(prbfit::beam::Effects::NONE);
+    app.edit.scene.loads = vec![
         prbfit::scene::LoadPath {
             end: Load::new(0.0, 1e8, 0.0),
             steps: 1,
@@ -411,7 +418,7 @@ fn a_slow_baseline_is_cancelled_by_a_newer_job() {
     worker.submit(slow);
     // Let the worker get well into the slow solve.
     std::thread::sleep(Duration::from_millis(300));
-    app.scene = Scene::builtin();
+    app.edit.scene = Scene::builtin();
     let Command::Submit(job) = app.submit(false) else {
         panic!()
     };
@@ -451,7 +458,7 @@ fn selection_view() {
         panic!("a job")
     };
     assert_eq!(job.kind, JobKind::Select);
-    assert!(app.select.as_ref().unwrap().running);
+    assert!(app.shown.select.as_ref().unwrap().running);
 
     let scene = Scene::builtin();
     let study = Study::as_given(&scene, Sampling::Fidelity(Fidelity::Draft)).unwrap();
@@ -467,20 +474,20 @@ fn selection_view() {
         id: job.id - 1,
         row: Box::new(sel.rows[0].clone())
     }));
-    assert!(app.select.as_ref().unwrap().rows.is_empty());
+    assert!(app.shown.select.as_ref().unwrap().rows.is_empty());
     assert!(app.on_worker(WorkerMsg::SelectDone {
         id: job.id,
         selection: Box::new(sel.clone()),
         knobs: Vec::new(),
     }));
-    let view = app.select.as_ref().unwrap();
+    let view = app.shown.select.as_ref().unwrap();
     assert!(!view.running);
     assert_eq!(view.selected, sel.chosen.unwrap_or(sel.closest));
     app.on_key(key(KeyCode::Up), t0);
-    let pick = app.select.as_ref().unwrap().selected;
+    let pick = app.shown.select.as_ref().unwrap().selected;
     app.on_key(key(KeyCode::Enter), t0);
-    assert!(app.select.is_none());
-    assert_eq!(app.matrix, sel.rows[pick].prb);
+    assert!(app.shown.select.is_none());
+    assert_eq!(app.edit.matrix, sel.rows[pick].prb);
     assert!(
         app.tick(t0 + DEBOUNCE).is_some(),
         "the loaded model is judged/fitted"
@@ -492,7 +499,7 @@ fn selection_view() {
         panic!("a job")
     };
     app.on_key(key(KeyCode::Esc), t0);
-    assert!(app.select.is_none());
+    assert!(app.shown.select.is_none());
     assert!(job.cancel.is_cancelled());
 }
 
@@ -543,22 +550,22 @@ fn targets_are_editable() {
     use prbfit::tui::state::beam::BeamField;
     let t0 = Instant::now();
     let mut app = app();
-    app.focus = Panel::Beam;
+    app.edit.focus = Panel::Beam;
     let row = |f: BeamField| BeamField::ALL.iter().position(|&g| g == f).unwrap();
-    app.beam_state.row = row(BeamField::MaxPosErr);
+    app.edit.beam_state.row = row(BeamField::MaxPosErr);
     edit(&mut app, "0.005", t0);
-    assert_eq!(app.scene.accuracy.max_pos_err, 0.005);
-    app.beam_state.row = row(BeamField::AngleWeight);
+    assert_eq!(app.edit.scene.accuracy.max_pos_err, 0.005);
+    app.edit.beam_state.row = row(BeamField::AngleWeight);
     edit(&mut app, "0.5", t0);
-    assert_eq!(app.scene.fit.angle_weight, 0.5);
+    assert_eq!(app.edit.scene.fit.angle_weight, 0.5);
     assert!(
         app.tick(t0 + DEBOUNCE).is_some(),
         "a target change is a change"
     );
-    let before = app.scene.clone();
-    app.beam_state.row = row(BeamField::MaxAngErr);
+    let before = app.edit.scene.clone();
+    app.edit.beam_state.row = row(BeamField::MaxAngErr);
     edit(&mut app, "-1", t0);
-    assert_eq!(app.scene, before);
+    assert_eq!(app.edit.scene, before);
     assert!(app.message.as_ref().unwrap().0.contains("max_ang_err"));
 }
 
@@ -569,23 +576,23 @@ fn si_view_shows_and_takes_si_values() {
     let t0 = Instant::now();
     let mut app = app();
     app.on_key(key(KeyCode::Char('u')), t0);
-    assert!(app.matrix_state.si);
-    let ei_l = prbfit::si::column_factor(&app.scene.beam, Column::KTheta);
+    assert!(app.edit.matrix_state.si);
+    let ei_l = prbfit::si::column_factor(&app.edit.scene.beam, Column::KTheta);
     assert!((ei_l - 200e9 * 0.01 * 0.0005f64.powi(3) / 12.0 / 0.05).abs() < 1e-12);
     assert_eq!(
-        app.cell_text(1, Column::KTheta),
+        app.edit.cell_text(1, Column::KTheta),
         prbfit::tui::units::trim_number(3.51 * ei_l, 5)
     );
-    assert_eq!(app.cell_text(1, Column::Gamma), "17.5 mm");
-    app.focus = Panel::Matrix;
-    app.matrix_state.row = 2;
-    app.matrix_state.col = 1;
+    assert_eq!(app.edit.cell_text(1, Column::Gamma), "17.5 mm");
+    app.edit.focus = Panel::Matrix;
+    app.edit.matrix_state.row = 2;
+    app.edit.matrix_state.col = 1;
     edit(&mut app, "1.5", t0);
-    assert!((app.matrix.rows()[2].k_theta - 1.5 / ei_l).abs() < 1e-12);
-    app.matrix_state.col = 0;
+    assert!((app.edit.matrix.rows()[2].k_theta - 1.5 / ei_l).abs() < 1e-12);
+    app.edit.matrix_state.col = 0;
     edit(&mut app, "10 mm", t0);
-    assert!((app.matrix.rows()[2].gamma - 0.2).abs() < 1e-12);
-    let sum: f64 = app.matrix.rows().iter().map(|r| r.gamma).sum();
+    assert!((app.edit.matrix.rows()[2].gamma - 0.2).abs() < 1e-12);
+    let sum: f64 = app.edit.matrix.rows().iter().map(|r| r.gamma).sum();
     assert!((sum - 1.0).abs() < 1e-12);
 }
 
@@ -598,7 +605,7 @@ fn baseline_survives_a_newer_job_on_the_same_beam() {
     use prbfit::tui::worker::Worker;
     let worker = Worker::spawn().unwrap();
     let mut app = app();
-    app.fidelity = Fidelity::Draft;
+    app.jobs.fidelity = Fidelity::Draft;
     let recv = |worker: &Worker| {
         worker
             .messages
@@ -619,10 +626,10 @@ fn baseline_survives_a_newer_job_on_the_same_beam() {
             break;
         }
     }
-    let old_shapes = app.baseline.as_ref().expect("a baseline").shapes.clone();
+    let old_poses = app.shown.truth().expect("a truth").poses.clone();
 
     // A load edit: job N solves the beam anew; its messages wait unread.
-    app.scene.loads[0].end.alpha_y *= 0.5;
+    app.edit.scene.loads[0].end.alpha_y *= 0.5;
     let Command::Submit(job) = app.submit(false) else {
         panic!()
     };
@@ -654,27 +661,26 @@ fn baseline_survives_a_newer_job_on_the_same_beam() {
             break;
         }
     }
-    let model = app.model.as_ref().expect("a model after N+1's Done");
-    let baseline = app
-        .baseline
-        .as_ref()
-        .expect("a baseline after N+1's Done (issue 10: it was lost)");
-    assert!(baseline.shapes != old_shapes, "not the previous beam's");
-    assert_eq!(baseline.shapes.len(), model.cases.len());
+    let model = app.shown.model().expect("a model after N+1's Done");
+    let truth = app
+        .shown
+        .truth()
+        .expect("a truth after N+1's Done (issue 10: it was lost)");
+    assert!(truth.poses != old_poses, "not the previous beam's");
+    assert_eq!(truth.poses.concat().len(), model.case_count());
     // Same load cases, and the same beam tips (up to the drawn shape's resolution).
-    assert_eq!(baseline.loads.len(), model.cases.len());
-    for ((shape, load), case) in baseline
-        .shapes
-        .iter()
-        .zip(&baseline.loads)
-        .zip(&model.cases)
+    assert_eq!(truth.case_count(), model.case_count());
+    let poses = truth.poses.iter().flatten();
+    for ((pose, case), judged) in poses
+        .zip(truth.cases.iter().flatten())
+        .zip(model.cases.iter().flatten())
     {
-        assert_eq!(*load, case.load, "the model was judged on this baseline");
-        let tip = shape.last().unwrap();
+        assert_eq!(*case, judged.truth, "the model was judged on this truth");
+        let tip = pose.flexures[0].last().unwrap();
+        let beam = case.flexures[0].tip;
         assert!(
-            (tip.0 - case.beam.a).abs() < 1e-4 && (tip.1 - case.beam.b).abs() < 1e-4,
-            "{tip:?} vs {:?}",
-            case.beam
+            (tip[0] - beam.a).abs() < 1e-4 && (tip[1] - beam.b).abs() < 1e-4,
+            "{tip:?} vs {beam:?}"
         );
     }
 }
@@ -690,7 +696,7 @@ fn export_survives_a_refit() {
     let path = dir.join("model.json");
     let worker = Worker::spawn().unwrap();
     let mut app = app();
-    app.fidelity = Fidelity::Draft;
+    app.jobs.fidelity = Fidelity::Draft;
     let t0 = Instant::now();
     let Command::Submit(export) = app.export(path.clone()) else {
         panic!()
@@ -698,9 +704,9 @@ fn export_survives_a_refit() {
     let export_token = export.cancel.clone();
     worker.submit(export);
     // An edit, then the debounced refit goes out before the UI reads anything.
-    app.focus = Panel::Matrix;
-    app.matrix_state.row = 1;
-    app.matrix_state.col = 1;
+    app.edit.focus = Panel::Matrix;
+    app.edit.matrix_state.row = 1;
+    app.edit.matrix_state.col = 1;
     edit(&mut app, "4", t0);
     let Some(Command::Submit(refit)) = app.tick(t0 + DEBOUNCE) else {
         panic!("a refit")
@@ -781,9 +787,8 @@ fn help_lists_every_key() {
 
 /// A fitted model of `matrix`'s topology as a worker's Done for job `id` would bring it.
 fn done_with_fit(app: &App, id: u64, matrix: PrbMatrix) -> WorkerMsg {
-    let study = Study::as_given(&app.scene, Sampling::Fidelity(Fidelity::Draft)).unwrap();
-    let baseline = study.baseline().unwrap().clone();
-    let view = model_view(&matrix, &baseline, 1.0).unwrap();
+    let study = Study::as_given(&app.edit.scene, Sampling::Fidelity(Fidelity::Draft)).unwrap();
+    let view = model_view(&study, &matrix).unwrap();
     let report = prbfit::fit::FitReport {
         matrix,
         figures: view.figures,
@@ -796,7 +801,7 @@ fn done_with_fit(app: &App, id: u64, matrix: PrbMatrix) -> WorkerMsg {
     };
     WorkerMsg::Done {
         id,
-        baseline: std::sync::Arc::new(baseline_view(&baseline, None)),
+        truth: std::sync::Arc::new(truth_of(&study)),
         model: Box::new(view),
         report: Some(Box::new(report)),
         seconds: 0.01,
@@ -830,12 +835,12 @@ fn messages_clear_on_the_next_successful_action() {
     assert!(app.message.is_none(), "{:?}", app.message);
 
     // A rejected beam value, then an accepted one: the rejection is gone.
-    app.focus = Panel::Beam;
-    app.beam_state.row = 4;
+    app.edit.focus = Panel::Beam;
+    app.edit.beam_state.row = 4;
     edit(&mut app, "0.5", t0);
     assert!(app.message.as_ref().unwrap().0.contains("rejected"));
     edit(&mut app, "0.49999999", t0);
-    assert_eq!(app.scene.beam.poisson_ratio, 0.49999999);
+    assert_eq!(app.edit.scene.beam.poisson_ratio, 0.49999999);
     assert!(app.message.is_none(), "{:?}", app.message);
 
     // A worker failure, then a good result.
@@ -846,7 +851,7 @@ fn messages_clear_on_the_next_successful_action() {
     });
     assert!(app.message.is_some());
     let id = job_id(app.submit(false));
-    let m = app.matrix.clone();
+    let m = app.edit.matrix.clone();
     app.on_worker(done_with_fit(&app, id, m));
     assert!(app.message.is_none(), "{:?}", app.message);
 }
@@ -859,10 +864,10 @@ fn only_user_work_is_unsaved() {
     let t0 = Instant::now();
     let mut app = app();
     let id = job_id(app.start());
-    let mut fitted = app.matrix.clone();
+    let mut fitted = app.edit.matrix.clone();
     fitted = fitted.with_cell(1, Column::KTheta, 3.3).unwrap();
     app.on_worker(done_with_fit(&app, id, fitted.clone()));
-    assert_eq!(app.matrix, fitted, "the fit result is shown");
+    assert_eq!(app.edit.matrix, fitted, "the fit result is shown");
     assert!(!app.unsaved(), "the start-up fit is not the user's work");
     app.on_key(key(KeyCode::Char('o')), t0);
     assert!(
@@ -876,13 +881,13 @@ fn only_user_work_is_unsaved() {
     // `r` is the user's: its result is unsaved work.
     let mut app = self::app();
     let id = job_id(app.on_key(key(KeyCode::Char('r')), t0).remove(0));
-    let m = app.matrix.with_cell(1, Column::KTheta, 3.2).unwrap();
+    let m = app.edit.matrix.with_cell(1, Column::KTheta, 3.2).unwrap();
     app.on_worker(done_with_fit(&app, id, m));
     assert!(app.unsaved());
 
     // An edit is, and open asks before discarding it; n keeps it, y goes on to the file.
     let mut app = self::app();
-    app.focus = Panel::Matrix;
+    app.edit.focus = Panel::Matrix;
     edit(&mut app, "4", t0);
     assert!(app.unsaved());
     app.on_key(key(KeyCode::Char('o')), t0);
@@ -912,11 +917,11 @@ fn save_keeps_the_model_and_open_brings_it_back() {
     }
     type_text(&mut app, "L-R-R", t0);
     app.on_key(key(KeyCode::Enter), t0);
-    app.focus = Panel::Matrix;
-    app.matrix_state.row = 1;
-    app.matrix_state.col = 1;
+    app.edit.focus = Panel::Matrix;
+    app.edit.matrix_state.row = 1;
+    app.edit.matrix_state.col = 1;
     app.on_key(key(KeyCode::Char('f')), t0);
-    let model = app.matrix.clone();
+    let model = app.edit.matrix.clone();
     assert!(app.unsaved());
     assert!(run_command(
         &mut app,
@@ -934,7 +939,7 @@ fn save_keeps_the_model_and_open_brings_it_back() {
 
     // Start-up on the saved file: that model, judged (not refitted) first.
     let mut again = App::new(Scene::from_file(&path).unwrap(), Some(path.clone()));
-    assert_eq!(again.matrix, model);
+    assert_eq!(again.edit.matrix, model);
     match again.start() {
         Command::Submit(job) => {
             assert_eq!(job.kind, JobKind::Judge);
@@ -945,9 +950,9 @@ fn save_keeps_the_model_and_open_brings_it_back() {
 
     // Open from another model: the file's model comes back.
     let mut other = self::app();
-    assert_ne!(other.matrix, model);
+    assert_ne!(other.edit.matrix, model);
     run_command(&mut other, Command::OpenScene(path.clone()), t0);
-    assert_eq!(other.matrix, model);
+    assert_eq!(other.edit.matrix, model);
     assert!(!other.unsaved());
     match other.tick(t0 + DEBOUNCE) {
         Some(Command::Submit(job)) => assert_eq!(job.kind, JobKind::Judge),
@@ -986,7 +991,7 @@ fn writing_over_a_file_asks_first() {
         run_command(&mut app, c, t0);
     }
     assert!(std::fs::read_to_string(&path).unwrap().contains("[beam]"));
-    assert_eq!(app.scene_path.as_deref(), Some(path.as_path()));
+    assert_eq!(app.edit.scene_path.as_deref(), Some(path.as_path()));
     // Its own file: no question.
     run_command(&mut app, save(), t0);
     assert!(app.prompt.is_none());
@@ -1053,10 +1058,10 @@ fn text_boxes_take_the_readline_keys() {
     let ctrl = |c| KeyEvent::new(KeyCode::Char(c), KeyModifiers::CONTROL);
     let t0 = Instant::now();
     let mut app = app();
-    app.focus = Panel::Matrix;
-    app.matrix_state.row = 1;
-    app.matrix_state.col = 1;
-    let text = |app: &App| app.editing.as_ref().unwrap().1.text.clone();
+    app.edit.focus = Panel::Matrix;
+    app.edit.matrix_state.row = 1;
+    app.edit.matrix_state.col = 1;
+    let text = |app: &App| app.edit.editing.as_ref().unwrap().1.text.clone();
     // Typing over the shown value replaces it.
     app.on_key(key(KeyCode::Enter), t0);
     assert_eq!(text(&app), "3.51");
@@ -1080,16 +1085,16 @@ fn text_boxes_take_the_readline_keys() {
     type_text(&mut app, ".", t0);
     app.on_key(key(KeyCode::End), t0);
     assert_eq!(text(&app), "1.5");
-    assert_eq!(app.editing.as_ref().unwrap().1.with_cursor(), "1.5_");
+    assert_eq!(app.edit.editing.as_ref().unwrap().1.with_cursor(), "1.5_");
     app.on_key(key(KeyCode::Enter), t0);
-    assert_eq!(app.matrix.rows()[1].k_theta, 1.5);
+    assert_eq!(app.edit.matrix.rows()[1].k_theta, 1.5);
     // A cursor key keeps the shown value for editing.
     app.on_key(key(KeyCode::Enter), t0);
     app.on_key(key(KeyCode::End), t0);
     type_text(&mut app, "5", t0);
     assert_eq!(text(&app), "1.55");
     app.on_key(key(KeyCode::Esc), t0);
-    assert!(app.editing.is_none());
+    assert!(app.edit.editing.is_none());
     // Ctrl-W in the topology prompt deletes a word; an unused Ctrl key types nothing.
     app.on_key(key(KeyCode::Char('t')), t0);
     app.on_key(ctrl('w'), t0);
@@ -1104,7 +1109,7 @@ fn text_boxes_take_the_readline_keys() {
     app.on_key(ctrl('u'), t0);
     type_text(&mut app, "4R", t0);
     app.on_key(key(KeyCode::Enter), t0);
-    assert_eq!(app.matrix.topology(), "L-R-R-R-R");
+    assert_eq!(app.edit.matrix.topology(), "L-R-R-R-R");
 }
 
 /// Issue 15.3: the loads in SI for the beam as it is (`u`: the table, typed values too; the
@@ -1119,27 +1124,27 @@ fn loads_in_si_and_what_a_beam_edit_holds() {
     let thickness_row = 2;
     // Holding alpha (the default): the force grows with t0^3.
     let mut app = app();
-    let alpha = app.scene.loads[0].end;
-    let force = load_si(&app.scene.beam, &alpha);
-    app.focus = Panel::Beam;
-    app.beam_state.row = thickness_row;
+    let alpha = app.edit.scene.loads[0].end;
+    let force = load_si(&app.edit.scene.beam, &alpha);
+    app.edit.focus = Panel::Beam;
+    app.edit.beam_state.row = thickness_row;
     edit(&mut app, "2 mm", t0);
-    assert_eq!(app.scene.loads[0].end, alpha);
-    let grown = load_si(&app.scene.beam, &app.scene.loads[0].end);
+    assert_eq!(app.edit.scene.loads[0].end, alpha);
+    let grown = load_si(&app.edit.scene.beam, &app.edit.scene.loads[0].end);
     assert!((grown[1] / force[1] - 64.0).abs() < 1e-9, "{grown:?}");
 
     // Holding the force: the alphas shrink by 64, Fx, Fy, Mz stay.
     let mut app = self::app();
-    app.focus = Panel::Loads;
+    app.edit.focus = Panel::Loads;
     app.on_key(key(KeyCode::Char('H')), t0);
-    assert_eq!(app.loads_state.hold, Hold::Force);
-    app.focus = Panel::Beam;
-    app.beam_state.row = thickness_row;
+    assert_eq!(app.edit.loads_state.hold, Hold::Force);
+    app.edit.focus = Panel::Beam;
+    app.edit.beam_state.row = thickness_row;
     edit(&mut app, "2 mm", t0);
-    for (old, new) in Scene::builtin().loads.iter().zip(&app.scene.loads) {
+    for (old, new) in Scene::builtin().loads.iter().zip(&app.edit.scene.loads) {
         let (a, b) = (
             load_si(&Scene::builtin().beam, &old.end),
-            load_si(&app.scene.beam, &new.end),
+            load_si(&app.edit.scene.beam, &new.end),
         );
         for k in 0..3 {
             assert!(
@@ -1148,20 +1153,20 @@ fn loads_in_si_and_what_a_beam_edit_holds() {
             );
         }
     }
-    assert!((app.scene.loads[0].end.alpha_y - 5.0 / 64.0).abs() < 1e-12);
+    assert!((app.edit.scene.loads[0].end.alpha_y - 5.0 / 64.0).abs() < 1e-12);
 
     // The SI view: the table in N, and a force typed in N.
     let mut app = self::app();
     app.on_key(key(KeyCode::Char('u')), t0);
-    let (f, _) = prbfit::si::load_factors(&app.scene.beam);
-    app.focus = Panel::Loads;
-    app.loads_state.col = 1;
+    let (f, _) = prbfit::si::load_factors(&app.edit.scene.beam);
+    app.edit.focus = Panel::Loads;
+    app.edit.loads_state.col = 1;
     app.on_key(key(KeyCode::Enter), t0);
-    let shown = app.editing.as_ref().unwrap().1.text.clone();
+    let shown = app.edit.editing.as_ref().unwrap().1.text.clone();
     assert_eq!(shown, prbfit::tui::units::trim_number(5.0 * f, 5));
     type_text(&mut app, "1", t0);
     app.on_key(key(KeyCode::Enter), t0);
-    assert!((app.scene.loads[0].end.alpha_y - 1.0 / f).abs() < 1e-12);
+    assert!((app.edit.scene.loads[0].end.alpha_y - 1.0 / f).abs() < 1e-12);
     // Drawn: the title says what is held, the border shows the other units.
     use ratatui::backend::TestBackend;
     use ratatui::Terminal;
@@ -1182,13 +1187,13 @@ fn published_models_are_judged_not_refitted() {
     use prbfit::tui::worker::JobKind;
     let t0 = Instant::now();
     let mut app = app();
-    assert!(app.live);
+    assert!(app.jobs.live);
     for _ in 0..3 {
         app.on_key(key(KeyCode::Char('m')), t0);
     }
     let chen = prbfit::io::ModelFile::load("chen-3r").unwrap().prb;
-    assert_eq!(app.matrix, chen);
-    assert_eq!(app.cell_text(1, Column::KTheta), "3.25");
+    assert_eq!(app.edit.matrix, chen);
+    assert_eq!(app.edit.cell_text(1, Column::KTheta), "3.25");
     match app.tick(t0 + DEBOUNCE) {
         Some(Command::Submit(job)) => {
             assert_eq!(job.kind, JobKind::Judge, "Chen's own figures first");
@@ -1197,20 +1202,19 @@ fn published_models_are_judged_not_refitted() {
         o => panic!("{o:?}"),
     }
     // A done judge leaves Chen's values in the cells.
-    let id = app.current_job.as_ref().unwrap().0;
-    let study = Study::as_given(&app.scene, Sampling::Fidelity(Fidelity::Draft)).unwrap();
-    let baseline = study.baseline().unwrap().clone();
+    let id = app.jobs.current.as_ref().unwrap().0;
+    let study = Study::as_given(&app.edit.scene, Sampling::Fidelity(Fidelity::Draft)).unwrap();
     app.on_worker(WorkerMsg::Done {
         id,
-        baseline: std::sync::Arc::new(baseline_view(&baseline, None)),
-        model: Box::new(model_view(&chen, &baseline, 1.0).unwrap()),
+        truth: std::sync::Arc::new(truth_of(&study)),
+        model: Box::new(model_view(&study, &chen).unwrap()),
         report: None,
         seconds: 0.01,
         compare: None,
     });
-    assert_eq!(app.matrix, chen);
+    assert_eq!(app.edit.matrix, chen);
     // The next edit refits as usual.
-    app.focus = Panel::Matrix;
+    app.edit.focus = Panel::Matrix;
     edit(&mut app, "3.3", t0);
     match app.tick(t0 + DEBOUNCE * 2) {
         Some(Command::Submit(job)) => assert_eq!(job.kind, JobKind::Fit),
@@ -1221,7 +1225,7 @@ fn published_models_are_judged_not_refitted() {
     app.on_key(key(KeyCode::Char('t')), t0);
     type_text(&mut app, "howell-1r", t0);
     app.on_key(key(KeyCode::Enter), t0);
-    assert_eq!(app.matrix.topology(), "L-R");
+    assert_eq!(app.edit.matrix.topology(), "L-R");
     assert!(
         matches!(app.tick(t0 + DEBOUNCE), Some(Command::Submit(j)) if j.kind == JobKind::Judge)
     );
@@ -1235,7 +1239,7 @@ fn compare_with_another_model() {
     use prbfit::tui::worker::{JobKind, Worker};
     let t0 = Instant::now();
     let mut app = app();
-    app.fidelity = Fidelity::Draft;
+    app.jobs.fidelity = Fidelity::Draft;
     let worker = Worker::spawn().unwrap();
     let recv = |worker: &Worker| {
         worker
@@ -1248,7 +1252,7 @@ fn compare_with_another_model() {
     };
     let running = job.cancel.clone();
     worker.submit(job);
-    let before = app.matrix.clone();
+    let before = app.edit.matrix.clone();
     // C: Howell's 1R first.
     let cmds = app.on_key(key(KeyCode::Char('C')), t0);
     let Some(Command::Submit(cmp)) = cmds.into_iter().next() else {
@@ -1257,7 +1261,7 @@ fn compare_with_another_model() {
     assert_eq!(cmp.kind, JobKind::Compare);
     assert_eq!(cmp.matrix.topology(), "L-R");
     assert!(!running.is_cancelled(), "the main job goes on");
-    assert_eq!(app.matrix, before, "the model being worked on stays");
+    assert_eq!(app.edit.matrix, before, "the model being worked on stays");
     worker.submit(cmp);
     let (mut done, mut compared) = (false, false);
     while !(done && compared) {
@@ -1266,10 +1270,10 @@ fn compare_with_another_model() {
         compared |= matches!(msg, WorkerMsg::Compared { .. });
         app.on_worker(msg);
     }
-    let (name, view) = app.shown_compare().expect("the compared model shown");
+    let (name, view) = app.shown.shown_compare().expect("the compared model shown");
     assert_eq!(name, "howell-1r");
-    assert_eq!(view.cases.len(), app.model.as_ref().unwrap().cases.len());
-    assert!(view.figures.objective != app.model.as_ref().unwrap().figures.objective);
+    assert_eq!(view.cases.len(), app.shown.model().unwrap().cases.len());
+    assert!(view.figures.objective != app.shown.model().unwrap().figures.objective);
     // Drawn: its row in the status lines.
     use ratatui::backend::TestBackend;
     use ratatui::Terminal;
@@ -1280,8 +1284,8 @@ fn compare_with_another_model() {
 
     // A load edit: the compared view of the old loads is not shown with the new baseline;
     // the new job judges the compared model on its own baseline.
-    app.focus = Panel::Loads;
-    app.loads_state.col = 1;
+    app.edit.focus = Panel::Loads;
+    app.edit.loads_state.col = 1;
     edit(&mut app, "3", t0);
     let Some(Command::Submit(job)) = app.tick(t0 + DEBOUNCE) else {
         panic!()
@@ -1295,17 +1299,22 @@ fn compare_with_another_model() {
     let mut first = true;
     loop {
         let msg = recv(&worker);
-        if let (WorkerMsg::Progress { baseline, .. } | WorkerMsg::Done { baseline, .. }, true) =
-            (&msg, first)
+        if let (
+            WorkerMsg::Progress { truth, model, .. } | WorkerMsg::Done { truth, model, .. },
+            true,
+        ) = (&msg, first)
         {
             first = false;
             // Before the UI takes it, the old compared view is not drawn with a new baseline.
             let mut probe = App::new(Scene::builtin(), None);
-            probe.compare = app.compare.clone();
-            probe.compare_view = app.compare_view.clone();
-            probe.baseline = Some(baseline.clone());
+            probe.shown.compare = app.shown.compare.clone();
+            probe.shown.compared = app.shown.compared.clone();
+            probe.shown.result = Some(prbfit::tui::app::Judged {
+                truth: truth.clone(),
+                model: (**model).clone(),
+            });
             assert!(
-                probe.shown_compare().is_none(),
+                probe.shown.shown_compare().is_none(),
                 "another beam's compare is hidden"
             );
         }
@@ -1315,11 +1324,14 @@ fn compare_with_another_model() {
             break;
         }
     }
-    let (_, view) = app.shown_compare().expect("judged again on the new beam");
-    assert_eq!(view.cases.len(), app.model.as_ref().unwrap().cases.len());
+    let (_, view) = app
+        .shown
+        .shown_compare()
+        .expect("judged again on the new beam");
+    assert_eq!(view.cases.len(), app.shown.model().unwrap().cases.len());
     // C cycles on to none.
     for _ in 0..3 {
         app.on_key(key(KeyCode::Char('C')), t0);
     }
-    assert!(app.compare.is_none() && app.shown_compare().is_none());
+    assert!(app.shown.compare.is_none() && app.shown.shown_compare().is_none());
 }

@@ -10,7 +10,6 @@
 mod common;
 
 use std::path::{Path, PathBuf};
-use std::sync::Arc;
 use std::time::Instant;
 
 use common::tui::{any_key, app_on, drive, edit, job_of, key, press, render, run_job, shipped};
@@ -25,6 +24,20 @@ use prbfit::tui::run_command;
 use prbfit::tui::state::beam::BeamField;
 use prbfit::tui::worker::{JobKind, Worker, WorkerMsg};
 use ratatui::crossterm::event::KeyCode;
+
+/// Per case, the position and angle errors of judged cases (path by path).
+fn errors(cases: &[Vec<prbfit::mech::figures::JudgedCase>]) -> Vec<(f64, f64)> {
+    cases
+        .iter()
+        .flatten()
+        .map(|c| (c.pos_err, c.ang_err))
+        .collect()
+}
+
+/// Per case, the position and angle errors of `eval`'s cases.
+fn errors_of(cases: &[prbfit::eval::CaseError]) -> Vec<(f64, f64)> {
+    cases.iter().map(|c| (c.pos_err, c.ang_err)).collect()
+}
 
 /// The shipped data scene: the wide steel strip's 3D FEA (8 rows in 2 paths, SI).
 fn strip() -> PathBuf {
@@ -60,18 +73,15 @@ fn a_data_scene_opens_and_fits_against_its_rows_as_the_cli_does() {
     let (message, tone) = app.message.clone().unwrap();
     assert_eq!(tone, Tone::Info, "{message}");
     assert!(message.starts_with("opened"), "{message}");
-    assert!(app.is_data() && !app.unsaved());
-    assert_eq!(app.load_rows(), 8);
+    assert!(app.edit.is_data() && !app.unsaved());
+    assert_eq!(app.edit.load_rows(), 8);
 
     let job = job_of(app.tick(t0 + DEBOUNCE));
     assert_eq!(job.kind, JobKind::Fit, "live refit fits the opened scene");
     let start = job.matrix.clone();
     let worker = Worker::spawn().unwrap();
     let msg = run_job(&mut app, &worker, job);
-    let WorkerMsg::Done {
-        baseline, report, ..
-    } = msg
-    else {
+    let WorkerMsg::Done { truth, report, .. } = msg else {
         panic!("{msg:?}")
     };
     let report = report.expect("a fit's report");
@@ -94,25 +104,28 @@ fn a_data_scene_opens_and_fits_against_its_rows_as_the_cli_does() {
     let scene = Scene::from_file(&strip()).unwrap();
     let data = Baseline::from_data(scene.beam.model(), scene.truth.as_ref().unwrap());
     let judged = evaluate(&report.matrix, &data, scene.fit.angle_weight).unwrap();
-    let model = app.model.as_ref().unwrap();
+    let model = app.shown.model().unwrap();
     assert_eq!(model.figures, judged.figures);
-    assert_eq!(model.cases, judged.cases);
+    assert_eq!(errors(&model.cases), errors_of(&judged.cases));
 
     // The beam beside the data: the reports' "beam vs data".
-    let measured = baseline.measured.as_ref().expect("a data scene's view");
+    let measured = truth.measured.as_ref().expect("a data scene's view");
     assert_eq!(measured.sha256, scene.truth.as_ref().unwrap().sha256);
-    assert_eq!(measured.tips.len(), 8);
+    assert_eq!(truth.case_count(), 8);
     let beam = measured
         .beam
         .as_ref()
         .expect("the strip's beam reaches every row");
-    assert_eq!(beam.shapes.len(), 8);
-    assert!(beam.shapes.iter().all(|s| s.len() > 2));
+    let shapes: Vec<_> = truth.poses.iter().flatten().collect();
+    assert_eq!(shapes.len(), 8);
+    assert!(shapes.iter().all(|s| s.flexures[0].len() > 2));
     let reports = beam_against_data(&scene, Fidelity::Normal.resolution())
         .unwrap()
         .unwrap();
-    assert_eq!(beam.cases, reports.cases);
-    assert_eq!(beam.figures(scene.fit.angle_weight), reports.figures);
+    assert_eq!(errors(beam), errors_of(&reports.cases));
+    let (w, w_f) = (scene.fit.angle_weight, scene.fit.force_weight);
+    let figures = truth.beam_against_data(w, w_f).unwrap().unwrap();
+    assert_eq!(figures, reports.figures);
     // The uniform beam is 2.6% L from this strip (README): far outside the FEA's own error.
     assert!(reports.figures.max_pos_err > 0.02, "{:?}", reports.figures);
 
@@ -132,45 +145,52 @@ fn a_data_scene_opens_and_fits_against_its_rows_as_the_cli_does() {
 fn loads_are_the_rows_and_read_only() {
     let t0 = Instant::now();
     let mut app = app_on(&strip());
-    app.focus = Panel::Loads;
-    let before = app.scene.clone();
+    app.edit.focus = Panel::Loads;
+    let before = app.edit.scene.clone();
     for k in [KeyCode::Enter, KeyCode::Char('a'), KeyCode::Char('d')] {
         let cmds = app.on_key(key(k), t0);
         assert!(cmds.is_empty(), "{k:?}: {cmds:?}");
-        assert!(app.editing.is_none(), "{k:?} opened an editor");
+        assert!(app.edit.editing.is_none(), "{k:?} opened an editor");
         let (message, tone) = app.message.clone().unwrap();
         assert_eq!(tone, Tone::Error, "{k:?}: {message}");
         assert!(
             message.contains("read-only") && message.contains("wide-strip-fea.csv"),
             "{k:?}: {message}"
         );
-        assert_eq!(app.scene, before, "{k:?} changed the scene");
+        assert_eq!(app.edit.scene, before, "{k:?} changed the scene");
         assert!(app.tick(t0 + DEBOUNCE * 2).is_none(), "{k:?} queued a job");
         assert!(!app.unsaved());
     }
     let cell = EditTarget::Load { row: 0, col: 1 };
-    assert!(app.apply_edit(&cell, "3").is_err());
-    assert_eq!(app.scene, before);
+    assert!(app.edit.apply_edit(&cell, "3").is_err());
+    assert_eq!(app.edit.scene, before);
 
     // Rows 1-4 are path 1 (Fy), 5-8 path 2 (Mz).
-    assert_eq!(app.shown_path(), 0);
+    assert_eq!(app.edit.shown_path(), 0);
     for _ in 0..4 {
         app.on_key(key(KeyCode::Down), t0);
     }
-    assert_eq!((app.loads_state.row, app.shown_path()), (4, 1));
+    assert_eq!((app.edit.loads_state.row, app.edit.shown_path()), (4, 1));
     for _ in 0..10 {
         app.on_key(key(KeyCode::Down), t0);
     }
-    assert_eq!(app.loads_state.row, 7, "the cursor stops at the last row");
+    assert_eq!(
+        app.edit.loads_state.row, 7,
+        "the cursor stops at the last row"
+    );
     press(&mut app, ']', t0);
-    assert_eq!((app.loads_state.row, app.shown_path()), (0, 0), "wraps");
+    assert_eq!(
+        (app.edit.loads_state.row, app.edit.shown_path()),
+        (0, 0),
+        "wraps"
+    );
     press(&mut app, '[', t0);
-    assert_eq!((app.loads_state.row, app.shown_path()), (4, 1));
+    assert_eq!((app.edit.loads_state.row, app.edit.shown_path()), (4, 1));
 
     press(&mut app, 'H', t0);
     let (message, _) = app.message.clone().unwrap();
     assert!(message.contains("N, N m"), "{message}");
-    assert_eq!(app.scene, before);
+    assert_eq!(app.edit.scene, before);
 }
 
 /// Copies the shipped strip scene and its data into `dir`, with `edit` applied to the
@@ -197,20 +217,24 @@ fn a_beam_edit_converts_the_rows_again_and_reruns() {
         let job = job_of(Some(app.submit(false)));
         run_job(&mut app, &worker, job)
     };
-    let WorkerMsg::Done { baseline, .. } = first else {
+    let WorkerMsg::Done { truth, .. } = first else {
         panic!("{first:?}")
     };
-    let nominal = baseline.measured.as_ref().unwrap().beam.clone().unwrap();
+    let (w, w_f) = (
+        app.edit.scene.fit.angle_weight,
+        app.edit.scene.fit.force_weight,
+    );
+    let nominal = truth.beam_against_data(w, w_f).unwrap().unwrap();
 
-    app.focus = Panel::Beam;
+    app.edit.focus = Panel::Beam;
     let row = BeamField::of(false)
         .iter()
         .position(|&f| f == BeamField::YoungsModulus)
         .unwrap();
-    app.beam_state.row = row;
+    app.edit.beam_state.row = row;
     edit(&mut app, "210.8 GPa", t0);
     assert!(app.message.is_none(), "{:?}", app.message);
-    assert_eq!(app.scene.beam.youngs_modulus, 210.8e9);
+    assert_eq!(app.edit.scene.beam.youngs_modulus, 210.8e9);
     let job = job_of(app.tick(t0 + DEBOUNCE));
     assert!(app.tick(t0 + DEBOUNCE * 3).is_none(), "one job");
 
@@ -218,7 +242,7 @@ fn a_beam_edit_converts_the_rows_again_and_reruns() {
         t.replace("youngs_modulus = 200e9", "youngs_modulus = 210.8e9")
     }))
     .unwrap();
-    assert_eq!(reread.beam, app.scene.beam);
+    assert_eq!(reread.beam, app.edit.scene.beam);
     let (sent, read) = (
         job.scene.truth.as_ref().unwrap(),
         reread.truth.as_ref().unwrap(),
@@ -243,7 +267,10 @@ fn a_beam_edit_converts_the_rows_again_and_reruns() {
     }
     // A stiffer beam: the same newtons are smaller alphas.
     assert!(
-        rows(sent)[3].load.alpha_y < rows(&app_on(&strip()).scene.truth.unwrap())[3].load.alpha_y
+        rows(sent)[3].load.alpha_y
+            < rows(&app_on(&strip()).edit.scene.truth.unwrap())[3]
+                .load
+                .alpha_y
     );
     for (s, r) in job.scene.loads.iter().zip(&reread.loads) {
         assert_eq!(s.steps, r.steps);
@@ -251,22 +278,22 @@ fn a_beam_edit_converts_the_rows_again_and_reruns() {
     }
 
     let done = run_job(&mut app, &worker, job);
-    let WorkerMsg::Done { baseline, .. } = done else {
+    let WorkerMsg::Done { truth, .. } = done else {
         panic!("{done:?}")
     };
-    let edited = baseline.measured.as_ref().unwrap().beam.clone().unwrap();
     let reports = beam_against_data(&reread, Fidelity::Normal.resolution())
         .unwrap()
         .unwrap();
-    let w = reread.fit.angle_weight;
     // The loads differ from the file's conversion by a few ulps: the tips by as little.
-    let (e, r) = (edited.figures(w), reports.figures);
+    let (e, r) = (
+        truth.beam_against_data(w, w_f).unwrap().unwrap(),
+        reports.figures,
+    );
     assert!((e.max_pos_err - r.max_pos_err).abs() < 1e-12, "{e:?} {r:?}");
     assert!((e.max_ang_err - r.max_ang_err).abs() < 1e-12, "{e:?} {r:?}");
     assert!(
-        e.max_pos_err < 0.5 * nominal.figures(w).max_pos_err,
-        "the calibrated E brings the beam closer: {e:?} against {:?}",
-        nominal.figures(w)
+        e.max_pos_err < 0.5 * nominal.max_pos_err,
+        "the calibrated E brings the beam closer: {e:?} against {nominal:?}"
     );
 }
 
@@ -297,8 +324,8 @@ fn a_saved_data_scene_reopens_as_the_same_data_scene() {
         .to_string();
     let t0 = Instant::now();
     let mut app = app_on(&own);
-    let original = app.scene.truth.clone().unwrap();
-    app.matrix = ModelFile::load("chen-3r").unwrap().prb;
+    let original = app.edit.scene.truth.clone().unwrap();
+    app.edit.matrix = ModelFile::load("chen-3r").unwrap().prb;
     // In order: each save starts from where the one before left the scene.
     let targets = [
         (own.clone(), "wide-strip-fea.csv".to_string()),
@@ -314,12 +341,15 @@ fn a_saved_data_scene_reopens_as_the_same_data_scene() {
         let truth = again.truth.as_ref().unwrap();
         assert_eq!(truth.sha256, original.sha256);
         assert_eq!(truth.paths, original.paths);
-        assert_eq!(again.prb.as_ref(), Some(&app.matrix));
-        assert_eq!(app.scene.truth.as_ref().unwrap().file, named);
+        assert_eq!(again.prb.as_ref(), Some(&app.edit.matrix));
+        assert_eq!(app.edit.scene.truth.as_ref().unwrap().file, named);
         let mut other = App::new(Scene::builtin(), None);
         run_command(&mut other, Command::OpenScene(path.clone()), t0);
-        assert_eq!(other.scene.truth.as_ref().unwrap().paths, original.paths);
-        assert_eq!(other.matrix, app.matrix);
+        assert_eq!(
+            other.edit.scene.truth.as_ref().unwrap().paths,
+            original.paths
+        );
+        assert_eq!(other.edit.matrix, app.edit.matrix);
     }
 }
 
@@ -329,7 +359,7 @@ fn a_saved_data_scene_reopens_as_the_same_data_scene() {
 fn an_export_records_the_data_as_the_cli_does() {
     let dir = Scratch::new("ui-data-export");
     let mut app = app_on(&strip());
-    app.matrix = ModelFile::load("su-3r").unwrap().prb;
+    app.edit.matrix = ModelFile::load("su-3r").unwrap().prb;
     common::tui::export_records_the_data_as_the_cli(
         &mut app,
         &strip(),
@@ -399,24 +429,18 @@ fn one_row_paths_and_a_beam_that_cannot_reach_the_data() {
          [truth]\ndata = \"edge.csv\"\n",
     );
     let mut app = app_on(Path::new(&scene));
-    assert_eq!(app.load_rows(), 6);
+    assert_eq!(app.edit.load_rows(), 6);
     let worker = Worker::spawn().unwrap();
     let msg = {
         let job = job_of(Some(app.submit(false)));
         run_job(&mut app, &worker, job)
     };
-    let WorkerMsg::Done { baseline, .. } = msg else {
+    let WorkerMsg::Done { truth, .. } = msg else {
         panic!("{msg:?}")
     };
-    let why = baseline
-        .measured
-        .as_ref()
-        .unwrap()
-        .beam
-        .clone()
-        .unwrap_err();
+    let why = truth.measured.as_ref().unwrap().beam.clone().unwrap_err();
     assert!(why.contains("line 6 of edge.csv"), "{why}");
-    assert_eq!(app.model.as_ref().unwrap().cases.len(), 6);
+    assert_eq!(app.shown.model().unwrap().case_count(), 6);
     for (w, h) in [(120, 40), (80, 24), (60, 20), (30, 10)] {
         let screen = render(&app, w, h);
         if w == 120 {
@@ -432,21 +456,21 @@ fn one_row_paths_and_a_beam_that_cannot_reach_the_data() {
         }
     }
     for (row, path) in [(0, 0), (1, 1), (4, 1), (5, 2)] {
-        app.loads_state.row = row;
-        assert_eq!(app.shown_path(), path);
+        app.edit.loads_state.row = row;
+        assert_eq!(app.edit.shown_path(), path);
         render(&app, 120, 40);
     }
     // A path of one row at rest (allowed in a data file, not in a [[loads]] table) does
     // not stop beam edits.
     let t0 = Instant::now();
-    app.focus = Panel::Beam;
-    app.beam_state.row = BeamField::of(false)
+    app.edit.focus = Panel::Beam;
+    app.edit.beam_state.row = BeamField::of(false)
         .iter()
         .position(|&f| f == BeamField::Thickness)
         .unwrap();
     edit(&mut app, "0.6 mm", t0);
     assert!(app.message.is_none(), "{:?}", app.message);
-    assert_eq!(app.scene.beam.thickness, 0.6e-3);
+    assert_eq!(app.edit.scene.beam.thickness, 0.6e-3);
     assert!(matches!(app.tick(t0 + DEBOUNCE), Some(Command::Submit(_))));
 }
 
@@ -457,9 +481,9 @@ fn a_mechanism_scene_and_back() {
     let t0 = Instant::now();
     let mut app = app_on(&strip());
     // Judged, not fitted: the scenes, not the fits, are what this is about.
-    app.live = false;
-    app.focus = Panel::Loads;
-    app.loads_state.row = 6;
+    app.jobs.live = false;
+    app.edit.focus = Panel::Loads;
+    app.edit.loads_state.row = 6;
     let worker = Worker::spawn().unwrap();
     {
         let job = job_of(Some(app.submit(false)));
@@ -472,15 +496,12 @@ fn a_mechanism_scene_and_back() {
         (shipped("fixed-guided.toml"), false),
     ] {
         run_command(&mut app, Command::OpenScene(path.clone()), t0);
-        assert_eq!(app.is_data(), data);
-        assert_eq!(app.is_mechanism(), !data);
+        assert_eq!(app.edit.is_data(), data);
+        assert_eq!(app.edit.is_mechanism(), !data);
         render(&app, 120, 40);
         let job = job_of(app.tick(t0 + DEBOUNCE));
         let msg = run_job(&mut app, &worker, job);
-        assert!(
-            matches!(msg, WorkerMsg::Done { .. } | WorkerMsg::MechDone { .. }),
-            "{msg:?}"
-        );
+        assert!(matches!(msg, WorkerMsg::Done { .. }), "{msg:?}");
         let screen = render(&app, 120, 40);
         assert_eq!(screen.contains("Data rows (read-only)"), data, "{screen}");
         assert_eq!(screen.contains("measured ×"), data, "{screen}");
@@ -498,24 +519,18 @@ fn stale_results_draw_without_panicking() {
         let job = job_of(Some(app.submit(false)));
         run_job(&mut app, &worker, job)
     };
-    let (baseline, model) = (app.baseline.clone(), app.model.clone());
+    let result = app.shown.result.clone();
     app = App::new(Scene::builtin(), None);
-    app.baseline = baseline;
-    app.model = model;
-    app.activity = Activity::Idle;
+    app.shown.result = result;
+    app.jobs.activity = Activity::Idle;
     for (w, h) in [(120, 40), (80, 24)] {
         render(&app, w, h);
     }
     let mut data = app_on(&strip());
     let builtin = App::new(Scene::builtin(), None);
-    let b = Study::as_given(&builtin.scene, Sampling::Fidelity(Fidelity::Normal))
-        .unwrap()
-        .baseline()
-        .unwrap()
-        .clone();
-    data.baseline = Some(Arc::new(prbfit::tui::worker::baseline_view(&b, None)));
-    data.model = Some(prbfit::tui::worker::model_view(&builtin.matrix, &b, 1.0).unwrap());
-    data.loads_state.row = 7;
+    let b = Study::as_given(&builtin.edit.scene, Sampling::Fidelity(Fidelity::Normal)).unwrap();
+    data.shown.result = Some(common::tui::judged(&b, &builtin.edit.matrix));
+    data.edit.loads_state.row = 7;
     for (w, h) in [(120, 40), (80, 24)] {
         render(&data, w, h);
     }
@@ -527,26 +542,7 @@ mod no_panics {
 
     /// The strip judged once (as the worker would), for every case below.
     fn judged() -> App {
-        use prbfit::tui::worker::{baseline_view, measured_view, model_view};
-        let mut app = app_on(&strip());
-        let b = Study::as_given(&app.scene, Sampling::Fidelity(Fidelity::Normal))
-            .unwrap()
-            .baseline()
-            .unwrap()
-            .clone();
-        let mut view = baseline_view(&b, None);
-        view.measured = Some(
-            measured_view(
-                app.scene.truth.as_ref().unwrap(),
-                &app.scene.beam,
-                Fidelity::Normal.resolution(),
-                &prbfit::fit::CancelToken::new(),
-            )
-            .unwrap(),
-        );
-        app.baseline = Some(Arc::new(view));
-        app.model = Some(model_view(&app.matrix, &b, 1.0).unwrap());
-        app
+        common::tui::judged_as_given(Scene::from_file(&strip()).unwrap(), Some(strip()))
     }
 
     proptest! {
@@ -560,15 +556,15 @@ mod no_panics {
         fn no_input_sequence_panics_on_data(keys in proptest::collection::vec(any_key(&[], &[], true), 1..80),
                                             w in 1u16..140, h in 1u16..50) {
             let mut app = judged();
-            let lines: Vec<usize> = app.scene.truth.as_ref().unwrap().paths.iter()
+            let lines: Vec<usize> = app.edit.scene.truth.as_ref().unwrap().paths.iter()
                 .flat_map(|p| p.rows.iter().map(|r| r.line)).collect();
             drive(&mut app, &keys, w, h);
-            let truth = app.scene.truth.as_ref().unwrap();
+            let truth = app.edit.scene.truth.as_ref().unwrap();
             let now: Vec<usize> = truth.paths.iter()
                 .flat_map(|p| p.rows.iter().map(|r| r.line)).collect();
             prop_assert_eq!(now, lines);
-            prop_assert_eq!(app.scene.loads.len(), truth.paths.len());
-            let again = Scene::from_toml_str(&app.scene.to_toml(), "check");
+            prop_assert_eq!(app.edit.scene.loads.len(), truth.paths.len());
+            let again = Scene::from_toml_str(&app.edit.scene.to_toml(), "check");
             prop_assert!(again.is_ok(), "{:?}", again);
             prop_assert!(again.unwrap().truth.is_some());
         }

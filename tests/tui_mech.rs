@@ -14,33 +14,22 @@ use prbfit::scene::{Attach, Coordinate, Scene};
 use prbfit::tui::app::{Activity, App, Command, Panel, DEBOUNCE};
 use prbfit::tui::run_command;
 use prbfit::tui::state::mech::{fields, MechField};
-use prbfit::tui::worker::{
-    mech_baseline_view, mech_model_view, FitStatus, JobKind, Worker, WorkerMsg,
-};
+use prbfit::tui::worker::{model_view, truth_view, FitStatus, JobKind, Worker, WorkerMsg};
 use ratatui::crossterm::event::KeyCode;
 
 mod common;
 
-use common::tui::{any_key, drive, edit, job_of, key, press, scene, scene_path};
+use common::tui::{any_key, drive, edit, job_of, key, press, scene, scene_path, study};
 
 /// The app on `name`, focused on the mechanism panel's row `field`.
 fn at_field(name: &str, field: MechField) -> App {
-    let mut app = App::new(scene(name), None);
-    app.focus = Panel::Mechanism;
-    let m = app.scene.mechanism.clone().unwrap();
-    app.mech_state.row = fields(&m).iter().position(|f| *f == field).unwrap();
-    app
+    common::tui::at_field(&scene_path(name), field)
 }
 
-/// The slider-crank app with the exact mechanism and `matrix`'s PRB mechanism shown.
+/// The app on `name` with the exact mechanism and `model`'s PRB mechanism shown, on the
+/// mechanism panel.
 fn judged(name: &str, model: &str) -> App {
-    let mut app = App::new(scene(name), None);
-    let exact = mech_baseline_view(&app.scene, Fidelity::Normal).unwrap();
-    app.matrix = ModelFile::load(model).unwrap().prb;
-    let view = mech_model_view(&exact, &app.matrix, 1.0, 1.0).unwrap();
-    app.mech_exact = Some(Arc::new(exact));
-    app.mech_model = Some(view);
-    app
+    common::tui::judged_mechanism(&scene_path(name), model, 0.0)
 }
 
 /// `prbfit tui MECH` starts on the mechanism (no refusal) and `o` opens one over a
@@ -49,23 +38,23 @@ fn judged(name: &str, model: &str) -> App {
 fn mechanism_scenes_open() {
     let t0 = Instant::now();
     let mut app = App::new(Scene::builtin(), None);
-    app.focus = Panel::Loads;
+    app.edit.focus = Panel::Loads;
     assert!(run_command(&mut app, Command::OpenScene(scene_path("slider-crank")), t0).is_none());
-    assert!(app.is_mechanism(), "{:?}", app.message);
-    assert_eq!(app.focus, Panel::Mechanism);
+    assert!(app.edit.is_mechanism(), "{:?}", app.message);
+    assert_eq!(app.edit.focus, Panel::Mechanism);
     let job = job_of(app.tick(t0 + DEBOUNCE));
     assert!(job.scene.mechanism.is_some());
     // Tab cycles beam, mechanism, matrix.
-    app.focus = Panel::Beam;
+    app.edit.focus = Panel::Beam;
     app.on_key(key(KeyCode::Tab), t0);
-    assert_eq!(app.focus, Panel::Mechanism);
+    assert_eq!(app.edit.focus, Panel::Mechanism);
     app.on_key(key(KeyCode::Tab), t0);
-    assert_eq!(app.focus, Panel::Matrix);
+    assert_eq!(app.edit.focus, Panel::Matrix);
     // Back to a cantilever: the load paths again.
-    app.focus = Panel::Mechanism;
+    app.edit.focus = Panel::Mechanism;
     run_command(&mut app, Command::OpenScene(scene_path("default")), t0);
-    assert_eq!(app.focus, Panel::Loads);
-    assert!(app.mech_exact.is_none() && app.mech_model.is_none());
+    assert_eq!(app.edit.focus, Panel::Loads);
+    assert!(app.shown.result.is_none());
 }
 
 /// A valid edit on the mechanism panel changes the scene and queues exactly one fit.
@@ -75,7 +64,7 @@ fn drive_edits_queue_one_refit() {
     let mut app = at_field("slider-crank", MechField::Coordinate { drive: 0, c: 1 });
     let cmds = edit(&mut app, "20", t0);
     assert!(cmds.is_empty(), "debounced");
-    let m = app.scene.mechanism.as_ref().unwrap();
+    let m = app.edit.scene.mechanism.as_ref().unwrap();
     assert_eq!(m.drives[0].coordinates[1], Coordinate::Prescribed(0.02));
     assert!(app.unsaved());
     let job = job_of(app.tick(t0 + DEBOUNCE));
@@ -110,9 +99,9 @@ fn invalid_mechanism_edits_change_nothing() {
     ];
     for &(field, text, needle) in cases {
         let mut app = at_field("slider-crank", field);
-        let scene = app.scene.clone();
+        let scene = app.edit.scene.clone();
         edit(&mut app, text, t0);
-        assert_eq!(app.scene, scene, "{field:?} {text}");
+        assert_eq!(app.edit.scene, scene, "{field:?} {text}");
         let (message, _) = app.message.clone().expect("a message");
         assert!(
             message.to_lowercase().contains(needle),
@@ -135,21 +124,21 @@ fn edits_are_refused_with_the_readers_words() {
         format!("{}: {}", e.key.unwrap(), e.message)
     };
     let mut app = at_field("slider-crank", MechField::StagePoint);
-    let mut bad = app.scene.clone();
+    let mut bad = app.edit.scene.clone();
     let m = bad.mechanism.as_ref().unwrap();
     bad.mechanism = Some(m.with_stage_point(m.flexures[0].tip()));
     let words = reader_says(&bad);
     assert!(words.starts_with("flexures[1].link_to: the coupler would have zero length"));
-    let before = app.scene.clone();
+    let before = app.edit.scene.clone();
     edit(&mut app, "50, 0", t0);
     let (message, _) = app.message.clone().expect("a message");
     assert!(message.contains(&words), "{message} / {words}");
-    assert_eq!(app.scene, before);
+    assert_eq!(app.edit.scene, before);
 
     let mut app = App::new(scene("slider-crank"), None);
-    app.focus = Panel::Beam;
-    app.beam_state.row = 2;
-    let mut bad = app.scene.clone();
+    app.edit.focus = Panel::Beam;
+    app.edit.beam_state.row = 2;
+    let mut bad = app.edit.scene.clone();
     bad.beam.thickness = -0.001;
     let words = reader_says(&bad);
     assert_eq!(
@@ -159,7 +148,7 @@ fn edits_are_refused_with_the_readers_words() {
     edit(&mut app, "-1 mm", t0);
     let (message, _) = app.message.clone().expect("a message");
     assert!(message.contains(&words), "{message} / {words}");
-    assert_eq!(app.scene, before);
+    assert_eq!(app.edit.scene, before);
 }
 
 /// `p` on a prescribed coordinate makes it the load that holds the exact mechanism where
@@ -169,17 +158,17 @@ fn edits_are_refused_with_the_readers_words() {
 fn p_keeps_the_end_state_and_cycles_attachments() {
     let t0 = Instant::now();
     let mut app = judged("slider-crank", "su-3r");
-    app.focus = Panel::Mechanism;
-    let m = app.scene.mechanism.clone().unwrap();
-    app.mech_state.row = fields(&m)
+    app.edit.focus = Panel::Mechanism;
+    let m = app.edit.scene.mechanism.clone().unwrap();
+    app.edit.mech_state.row = fields(&m)
         .iter()
         .position(|f| *f == MechField::Coordinate { drive: 0, c: 1 })
         .unwrap();
-    let exact = app.mech_exact.clone().unwrap();
-    let end = exact.cases[0].last().unwrap();
+    let truth = app.shown.result.clone().unwrap().truth;
+    let end = truth.cases[0].last().unwrap();
     let units = prbfit::si::MechUnits::new(&m);
     press(&mut app, 'p', t0);
-    let toggled = app.scene.mechanism.clone().unwrap();
+    let toggled = app.edit.scene.mechanism.clone().unwrap();
     match toggled.drives[0].coordinates[1] {
         Coordinate::Loaded(f) => {
             assert!((f - end.stage_load[1] * units.force).abs() < 1e-12, "{f}");
@@ -192,23 +181,23 @@ fn p_keeps_the_end_state_and_cycles_attachments() {
     // which leaves a drive going nowhere -- refused.
     press(&mut app, 'p', t0);
     assert!(app.message.as_ref().unwrap().0.contains("nowhere"));
-    assert_eq!(app.scene.mechanism.as_ref().unwrap(), &toggled);
+    assert_eq!(app.edit.scene.mechanism.as_ref().unwrap(), &toggled);
 
     // The attach row: link -> clamped (pinned comes next).
     let mut app = at_field("slider-crank", MechField::Attach(0));
     press(&mut app, 'p', t0);
     assert_eq!(
-        app.scene.mechanism.as_ref().unwrap().flexures[0].attach,
+        app.edit.scene.mechanism.as_ref().unwrap().flexures[0].attach,
         Attach::Clamped
     );
     press(&mut app, 'p', t0);
     assert_eq!(
-        app.scene.mechanism.as_ref().unwrap().flexures[0].attach,
+        app.edit.scene.mechanism.as_ref().unwrap().flexures[0].attach,
         Attach::Pinned
     );
     // Pinned -> link: the coupler ends at the stage point again.
     press(&mut app, 'p', t0);
-    let m = app.scene.mechanism.as_ref().unwrap();
+    let m = app.edit.scene.mechanism.as_ref().unwrap();
     assert_eq!(m.flexures[0].attach, Attach::Link { to: m.stage_point });
 }
 
@@ -226,18 +215,18 @@ fn drives_are_added_and_deleted() {
         .0
         .contains("at least one drive"));
     press(&mut app, 'a', t0);
-    let m = app.scene.mechanism.clone().unwrap();
+    let m = app.edit.scene.mechanism.clone().unwrap();
     assert_eq!(m.drives.len(), 2);
     assert_eq!(m.drives[0], m.drives[1]);
-    assert_eq!(app.shown_drive(), 1);
-    assert_eq!(app.mech_field().and_then(MechField::drive), Some(1));
+    assert_eq!(app.edit.shown_path(), 1);
+    assert_eq!(app.edit.mech_field().and_then(MechField::drive), Some(1));
     press(&mut app, 'd', t0);
-    assert_eq!(app.scene.mechanism.as_ref().unwrap().drives.len(), 1);
-    assert_eq!(app.shown_drive(), 0);
-    app.mech_state.row = 0;
+    assert_eq!(app.edit.scene.mechanism.as_ref().unwrap().drives.len(), 1);
+    assert_eq!(app.edit.shown_path(), 0);
+    app.edit.mech_state.row = 0;
     press(&mut app, 'a', t0);
     assert!(app.message.as_ref().unwrap().0.contains("drive"));
-    assert_eq!(app.scene.mechanism.as_ref().unwrap().drives.len(), 1);
+    assert_eq!(app.edit.scene.mechanism.as_ref().unwrap().drives.len(), 1);
 }
 
 /// A beam edit on a mechanism scene reaches every flexure that does not override it, and
@@ -247,22 +236,22 @@ fn beam_edits_reach_the_flexures() {
     use prbfit::tui::state::beam::BeamField;
     let t0 = Instant::now();
     let mut app = App::new(scene("parallel-stage"), None);
-    app.focus = Panel::Beam;
+    app.edit.focus = Panel::Beam;
     let fields = BeamField::of(true);
-    app.beam_state.row = fields
+    app.edit.beam_state.row = fields
         .iter()
         .position(|f| *f == BeamField::Thickness)
         .unwrap();
     edit(&mut app, "0.6 mm", t0);
-    let m = app.scene.mechanism.as_ref().unwrap();
+    let m = app.edit.scene.mechanism.as_ref().unwrap();
     assert!(m.flexures.iter().all(|f| f.beam.thickness == 0.6e-3));
-    app.beam_state.row = fields
+    app.edit.beam_state.row = fields
         .iter()
         .position(|f| *f == BeamField::MaxForceErr)
         .unwrap();
     edit(&mut app, "0.02", t0);
-    assert_eq!(app.scene.accuracy.max_force_err, 0.02);
-    app.beam_state.row = fields
+    assert_eq!(app.edit.scene.accuracy.max_force_err, 0.02);
+    app.edit.beam_state.row = fields
         .iter()
         .position(|f| *f == BeamField::ForceWeight)
         .unwrap();
@@ -270,8 +259,9 @@ fn beam_edits_reach_the_flexures() {
     assert!(app.message.as_ref().unwrap().0.contains("force_weight"));
     // 1 / 2 / 3 switch the flexures' effects too.
     press(&mut app, '1', t0);
-    let e = app.scene.beam.effects;
+    let e = app.edit.scene.beam.effects;
     assert!(app
+        .edit
         .scene
         .mechanism
         .as_ref()
@@ -286,16 +276,14 @@ fn beam_edits_reach_the_flexures() {
 #[test]
 fn mechanism_results_follow_the_newest_job() {
     let mut app = judged("slider-crank", "howell-1r");
-    let exact = app.mech_exact.clone().unwrap();
-    let model = app.mech_model.clone().unwrap();
-    app.mech_exact = None;
-    app.mech_model = None;
+    let result = app.shown.result.take().unwrap();
+    let (truth, model) = (result.truth, result.model);
     let (Command::Submit(old), Command::Submit(new)) = (app.submit(true), app.submit(true)) else {
         panic!("jobs expected")
     };
-    let progress = |id| WorkerMsg::MechProgress {
+    let progress = |id| WorkerMsg::Progress {
         id,
-        exact: exact.clone(),
+        truth: truth.clone(),
         model: Box::new(model.clone()),
         status: FitStatus {
             iteration: 1,
@@ -305,32 +293,33 @@ fn mechanism_results_follow_the_newest_job() {
         compare: None,
     };
     assert!(!app.on_worker(progress(old.id)));
-    assert!(app.mech_model.is_none());
+    assert!(app.shown.result.is_none());
     assert!(app.on_worker(progress(new.id)));
-    assert!(app.mech_model.is_some() && app.mech_exact.is_some());
-    assert!(matches!(app.activity, Activity::Fitting(_)));
+    assert!(app.shown.model().is_some() && app.shown.truth().is_some());
+    assert!(matches!(app.jobs.activity, Activity::Fitting(_)));
     // A compared model on another exact mechanism is not drawn.
     let su = ModelFile::load("su-3r").unwrap().prb;
-    app.compare = Some(("su-3r".into(), su.clone()));
-    let other = {
-        let mut s = app.scene.clone();
+    app.shown.compare = Some(("su-3r".into(), su.clone()));
+    let (other, su_view) = {
+        let mut s = app.edit.scene.clone();
         s.mechanism.as_mut().unwrap().drives[0].steps = 4;
-        Arc::new(mech_baseline_view(&s, Fidelity::Normal).unwrap())
+        let other = study(&s, Fidelity::Normal);
+        let truth = truth_view(&other, &prbfit::cancel::CancelToken::new()).unwrap();
+        (Arc::new(truth), model_view(&other, &su).unwrap())
     };
-    let su_view = mech_model_view(&other, &su, 1.0, 1.0).unwrap();
-    assert!(app.on_worker(WorkerMsg::MechCompared {
+    assert!(app.on_worker(WorkerMsg::Compared {
         id: 99,
-        exact: other,
+        truth: other,
         model: Box::new(su_view),
     }));
-    assert!(app.shown_mech_compare().is_none());
-    let su_view = mech_model_view(&exact, &su, 1.0, 1.0).unwrap();
-    app.on_worker(WorkerMsg::MechCompared {
+    assert!(app.shown.shown_compare().is_none());
+    let su_view = model_view(&study(&app.edit.scene, Fidelity::Normal), &su).unwrap();
+    app.on_worker(WorkerMsg::Compared {
         id: 100,
-        exact,
+        truth,
         model: Box::new(su_view),
     });
-    assert!(app.shown_mech_compare().is_some());
+    assert!(app.shown.shown_compare().is_some());
 }
 
 /// `e` exports the PRB mechanism through the worker: MJCF (after the links' density) and the
@@ -383,13 +372,13 @@ fn export_and_selection_run_on_the_mechanism() {
     assert!(e.contains("mjcf"), "{e}");
     std::fs::remove_dir_all(&dir).unwrap();
 
-    app.fidelity = Fidelity::Draft;
+    app.jobs.fidelity = Fidelity::Draft;
     let cmds = press(&mut app, 'S', t0);
     let [Command::Submit(job)] = &cmds[..] else {
         panic!("{cmds:?}")
     };
     assert_eq!(job.kind, JobKind::Select);
-    assert!(app.mech_select.is_some() && app.select.is_none());
+    assert!(app.shown.select.is_some());
     let id = job.id;
     worker.submit(job.clone());
     let mut rows = 0;
@@ -399,26 +388,26 @@ fn export_and_selection_run_on_the_mechanism() {
             .recv_timeout(Duration::from_secs(120))
             .unwrap();
         assert_eq!(msg.id(), id);
-        let done = matches!(msg, WorkerMsg::MechSelectDone { .. });
-        rows += usize::from(matches!(msg, WorkerMsg::MechSelectRow { .. }));
+        let done = matches!(msg, WorkerMsg::SelectDone { .. });
+        rows += usize::from(matches!(msg, WorkerMsg::SelectRow { .. }));
         assert!(!matches!(msg, WorkerMsg::Failed { .. }), "{msg:?}");
         app.on_worker(msg);
         if done {
             break;
         }
     }
-    let view = app.mech_select.clone().unwrap();
+    let view = app.shown.select.clone().unwrap();
     assert!(!view.running && rows > 0);
     // The slider-crank's simplest model meeting its targets is a fitted 1R.
     let chosen = view.chosen.expect("a model meets the targets");
     assert_eq!(view.rows[chosen].topology, "L-R");
-    assert!(view.rows[chosen].figures.max_force() < app.scene.accuracy.max_force_err);
+    assert!(view.rows[chosen].figures.max_force() < app.edit.scene.accuracy.max_force_err);
     assert_eq!(view.selected, chosen);
     // Enter loads it (judged as the table showed it) and closes the view.
     let cmds = app.on_key(key(KeyCode::Enter), t0);
     assert!(cmds.is_empty());
-    assert!(!app.selection_open());
-    assert_eq!(app.matrix, view.rows[chosen].prb);
+    assert!(!app.shown.selection_open());
+    assert_eq!(app.edit.matrix, view.rows[chosen].prb);
     let job = job_of(app.tick(t0 + DEBOUNCE));
     assert_eq!(job.kind, JobKind::Judge);
 }
@@ -428,18 +417,21 @@ fn export_and_selection_run_on_the_mechanism() {
 fn case_and_drive_keys() {
     let t0 = Instant::now();
     let mut app = judged("parallel-stage", "su-3r");
-    let cases = app.shown_drive_cases();
-    assert_eq!(app.mech_state.shown_case(cases), Some(cases - 1));
+    let cases = app.shown_cases();
+    assert_eq!(app.edit.mech_state.shown_case(cases), Some(cases - 1));
     press(&mut app, '>', t0);
-    assert_eq!(app.mech_state.shown_case(cases), Some(0));
+    assert_eq!(app.edit.mech_state.shown_case(cases), Some(0));
     press(&mut app, '<', t0);
     press(&mut app, '<', t0);
-    assert_eq!(app.mech_state.shown_case(cases), Some(cases - 2));
+    assert_eq!(app.edit.mech_state.shown_case(cases), Some(cases - 2));
     press(&mut app, ']', t0);
-    assert_eq!(app.shown_drive(), 1);
-    assert_eq!(app.mech_state.case, None, "a new drive is shown at its end");
+    assert_eq!(app.edit.shown_path(), 1);
+    assert_eq!(
+        app.edit.mech_state.case, None,
+        "a new drive is shown at its end"
+    );
     press(&mut app, ']', t0);
-    assert_eq!(app.shown_drive(), 0);
+    assert_eq!(app.edit.shown_path(), 0);
 }
 
 /// The real worker on the slider-crank: Howell's 1R, judged, misses the reaction target
@@ -449,8 +441,8 @@ fn case_and_drive_keys() {
 fn worker_judges_and_fits_the_slider_crank() {
     let worker = Worker::spawn().unwrap();
     let mut app = App::new(scene("slider-crank"), None);
-    app.matrix = ModelFile::load("howell-1r").unwrap().prb;
-    let target = app.scene.accuracy.max_force_err;
+    app.edit.matrix = ModelFile::load("howell-1r").unwrap().prb;
+    let target = app.edit.scene.accuracy.max_force_err;
     let run = |app: &mut App, fit: bool| {
         let Command::Submit(job) = app.submit(fit) else {
             panic!()
@@ -463,29 +455,36 @@ fn worker_judges_and_fits_the_slider_crank() {
                 .recv_timeout(Duration::from_secs(60))
                 .unwrap();
             assert_eq!(msg.id(), id, "{msg:?}");
-            let done = matches!(msg, WorkerMsg::MechDone { .. });
+            let done = matches!(msg, WorkerMsg::Done { .. });
             assert!(!matches!(msg, WorkerMsg::Failed { .. }), "{msg:?}");
             app.on_worker(msg);
             if done {
                 break;
             }
         }
-        app.mech_model.clone().unwrap().figures
+        app.shown.model().unwrap().figures
     };
     let judged = run(&mut app, false);
     assert!(
         judged.max_force() > target && judged.max_force() < 0.07,
         "{judged:?}"
     );
-    let exact = app.mech_exact.clone().unwrap();
+    let truth = app.shown.result.clone().unwrap().truth;
     let fitted = run(&mut app, true);
     assert!(fitted.max_force() < target, "{fitted:?}");
     assert!(
-        Arc::ptr_eq(&exact, app.mech_exact.as_ref().unwrap()),
+        Arc::ptr_eq(&truth, &app.shown.result.as_ref().unwrap().truth),
         "cached"
     );
-    assert!(matches!(app.activity, Activity::Done { stop: Some(_), .. }));
-    assert_eq!(app.matrix.topology(), "L-R", "the fit keeps the topology");
+    assert!(matches!(
+        app.jobs.activity,
+        Activity::Done { stop: Some(_), .. }
+    ));
+    assert_eq!(
+        app.edit.matrix.topology(),
+        "L-R",
+        "the fit keeps the topology"
+    );
 }
 
 mod no_panics {
@@ -505,10 +504,10 @@ mod no_panics {
         fn no_input_sequence_panics(keys in proptest::collection::vec(any_key(&[], MECH_KEYS, false), 1..80),
                                     w in 1u16..140, h in 1u16..50) {
             let mut app = judged("slider-crank", "su-3r");
-            app.focus = Panel::Mechanism;
+            app.edit.focus = Panel::Mechanism;
             drive(&mut app, &keys, w, h);
-            prop_assert!(app.matrix.validate().is_ok());
-            let again = Scene::from_toml_str(&app.scene.to_toml(), "check");
+            prop_assert!(app.edit.matrix.validate().is_ok());
+            let again = Scene::from_toml_str(&app.edit.scene.to_toml(), "check");
             prop_assert!(again.is_ok(), "{:?}", again);
         }
     }

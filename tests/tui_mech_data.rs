@@ -86,15 +86,19 @@ fn a_mechanism_data_scene_opens_and_fits_as_the_cli_does() {
     let (message, tone) = app.message.clone().unwrap();
     assert_eq!(tone, Tone::Info, "{message}");
     assert!(message.starts_with("opened"), "{message}");
-    assert!(app.is_mech_data() && !app.unsaved());
-    assert_ne!(app.focus, Panel::Loads, "a mechanism has no load panel");
+    assert!(app.edit.is_mech_data() && !app.unsaved());
+    assert_ne!(
+        app.edit.focus,
+        Panel::Loads,
+        "a mechanism has no load panel"
+    );
 
     let job = job_of(app.tick(t0 + DEBOUNCE));
     assert_eq!(job.kind, JobKind::Fit, "live refit fits the opened scene");
     let start = job.matrix.clone();
     let worker = Worker::spawn().unwrap();
     let msg = run_job(&mut app, &worker, job);
-    let WorkerMsg::MechDone { exact, report, .. } = msg else {
+    let WorkerMsg::Done { truth, report, .. } = msg else {
         panic!("{msg:?}")
     };
     let report = report.expect("a fit's report");
@@ -117,47 +121,44 @@ fn a_mechanism_data_scene_opens_and_fits_as_the_cli_does() {
         assert_eq!(f(&cli, name), ui, "{name}");
     }
     assert_eq!(cli["truth"]["data"], "slider-crank-rig.csv");
-    assert_eq!(cli["cases"].as_u64().unwrap() as usize, exact.case_count());
+    assert_eq!(cli["cases"].as_u64().unwrap() as usize, truth.case_count());
 
     // The truth is the measured cases, and the shown model is judged on them.
     let scene = Scene::from_file(&rig()).unwrap();
     let m = scene.mechanism.as_ref().unwrap();
-    let truth = measured::truth(&scene, m, Fidelity::Normal.resolution()).unwrap();
-    assert_eq!(exact.cases, truth);
-    assert_eq!(exact.case_count(), 10);
+    let measured = measured::truth(&scene, m, Fidelity::Normal.resolution()).unwrap();
+    assert_eq!(truth.cases, measured);
+    assert_eq!(truth.case_count(), 10);
     let paths = prb::solve(m, &report.matrix, prbfit::study::PRB_TOL).unwrap();
     let (w, w_f) = (scene.fit.angle_weight, scene.fit.force_weight);
-    let judged = compare(&m.drives, &paths, &truth, w, w_f).unwrap();
-    let shown = app.mech_model.as_ref().unwrap();
+    let judged = compare(&m.drives, &paths, &measured, w, w_f).unwrap();
+    let shown = app.shown.model().unwrap();
     assert_eq!(shown.figures, judged.figures);
     assert_eq!(shown.figures, report.figures);
 
     // The beam mechanism beside the data.
-    let data = exact.measured.as_ref().expect("a data scene's view");
+    let data = truth.measured.as_ref().expect("a data scene's view");
     assert_eq!(data.file, "slider-crank-rig.csv");
     assert_eq!(data.sha256, cli["truth"]["sha256"].as_str().unwrap());
     assert_eq!(data.beam.as_ref().unwrap().len(), 1);
-    let beside = exact.beam_against_data(w, w_f).unwrap().unwrap();
+    let beside = truth.beam_against_data(w, w_f).unwrap().unwrap();
     let reports = measured::beam_against_data(&scene, m, Fidelity::Normal.resolution())
         .unwrap()
         .unwrap();
-    assert_eq!(beside.figures, reports.figures);
+    assert_eq!(beside, reports.figures);
     let cli_beam = &cli["truth"]["beam_vs_data"];
     for (name, ui) in [
-        ("max_force_err", beside.figures.max_force()),
-        ("rms_force_err", beside.figures.rms_force_err.unwrap()),
-        ("objective", beside.figures.objective),
+        ("max_force_err", beside.max_force()),
+        ("rms_force_err", beside.rms_force_err.unwrap()),
+        ("objective", beside.objective),
     ] {
         let c = f(cli_beam, name);
         assert!((ui - c).abs() <= 1e-7 * c.abs(), "{name}: UI {ui}, CLI {c}");
     }
     // The catalogue's 200 GPa against a 190 GPa rig (README): 7.4% of the largest reaction.
-    assert!(
-        (beside.figures.max_force() - 0.0744).abs() < 1e-3,
-        "{beside:?}"
-    );
+    assert!((beside.max_force() - 0.0744).abs() < 1e-3, "{beside:?}");
     // The beam mechanism's shapes along the measured drive, one per row.
-    assert_eq!(exact.poses[0].len(), 10);
+    assert_eq!(truth.poses[0].len(), 10);
 
     let screen = render(&app, 120, 40);
     for needle in [
@@ -173,11 +174,7 @@ fn a_mechanism_data_scene_opens_and_fits_as_the_cli_does() {
 
 /// The app on the rig, on the mechanism panel, with the cursor on `field`.
 fn at(field: MechField) -> App {
-    let mut app = app_on(&rig());
-    app.focus = Panel::Mechanism;
-    let m = app.scene.mechanism.clone().unwrap();
-    app.mech_state.row = fields(&m).iter().position(|f| *f == field).unwrap();
-    app
+    common::tui::at_field(&rig(), field)
 }
 
 /// The drives are the file's rows: on every drive row, Enter (edit), `p` (prescribed /
@@ -196,7 +193,7 @@ fn drives_are_read_only() {
     for field in drive_rows {
         for k in ['\n', 'p', 'a', 'd'] {
             let mut app = at(field);
-            let before = app.scene.clone();
+            let before = app.edit.scene.clone();
             let code = if k == '\n' {
                 KeyCode::Enter
             } else {
@@ -204,35 +201,41 @@ fn drives_are_read_only() {
             };
             let cmds = app.on_key(key(code), t0);
             assert!(cmds.is_empty(), "{field:?} {k:?}: {cmds:?}");
-            assert!(app.editing.is_none(), "{field:?} {k:?} opened an editor");
+            assert!(
+                app.edit.editing.is_none(),
+                "{field:?} {k:?} opened an editor"
+            );
             let (message, tone) = app.message.clone().unwrap();
             assert_eq!(tone, Tone::Error, "{field:?} {k:?}: {message}");
             assert!(
                 message.contains("read-only") && message.contains("slider-crank-rig.csv"),
                 "{field:?} {k:?}: {message}"
             );
-            assert_eq!(app.scene, before, "{field:?} {k:?} changed the scene");
+            assert_eq!(app.edit.scene, before, "{field:?} {k:?} changed the scene");
             assert!(app.tick(t0 + DEBOUNCE * 2).is_none(), "{k:?} queued a job");
             assert!(!app.unsaved());
         }
     }
     for k in ['a', 'd'] {
         let mut app = at(MechField::Root(0));
-        let before = app.scene.clone();
+        let before = app.edit.scene.clone();
         press(&mut app, k, t0);
         assert!(app.message.clone().unwrap().0.contains("read-only"));
-        assert_eq!(app.scene, before);
+        assert_eq!(app.edit.scene, before);
     }
     let mut app = at(MechField::Steps(0));
-    let before = app.scene.clone();
+    let before = app.edit.scene.clone();
     for (field, text) in [
         (MechField::Coordinate { drive: 0, c: 1 }, "20"),
         (MechField::Steps(0), "5"),
     ] {
-        let e = app.apply_edit(&EditTarget::Mech(field), text).unwrap_err();
+        let e = app
+            .edit
+            .apply_edit(&EditTarget::Mech(field), text)
+            .unwrap_err();
         assert!(e.contains("read-only"), "{e}");
     }
-    assert_eq!(app.scene, before);
+    assert_eq!(app.edit.scene, before);
 }
 
 /// A beam edit refits against the same rows (they are SI: nothing physical in them moves):
@@ -245,16 +248,16 @@ fn beam_and_flexure_edits_refit() {
     let dir = Scratch::new("ui-mech-data-edit");
     let t0 = Instant::now();
     let mut app = app_on(&rig());
-    let drives = app.scene.mechanism.as_ref().unwrap().drives.clone();
-    app.focus = Panel::Beam;
-    app.beam_state.row = BeamField::of(true)
+    let drives = app.edit.scene.mechanism.as_ref().unwrap().drives.clone();
+    app.edit.focus = Panel::Beam;
+    app.edit.beam_state.row = BeamField::of(true)
         .iter()
         .position(|&f| f == BeamField::YoungsModulus)
         .unwrap();
     edit(&mut app, "190 GPa", t0);
     assert!(app.message.is_none(), "{:?}", app.message);
     assert!(app.unsaved());
-    let m = app.scene.mechanism.as_ref().unwrap();
+    let m = app.edit.scene.mechanism.as_ref().unwrap();
     assert_eq!(m.flexures[0].beam.youngs_modulus, 190e9);
     assert_eq!(m.drives, drives, "the rows stay");
     let job = job_of(app.tick(t0 + DEBOUNCE));
@@ -263,12 +266,15 @@ fn beam_and_flexure_edits_refit() {
     let start = job.matrix.clone();
     let worker = Worker::spawn().unwrap();
     let msg = run_job(&mut app, &worker, job);
-    let WorkerMsg::MechDone { exact, report, .. } = msg else {
+    let WorkerMsg::Done { truth, report, .. } = msg else {
         panic!("{msg:?}")
     };
-    let (w, w_f) = (app.scene.fit.angle_weight, app.scene.fit.force_weight);
-    let beside = exact.beam_against_data(w, w_f).unwrap().unwrap();
-    assert!(beside.figures.max_force() < 1e-4, "{:?}", beside.figures);
+    let (w, w_f) = (
+        app.edit.scene.fit.angle_weight,
+        app.edit.scene.fit.force_weight,
+    );
+    let beside = truth.beam_against_data(w, w_f).unwrap().unwrap();
+    assert!(beside.max_force() < 1e-4, "{beside:?}");
 
     let stiff = rig_copy(dir.path(), "rig190.toml", |t| {
         t.replace("youngs_modulus = 200e9", "youngs_modulus = 190e9")
@@ -285,16 +291,16 @@ fn beam_and_flexure_edits_refit() {
     assert_eq!(cli["prb"].as_str().unwrap(), report.matrix.to_text());
     assert_eq!(f(&cli, "objective"), report.figures.objective);
 
-    app.focus = Panel::Mechanism;
-    let m = app.scene.mechanism.clone().unwrap();
-    app.mech_state.row = fields(&m)
+    app.edit.focus = Panel::Mechanism;
+    let m = app.edit.scene.mechanism.clone().unwrap();
+    app.edit.mech_state.row = fields(&m)
         .iter()
         .position(|f| *f == MechField::Angle(0))
         .unwrap();
     let t1 = t0 + DEBOUNCE * 10;
     edit(&mut app, "1", t1);
     assert!(app.message.is_none(), "{:?}", app.message);
-    let m = app.scene.mechanism.as_ref().unwrap();
+    let m = app.edit.scene.mechanism.as_ref().unwrap();
     assert!((m.flexures[0].angle - 1f64.to_radians()).abs() < 1e-15);
     assert_eq!(m.drives, drives, "the rows stay");
     let job = job_of(app.tick(t1 + DEBOUNCE));
@@ -320,8 +326,8 @@ fn a_saved_mechanism_data_scene_reopens_as_the_same() {
         .to_string();
     let t0 = Instant::now();
     let mut app = app_on(&own);
-    let original = app.scene.clone();
-    app.matrix = ModelFile::load("howell-1r").unwrap().prb;
+    let original = app.edit.scene.clone();
+    app.edit.matrix = ModelFile::load("howell-1r").unwrap().prb;
     for (path, named) in [
         (own.clone(), "slider-crank-rig.csv".to_string()),
         (elsewhere.join("moved.toml"), absolute),
@@ -336,12 +342,12 @@ fn a_saved_mechanism_data_scene_reopens_as_the_same() {
         assert_eq!(truth.sha256, was.sha256);
         assert_eq!(truth.stage, was.stage);
         assert_eq!(again.mechanism, original.mechanism);
-        assert_eq!(again.prb.as_ref(), Some(&app.matrix));
+        assert_eq!(again.prb.as_ref(), Some(&app.edit.matrix));
         let mut other = App::new(Scene::builtin(), None);
         run_command(&mut other, Command::OpenScene(path.clone()), t0);
-        assert!(other.is_mech_data(), "{:?}", other.message);
-        assert_eq!(other.scene.mechanism, original.mechanism);
-        assert_eq!(other.matrix, app.matrix);
+        assert!(other.edit.is_mech_data(), "{:?}", other.message);
+        assert_eq!(other.edit.scene.mechanism, original.mechanism);
+        assert_eq!(other.edit.matrix, app.edit.matrix);
     }
 }
 
@@ -351,7 +357,7 @@ fn a_saved_mechanism_data_scene_reopens_as_the_same() {
 fn an_export_records_the_data_as_the_cli_does() {
     let dir = Scratch::new("ui-mech-data-export");
     let mut app = app_on(&rig());
-    app.matrix = ModelFile::load("howell-1r").unwrap().prb;
+    app.edit.matrix = ModelFile::load("howell-1r").unwrap().prb;
     common::tui::export_records_the_data_as_the_cli(
         &mut app,
         &rig(),
@@ -370,7 +376,7 @@ fn selection_runs_on_the_data() {
     let job = job_of(press(&mut app, 'S', Instant::now()).into_iter().next());
     assert_eq!(job.kind, JobKind::Select);
     let msg = run_job(&mut app, &worker, job);
-    let WorkerMsg::MechSelectDone { selection, .. } = msg else {
+    let WorkerMsg::SelectDone { selection, .. } = msg else {
         panic!("{msg:?}")
     };
     let howell = selection
@@ -390,7 +396,7 @@ fn selection_runs_on_the_data() {
     assert_eq!(f(&eval, "max_force_err"), howell.figures.max_force());
     assert_eq!(f(&eval, "objective"), howell.figures.objective);
     // The README: a fitted 1R meets the rig's targets.
-    let chosen = app.mech_select.as_ref().unwrap().chosen.expect("a choice");
+    let chosen = app.shown.select.as_ref().unwrap().chosen.expect("a choice");
     assert_eq!(selection.rows[chosen].topology, "L-R");
     let screen = render(&app, 120, 40);
     assert!(screen.contains("none on measured data"), "{screen}");
@@ -404,7 +410,8 @@ fn judged() -> App {
 /// The rig on screen: the measured reactions as markers (×, one per row but the shown
 /// case's, which is the cyan case dot) on the force-stroke chart with the beam mechanism in
 /// grey and the legend naming the three, the measured stage point marked on the shape chart,
-/// the beam mechanism's reaction error beside the PRB's, the drives read-only, the data line
+/// the beam mechanism's reaction error beside the PRB's, the PRB's marked at every measured
+/// row (•, as a cantilever's data chart marks them), the drives read-only, the data line
 /// under the figures.
 #[test]
 fn rig_screen_120x40() {
@@ -419,7 +426,7 @@ fn rig_screen_120x40() {
         "drives read-only",
         "data slider-crank-rig.csv sha256 4d786bec · beam vs data:",
         "Fy reaction vs dy",
-        "PRB ─ beam ─",
+        "PRB • beam ─",
     ] {
         assert!(text.contains(needle), "`{needle}` missing:\n{text}");
     }
@@ -441,7 +448,7 @@ fn rig_screen_120x40() {
 fn rig_screen_80x24() {
     let mut app = judged();
     // The third case of the drive, from the chart keys.
-    app.mech_state.case = Some(2);
+    app.edit.mech_state.case = Some(2);
     let mut t = Terminal::new(TestBackend::new(80, 24)).unwrap();
     t.draw(|f| prbfit::tui::ui::draw(f, &app)).unwrap();
     insta::assert_snapshot!("rig_80x24", t.backend());
@@ -453,12 +460,12 @@ fn rig_screen_80x24() {
 #[test]
 fn a_beam_that_cannot_follow_the_data_draws() {
     let mut app = judged();
-    let exact = app.mech_exact.as_ref().unwrap();
-    let mut view = (**exact).clone();
+    let result = app.shown.result.as_mut().unwrap();
+    let mut view = (*result.truth).clone();
     let m = view.measured.as_mut().unwrap();
     m.beam = Err("the beam mechanism along the measured drives: no equilibrium".into());
     view.poses = vec![Vec::new()];
-    app.mech_exact = Some(Arc::new(view));
+    result.truth = Arc::new(view);
     for (w, h) in [(120, 40), (80, 24), (60, 20), (30, 10)] {
         let screen = render(&app, w, h);
         if w == 120 {
@@ -495,13 +502,13 @@ mod no_panics {
         ) {
             let mut app = judged();
             let (drives, truth) = (
-                app.scene.mechanism.as_ref().unwrap().drives.clone(),
-                app.scene.truth.clone(),
+                app.edit.scene.mechanism.as_ref().unwrap().drives.clone(),
+                app.edit.scene.truth.clone(),
             );
             drive(&mut app, &keys, w, h);
-            prop_assert_eq!(&app.scene.mechanism.as_ref().unwrap().drives, &drives);
-            prop_assert_eq!(&app.scene.truth, &truth);
-            let again = Scene::from_toml_str(&app.scene.to_toml(), "check");
+            prop_assert_eq!(&app.edit.scene.mechanism.as_ref().unwrap().drives, &drives);
+            prop_assert_eq!(&app.edit.scene.truth, &truth);
+            let again = Scene::from_toml_str(&app.edit.scene.to_toml(), "check");
             prop_assert!(again.is_ok(), "{:?}", again);
             prop_assert!(again.unwrap().truth.is_some());
         }

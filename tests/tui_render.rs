@@ -5,14 +5,12 @@
 
 mod common;
 
-use std::sync::Arc;
-
 use prbfit::fit::{Fidelity, StopReason};
 use prbfit::scene::Scene;
 use prbfit::study::{Sampling, Study};
-use prbfit::tui::app::{Activity, App, EditTarget, Panel, PromptKind, TextBox};
+use prbfit::tui::app::{Activity, App, EditTarget, Judged, Panel, PromptKind, TextBox};
 use prbfit::tui::ui::draw;
-use prbfit::tui::worker::{baseline_view, model_view};
+use prbfit::tui::worker::model_view;
 use ratatui::backend::TestBackend;
 use ratatui::style::Color;
 use ratatui::Terminal;
@@ -20,12 +18,8 @@ use ratatui::Terminal;
 /// The app as it is after the first job on the built-in scene, with results computed here
 /// (deterministic: the same solver and matrix the worker would use).
 fn judged_app() -> App {
-    let mut app = App::new(Scene::builtin(), None);
-    let study = Study::as_given(&app.scene, Sampling::Fidelity(Fidelity::Normal)).unwrap();
-    let baseline = study.baseline().unwrap().clone();
-    app.baseline = Some(Arc::new(baseline_view(&baseline, None)));
-    app.model = Some(model_view(&app.matrix, &baseline, 1.0).unwrap());
-    app.activity = Activity::Done {
+    let mut app = common::tui::judged_as_given(Scene::builtin(), None);
+    app.jobs.activity = Activity::Done {
         seconds: 0.0123,
         stop: Some(StopReason::Converged),
         iterations: 42,
@@ -51,14 +45,13 @@ fn main_screen_120x40() {
 #[test]
 fn comparing_with_chen_120x40() {
     let mut app = judged_app();
-    let study = Study::as_given(&app.scene, Sampling::Fidelity(Fidelity::Normal)).unwrap();
-    let baseline = study.baseline().unwrap().clone();
+    let study = Study::as_given(&app.edit.scene, Sampling::Fidelity(Fidelity::Normal)).unwrap();
     let chen = prbfit::io::ModelFile::load("chen-3r").unwrap().prb;
-    app.compare = Some(("chen-3r".into(), chen.clone()));
-    app.compare_view = Some((
-        app.baseline.clone().unwrap(),
-        model_view(&chen, &baseline, 1.0).unwrap(),
-    ));
+    app.shown.compare = Some(("chen-3r".into(), chen.clone()));
+    app.shown.compared = Some(Judged {
+        truth: app.shown.result.as_ref().unwrap().truth.clone(),
+        model: model_view(&study, &chen).unwrap(),
+    });
     let t = render(&app, 120, 40);
     let text = format!("{}", t.backend());
     assert!(text.contains("compared with chen-3r"), "{text}");
@@ -74,17 +67,17 @@ fn main_screen_80x24() {
 #[test]
 fn second_load_path_and_loads_focus() {
     let mut app = judged_app();
-    app.focus = Panel::Loads;
-    app.loads_state.row = 1;
-    app.loads_state.col = 2;
+    app.edit.focus = Panel::Loads;
+    app.edit.loads_state.row = 1;
+    app.edit.loads_state.col = 2;
     insta::assert_snapshot!("loads_path2_120x40", render(&app, 120, 40).backend());
 }
 
 #[test]
 fn editing_a_cell() {
     let mut app = judged_app();
-    app.focus = Panel::Matrix;
-    app.editing = Some((
+    app.edit.focus = Panel::Matrix;
+    app.edit.editing = Some((
         EditTarget::Cell {
             row: 2,
             col: prbfit::prb::Column::KTheta,
@@ -168,7 +161,7 @@ fn selection_view_120x40() {
     use prbfit::study::tradeoff::{Knob, TradeoffRow};
     use prbfit::tui::state::select::SelectState;
     let mut app = judged_app();
-    let study = Study::as_given(&app.scene, Sampling::Fidelity(Fidelity::Normal)).unwrap();
+    let study = Study::as_given(&app.edit.scene, Sampling::Fidelity(Fidelity::Normal)).unwrap();
     let mut sel = study
         .select(Fidelity::Normal, &CancelToken::new(), &mut |_| {})
         .unwrap();
@@ -193,7 +186,7 @@ fn selection_view_120x40() {
             })
             .collect(),
     };
-    app.select = Some(SelectState {
+    app.shown.select = Some(SelectState {
         job: 1,
         chosen: sel.chosen,
         closest: Some(sel.closest),
@@ -242,20 +235,20 @@ fn panel(w: u16, h: u16, draw: impl FnOnce(&mut ratatui::Frame, ratatui::layout:
 fn panels_one_by_one() {
     use prbfit::tui::ui::{beam, errors, loads, matrix, overlays, shapes, status};
     let mut app = judged_app();
-    app.focus = Panel::Beam;
-    app.beam_state.row = 3;
+    app.edit.focus = Panel::Beam;
+    app.edit.beam_state.row = 3;
     insta::assert_snapshot!(
         "panel_beam",
         panel(46, 12, |f, a| beam::draw(f, a, &beam::View::new(&app)))
     );
-    app.focus = Panel::Loads;
-    app.loads_state.row = 2;
-    app.loads_state.col = 1;
+    app.edit.focus = Panel::Loads;
+    app.edit.loads_state.row = 2;
+    app.edit.loads_state.col = 1;
     insta::assert_snapshot!(
         "panel_loads",
         panel(46, 9, |f, a| loads::draw(f, a, &loads::View::new(&app)))
     );
-    app.focus = Panel::Matrix;
+    app.edit.focus = Panel::Matrix;
     app.on_key(
         ratatui::crossterm::event::KeyEvent::new(
             ratatui::crossterm::event::KeyCode::Char('f'),
@@ -267,7 +260,7 @@ fn panels_one_by_one() {
         "panel_matrix",
         panel(46, 7, |f, a| matrix::draw(f, a, &matrix::View::new(&app)))
     );
-    app.matrix_state.si = true;
+    app.edit.matrix_state.si = true;
     insta::assert_snapshot!(
         "panel_matrix_si",
         panel(46, 7, |f, a| matrix::draw(f, a, &matrix::View::new(&app)))
@@ -285,7 +278,7 @@ fn panels_one_by_one() {
             panel(37, 15, |f, a| errors::draw(
                 f,
                 a,
-                &errors::View::new(&app, kind)
+                &errors::View::new(&app, Some(kind))
             ))
         );
     }
@@ -324,7 +317,7 @@ fn panels_one_by_one() {
 #[test]
 fn control_characters_from_files_are_not_drawn() {
     let mut app = judged_app();
-    app.scene.name = "\u{1b}[31mRED\u{1b}]0;pwned\u{7}".into();
+    app.edit.scene.name = "\u{1b}[31mRED\u{1b}]0;pwned\u{7}".into();
     app.set_error("not opened: /tmp/\u{1b}[2Jevil.toml: bad\u{8}\u{8}");
     let t = render(&app, 80, 24);
     let buf = t.backend().buffer();
@@ -352,7 +345,7 @@ fn judged_mechanism(name: &str, model: &str) -> App {
 #[test]
 fn mechanism_screen_120x40() {
     let mut app = judged_mechanism("slider-crank", "howell-1r");
-    app.mech_state.row = 6;
+    app.edit.mech_state.row = 6;
     let t = render(&app, 120, 40);
     let text = format!("{}", t.backend());
     assert!(text.contains("force 5.81% FAIL<5"), "{text}");
@@ -371,17 +364,16 @@ fn mechanism_screen_80x24() {
 /// status line, the compared model's figures on a second row.
 #[test]
 fn mechanism_compared_120x40() {
-    use prbfit::tui::worker::mech_model_view;
     let mut app = judged_mechanism("parallel-stage", "chen-3r");
     let su = prbfit::io::ModelFile::load("su-3r").unwrap().prb;
-    let exact = app.mech_exact.clone().unwrap();
-    app.compare = Some(("su-3r".into(), su.clone()));
-    app.mech_compare = Some((
-        exact.clone(),
-        mech_model_view(&exact, &su, 1.0, 1.0).unwrap(),
-    ));
-    app.focus = Panel::Matrix;
-    app.mech_state.case = Some(3);
+    let study = common::tui::study(&app.edit.scene, Fidelity::Normal);
+    app.shown.compare = Some(("su-3r".into(), su.clone()));
+    app.shown.compared = Some(Judged {
+        truth: app.shown.result.as_ref().unwrap().truth.clone(),
+        model: model_view(&study, &su).unwrap(),
+    });
+    app.edit.focus = Panel::Matrix;
+    app.edit.mech_state.case = Some(3);
     let t = render(&app, 120, 40);
     let text = format!("{}", t.backend());
     assert!(text.contains("compared with su-3r"), "{text}");
@@ -393,20 +385,16 @@ fn mechanism_compared_120x40() {
 /// force-stroke chart (and its second panel, `F`), the error chart, the status lines.
 #[test]
 fn mechanism_panels_one_by_one() {
-    use prbfit::tui::ui::{mech, mech_errors, mech_shapes, status, strokes};
+    use prbfit::tui::ui::{errors, mech, shapes, status, strokes};
     let mut app = judged_mechanism("fixed-guided", "su-3r");
-    app.mech_state.row = 4;
+    app.edit.mech_state.row = 4;
     insta::assert_snapshot!(
         "panel_mech",
         panel(46, 12, |f, a| mech::draw(f, a, &mech::View::new(&app)))
     );
     insta::assert_snapshot!(
         "panel_mech_shapes",
-        panel(74, 20, |f, a| mech_shapes::draw(
-            f,
-            a,
-            &mech_shapes::View::new(&app)
-        ))
+        panel(74, 20, |f, a| shapes::draw(f, a, &shapes::View::new(&app)))
     );
     insta::assert_snapshot!(
         "panel_strokes",
@@ -416,7 +404,7 @@ fn mechanism_panels_one_by_one() {
             &strokes::View::new(&app)
         ))
     );
-    app.mech_state.chart = 1;
+    app.edit.mech_state.chart = 1;
     insta::assert_snapshot!(
         "panel_strokes_second",
         panel(37, 15, |f, a| strokes::draw(
@@ -427,10 +415,10 @@ fn mechanism_panels_one_by_one() {
     );
     insta::assert_snapshot!(
         "panel_mech_errors",
-        panel(37, 15, |f, a| mech_errors::draw(
+        panel(37, 15, |f, a| errors::draw(
             f,
             a,
-            &mech_errors::View::new(&app)
+            &errors::View::new(&app, None)
         ))
     );
     insta::assert_snapshot!(
@@ -451,7 +439,7 @@ fn mechanism_waiting_and_failed_80x24() {
         std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/fixed-guided.toml");
     let mut app = App::new(Scene::from_file(&path).unwrap(), None);
     insta::assert_snapshot!("mech_waiting_80x24", render(&app, 80, 24).backend());
-    app.activity = Activity::Failed(
+    app.jobs.activity = Activity::Failed(
         "the PRB mechanism (L-R) cannot follow: the mechanism cannot follow drive 1 even to \
          first order"
             .into(),
@@ -485,7 +473,7 @@ fn mechanism_selection_view_120x40() {
     use prbfit::fit::CancelToken;
     use prbfit::tui::state::select::SelectState;
     let mut app = judged_mechanism("fixed-guided", "su-3r");
-    let study = Study::new(&app.scene, Sampling::Fidelity(Fidelity::Draft)).unwrap();
+    let study = Study::new(&app.edit.scene, Sampling::Fidelity(Fidelity::Draft)).unwrap();
     let mut sel = study
         .select(Fidelity::Draft, &CancelToken::new(), &mut |_| {})
         .unwrap();
@@ -503,7 +491,7 @@ fn mechanism_selection_view_120x40() {
     );
     let mut state = SelectState::new(1);
     state.on_done(1, sel, Vec::new());
-    app.mech_select = Some(state);
+    app.shown.select = Some(state);
     let t = render(&app, 120, 40);
     let text = format!("{}", t.backend());
     assert!(text.contains("max force"), "{text}");
@@ -515,26 +503,10 @@ fn mechanism_selection_view_120x40() {
 /// after a judge job of Su's 3R, with results computed here as the worker computes them
 /// (the data as the baseline, the scene's beam solved at the measured loads beside it).
 fn judged_data_app() -> App {
-    use prbfit::fit::CancelToken;
-    use prbfit::tui::worker::measured_view;
     let path =
         std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/wide-strip-fea.toml");
-    let mut app = App::new(Scene::from_file(&path).unwrap(), Some(path));
-    let study = Study::as_given(&app.scene, Sampling::Fidelity(Fidelity::Normal)).unwrap();
-    let baseline = study.baseline().unwrap().clone();
-    let mut view = baseline_view(&baseline, None);
-    view.measured = Some(
-        measured_view(
-            app.scene.truth.as_ref().unwrap(),
-            &app.scene.beam,
-            Fidelity::Normal.resolution(),
-            &CancelToken::new(),
-        )
-        .unwrap(),
-    );
-    app.baseline = Some(Arc::new(view));
-    app.model = Some(model_view(&app.matrix, &baseline, 1.0).unwrap());
-    app.activity = Activity::Done {
+    let mut app = common::tui::judged_as_given(Scene::from_file(&path).unwrap(), Some(path));
+    app.jobs.activity = Activity::Done {
         seconds: 0.0042,
         stop: None,
         iterations: 0,
@@ -627,9 +599,9 @@ fn data_colours() {
 fn data_panels_one_by_one() {
     use prbfit::tui::ui::{errors, rows, shapes};
     let mut app = judged_data_app();
-    app.focus = Panel::Loads;
-    app.loads_state.row = 5;
-    app.matrix_state.si = true;
+    app.edit.focus = Panel::Loads;
+    app.edit.loads_state.row = 5;
+    app.edit.matrix_state.si = true;
     insta::assert_snapshot!(
         "panel_data_rows",
         panel(46, 9, |f, a| rows::draw(f, a, &rows::View::new(&app)))
@@ -643,7 +615,7 @@ fn data_panels_one_by_one() {
         panel(37, 15, |f, a| errors::draw(
             f,
             a,
-            &errors::View::new(&app, errors::ErrorKind::Position)
+            &errors::View::new(&app, Some(errors::ErrorKind::Position))
         ))
     );
 }
@@ -660,7 +632,7 @@ fn data_line_before_and_after_a_failure() {
         text.contains("data wide-strip-fea.csv sha256 1d3b0fb1 · beam vs data: solving..."),
         "{text}"
     );
-    app.activity = Activity::Failed("the PRB model fails".into());
+    app.jobs.activity = Activity::Failed("the PRB model fails".into());
     let text = format!("{}", render(&app, 120, 40).backend());
     assert!(
         text.contains("data wide-strip-fea.csv sha256 1d3b0fb1 · beam vs data: no result"),

@@ -9,7 +9,7 @@
 
 use ratatui::crossterm::event::{KeyCode, KeyEvent, KeyModifiers};
 
-use super::state::Panel;
+use super::panel::Panel;
 
 /// What a key does.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -2,11 +2,21 @@
 //! and the PRB matrix; the worker refits live; the charts show the deformed shapes and the
 //! errors (on a mechanism, the force–stroke chart and the reaction error).
 //!
-//! - [`app`]: the shared state and the update logic (no terminal), unit-tested;
-//! - [`state`]: each panel's own state: cursor and edit handling;
+//! Both kinds of scene (a cantilever, a mechanism; either with measured data as its truth)
+//! go through one path: the worker asks the study layer (DESIGN §7) and sends one set of
+//! messages with one truth view and one model view, the app keeps one result slot, and each
+//! chart has one renderer.
+//!
+//! The modules, each using only those before it:
+//! - [`units`]: numbers and quantities as typed and shown;
+//! - [`panel`]: the panels that take the keyboard;
 //! - [`keymap`]: every key, read by the key handling, the help and the hint line;
+//! - [`latest_job`]: the newest-job queue;
+//! - [`worker`]: the background thread that solves and fits, fed by that queue;
+//! - [`state`]: each panel's own state: cursor and edit handling;
+//! - [`app`]: the UI's state (editing, job client, what is shown) and its update logic (no
+//!   terminal), unit-tested;
 //! - [`ui`]: drawing, one file per panel, snapshot-tested;
-//! - [`worker`]: the background thread that solves and fits, fed by a [`latest_job`] queue;
 //! - this module: the terminal and the event loop.
 //!
 //! The terminal is restored on quit, on error, on SIGTERM and SIGHUP, and on a panic of the UI
@@ -18,6 +28,9 @@
 pub mod app;
 pub mod keymap;
 pub mod latest_job;
+#[cfg(test)]
+mod layering;
+pub mod panel;
 pub mod state;
 pub mod ui;
 pub mod units;
@@ -247,18 +260,14 @@ fn run_loop(
                 let ms = t0.elapsed().as_secs_f64() * 1e3;
                 t.line(format!("frame_ms {ms:.3}"));
                 if let Some(at) = key_at.take() {
-                    let busy = matches!(app.activity, app::Activity::Fitting(_));
+                    let busy = matches!(app.jobs.activity, app::Activity::Fitting(_));
                     let ms = at.elapsed().as_secs_f64() * 1e3;
                     t.line(format!("key_to_frame_ms {ms:.3} fitting={busy}"));
                 }
             }
             redraw = false;
         }
-        let busy = app.has_pending()
-            || matches!(
-                app.activity,
-                app::Activity::Waiting | app::Activity::Fitting(_)
-            );
+        let busy = app.has_pending() || app.jobs.busy();
         let timeout = if busy {
             Duration::from_millis(5)
         } else {
@@ -283,15 +292,9 @@ fn run_loop(
             Some(Err(_)) => break,
         }
         while let Ok(msg) = worker.messages.try_recv() {
-            let shows_model = matches!(
-                msg,
-                WorkerMsg::Progress { .. }
-                    | WorkerMsg::Done { .. }
-                    | WorkerMsg::MechProgress { .. }
-                    | WorkerMsg::MechDone { .. }
-            );
+            let shows_model = matches!(msg, WorkerMsg::Progress { .. } | WorkerMsg::Done { .. });
             let id = msg.id();
-            let is_done = matches!(msg, WorkerMsg::Done { .. } | WorkerMsg::MechDone { .. });
+            let is_done = matches!(msg, WorkerMsg::Done { .. });
             if app.on_worker(msg) {
                 redraw = true;
                 if let (Some(t), true) = (&mut trace, shows_model) {
@@ -337,7 +340,7 @@ fn execute_command(app: &mut App, worker: &Worker, cmd: Command, trace: &mut Opt
     let Some(job) = run_command(app, cmd, Instant::now()) else {
         return;
     };
-    if let (Some(t), Some(at)) = (trace.as_mut(), app.edit_accepted_at) {
+    if let (Some(t), Some(at)) = (trace.as_mut(), app.jobs.edit_accepted_at) {
         // Time from the accepted edit (debounce included) to the chart.
         t.edit_at = Some((job.id, at));
         t.done_at = Some((job.id, at));
@@ -352,17 +355,17 @@ pub fn run_command(app: &mut App, cmd: Command, now: Instant) -> Option<Job> {
     match cmd {
         Command::Submit(job) => return Some(job),
         Command::SaveScene { path, overwrite } => {
-            let overwrite = overwrite || app.scene_path.as_deref() == Some(path.as_path());
-            let mut scene = app.scene_to_save();
+            let overwrite = overwrite || app.edit.scene_path.as_deref() == Some(path.as_path());
+            let mut scene = app.edit.scene_to_save();
             // A data scene names its file relative to the scene file: from elsewhere, the
             // same file by another path.
             if let Some(t) = scene.truth.as_mut() {
-                t.file = data_file_from(app.scene_path.as_deref(), &t.file, &path);
+                t.file = data_file_from(app.edit.scene_path.as_deref(), &t.file, &path);
             }
             let text = scene.to_toml();
             match write_atomic(&path, text.as_bytes(), overwrite) {
                 Ok(()) => {
-                    app.scene.truth = scene.truth;
+                    app.edit.scene.truth = scene.truth;
                     app.saved(path);
                 }
                 Err(WriteError::Exists(_)) => app.ask_overwrite(Command::SaveScene {

@@ -3,11 +3,16 @@
 //! screens rendered into a `TestBackend`.
 
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 
+use prbfit::cancel::CancelToken;
+use prbfit::fit::Fidelity;
+use prbfit::prb::PrbMatrix;
 use prbfit::scene::Scene;
-use prbfit::tui::app::{App, Command};
-use prbfit::tui::worker::{Job, Worker, WorkerMsg};
+use prbfit::study::Study;
+use prbfit::tui::app::{App, Command, Judged};
+use prbfit::tui::worker::{model_view, study_of, truth_view, Job, Worker, WorkerMsg};
 use ratatui::backend::TestBackend;
 use ratatui::crossterm::event::{KeyCode, KeyEvent, KeyModifiers};
 use ratatui::Terminal;
@@ -84,8 +89,7 @@ pub fn job_of(cmd: Option<Command>) -> Job {
 }
 
 /// Runs `job` on `worker` and hands every message to `app` until the job is done (its
-/// `Done`, `MechDone`, `SelectDone`, `MechSelectDone`, `Compared`, `MechCompared` or
-/// `Exported`), or fails; the last message.
+/// `Done`, `SelectDone`, `Compared` or `Exported`), or fails; the last message.
 pub fn run_job(app: &mut App, worker: &Worker, job: Job) -> WorkerMsg {
     let id = job.id;
     worker.submit(job);
@@ -98,12 +102,9 @@ pub fn run_job(app: &mut App, worker: &Worker, job: Job) -> WorkerMsg {
             && matches!(
                 msg,
                 WorkerMsg::Done { .. }
-                    | WorkerMsg::MechDone { .. }
                     | WorkerMsg::Failed { .. }
                     | WorkerMsg::SelectDone { .. }
-                    | WorkerMsg::MechSelectDone { .. }
                     | WorkerMsg::Compared { .. }
-                    | WorkerMsg::MechCompared { .. }
                     | WorkerMsg::Exported { .. }
             );
         app.on_worker(msg.clone());
@@ -111,6 +112,48 @@ pub fn run_job(app: &mut App, worker: &Worker, job: Job) -> WorkerMsg {
             return msg;
         }
     }
+}
+
+/// `matrix` judged on `study` as the worker judges it (deterministic: no timing), with the
+/// truth it was judged on: what the app shows after a judge job.
+pub fn judged(study: &Study, matrix: &PrbMatrix) -> Judged {
+    let truth = truth_view(study, &CancelToken::new()).expect("the truth view");
+    Judged {
+        truth: Arc::new(truth),
+        model: model_view(study, matrix).expect("the model view"),
+    }
+}
+
+/// The app on `scene` (read from `path`, if any) with its own model judged on the scene's
+/// truth taken as given ([`Study::as_given`]) at normal fidelity, as the worker judges it
+/// (deterministic: no timing).
+pub fn judged_as_given(scene: Scene, path: Option<PathBuf>) -> App {
+    use prbfit::study::Sampling;
+    let mut app = App::new(scene, path);
+    let study =
+        Study::as_given(&app.edit.scene, Sampling::Fidelity(Fidelity::Normal)).expect("the study");
+    app.shown.result = Some(judged(&study, &app.edit.matrix));
+    app
+}
+
+/// The app on the mechanism scene file `path`, the mechanism panel focused with its cursor
+/// on `field`.
+pub fn at_field(path: &Path, field: prbfit::tui::state::mech::MechField) -> App {
+    use prbfit::tui::app::Panel;
+    use prbfit::tui::state::mech::fields;
+    let mut app = app_on(path);
+    app.edit.focus = Panel::Mechanism;
+    let m = app.edit.scene.mechanism.clone().expect("a mechanism scene");
+    app.edit.mech_state.row = fields(&m)
+        .iter()
+        .position(|f| *f == field)
+        .expect("the field");
+    app
+}
+
+/// The study of `scene` at `fidelity` as the worker solves it (`auto` effects decided).
+pub fn study(scene: &Scene, fidelity: Fidelity) -> Study {
+    study_of(scene, fidelity, &CancelToken::new()).expect("the study")
 }
 
 /// The whole screen of `app` at `w` x `h`, as text.
@@ -190,7 +233,7 @@ pub fn any_key(
     })
 }
 
-/// The model `app.matrix` exported from the UI (the worker's export job) and by `prbfit
+/// The model `app.edit.matrix` exported from the UI (the worker's export job) and by `prbfit
 /// export --scene scene --prb <the matrix>` into `dir`: the UI's export records the data
 /// scene's file `data` (as the scene names it), its `rows` and the hash the app read, and
 /// is the CLI's (the same truth record, figures and matrix).
@@ -218,7 +261,7 @@ pub fn export_records_the_data_as_the_cli(
         "--scene",
         &scene.display().to_string(),
         "--prb",
-        &app.matrix.to_text(),
+        &app.edit.matrix.to_text(),
         "-o",
         &cli_file,
     ]);
@@ -230,7 +273,7 @@ pub fn export_records_the_data_as_the_cli(
     let truth = ui_fit.truth.clone().expect("the export records the data");
     assert_eq!(truth.data, data);
     assert_eq!(truth.rows, rows);
-    let read = app.scene.truth.as_ref().expect("a data scene");
+    let read = app.edit.scene.truth.as_ref().expect("a data scene");
     assert_eq!(truth.sha256, read.sha256, "the file's hash");
     assert_eq!(ui_fit.truth, cli_fit.truth);
     assert_eq!(ui_fit.figures, cli_fit.figures);
@@ -267,21 +310,17 @@ pub fn save_data_scene(
 /// judged as the worker judges it at normal fidelity (deterministic: no timing), the job
 /// done in `seconds`, the mechanism panel focused.
 pub fn judged_mechanism(path: &Path, model: &str, seconds: f64) -> App {
-    use prbfit::fit::Fidelity;
     use prbfit::tui::app::{Activity, Panel};
-    use prbfit::tui::worker::{mech_baseline_view, mech_model_view};
     let mut app = app_on(path);
-    app.matrix = prbfit::io::ModelFile::load(model).expect("the model").prb;
-    let exact = mech_baseline_view(&app.scene, Fidelity::Normal).expect("the truth");
-    let (w, w_f) = (app.scene.fit.angle_weight, app.scene.fit.force_weight);
-    app.mech_model = Some(mech_model_view(&exact, &app.matrix, w, w_f).expect("the model"));
-    app.mech_exact = Some(std::sync::Arc::new(exact));
-    app.activity = Activity::Done {
+    app.edit.matrix = prbfit::io::ModelFile::load(model).expect("the model").prb;
+    let study = study(&app.edit.scene, Fidelity::Normal);
+    app.shown.result = Some(judged(&study, &app.edit.matrix));
+    app.jobs.activity = Activity::Done {
         seconds,
         stop: None,
         iterations: 0,
         evaluations: 0,
     };
-    app.focus = Panel::Mechanism;
+    app.edit.focus = Panel::Mechanism;
     app
 }

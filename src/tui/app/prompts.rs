@@ -1,9 +1,20 @@
 //! The one-line prompts (save, open, export, topology, density) and the y/n questions
 //! (quit, open over unsaved work, overwrite): their keys and what Enter does.
 
-use super::*;
+use std::path::PathBuf;
+use std::time::Instant;
+
+use ratatui::crossterm::event::{KeyCode, KeyEvent};
+
+use crate::format::Format;
+
+use super::super::keymap::Action;
+use super::super::units::trim_number;
+use super::dialog::{has_masses, parse_density, text_action, TextKey};
+use super::{App, Command, PromptKind};
 
 impl App {
+    /// Keys while a prompt is open (`ctrl_c`: the key is Ctrl-C).
     pub(super) fn prompt_key(&mut self, key: KeyEvent, ctrl_c: bool, now: Instant) -> Vec<Command> {
         let Some((kind, tb)) = &mut self.prompt else {
             return Vec::new();

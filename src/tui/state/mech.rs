@@ -9,17 +9,17 @@
 //! `dx`, `dy`, `dphi` when prescribed, `Fx`, `Fy`, `Mz` when loaded.
 //!
 //! Edits never leave an invalid mechanism: each returns a new [`Mechanism`], which the app
-//! checks by the scene's rules ([`Scene::validate`], the rules the scene file's reader
-//! applies) before taking it. Two edits carry what a designer would expect along, by the
+//! checks by the scene's rules ([`checked`](super::checked): the rules the scene file's
+//! reader applies) before taking it. Two edits carry what a designer would expect along, by the
 //! scene's own edits: a coupler whose stage end sat on the stage point stays on it when the
 //! stage point moves ([`Mechanism::with_stage_point`]), and a beam edit reaches every flexure
 //! that does not override that value ([`Mechanism::rebased`]).
 
-use crate::scene::{rules, Attach, BeamSpec, Coordinate, Mechanism, Scene, COORDINATE_KEYS};
+use crate::mech::MechCase;
+use crate::scene::{rules, Attach, Coordinate, Mechanism, COORDINATE_KEYS};
 use crate::si::MechUnits;
 
 use super::super::units::trim_number;
-use super::super::worker::MechBaselineView;
 use super::mech_text::{dist, parse_angle, parse_point, parse_value, point_text, value_text};
 use super::step;
 
@@ -163,8 +163,8 @@ impl MechField {
     }
 
     /// `m` with this row set from `text`; an error (and nothing changed) if the text is not
-    /// a value of the row's kind. The whole mechanism is checked by the caller
-    /// ([`validate`]).
+    /// a value of the row's kind. The whole scene is checked by the caller
+    /// ([`checked`](super::checked)).
     pub fn edited(self, m: &Mechanism, text: &str) -> Result<Mechanism, String> {
         let u = MechUnits::new(m);
         let mut out = m.clone();
@@ -237,12 +237,9 @@ impl MechField {
 /// (clamped, pinned, link, round again), or the coordinate of the other kind. A prescribed
 /// coordinate becomes the load that holds the exact mechanism where the drive took it (its
 /// reaction at the drive's end), a loaded one the motion that load caused, so the drive's
-/// end state stays where it was; with no exact solution yet, zero.
-pub fn toggled(
-    m: &Mechanism,
-    field: MechField,
-    exact: Option<&MechBaselineView>,
-) -> Vec<Mechanism> {
+/// end state `end` (the exact mechanism's last case of the drive) stays where it was; with no
+/// exact solution yet, zero.
+pub fn toggled(m: &Mechanism, field: MechField, end: Option<&MechCase>) -> Vec<Mechanism> {
     match field {
         MechField::Attach(i) => {
             let Some(f) = m.flexures.get(i) else {
@@ -266,11 +263,6 @@ pub fn toggled(
             let Some(d) = m.drives.get(drive) else {
                 return Vec::new();
             };
-            // The exact mechanism at the drive's end, in SI.
-            let end = exact
-                .filter(|v| v.mechanism.drives.get(drive) == Some(d))
-                .and_then(|v| v.cases.get(drive))
-                .and_then(|cases| cases.last());
             let (l, _) = m.scale();
             let u = MechUnits::new(m);
             let mut out = m.clone();
@@ -290,25 +282,6 @@ pub fn toggled(
         }
         _ => Vec::new(),
     }
-}
-
-/// `m` with the stage point at `p`; couplers whose stage end sat on the old stage point
-/// stay on it: the scene's own edit, [`Mechanism::with_stage_point`].
-pub fn moved_stage_point(m: &Mechanism, p: [f64; 2]) -> Mechanism {
-    m.with_stage_point(p)
-}
-
-/// `m` after the scene's beam went from `old` to `new` (what the app does to a mechanism on
-/// a beam edit): the scene's own edit, [`Mechanism::rebased`].
-pub fn rebased(m: &Mechanism, old: &BeamSpec, new: &BeamSpec) -> Mechanism {
-    m.rebased(old, new)
-}
-
-/// Checks a mechanism scene by the rules its file obeys ([`Scene::validate`], which holds
-/// the mechanism's: [`Mechanism::validate`]), as the panel shows a broken one:
-/// `key: message`.
-pub fn validate(scene: &Scene) -> Result<(), String> {
-    scene.check_rules().map_err(|e| e.to_string())
 }
 
 /// The mechanism panel's cursor and what the mechanism charts show.
@@ -391,6 +364,7 @@ mod tests {
     #![allow(clippy::unwrap_used)]
 
     use super::*;
+    use crate::scene::Scene;
 
     fn slider_crank() -> Scene {
         Scene::from_toml_str(
@@ -466,7 +440,7 @@ mod tests {
         assert_eq!(toggled[0].drives[0].coordinates[1], Coordinate::Loaded(0.0));
         // With every coordinate zero the drive goes nowhere: the file's rule refuses it.
         s.mechanism = Some(toggled[0].clone());
-        let e = validate(&s).unwrap_err();
+        let e = crate::tui::state::checked(&s).unwrap_err();
         assert!(e.contains("goes nowhere"), "{e}");
         // A coupler ending on the flexure's own tip has zero length.
         let mut bad = m.clone();
@@ -474,7 +448,9 @@ mod tests {
             to: bad.flexures[0].tip(),
         };
         s.mechanism = Some(bad);
-        assert!(validate(&s).unwrap_err().contains("zero length"));
+        assert!(crate::tui::state::checked(&s)
+            .unwrap_err()
+            .contains("zero length"));
     }
 
     /// A stage-point edit meets the scene file's rule: onto the flexure's tip (where the
@@ -485,7 +461,7 @@ mod tests {
         let mut s = slider_crank();
         let m = s.mechanism.clone().unwrap();
         s.mechanism = Some(MechField::StagePoint.edited(&m, "50, 0").unwrap());
-        let ui = validate(&s).unwrap_err();
+        let ui = crate::tui::state::checked(&s).unwrap_err();
         let file = Scene::from_toml_str(&s.to_toml(), "s.toml").unwrap_err();
         assert!(file.line.is_some(), "{file}");
         assert_eq!(ui, format!("{}: {}", file.key.unwrap(), file.message));
@@ -502,7 +478,7 @@ mod tests {
         let mut new = s.beam;
         new.length = 0.06;
         new.thickness = 0.0006;
-        let r = rebased(m, &s.beam, &new);
+        let r = m.rebased(&s.beam, &new);
         assert_eq!(r.flexures[0].beam.length, 0.06);
         assert_eq!(r.flexures[0].beam.thickness, 0.0006);
         // The slider is not flexure 1's tip: it stays.

@@ -1,7 +1,7 @@
 //! The state of each panel, on its own: its cursor and how it turns typed text into a new
-//! value (bottom's per-widget state). A panel never touches another panel's state; the
-//! [`App`](super::app::App) holds what they share (scene, matrix, jobs, messages) and
-//! dispatches keys to the focused one.
+//! value (bottom's per-widget state). A panel never touches another panel's state; the app's
+//! [`Editing`](super::app::Editing) holds them with what they edit (the scene, the matrix),
+//! and the app dispatches keys to the focused one.
 //!
 //! - [`beam`]: the beam's fields and the scene's targets;
 //! - [`loads`]: the load-path table;
@@ -19,55 +19,15 @@ mod mech_text;
 pub mod select;
 pub mod text;
 
-/// The panels that take the keyboard.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Panel {
-    /// The beam and the scene's targets.
-    Beam,
-    /// The load paths.
-    Loads,
-    /// The PRB matrix.
-    Matrix,
-    /// A mechanism scene's flexures, stage and drives (in place of the load paths).
-    Mechanism,
-}
+pub use super::panel::Panel;
 
-impl Panel {
-    /// The panel in the middle of the left column: the load paths, or on a mechanism scene
-    /// the mechanism.
-    pub fn middle(mechanism: bool) -> Panel {
-        if mechanism {
-            Panel::Mechanism
-        } else {
-            Panel::Loads
-        }
-    }
+use crate::scene::Scene;
 
-    /// The panel Tab moves to (on a mechanism scene when `mechanism`).
-    pub fn next(self, mechanism: bool) -> Panel {
-        match self {
-            Panel::Beam => Panel::middle(mechanism),
-            Panel::Loads | Panel::Mechanism => Panel::Matrix,
-            Panel::Matrix => Panel::Beam,
-        }
-    }
-
-    /// The panel Shift-Tab moves to (on a mechanism scene when `mechanism`).
-    pub fn prev(self, mechanism: bool) -> Panel {
-        match self {
-            Panel::Beam => Panel::Matrix,
-            Panel::Loads | Panel::Mechanism => Panel::Beam,
-            Panel::Matrix => Panel::middle(mechanism),
-        }
-    }
-
-    /// The panel to focus on a scene of the other kind: the middle panel changes with it.
-    pub fn on_scene(self, mechanism: bool) -> Panel {
-        match self {
-            Panel::Loads | Panel::Mechanism => Panel::middle(mechanism),
-            p => p,
-        }
-    }
+/// Checks an edited scene, of any kind, by the rules its file obeys
+/// ([`Scene::check_rules`], the reader's rules), as a panel shows a broken one:
+/// `key: message`.
+pub fn checked(scene: &Scene) -> Result<(), String> {
+    scene.check_rules().map_err(|e| e.to_string())
 }
 
 /// Moves a cursor `v` by `d` inside `0..n` (clamped; 0 when empty).

@@ -9,7 +9,7 @@ use ratatui::Frame;
 use super::super::app::{App, EditTarget, Panel};
 use super::super::state::beam::BeamField;
 use super::super::units::trim_number;
-use super::{panel_block, shown, Palette};
+use super::parts::{field_text, panel_block, Palette};
 
 /// What the beam panel draws.
 #[derive(Debug, Clone, PartialEq)]
@@ -30,17 +30,17 @@ impl View {
     /// The beam panel of `app`.
     pub fn new(app: &App) -> View {
         View {
-            focused: app.focus == Panel::Beam,
-            slenderness: app.scene.beam.slenderness(),
-            rows: BeamField::of(app.is_mechanism())
+            focused: app.edit.focus == Panel::Beam,
+            slenderness: app.edit.scene.beam.slenderness(),
+            rows: BeamField::of(app.edit.is_mechanism())
                 .iter()
                 .map(|&f| {
-                    let text = f.text(&app.scene, app.decided_effects());
-                    let (text, editing) = shown(app, &EditTarget::Beam(f), text);
+                    let text = f.text(&app.edit.scene, app.shown.decided_effects());
+                    let (text, editing) = field_text(app, &EditTarget::Beam(f), text);
                     (f.label(), text, editing)
                 })
                 .collect(),
-            selected: app.beam_state.row,
+            selected: app.edit.beam_state.row,
             pal: Palette { mono: app.mono },
         }
     }

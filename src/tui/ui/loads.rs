@@ -12,7 +12,7 @@ use super::super::app::{App, EditTarget, Panel};
 use super::super::state::loads::{
     alpha_text, load_text, si_text, Hold, LOAD_COLUMNS, LOAD_COLUMNS_SI,
 };
-use super::{panel_block, shown, Palette, PATH_COLORS};
+use super::parts::{field_text, panel_block, Palette, PATH_COLORS};
 
 /// What the load panel draws.
 #[derive(Debug, Clone, PartialEq)]
@@ -39,8 +39,9 @@ impl View {
     /// The load panel of `app`.
     pub fn new(app: &App) -> View {
         View {
-            focused: app.focus == Panel::Loads,
+            focused: app.edit.focus == Panel::Loads,
             cells: app
+                .edit
                 .scene
                 .loads
                 .iter()
@@ -48,26 +49,27 @@ impl View {
                 .map(|(row, path)| {
                     (0..LOAD_COLUMNS.len())
                         .map(|col| {
-                            shown(
+                            field_text(
                                 app,
                                 &EditTarget::Load { row, col },
-                                load_text(path, col, app.si_beam()),
+                                load_text(path, col, app.edit.si_beam()),
                             )
                         })
                         .collect()
                 })
                 .collect(),
-            row: app.loads_state.row,
-            col: app.loads_state.col,
-            si: app.matrix_state.si,
-            hold: app.loads_state.hold,
+            row: app.edit.loads_state.row,
+            col: app.edit.loads_state.col,
+            si: app.edit.matrix_state.si,
+            hold: app.edit.loads_state.hold,
             other_units: app
+                .edit
                 .scene
                 .loads
-                .get(app.shown_path())
-                .map(|p| match app.matrix_state.si {
+                .get(app.edit.shown_path())
+                .map(|p| match app.edit.matrix_state.si {
                     true => alpha_text(p),
-                    false => si_text(p, &app.scene.beam),
+                    false => si_text(p, &app.edit.scene.beam),
                 })
                 .unwrap_or_default(),
             pal: Palette { mono: app.mono },

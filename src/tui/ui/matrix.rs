@@ -10,7 +10,7 @@ use ratatui::Frame;
 use crate::prb::Column;
 
 use super::super::app::{App, EditTarget, Panel};
-use super::{panel_block, shown, Palette};
+use super::parts::{field_text, panel_block, Palette};
 
 /// How a cell looks.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -46,6 +46,7 @@ impl View {
     /// The matrix panel of `app`.
     pub fn new(app: &App) -> View {
         let cells = app
+            .edit
             .matrix
             .rows()
             .iter()
@@ -55,7 +56,7 @@ impl View {
                     .iter()
                     .map(|&col| {
                         let value = row.get(col);
-                        let mut text = app.cell_text(r, col);
+                        let mut text = app.edit.cell_text(r, col);
                         let kind = if value == f64::INFINITY {
                             CellKind::Infinite
                         } else if !row.free[col.index()] {
@@ -64,19 +65,20 @@ impl View {
                         } else {
                             CellKind::Free
                         };
-                        let (text, editing) = shown(app, &EditTarget::Cell { row: r, col }, text);
+                        let (text, editing) =
+                            field_text(app, &EditTarget::Cell { row: r, col }, text);
                         (text, kind, editing)
                     })
                     .collect()
             })
             .collect();
         View {
-            focused: app.focus == Panel::Matrix,
-            topology: app.matrix.topology(),
-            si: app.matrix_state.si,
+            focused: app.edit.focus == Panel::Matrix,
+            topology: app.edit.matrix.topology(),
+            si: app.edit.matrix_state.si,
             cells,
-            row: app.matrix_state.row,
-            col: app.matrix_state.col,
+            row: app.edit.matrix_state.row,
+            col: app.edit.matrix_state.col,
             pal: Palette { mono: app.mono },
         }
     }

@@ -10,7 +10,7 @@ use ratatui::Frame;
 
 use super::super::app::{App, EditTarget, Panel};
 use super::super::state::mech::fields;
-use super::{panel_block, shown, Palette};
+use super::parts::{field_text, panel_block, Palette};
 
 /// What the mechanism panel draws.
 #[derive(Debug, Clone, PartialEq)]
@@ -35,10 +35,10 @@ impl View {
     pub fn new(app: &App) -> View {
         let mut rows = Vec::new();
         let mut title = " Mechanism ".to_string();
-        if let Some(m) = &app.scene.mechanism {
+        if let Some(m) = &app.edit.scene.mechanism {
             let plural =
                 |n: usize, what: &str| format!("{n} {what}{}", if n == 1 { "" } else { "s" });
-            title = if app.is_data() {
+            title = if app.edit.is_data() {
                 // The drives are the data file's paths: shown, not edited.
                 format!(
                     " Mechanism  {} · {} (data) ",
@@ -55,7 +55,7 @@ impl View {
             let mut last_group = String::new();
             for f in fields(m) {
                 let group = f.group();
-                let (text, editing) = shown(app, &EditTarget::Mech(f), f.text(m));
+                let (text, editing) = field_text(app, &EditTarget::Mech(f), f.text(m));
                 let head = if group == last_group {
                     String::new()
                 } else {
@@ -66,10 +66,10 @@ impl View {
             }
         }
         View {
-            focused: app.focus == Panel::Mechanism,
+            focused: app.edit.focus == Panel::Mechanism,
             title,
-            data: app.is_data(),
-            selected: app.mech_state.row.min(rows.len().saturating_sub(1)),
+            data: app.edit.is_data(),
+            selected: app.edit.mech_state.row.min(rows.len().saturating_sub(1)),
             rows,
             pal: Palette { mono: app.mono },
         }

@@ -9,7 +9,9 @@ use ratatui::Frame;
 
 use super::super::app::App;
 use super::super::keymap::KEYMAP;
-use super::{centered, sanitize_terminal, Palette, MIN_HEIGHT, MIN_WIDTH};
+use crate::text::sanitize_terminal;
+
+use super::parts::{centered, Palette, MIN_HEIGHT, MIN_WIDTH};
 
 /// What the overlays draw.
 #[derive(Debug, Clone)]

@@ -14,7 +14,7 @@ use crate::scene::LoadPath;
 
 use super::super::app::{App, Panel};
 use super::super::state::loads::{alpha_text, load_text, si_text, LOAD_COLUMNS, LOAD_COLUMNS_SI};
-use super::{panel_block, Palette, PATH_COLORS};
+use super::parts::{panel_block, Palette, PATH_COLORS};
 
 /// What the data rows panel draws.
 #[derive(Debug, Clone, PartialEq)]
@@ -37,7 +37,7 @@ pub struct View {
 impl View {
     /// The data rows panel of `app` (empty on a scene without data).
     pub fn new(app: &App) -> View {
-        let paths: &[MeasuredPath] = app.scene.truth.as_ref().map_or(&[], |t| &t.paths);
+        let paths: &[MeasuredPath] = app.edit.scene.truth.as_ref().map_or(&[], |t| &t.paths);
         // A row's load as a path of one step, so that the load panel's texts apply.
         let as_path = |load| LoadPath {
             end: load,
@@ -49,29 +49,29 @@ impl View {
             .flat_map(|(i, p)| p.rows.iter().map(move |r| (i, p.id, r)))
             .map(|(i, id, r)| {
                 let path = as_path(r.load);
-                let text = |col| load_text(&path, col, app.si_beam());
+                let text = |col| load_text(&path, col, app.edit.si_beam());
                 (i, id, [text(0), text(1), text(2)])
             })
             .collect();
-        let row = app.loads_state.row.min(rows.len().saturating_sub(1));
+        let row = app.edit.loads_state.row.min(rows.len().saturating_sub(1));
         let other_units = paths
             .iter()
             .flat_map(|p| &p.rows)
             .nth(row)
             .map(|r| {
                 let path = as_path(r.load);
-                let load = match app.matrix_state.si {
+                let load = match app.edit.matrix_state.si {
                     true => alpha_text(&path),
-                    false => si_text(&path, &app.scene.beam),
+                    false => si_text(&path, &app.edit.scene.beam),
                 };
                 format!("line {}: {load}", r.line)
             })
             .unwrap_or_default();
         View {
-            focused: app.focus == Panel::Loads,
+            focused: app.edit.focus == Panel::Loads,
             rows,
             row,
-            si: app.matrix_state.si,
+            si: app.edit.matrix_state.si,
             other_units,
             pal: Palette { mono: app.mono },
         }

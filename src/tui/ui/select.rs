@@ -15,10 +15,13 @@ use ratatui::Frame;
 use crate::mech::figures::Figures;
 use crate::scene::Accuracy;
 
+use crate::study::CaseForm;
+use crate::text::sanitize_terminal;
+
 use super::super::app::App;
 use super::super::state::select::SelectState;
 use super::super::units::trim_number;
-use super::{sanitize_terminal, Palette, PATH_COLORS};
+use super::parts::{Palette, PATH_COLORS};
 
 /// The figure columns of a selection table, after `model`, `topology` and `dof`: their
 /// headers and widths; a mechanism's have the reaction error beside the stage's.
@@ -64,23 +67,10 @@ impl<'a> View<'a> {
     /// The selection view of `app`, when open.
     pub fn new(app: &'a App) -> Option<View<'a>> {
         Some(View {
-            state: app.select.as_ref()?,
-            mechanism: false,
-            accuracy: app.scene.accuracy,
-            data: app.is_data(),
-            pal: Palette { mono: app.mono },
-        })
-    }
-}
-
-impl<'a> View<'a> {
-    /// The selection view of a mechanism scene, when open.
-    pub fn mechanism(app: &'a App) -> Option<View<'a>> {
-        Some(View {
-            state: app.mech_select.as_ref()?,
-            mechanism: true,
-            accuracy: app.scene.accuracy,
-            data: app.is_data(),
+            state: app.shown.select.as_ref()?,
+            mechanism: app.edit.case_form() == CaseForm::Stage,
+            accuracy: app.edit.scene.accuracy,
+            data: app.edit.is_data(),
             pal: Palette { mono: app.mono },
         })
     }

@@ -1,7 +1,17 @@
-//! The deformed shapes of the shown load path: the beam's centre lines and the PRB linkage
-//! over them, at equal aspect. On a data scene (DESIGN §9) the measured tips are markers
-//! over them ([`MEASURED_MARKER`]), and the beam is the scene's beam solved at the measured
-//! loads (none when it cannot reach them); a legend on the bottom border names the three.
+//! The shape chart, for every kind of scene: the truth's beam and the PRB model over it, as
+//! the worker posed them (each flexure's centre line, the couplers, the stage), at equal
+//! aspect; the clamps, and on measured data the measured points as markers
+//! ([`MEASURED_MARKER`]) over everything.
+//!
+//! How much it shows follows how the scene's cases read ([`CaseForm`]):
+//! - a cantilever (its tip is its stage): every case of the shown load path at once, the
+//!   family of deflected shapes, from a wall at the clamp;
+//! - a mechanism: one case of the shown drive (`<` `>`), over the unloaded mechanism in
+//!   grey, with a bar across each flexure's clamp and its stage point `P` marked.
+//!
+//! On a data scene (DESIGN §9) the beam is the scene's beam (or beam mechanism) beside the
+//! data (none where it cannot follow them), and a legend on the bottom border names the
+//! three.
 
 use std::ops::Range;
 
@@ -9,30 +19,36 @@ use ratatui::layout::Rect;
 use ratatui::style::{Color, Style};
 use ratatui::symbols::Marker;
 use ratatui::text::{Line, Span};
-use ratatui::widgets::canvas::{Canvas, Line as CanvasLine};
+use ratatui::widgets::canvas::{Canvas, Context, Line as CanvasLine};
 use ratatui::widgets::{Block, Borders, Paragraph, Wrap};
 use ratatui::Frame;
 
-use super::super::app::{Activity, App};
-use super::super::worker::{BaselineView, ModelView};
-use super::{equal_aspect_bounds, sanitize_terminal, Palette, MEASURED_COLOR};
+use crate::mech::pose::Pose;
+use crate::study::CaseForm;
+use crate::text::sanitize_terminal;
 
-/// The mark of a measured tip.
-pub const MEASURED_MARKER: &str = "×";
+use super::super::app::{Activity, App};
+use super::super::worker::{ModelView, TruthView};
+use super::parts::{equal_aspect_bounds, Palette, MEASURED_COLOR, MEASURED_MARKER};
 
 /// What the shape chart draws.
 #[derive(Debug, Clone)]
 pub struct View<'a> {
-    /// The shown path (0-based) and how many there are.
+    /// How the scene's cases read: how much the chart shows (module docs).
+    pub form: CaseForm,
+    /// The shown path (from 0).
     pub path: usize,
-    /// How many load paths the scene has.
+    /// How many paths the scene has.
     pub paths: usize,
-    /// The baseline and the model judged on it, when there are results.
-    pub baseline: Option<&'a BaselineView>,
-    /// The model judged on the baseline.
-    pub model: Option<&'a ModelView>,
-    /// The shown path's cases (indices into the baseline).
+    /// The shown cases of the path: all of a cantilever's, a mechanism's shown one (none
+    /// before there are results).
     pub cases: Range<usize>,
+    /// How many cases the shown path has.
+    pub path_cases: usize,
+    /// The truth the model was judged on.
+    pub truth: Option<&'a TruthView>,
+    /// The model judged on it.
+    pub model: Option<&'a ModelView>,
     /// Why there is no result, when the job failed.
     pub failure: Option<&'a str>,
     /// Colours.
@@ -42,13 +58,24 @@ pub struct View<'a> {
 impl<'a> View<'a> {
     /// The shape chart of `app`.
     pub fn new(app: &'a App) -> View<'a> {
+        let form = app.edit.case_form();
+        let path_cases = app.shown_cases();
+        let cases = match form {
+            CaseForm::Tip => 0..path_cases,
+            CaseForm::Stage => match app.edit.mech_state.shown_case(path_cases) {
+                Some(c) => c..c + 1,
+                None => 0..0,
+            },
+        };
         View {
-            path: app.shown_path(),
-            paths: app.scene.loads.len(),
-            baseline: app.baseline.as_deref(),
-            model: app.model.as_ref(),
-            cases: app.shown_cases(),
-            failure: match &app.activity {
+            form,
+            path: app.edit.shown_path(),
+            paths: app.edit.path_count(),
+            cases,
+            path_cases,
+            truth: app.shown.truth(),
+            model: app.shown.model(),
+            failure: match &app.jobs.activity {
                 Activity::Failed(m) => Some(m),
                 _ => None,
             },
@@ -57,45 +84,123 @@ impl<'a> View<'a> {
     }
 }
 
-/// Draws the shape chart.
-pub fn draw(frame: &mut Frame, area: Rect, view: &View) {
-    let measured = view.baseline.and_then(|b| b.measured.as_ref());
-    let beam_color = view.pal.color(Color::Gray);
-    let prb_color = view.pal.color(Color::Yellow);
-    let data_color = view.pal.color(MEASURED_COLOR);
-    let block = match measured {
-        None => Block::default().borders(Borders::ALL).title(format!(
-            " Deformed shapes, load path {} of {}  ([ ] to switch)  beam ─ PRB ─o ",
-            view.path + 1,
+/// The shown `cases` of path `path` of `per_path` (none where it has none).
+fn of_path<'p, T>(per_path: &'p [Vec<T>], path: usize, cases: &Range<usize>) -> &'p [T] {
+    per_path
+        .get(path)
+        .and_then(|p| p.get(cases.clone()))
+        .unwrap_or(&[])
+}
+
+/// Points of a pose, for the chart's bounds.
+fn points(pose: &Pose, out: &mut Vec<(f64, f64)>) {
+    let all = pose
+        .flexures
+        .iter()
+        .flatten()
+        .chain(pose.couplers.iter().flatten())
+        .chain(&pose.stage)
+        .chain(std::iter::once(&pose.stage_point))
+        .chain(&pose.roots);
+    out.extend(all.map(|p| (p[0], p[1])));
+}
+
+/// Draws a pose's lines in `color`: flexures, couplers, the stage.
+fn lines(ctx: &mut Context, pose: &Pose, color: Color) {
+    let mut seg = |a: &[f64; 2], b: &[f64; 2]| {
+        ctx.draw(&CanvasLine::new(a[0], a[1], b[0], b[1], color));
+    };
+    for line in &pose.flexures {
+        for w in line.windows(2) {
+            seg(&w[0], &w[1]);
+        }
+    }
+    for [a, b] in &pose.couplers {
+        seg(a, b);
+    }
+    for s in &pose.stage {
+        seg(&pose.stage_point, s);
+    }
+}
+
+/// The chart's frame: its title, and on measured data the legend on the bottom border (so
+/// that a narrow chart keeps it whole).
+fn block<'a>(view: &View, measured: Option<bool>) -> Block<'a> {
+    let n = view.path + 1;
+    let title = match (view.form, measured) {
+        (CaseForm::Tip, None) => format!(
+            " Deformed shapes, load path {n} of {}  ([ ] to switch)  beam ─ PRB ─o ",
             view.paths
-        )),
-        // The legend on a border of its own, so that a narrow chart keeps it whole.
-        Some(m) => {
-            let mut legend = vec![
-                Span::raw(" measured "),
-                Span::styled(MEASURED_MARKER, Style::default().fg(data_color)),
-            ];
-            if m.beam.is_ok() {
-                legend.push(Span::raw("  beam "));
-                legend.push(Span::styled("─", Style::default().fg(beam_color)));
-            }
-            legend.push(Span::raw("  PRB "));
-            legend.push(Span::styled("─o", Style::default().fg(prb_color)));
-            legend.push(Span::raw(" "));
-            Block::default()
-                .borders(Borders::ALL)
-                .title(format!(
-                    " Deformed shapes, data path {} of {} ([ ]) ",
-                    view.path + 1,
-                    view.paths
-                ))
-                .title_bottom(Line::from(legend))
+        ),
+        (CaseForm::Tip, Some(_)) => {
+            format!(" Deformed shapes, data path {n} of {} ([ ]) ", view.paths)
+        }
+        (CaseForm::Stage, _) => {
+            let case = if view.cases.is_empty() {
+                "no case".to_string()
+            } else {
+                format!("case {}/{}", view.cases.start + 1, view.path_cases)
+            };
+            let legend = if measured.is_some() {
+                ""
+            } else {
+                "beam ─ PRB ─o  "
+            };
+            format!(
+                " Mechanism  drive {n}/{}  {case}  {legend}[ ] < > ",
+                view.paths.max(1)
+            )
         }
     };
+    let block = Block::default().borders(Borders::ALL).title(title);
+    let Some(beam) = measured else {
+        return block;
+    };
+    let pal = view.pal;
+    let what = match view.form {
+        CaseForm::Tip => " measured ",
+        CaseForm::Stage => " measured P ",
+    };
+    let mut legend = vec![
+        Span::raw(what),
+        Span::styled(MEASURED_MARKER, pal.fg(MEASURED_COLOR)),
+    ];
+    if beam {
+        legend.push(Span::raw("  beam "));
+        legend.push(Span::styled("─", pal.fg(Color::Gray)));
+    }
+    legend.push(Span::raw("  PRB "));
+    legend.push(Span::styled("─o", pal.fg(Color::Yellow)));
+    legend.push(Span::raw(" "));
+    block.title_bottom(Line::from(legend))
+}
+
+/// Draws the shape chart.
+pub fn draw(frame: &mut Frame, area: Rect, view: &View) {
+    let measured = view.truth.and_then(|t| t.measured.as_ref());
+    let block = block(view, measured.map(|m| m.beam.is_ok()));
+    let single = view.form == CaseForm::Stage;
+    let path = view.path;
     let cases = view.cases.clone();
-    let (Some(baseline), true) = (view.baseline, !cases.is_empty()) else {
+    let shown = view.truth.filter(|_| !cases.is_empty()).and_then(|truth| {
+        let beams = of_path(&truth.poses, path, &cases);
+        let chains = view
+            .model
+            .map_or(&[][..], |m| of_path(&m.poses, path, &cases));
+        // The measured points: the stage point moved by the measured (dx, dy), units of L.
+        let p0 = truth.unloaded.stage_point;
+        let data: Vec<(f64, f64)> = measured
+            .map_or(&[][..], |_| of_path(&truth.cases, path, &cases))
+            .iter()
+            .map(|c| (p0[0] + c.stage[0], p0[1] + c.stage[1]))
+            .filter(|p| p.0.is_finite() && p.1.is_finite())
+            .collect();
+        (!(beams.is_empty() && data.is_empty())).then_some((truth, beams, chains, data))
+    });
+    let Some((truth, beams, chains, data)) = shown else {
         let msg = match view.failure {
             Some(m) => format!("no result: {}", sanitize_terminal(m)),
+            None if single => "solving the mechanism...".to_string(),
             None => "solving the beam...".to_string(),
         };
         frame.render_widget(
@@ -104,82 +209,84 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View) {
         );
         return;
     };
-    // The beam's shapes: the baseline's, or beside measured data the beam at its loads.
-    let beam_shapes: &[Vec<(f64, f64)>] = match measured.map(|m| &m.beam) {
-        Some(Ok(beside)) => &beside.shapes,
-        Some(Err(_)) => &[],
-        None => &baseline.shapes,
-    };
-    let tips: Vec<(f64, f64)> = measured
-        .map(|m| {
-            cases
-                .clone()
-                .filter_map(|c| m.tips.get(c))
-                .map(|t| (t.a, t.b))
-                .filter(|p| p.0.is_finite() && p.1.is_finite())
-                .collect()
-        })
-        .unwrap_or_default();
-    let mut all: Vec<(f64, f64)> = tips.clone();
-    for c in cases.clone() {
-        if let Some(shape) = beam_shapes.get(c) {
-            all.extend(shape);
-        }
-        if let Some(l) = view.model.and_then(|m| m.linkages.get(c)) {
-            all.extend(l);
-        }
+    let mut all = data.clone();
+    points(&truth.unloaded, &mut all);
+    for pose in beams.iter().chain(chains) {
+        points(pose, &mut all);
     }
-    all.push((0.0, 0.0));
     let (xb, yb) = equal_aspect_bounds(&all, area);
+    let pal = view.pal;
+    let rest_color = pal.color(Color::DarkGray);
+    let beam_color = pal.color(Color::Gray);
+    let prb_color = pal.color(Color::Yellow);
+    let point_color = pal.color(Color::Cyan);
+    let data_color = pal.color(MEASURED_COLOR);
+    // The clamps: a bar across each flexure's root, a mechanism's short, a cantilever's a
+    // wall.
+    let clamps: Vec<[f64; 4]> = if single {
+        let bar = 0.04 * (xb[1] - xb[0]).max(yb[1] - yb[0]);
+        truth
+            .unloaded
+            .flexures
+            .iter()
+            .filter_map(|line| {
+                let (r, t) = (line.first()?, line.last()?);
+                let len = (t[0] - r[0]).hypot(t[1] - r[1]).max(1e-12);
+                let (nx, ny) = (-(t[1] - r[1]) / len * bar, (t[0] - r[0]) / len * bar);
+                Some([r[0] - nx, r[1] - ny, r[0] + nx, r[1] + ny])
+            })
+            .collect()
+    } else {
+        vec![[0.0, yb[0] * 0.3, 0.0, yb[1] * 0.3]]
+    };
     let canvas = Canvas::default()
         .block(block)
         .marker(Marker::Braille)
         .x_bounds(xb)
         .y_bounds(yb)
         .paint(|ctx| {
-            // The clamp.
-            ctx.draw(&CanvasLine::new(
-                0.0,
-                yb[0] * 0.3,
-                0.0,
-                yb[1] * 0.3,
-                beam_color,
-            ));
-            for c in cases.clone() {
-                let Some(shape) = beam_shapes.get(c) else {
-                    continue;
-                };
-                for w in shape.windows(2) {
-                    ctx.draw(&CanvasLine::new(w[0].0, w[0].1, w[1].0, w[1].1, beam_color));
-                }
+            // One case shows the mechanism at rest under it, in a layer of its own.
+            if single {
+                lines(ctx, &truth.unloaded, rest_color);
+            }
+            for c in &clamps {
+                ctx.draw(&CanvasLine::new(c[0], c[1], c[2], c[3], beam_color));
+            }
+            if single {
+                ctx.layer();
+            }
+            for beam in beams {
+                lines(ctx, beam, beam_color);
             }
             ctx.layer();
-            if let Some(model) = view.model {
-                for c in cases.clone() {
-                    let Some(link) = model.linkages.get(c) else {
-                        continue;
-                    };
-                    for w in link.windows(2) {
-                        ctx.draw(&CanvasLine::new(w[0].0, w[0].1, w[1].0, w[1].1, prb_color));
-                    }
-                }
-                ctx.layer();
-                for c in cases.clone() {
-                    let Some(link) = model.linkages.get(c) else {
-                        continue;
-                    };
-                    for p in link.iter().skip(1) {
-                        ctx.print(p.0, p.1, Span::styled("o", Style::default().fg(prb_color)));
-                    }
+            for chain in chains {
+                lines(ctx, chain, prb_color);
+            }
+            ctx.layer();
+            for p in chains
+                .iter()
+                .flat_map(|c| &c.flexures)
+                .flat_map(|l| l.iter().skip(1))
+            {
+                ctx.print(
+                    p[0],
+                    p[1],
+                    Span::styled("o", Style::default().fg(prb_color)),
+                );
+            }
+            if single {
+                if let Some(p) = beams.first().or(chains.first()).map(|b| b.stage_point) {
+                    ctx.print(
+                        p[0],
+                        p[1],
+                        Span::styled("P", Style::default().fg(point_color)),
+                    );
                 }
             }
-            // The measured tips last: over everything, the PRB tip's `o` included.
-            for &(x, y) in &tips {
-                ctx.print(
-                    x,
-                    y,
-                    Span::styled(MEASURED_MARKER, Style::default().fg(data_color)),
-                );
+            // The measured points last: over everything, the PRB's `o` included.
+            for &(x, y) in &data {
+                let mark = Span::styled(MEASURED_MARKER, Style::default().fg(data_color));
+                ctx.print(x, y, mark);
             }
         });
     frame.render_widget(canvas, area);

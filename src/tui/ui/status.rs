@@ -14,13 +14,15 @@ use ratatui::widgets::Paragraph;
 use ratatui::Frame;
 
 use crate::fit::Fidelity;
-use crate::mech::figures::Figures as ModelFigures;
+use crate::mech::figures::Figures;
 use crate::scene::{Accuracy, Mechanism};
+
+use crate::text::sanitize_terminal;
 
 use super::super::app::{Activity, App, Tone};
 use super::super::keymap;
 use super::super::units::trim_number;
-use super::{sanitize_terminal, Palette, MEASURED_COLOR};
+use super::parts::{Palette, MEASURED_COLOR};
 
 /// What the title line draws.
 #[derive(Debug, Clone)]
@@ -41,10 +43,10 @@ impl<'a> TitleView<'a> {
     /// The title line of `app`.
     pub fn new(app: &'a App) -> TitleView<'a> {
         TitleView {
-            name: &app.scene.name,
-            dirty: app.scene_dirty,
-            fidelity: app.fidelity,
-            live: app.live,
+            name: &app.edit.scene.name,
+            dirty: app.edit.scene_dirty,
+            fidelity: app.jobs.fidelity,
+            live: app.jobs.live,
             pal: Palette { mono: app.mono },
         }
     }
@@ -72,19 +74,20 @@ pub fn draw_title(frame: &mut Frame, area: Rect, view: &TitleView) {
     frame.render_widget(Paragraph::new(Line::from(spans)), area);
 }
 
-/// A model's figures as the status line shows them.
-#[derive(Debug, Clone, Copy)]
-pub enum Figures<'a> {
-    /// A cantilever's: J, tip position and angle errors.
-    Beam(&'a ModelFigures),
-    /// A mechanism's (DESIGN §8): J, and of the reaction, stage position and stage angle
-    /// errors those the drives have (`shown`: force, position, angle).
-    Mech(&'a ModelFigures, [bool; 3]),
+/// A model's figures as the status line shows them: `J`, and of the reaction, position and
+/// angle errors those the scene's paths have.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FigureLine {
+    /// The figures.
+    pub figures: Figures,
+    /// Which errors the paths have: force, position, angle ([`errors_shown`]).
+    pub shown: [bool; 3],
 }
 
-/// Which of a mechanism's errors exist: force (some drive prescribes a coordinate),
-/// position (some drive loads `x` or `y`), angle (some drive loads `phi`).
-pub fn mech_errors_shown(m: &Mechanism) -> [bool; 3] {
+/// Which errors a scene's paths have: force (some path prescribes a stage coordinate),
+/// position (some path loads `x` or `y`), angle (some path loads `phi`). A cantilever's
+/// one-flexure mechanism loads every coordinate: position and angle.
+pub fn errors_shown(m: &Mechanism) -> [bool; 3] {
     let any = |f: &dyn Fn(usize, bool) -> bool| {
         m.drives
             .iter()
@@ -97,37 +100,17 @@ pub fn mech_errors_shown(m: &Mechanism) -> [bool; 3] {
     ]
 }
 
-/// A data scene's line (DESIGN §9): the data file, its hash, and the scene's beam against
-/// the data.
+/// A data scene's line (DESIGN §9): the data file, its hash, and the scene's beam (or beam
+/// mechanism) against the data.
 #[derive(Debug, Clone)]
 pub struct DataLine<'a> {
     /// The data file as the scene names it (sanitized when drawn).
     pub file: &'a str,
     /// The first characters of its SHA-256.
     pub sha256: &'a str,
-    /// The beam theory's figures against the data, or why it has none; `None` until the
-    /// worker has solved it.
-    pub beam: Option<Result<BesideFigures, Cow<'a, str>>>,
-}
-
-/// The beam theory's figures against measured data: a cantilever's beam, or a mechanism's
-/// exact beam mechanism along the measured drives (with the errors its drives have, as
-/// [`Figures::Mech`]).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum BesideFigures {
-    /// The scene's beam at the measured loads.
-    Beam(ModelFigures),
-    /// The beam mechanism along the measured drives.
-    Mech(ModelFigures, [bool; 3]),
-}
-
-impl BesideFigures {
-    fn figures(&self) -> Figures<'_> {
-        match self {
-            BesideFigures::Beam(f) => Figures::Beam(f),
-            BesideFigures::Mech(f, shown) => Figures::Mech(f, *shown),
-        }
-    }
+    /// The beam's figures against the data, or why it has none; `None` until the worker
+    /// has solved it.
+    pub beam: Option<Result<FigureLine, Cow<'a, str>>>,
 }
 
 /// How many hex digits of a data file's SHA-256 the status line shows.
@@ -139,9 +122,9 @@ pub struct View<'a> {
     /// The last message (file paths and errors inside are sanitized when drawn).
     pub message: Option<(&'a str, Tone)>,
     /// The shown model's figures.
-    pub figures: Option<Figures<'a>>,
-    /// The model compared against: its name and figures on the same baseline.
-    pub compare: Option<(&'a str, Figures<'a>)>,
+    pub figures: Option<FigureLine>,
+    /// The model compared against: its name and figures on the same truth.
+    pub compare: Option<(&'a str, FigureLine)>,
     /// A data scene's file and the beam against it.
     pub data: Option<DataLine<'a>>,
     /// The scene's targets.
@@ -155,55 +138,29 @@ pub struct View<'a> {
 impl<'a> View<'a> {
     /// The status line of `app`.
     pub fn new(app: &'a App) -> View<'a> {
-        let (figures, compare) = match &app.scene.mechanism {
-            Some(m) => {
-                let shown = mech_errors_shown(m);
-                (
-                    app.mech_model
-                        .as_ref()
-                        .map(|v| Figures::Mech(&v.figures, shown)),
-                    app.shown_mech_compare()
-                        .map(|(n, v)| (n, Figures::Mech(&v.figures, shown))),
-                )
-            }
-            None => (
-                app.model.as_ref().map(|m| Figures::Beam(&m.figures)),
-                app.shown_compare()
-                    .map(|(n, v)| (n, Figures::Beam(&v.figures))),
-            ),
+        let scene = &app.edit.scene;
+        let truth = app.shown.truth();
+        let line = |figures: Figures| FigureLine {
+            figures,
+            shown: truth.map_or([false, true, true], |t| errors_shown(&t.mechanism)),
         };
-        let (w, w_f) = (app.scene.fit.angle_weight, app.scene.fit.force_weight);
-        let beam = match &app.scene.mechanism {
-            // The beam mechanism's cases are kept; judging them is arithmetic.
-            Some(m) => app
-                .mech_exact
-                .as_ref()
-                .and_then(|v| v.beam_against_data(w, w_f))
-                .map(|r| {
-                    r.map(|e| BesideFigures::Mech(e.figures, mech_errors_shown(m)))
-                        .map_err(Cow::Owned)
-                }),
-            None => app
-                .baseline
-                .as_ref()
-                .and_then(|b| b.measured.as_ref())
-                .map(|m| match &m.beam {
-                    Ok(b) => Ok(BesideFigures::Beam(b.figures(w))),
-                    Err(why) => Err(Cow::Borrowed(why.as_str())),
-                }),
-        };
-        let data = app.scene.truth.as_ref().map(|t| DataLine {
+        let (w, w_f) = (scene.fit.angle_weight, scene.fit.force_weight);
+        // The beam's cases beside the data are kept; judging them is arithmetic.
+        let beam = truth
+            .and_then(|t| t.beam_against_data(w, w_f))
+            .map(|r| r.map(line).map_err(Cow::Borrowed));
+        let data = scene.truth.as_ref().map(|t| DataLine {
             file: &t.file,
             sha256: t.sha256.get(..HASH_PREFIX).unwrap_or(&t.sha256),
             beam,
         });
         View {
             message: app.message.as_ref().map(|(m, t)| (m.as_str(), *t)),
-            figures,
-            compare,
+            figures: app.shown.model().map(|m| line(m.figures)),
+            compare: app.shown.shown_compare().map(|(n, v)| (n, line(v.figures))),
             data,
-            accuracy: app.scene.accuracy,
-            activity: &app.activity,
+            accuracy: scene.accuracy,
+            activity: &app.jobs.activity,
             pal: Palette { mono: app.mono },
         }
     }
@@ -218,24 +175,10 @@ pub fn height(view: &View) -> u16 {
 /// `J | pos ..% PASS<.. | ang ..deg PASS<.. | ` for figures `f` against `acc`; a
 /// mechanism's reaction error first, `force ..% FAIL<..`, and only the errors its drives
 /// have.
-fn figure_spans(f: Figures, acc: &Accuracy, pal: Palette) -> Vec<Span<'static>> {
+fn figure_spans(f: FigureLine, acc: &Accuracy, pal: Palette) -> Vec<Span<'static>> {
     let verdict = |ok: bool| Span::styled(if ok { "PASS" } else { "FAIL" }, pal.pass(ok));
-    let (objective, pos, ang, force, shown) = match f {
-        Figures::Beam(f) => (
-            f.objective,
-            f.max_pos_err,
-            f.max_ang_err,
-            0.0,
-            [false, true, true],
-        ),
-        Figures::Mech(f, shown) => (
-            f.objective,
-            f.max_pos_err,
-            f.max_ang_err,
-            f.max_force(),
-            shown,
-        ),
-    };
+    let (shown, f) = (f.shown, f.figures);
+    let (objective, pos, ang, force) = (f.objective, f.max_pos_err, f.max_ang_err, f.max_force());
     let mut spans = vec![Span::raw(format!(" J {objective:.3e} | "))];
     let mut figure = |name: &str, value: String, ok: bool, target: String| {
         spans.push(Span::raw(format!("{name} {value} ")));
@@ -331,7 +274,7 @@ fn data_line(d: &DataLine, acc: &Accuracy, activity: &Activity, pal: Palette) ->
         pal.fg(MEASURED_COLOR),
     )];
     match &d.beam {
-        Some(Ok(f)) => spans.extend(figure_spans(f.figures(), acc, pal)),
+        Some(Ok(f)) => spans.extend(figure_spans(*f, acc, pal)),
         Some(Err(why)) => spans.push(Span::styled(
             format!(" none: {}", sanitize_terminal(why)),
             pal.fg(Color::DarkGray),
@@ -355,7 +298,7 @@ pub struct HintsView {
 impl HintsView {
     /// The hint line of `app`: text entry's keys, or the focused panel's hints.
     pub fn new(app: &App) -> HintsView {
-        let text = if app.editing.is_some() {
+        let text = if app.edit.editing.is_some() {
             keymap::EDITING_HINT.to_string()
         } else if let Some((kind, _)) = &app.prompt {
             if kind.is_question() {
@@ -364,7 +307,7 @@ impl HintsView {
                 keymap::PROMPT_HINT.to_string()
             }
         } else {
-            keymap::hint_line(app.focus, app.scene.truth.is_some())
+            keymap::hint_line(app.edit.focus, app.edit.is_data())
         };
         HintsView {
             text,

@@ -24,8 +24,8 @@ use crate::scene::COORDINATE_KEYS;
 
 use super::super::app::App;
 use super::super::units::trim_number;
-use super::shapes::MEASURED_MARKER;
-use super::{Palette, MEASURED_COLOR};
+use super::super::worker::model_cases;
+use super::parts::{Palette, MEASURED_COLOR, MEASURED_MARKER};
 
 /// What the force–stroke chart draws.
 #[derive(Debug, Clone)]
@@ -51,24 +51,20 @@ pub struct View {
 impl View {
     /// The force–stroke chart of `app`.
     pub fn new(app: &App) -> View {
-        let drive = app.shown_drive();
-        let compare = app.shown_mech_compare().map(|(_, v)| v);
-        let measured = app.mech_exact.as_ref().and_then(|e| e.measured.as_ref());
+        let drive = app.edit.shown_path();
+        let compare = app.shown.shown_compare().map(|(_, v)| v);
+        let truth = app.shown.truth();
+        let measured = truth.and_then(|t| t.measured.as_ref());
         let beam_beside = measured.and_then(|m| m.beam.as_ref().ok());
         let beside = beam_beside.map(|_| 1 + usize::from(compare.is_some()));
-        let panels = match &app.mech_exact {
-            Some(exact) => {
-                let none: Vec<Vec<MechCase>> = Vec::new();
-                let model = app.mech_model.as_ref().map_or(&none, |m| &m.cases);
-                let mut models: Vec<&[Vec<MechCase>]> = vec![model];
-                if let Some(c) = compare {
-                    models.push(&c.cases);
-                }
-                if let Some(b) = beam_beside {
-                    models.push(b);
-                }
+        let panels = match truth {
+            Some(truth) => {
+                let mut models = vec![app.shown.model().map_or_else(Vec::new, |m| m.model_cases())];
+                models.extend(compare.map(|c| c.model_cases()));
+                models.extend(beam_beside.map(|b| model_cases(b)));
+                let models: Vec<&[Vec<MechCase>]> = models.iter().map(Vec::as_slice).collect();
                 let mut panels: Vec<StrokePanel> =
-                    stroke_panels(&exact.mechanism, &exact.cases, &models, ChartKind::All)
+                    stroke_panels(&truth.mechanism, &truth.cases, &models, ChartKind::All)
                         .into_iter()
                         .filter(|p| p.drive == drive + 1)
                         .collect();
@@ -80,8 +76,8 @@ impl View {
         };
         View {
             panels,
-            shown: app.mech_state.chart,
-            case: app.mech_state.shown_case(app.shown_drive_cases()),
+            shown: app.edit.mech_state.chart,
+            case: app.edit.mech_state.shown_case(app.shown_cases()),
             comparing: compare.is_some(),
             measured: measured.is_some(),
             beside,
