@@ -15,7 +15,7 @@
 //! The beam is the exact mechanism ([`crate::mech::exact`]); each model replaces every flexure
 //! ([`crate::mech::prb`]). A model that cannot follow a drive is drawn as far as it got (the
 //! cases before its critical point, re-solved on the truncated drive) or not at all
-//! ([`MechError::Immobile`]), and is listed in [`Figure::unfollowed`].
+//! ([`crate::mech::MechError::Immobile`]), and is listed in [`Figure::unfollowed`].
 
 use crate::beam::Resolution;
 use crate::mech::prb::{follow, Followed};

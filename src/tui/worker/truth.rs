@@ -44,7 +44,7 @@ pub fn truth_view(study: &Study, cancel: &CancelToken) -> Result<TruthView, Stri
     let (poses, measured) = match (&study.scene().truth, study.baseline()) {
         (None, Some(baseline)) => (beam_poses(baseline), None),
         (None, None) => (
-            pose::exact(&mechanism, resolution, &cases)
+            pose::exact(&mechanism, study.resolution(), &cases)
                 .map_err(|e| format!("the exact mechanism's shapes: {e}"))?,
             None,
         ),
