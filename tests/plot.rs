@@ -765,19 +765,7 @@ fn a_model_that_stops_partway_along_a_drive_is_drawn_up_to_there() {
     // at mid-length cannot reach past about half its length sideways, so it stops between
     // the 5th and the 6th of the 8 cases; Su's 3R follows to the end.
     let dir = Scratch::new("plot-partway");
-    let base = std::fs::read_to_string(example("driven-cantilever")).unwrap();
-    let deep: String = base
-        .lines()
-        .map(|l| {
-            if l.starts_with("dy = ") {
-                "dy = 0.035"
-            } else {
-                l
-            }
-        })
-        .collect::<Vec<_>>()
-        .join("\n");
-    let scene = dir.write("deep.toml", &deep);
+    let scene = dir.write("deep.toml", &common::driven_cantilever_pushed_deep());
     let file = dir.file("deep.svg");
     let report = json(&prbfit(&[
         "plot",

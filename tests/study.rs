@@ -212,23 +212,7 @@ fn eval_of_a_model_that_stops_on_one_path_reports_the_rest() {
 #[test]
 fn eval_of_a_mechanism_model_that_stops_part_way_reports_how_far() {
     let dir = common::Scratch::new("study-partial");
-    let text = std::fs::read_to_string(format!(
-        "{}/assets/scenes/driven-cantilever.toml",
-        env!("CARGO_MANIFEST_DIR")
-    ))
-    .unwrap();
-    let deep: String = text
-        .lines()
-        .map(|l| {
-            if l.starts_with("dy = ") {
-                "dy = 0.035"
-            } else {
-                l
-            }
-        })
-        .collect::<Vec<_>>()
-        .join("\n");
-    let scene = dir.write("deep.toml", &deep);
+    let scene = dir.write("deep.toml", &common::driven_cantilever_pushed_deep());
     let v = common::json(&common::prbfit(&[
         "eval",
         "--scene",
