@@ -309,3 +309,26 @@ fn cli_fit_saves_models_that_reload_exactly() {
     assert_eq!(out.status.code(), Some(2));
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// A matrix of more than `MAX_SEGMENTS` (32) segments is refused at once (issue 24: a
+/// 200-segment fit ran for minutes with no bound), as bad input naming the limit, by every
+/// command that takes a matrix; 32 segments are still a matrix.
+#[test]
+fn a_matrix_past_the_segment_limit_is_refused_at_once() {
+    let rows = |n: usize| {
+        let g = 1.0 / n as f64;
+        std::iter::once(format!("{g},inf,inf"))
+            .chain((1..n).map(|_| format!("{g},3,inf")))
+            .collect::<Vec<_>>()
+            .join("; ")
+    };
+    assert!(PrbMatrix::parse(&rows(prbfit::prb::MAX_SEGMENTS)).is_ok());
+    let too_many = rows(200);
+    // Refused while the flag is read, before any solve (exit 2, one line naming it).
+    for cmd in ["fit", "eval"] {
+        common::assert_input_error(
+            &prbfit(&[cmd, "--prb", &too_many]),
+            &["--prb", "200 segments", "32"],
+        );
+    }
+}

@@ -23,6 +23,12 @@ pub const GAMMA_SUM_TOL: f64 = 1e-9;
 /// this limit, was reported as a buckling point).
 pub const MAX_SPRING: f64 = 1e12;
 
+/// The most segments a PRB matrix may have. A PRB model is a few rigid links (the published
+/// ones have two to four segments, the selection ladder at most five); the fit's parameters
+/// grow with every segment (a 16-segment 15R fits in about 1.6 s, release build), so a matrix
+/// of hundreds would fit for minutes: refused at once instead.
+pub const MAX_SEGMENTS: usize = 32;
+
 /// The three columns of a row.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Column {
@@ -139,6 +145,12 @@ pub enum MatrixError {
     /// The matrix has no rows (an empty list or empty text).
     #[error("the matrix has no rows")]
     Empty,
+    /// More rows than [`MAX_SEGMENTS`].
+    #[error("the matrix has {got} segments, more than the {MAX_SEGMENTS} a PRB matrix may have")]
+    TooManySegments {
+        /// How many rows it has.
+        got: usize,
+    },
     /// A row of the text form does not have exactly three entries.
     #[error("row {row}: expected 3 entries (gamma, k_theta, k_ex), got {got}")]
     RowLength {
@@ -253,6 +265,11 @@ impl PrbMatrix {
     pub fn validate(&self) -> Result<(), MatrixError> {
         if self.rows.is_empty() {
             return Err(MatrixError::Empty);
+        }
+        if self.rows.len() > MAX_SEGMENTS {
+            return Err(MatrixError::TooManySegments {
+                got: self.rows.len(),
+            });
         }
         for (i, r) in self.rows.iter().enumerate() {
             let row = i + 1;

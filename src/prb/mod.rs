@@ -9,5 +9,5 @@ pub mod published;
 mod statics;
 
 pub use chain::{Linearised, PrbSolver, SolverLimits};
-pub use matrix::{Column, MatrixError, PrbMatrix, PrbRow, GAMMA_SUM_TOL, MAX_SPRING};
+pub use matrix::{Column, MatrixError, PrbMatrix, PrbRow, GAMMA_SUM_TOL, MAX_SEGMENTS, MAX_SPRING};
 pub use path::{PrbCase, PrbError, PrbSolution};
