@@ -442,6 +442,7 @@ impl Study {
                     angle_weight,
                     force_weight,
                 )?;
+                let mut first_error = None;
                 for (i, failure) in followed.failures.into_iter().enumerate() {
                     if let Some(e) = failure {
                         judged.unfollowed.push(UnfollowedPath {
@@ -449,13 +450,12 @@ impl Study {
                             fraction: followed.drives[i].last().map_or(0.0, |c| c.fraction),
                             reason: e.to_string(),
                         });
+                        first_error.get_or_insert(e);
                     }
                 }
-                if judged.cases.is_empty() {
-                    // Nothing followed: the first drive's reason is the answer.
-                    if let Some(e) = prb::solve(&self.mechanism, matrix, self.prb_tol()).err() {
-                        return Err(e.into());
-                    }
+                if let (true, Some(e)) = (judged.cases.is_empty(), first_error) {
+                    // Nothing followed: nothing to judge; the first stop is the answer.
+                    return Err(e.into());
                 }
                 judged
             }
