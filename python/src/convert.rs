@@ -60,13 +60,15 @@ pub fn triple(v: Option<&Value>) -> [f64; 3] {
 
 /// Rows of three as an `(n, 3)` array.
 pub fn array3<'py>(py: Python<'py>, rows: &[[f64; 3]]) -> Bound<'py, PyArray2<f64>> {
-    let flat: Vec<f64> = rows.iter().flatten().copied().collect();
-    let array = numpy::PyArray1::from_vec(py, flat);
-    // n x 3 elements reshape to (n, 3) always.
-    match array.reshape([rows.len(), 3]) {
-        Ok(a) => a,
-        Err(_) => PyArray2::zeros(py, [0, 3], false),
+    let array = PyArray2::<f64>::zeros(py, [rows.len(), 3], false);
+    // SAFETY: the array was just created here, C-contiguous, and no other reference to its
+    // data exists yet (it has not been handed to Python).
+    if let Ok(data) = unsafe { array.as_slice_mut() } {
+        for (cell, x) in data.iter_mut().zip(rows.iter().flatten()) {
+            *cell = *x;
+        }
     }
+    array
 }
 
 /// A finite number for `argument`, or bad input naming it.

@@ -19,6 +19,24 @@ use crate::errors;
 /// How long the calling thread waits, GIL released, between signal checks.
 const SLICE: Duration = Duration::from_millis(20);
 
+/// How long the calling thread first polls for the result (yielding its core to the worker)
+/// before it sleeps: a short call (one beam solve, tens of microseconds) then returns without
+/// the wake-up of a sleeping thread.
+const SPIN: Duration = Duration::from_micros(100);
+
+/// The first message: polled for [`SPIN`], then waited for up to [`SLICE`].
+fn first_message<T>(rx: &mpsc::Receiver<T>) -> Result<T, RecvTimeoutError> {
+    let t0 = std::time::Instant::now();
+    while t0.elapsed() < SPIN {
+        match rx.try_recv() {
+            Ok(m) => return Ok(m),
+            Err(mpsc::TryRecvError::Disconnected) => return Err(RecvTimeoutError::Disconnected),
+            Err(mpsc::TryRecvError::Empty) => std::thread::yield_now(),
+        }
+    }
+    rx.recv_timeout(SLICE)
+}
+
 /// A fit's progress, owned, for the callback.
 struct FitSnapshot {
     phase: &'static str,
@@ -73,10 +91,19 @@ where
         });
         let mut failure: Option<PyErr> = None;
         let mut rx = rx;
+        let mut spin = true;
         loop {
             // The receiver goes into the GIL-free wait and back (it is Send, not Sync).
-            let (first, back) = py.detach(move || (rx.recv_timeout(SLICE), rx));
+            let (first, back) = py.detach(move || {
+                let m = if spin {
+                    first_message(&rx)
+                } else {
+                    rx.recv_timeout(SLICE)
+                };
+                (m, rx)
+            });
             rx = back;
+            spin = false;
             // The newest of what has come: the callback sees the latest progress only.
             let mut latest = None;
             let mut done = false;
