@@ -20,5 +20,15 @@ fn _prbfit(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<matrix::Matrix>()?;
     results::register(m)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    m.add_function(wrap_pyfunction!(_panic_in_worker, m)?)?;
     Ok(())
+}
+
+/// For the tests: a panic on a command's worker thread, which must come out as `SolveError`
+/// and never as a Rust panic.
+#[pyfunction]
+fn _panic_in_worker(py: Python<'_>) -> PyResult<()> {
+    run::run(py, None, |_| -> prbfit::report::Result<()> {
+        panic!("a deliberate panic (the module's test)")
+    })
 }

@@ -207,3 +207,12 @@ def test_two_threads_fit_at_once():
     for t in ts:
         t.join()
     assert out == [alone, alone]
+
+
+def test_a_panic_in_the_core_comes_out_as_a_solve_error():
+    from prbfit import _prbfit
+
+    with pytest.raises(prbfit.SolveError, match="internal error.*deliberate panic"):
+        _prbfit._panic_in_worker()
+    # The module still works after it.
+    assert prbfit.Scene.builtin().kind == "cantilever"
