@@ -146,14 +146,24 @@ impl Scene {
             .map_err(|e| errors::report_error(ReportError::from(e)))
     }
 
-    /// Parses a scene from TOML text; `origin` names it in errors. A data scene's file is
-    /// read only by `Scene.load`.
+    /// Parses a scene from TOML text; `origin` names it in errors. A data scene (`[truth]`)
+    /// is refused: its measurements are a file beside the scene, read by `Scene.load`.
     #[staticmethod]
     #[pyo3(signature = (text, origin = "<string>"))]
     fn from_toml(text: &str, origin: &str) -> PyResult<Scene> {
-        prbfit::scene::Scene::from_toml_str(text, origin)
-            .map(|inner| Scene { inner })
-            .map_err(|e| errors::report_error(ReportError::from(e)))
+        let scene = prbfit::scene::Scene::from_toml_str(text, origin)
+            .map_err(|e| errors::report_error(ReportError::from(e)))?;
+        if let Some(t) = &scene.truth {
+            return Err(errors::input(
+                "text",
+                format!(
+                    "{origin} is a data scene: its measurements ({}) are read beside the scene \
+                     file; use Scene.load(path)",
+                    t.file
+                ),
+            ));
+        }
+        Ok(Scene { inner: scene })
     }
 
     /// The built-in scene (what `prbfit` runs on without `--scene`).

@@ -216,3 +216,9 @@ def test_a_panic_in_the_core_comes_out_as_a_solve_error():
         _prbfit._panic_in_worker()
     # The module still works after it.
     assert prbfit.Scene.builtin().kind == "cantilever"
+
+
+def test_a_data_scene_from_text_is_refused_naming_the_way():
+    text = (REPO / "assets/scenes/tapered-flexure-fea.toml").read_text()
+    with pytest.raises(prbfit.InputError, match="Scene.load"):
+        prbfit.Scene.from_toml(text)
