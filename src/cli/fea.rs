@@ -10,7 +10,7 @@ use serde::Serialize;
 
 use prbfit::beam::{Load, Resolution, TipPose};
 use prbfit::eval::Baseline;
-use prbfit::fea::{self, Ccx, CcxError, FeaCase, FeaError, Mesh, Section, Taper};
+use prbfit::fea::{self, Ccx, CcxError, FeaCase, Mesh, Section, Taper};
 use prbfit::io::files::{check_target, write_atomic};
 use prbfit::study::EffectsDecision;
 
@@ -129,7 +129,7 @@ impl fmt::Display for FeaReport {
 
 /// Where path `k` (1-based) of `n` goes: `deck` itself for one path, else `deck` with
 /// `-path{k}` before its extension.
-fn deck_path(deck: &Path, k: usize, n: usize) -> PathBuf {
+pub(super) fn deck_path(deck: &Path, k: usize, n: usize) -> PathBuf {
     if n == 1 {
         return deck.to_path_buf();
     }
@@ -148,15 +148,11 @@ fn deck_path(deck: &Path, k: usize, n: usize) -> PathBuf {
 pub fn run(args: FeaArgs) -> Result<()> {
     let t0 = Instant::now();
     let scene = load_scene(&args.common)?;
-    if scene.mechanism.is_some() {
-        return Err(bad(format!(
-            "\"{}\": {}",
-            safe(&scene.name),
-            FeaError::Mechanism
-        )));
-    }
     if args.timeout == 0 {
         return Err(bad("--timeout: must be at least 1 second"));
+    }
+    if let Some(mechanism) = &scene.mechanism {
+        return super::fea_mech::run(&args, &scene, mechanism);
     }
     let mesh = Mesh::for_tapered_beam(args.mesh, &scene.beam, args.section, args.taper)
         .map_err(|e| bad(format!("--mesh {}: {e}", args.mesh)))?;

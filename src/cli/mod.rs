@@ -11,6 +11,7 @@ mod calibrate;
 mod eval;
 mod export;
 mod fea;
+mod fea_mech;
 mod fit;
 mod output;
 mod plot;
