@@ -38,12 +38,15 @@ struct Case {
     stage_load: [f64; 3],
     /// `|(dx, dy)_FEA - (dx, dy)_beam|`, units of L (none when the beam mechanism has no
     /// such case).
+    #[serde(skip_serializing_if = "Option::is_none")]
     pos_diff: Option<f64>,
     /// `dphi_FEA - dphi_beam`, rad.
+    #[serde(skip_serializing_if = "Option::is_none")]
     ang_diff: Option<f64>,
     /// The largest reaction difference over the prescribed coordinates, each as a fraction
     /// of its largest beam reaction over the scene, floored as the figures floor it (DESIGN §8's
     /// `e_force`).
+    #[serde(skip_serializing_if = "Option::is_none")]
     force_diff: Option<f64>,
 }
 
@@ -62,11 +65,15 @@ struct MechFeaReport {
     beam_effects: Vec<&'static str>,
     effects_decision: Option<EffectsDecision>,
     /// Why the beam mechanism is not beside the FEA, when it is not.
+    #[serde(skip_serializing_if = "Option::is_none")]
     beam_error: Option<String>,
     cases: Vec<Case>,
     failures: Vec<MechFeaFailure>,
+    #[serde(skip_serializing_if = "Option::is_none")]
     max_pos_diff: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
     max_ang_diff: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
     max_force_diff: Option<f64>,
     ccx_seconds: f64,
     seconds: f64,
