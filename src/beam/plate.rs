@@ -66,6 +66,22 @@ pub fn ends_fraction(width_over_length: f64, width_over_thickness: f64) -> f64 {
     1.0 - (-0.92 * width_over_length.max(0.0) * plate_like).exp()
 }
 
+/// The plate fraction the ends give a strip held flat at both ends and bent in an S by
+/// them, as a flexure clamped to the ground and to a guided stage is (a parallel stage's),
+/// of width `b`, thickness `t` and length `L`: a fit to 3D FEA of guided pairs (see the
+/// module docs), `1 - exp(-GUIDED_SCALE (b / L)^GUIDED_POWER (1 - exp(-b / (GUIDED_THICK t))))`.
+pub fn guided_ends_fraction(width_over_length: f64, width_over_thickness: f64) -> f64 {
+    let plate_like = 1.0 - (-width_over_thickness.max(0.0) / GUIDED_THICK).exp();
+    1.0 - (-GUIDED_SCALE * width_over_length.max(0.0).powf(GUIDED_POWER) * plate_like).exp()
+}
+
+/// The guided rule's scale (see [`guided_ends_fraction`]).
+pub const GUIDED_SCALE: f64 = 2.34;
+/// The guided rule's power of `b / L`.
+pub const GUIDED_POWER: f64 = 0.8;
+/// The guided rule's thickness scale: the section is plate-like beyond a few of these.
+pub const GUIDED_THICK: f64 = 2.2;
+
 /// The plate fraction of a load case from its ends' and anticlastic fractions: the mean of
 /// their maximum and of `1 - (1 - ends)(1 - anticlastic)` (fitted to 3D FEA, see the module
 /// docs). Either alone is returned as it is when the other is zero.
