@@ -6,22 +6,19 @@ use std::fmt;
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
-use anyhow::Result;
 use serde::Serialize;
 
-use prbfit::beam::Resolution;
-use prbfit::fea::mech::{self, MechFeaCase, MechFeaFailure};
-use prbfit::fea::{Ccx, CcxError, Mesh, Section, Taper};
-use prbfit::io::files::{check_target, write_atomic};
-use prbfit::mech::figures::reaction_scales;
-use prbfit::mech::{exact, MechCase};
-use prbfit::scene::{Coordinate, Mechanism, Scene};
-use prbfit::study::EffectsDecision;
+use crate::beam::Resolution;
+use crate::fea::mech::{self, MechFeaCase, MechFeaFailure};
+use crate::fea::{Ccx, CcxError, Mesh, Section, Taper};
+use crate::io::files::{check_target, write_atomic};
+use crate::mech::figures::reaction_scales;
+use crate::mech::{exact, MechCase};
+use crate::scene::{Coordinate, Mechanism, Scene};
+use crate::study::EffectsDecision;
 
-use super::args::FeaArgs;
-use super::fea::deck_path;
-use super::output::{emit, safe, DecisionLine, Progress};
-use super::{bad, resolve_scene};
+use super::fea::{deck_path, FeaArgs};
+use super::{resolve_scene, safe, Control, DecisionLine, Progress, ReportError, Result};
 
 /// One case: the FEA's stage and load (nondimensional, flexure 1's `L` and `E I0`) and the
 /// beam mechanism's differences from it.
@@ -50,9 +47,9 @@ struct Case {
     force_diff: Option<f64>,
 }
 
-/// What `prbfit fea` did on a mechanism.
+/// What `prbfit fea` did on a mechanism (its fields are the `--json` object's).
 #[derive(Debug, Serialize)]
-struct MechFeaReport {
+pub struct MechFeaReport {
     scene: String,
     output: String,
     decks: Vec<String>,
@@ -189,12 +186,46 @@ impl fmt::Display for MechFeaReport {
     }
 }
 
-/// Runs `prbfit fea` on a mechanism scene.
-pub(super) fn run(args: &FeaArgs, scene: &Scene, mechanism: &Mechanism) -> Result<()> {
+impl MechFeaReport {
+    /// When a drive path stopped early: the one-line message saying which case, why, and
+    /// where the cases before it went (the CLI's exit status 1 after the report).
+    pub fn incomplete(&self) -> Option<String> {
+        self.failures.first().map(|x| {
+            format!(
+                "the FEA of drive path {} stopped at case {} of {}: {}; the {} cases solved \
+                 before it are in {}, the incomplete path marked",
+                x.path,
+                x.case,
+                x.cases,
+                x.message,
+                self.cases.len(),
+                self.output
+            )
+        })
+    }
+}
+
+/// `prbfit fea` on a mechanism scene (DESIGN §13): writes the CSV and the decks, and
+/// compares the FEA with the beam mechanism. A drive path that stops early is in the
+/// report ([`MechFeaReport::incomplete`]), its solved cases in the CSV.
+pub fn fea_mechanism(
+    scene: &Scene,
+    args: &FeaArgs,
+    ctl: &mut Control<'_>,
+) -> Result<MechFeaReport> {
     let t0 = Instant::now();
-    mech::check_drives(mechanism).map_err(|e| bad(e.to_string()))?;
+    let Some(mechanism) = &scene.mechanism else {
+        return Err(ReportError::input(format!(
+            "\"{}\": not a mechanism scene (its FEA is super::fea::fea's)",
+            safe(&scene.name)
+        )));
+    };
+    if args.timeout == 0 {
+        return Err(ReportError::input("--timeout: must be at least 1 second"));
+    }
+    mech::check_drives(mechanism).map_err(|e| ReportError::input(e.to_string()))?;
     let meshes = mech::flexure_meshes(mechanism, args.mesh, args.section, args.taper)
-        .map_err(|e| bad(format!("--mesh {}: {e}", args.mesh)))?;
+        .map_err(|e| ReportError::input(format!("--mesh {}: {e}", args.mesh)))?;
     let deck_base = args
         .deck
         .clone()
@@ -204,7 +235,7 @@ pub(super) fn run(args: &FeaArgs, scene: &Scene, mechanism: &Mechanism) -> Resul
     check_target(&args.output, args.force)?;
     for d in &deck_files {
         if d == &args.output {
-            return Err(bad(format!(
+            return Err(ReportError::input(format!(
                 "--deck {}: the deck would overwrite the CSV output",
                 d.display()
             )));
@@ -219,11 +250,14 @@ pub(super) fn run(args: &FeaArgs, scene: &Scene, mechanism: &Mechanism) -> Resul
     let ccx = match Ccx::find() {
         Ok(c) => c,
         Err(e @ CcxError::NotInstalled) => {
-            anyhow::bail!("{e}; the deck was written to {}", deck_names.join(", "))
+            return Err(ReportError::solve(format!(
+                "{e}; the deck was written to {}",
+                deck_names.join(", ")
+            )))
         }
-        Err(e) => return Err(e.into()),
+        Err(e) => return Err(ReportError::failed(&e)),
     };
-    let mut progress = Progress::new("fea");
+    let progress = &mut *ctl.progress;
     let run = mech::solve_mechanism(
         mechanism,
         &meshes,
@@ -231,16 +265,15 @@ pub(super) fn run(args: &FeaArgs, scene: &Scene, mechanism: &Mechanism) -> Resul
         args.taper,
         &ccx,
         Duration::from_secs(args.timeout),
-        &mut |path, _| progress.update(|| format!("drive path {path}/{n} solved")),
+        &mut |path, _| progress(&Progress::Fea { path, paths: n }),
     );
-    progress.finish();
     write_atomic(
         &args.output,
         mech::mechanism_csv(mechanism, &run, args.taper).as_bytes(),
         args.force,
     )?;
 
-    let (resolved, decision) = resolve_scene(scene)?;
+    let (resolved, decision) = resolve_scene(scene, &ctl.cancel)?;
     let beam_mechanism = resolved
         .mechanism
         .clone()
@@ -285,20 +318,7 @@ pub(super) fn run(args: &FeaArgs, scene: &Scene, mechanism: &Mechanism) -> Resul
         ccx_seconds: run.ccx_seconds,
         seconds: t0.elapsed().as_secs_f64(),
     };
-    emit(&report, args.common.json)?;
-    if let Some(x) = run.failures.first() {
-        anyhow::bail!(
-            "the FEA of drive path {} stopped at case {} of {}: {}; the {} cases solved \
-             before it are in {}, the incomplete path marked",
-            x.path,
-            x.case,
-            x.cases,
-            x.message,
-            run.cases.len(),
-            args.output.display()
-        );
-    }
-    Ok(())
+    Ok(report)
 }
 
 /// Pairs each FEA case with the beam mechanism's (when it has it), nondimensional.
