@@ -181,7 +181,7 @@ pub fn fea(scene: &Scene, args: &FeaArgs, ctl: &mut Control<'_>) -> Result<FeaRe
     let t0 = Instant::now();
     if scene.mechanism.is_some() {
         return Err(ReportError::input(format!(
-            "\"{}\": {} (its report is super::fea_mech::fea_mechanism's)",
+            "\"{}\": {} (its report is the mechanism FEA's, report::fea_mech)",
             safe(&scene.name),
             FeaError::Mechanism
         )));
