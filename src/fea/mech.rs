@@ -529,3 +529,103 @@ pub fn mechanism_csv(mechanism: &Mechanism, run: &MechFeaRun, taper: Taper) -> S
     }
     out
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::Scene;
+
+    fn mechanism(file: &str) -> Mechanism {
+        let path = format!("{}/assets/scenes/{file}", env!("CARGO_MANIFEST_DIR"));
+        let text = std::fs::read_to_string(&path).unwrap();
+        Scene::from_toml_str(&text, &path)
+            .unwrap()
+            .mechanism
+            .unwrap()
+    }
+
+    fn deck_of(m: &Mechanism, section: Section) -> String {
+        let meshes = flexure_meshes(m, 4, section, Taper::UNIFORM).unwrap();
+        mechanism_decks(m, &meshes, section, Taper::UNIFORM).remove(0)
+    }
+
+    #[test]
+    fn clamped_tips_are_tied_to_the_stage() {
+        let m = mechanism("parallel-stage.toml");
+        let text = deck_of(&m, Section::PlaneStress);
+        // Two slabs of 4 bricks (56 nodes each), then the stage's two nodes.
+        assert!(text.contains("REF NODE=113, ROT NODE=114"), "{text}");
+        assert_eq!(text.matches("*RIGID BODY").count(), 1);
+        let body = text.split("*NSET, NSET=NSTAGEBODY\n").nth(1).unwrap();
+        let members = body.split('*').next().unwrap().matches(',').count();
+        assert_eq!(members, 16, "both tip faces, 8 nodes each");
+        // One step per case; the sideways force on the reference node, the moment none.
+        assert_eq!(text.matches("*STEP, NLGEOM").count(), 8);
+        assert!(text.contains("113, 2, 2.500000000000e0"), "{text}");
+        assert!(!text.contains("*BOUNDARY\n113"));
+        // The flexures sit at their roots: the lower one's first node.
+        assert!(text.contains("57, 0.000000000000e0, -1.525000000000e-2, 0.000000000000e0"));
+    }
+
+    #[test]
+    fn a_coupler_is_an_axial_spring_and_prescribed_coordinates_are_boundaries() {
+        let m = mechanism("slider-crank.toml");
+        let text = deck_of(&m, Section::PlaneStress);
+        assert_eq!(text.matches("*RIGID BODY").count(), 2);
+        assert!(text.contains("TYPE=SPRINGA"));
+        // Its stiffness: 1e6 E I / L^3 of the flexure (plane stress: E* w t^3 / 12 / L^3
+        // with the equivalent modulus).
+        let b = &m.flexures[0].beam;
+        let (e, _) = material(b, Section::PlaneStress);
+        let k = JOINT_STIFFNESS * e * b.width * b.thickness.powi(3) / 12.0 / b.length.powi(3);
+        assert!(text.contains(&format!("{k:.12e}")), "{text}");
+        // Case 1 of 10: dy = 1.5 mm on the stage's reference node, dx and dphi held at 0.
+        let step = text.split("*STEP").nth(1).unwrap();
+        // One slab of 4 bricks (56 nodes): the stage's reference node is 57, its rotation 58.
+        assert!(
+            step.contains(
+                "*BOUNDARY\n57, 1, 1, 0.000000000000e0\n57, 2, 2, 1.500000000000e-3\n\
+                 58, 3, 3, 0.000000000000e0"
+            ),
+            "{step}"
+        );
+        assert!(!step.contains("*CLOAD"));
+    }
+
+    #[test]
+    fn the_solid_halves_the_loads_and_the_csv_names_the_drive() {
+        let m = mechanism("parallel-stage.toml");
+        let solid = deck_of(&m, Section::Solid);
+        let meshes = flexure_meshes(&m, 4, Section::Solid, Taper::UNIFORM).unwrap();
+        assert_eq!(meshes[0].across, 2);
+        assert!(solid.contains(", 2, 1.250000000000e0"), "{solid}");
+        let run = MechFeaRun {
+            cases: vec![MechFeaCase {
+                path: 1,
+                case: 1,
+                drive: [0.0, 2.5, 0.0],
+                stage: [0.0, 1e-3, 0.0],
+                stage_load: [0.0, 2.5, 0.0],
+            }],
+            failures: vec![MechFeaFailure {
+                path: 1,
+                case: 2,
+                cases: 8,
+                message: "ccx failed".into(),
+            }],
+            ccx_seconds: 0.0,
+        };
+        let csv = mechanism_csv(&m, &run, Taper::UNIFORM);
+        let lines: Vec<&str> = csv.lines().collect();
+        assert!(lines[0].starts_with("# INCOMPLETE: drive path 1 stopped at case 2 of 8"));
+        assert_eq!(
+            lines[1],
+            "path,fx,fy,mz,stage_dx,stage_dy,stage_dphi,stage_fx,stage_fy,stage_mz"
+        );
+        assert!(lines[3].starts_with("# drive path 1 stopped here"));
+        // The file reads back as the mechanism's data.
+        let data = crate::scene::data::parse_stage_csv(&csv, "fea.csv", &m).unwrap();
+        assert_eq!(data.prescribed, [false; 3]);
+        assert_eq!(data.paths[0].rows[0].stage[1], 1e-3);
+    }
+}
