@@ -105,7 +105,10 @@ fn richardson(f: [f64; 3]) -> (f64, f64, f64) {
 /// quantity of the finest mesh is within its mesh error (GCI) plus the beam's claimed error,
 /// and extrapolation moves towards the beam.
 fn converges_to_the_beam_mechanism(file: &str, densities: [u32; 3], ccx: &Ccx) {
-    let s = scene(file);
+    converges(&scene(file), densities, ccx);
+}
+
+fn converges(s: &Scene, densities: [u32; 3], ccx: &Ccx) {
     let m = s.mechanism.clone().unwrap();
     let beam: Vec<Vec<MechCase>> = exact::solve(&m, Resolution::default()).unwrap();
     let runs: Vec<(MechFeaRun, f64)> = densities
@@ -189,6 +192,21 @@ fn parallel_stage_fea_converges_to_the_beam_mechanism() {
 fn slider_crank_fea_reactions_agree_with_the_beam_mechanism() {
     let Some(ccx) = ccx() else { return };
     converges_to_the_beam_mechanism("slider-crank.toml", [10, 20, 40], &ccx);
+}
+
+/// A pin: the fixed-fixed segment of `fixed-guided.toml` with its tip pinned to the guide
+/// (`attach = "pinned"`: the guide holds the tip's position, not its angle; the guide itself
+/// does not turn), pushed sideways: the guide's force converges to the beam mechanism's,
+/// and its moment about the pin is zero.
+#[test]
+fn a_pinned_tip_fea_converges_to_the_beam_mechanism() {
+    let Some(ccx) = ccx() else { return };
+    let text = std::fs::read_to_string(asset("fixed-guided.toml"))
+        .unwrap()
+        .replace("attach = \"clamped\"", "attach = \"pinned\"");
+    assert!(text.contains("pinned"));
+    let s = Scene::from_toml_str(&text, "fixed-pinned").unwrap();
+    converges(&s, [10, 20, 40], &ccx);
 }
 
 /// The heavy version: the parallel stage on meshes 20, 40, 80.
