@@ -10,7 +10,8 @@
 
 use nalgebra::{Matrix4, SymmetricEigen};
 use prbfit::beam::modes::{
-    beam_modes, path_modes, unloaded_modes, FlexureModel, FrequencyScale, ModeSettings, TipBody,
+    beam_modes, generalized_lowest, path_modes, unloaded_modes, FlexureModel, FrequencyScale,
+    ModeSettings, TipBody,
 };
 use prbfit::beam::{BeamModel, BeamSolver, Effects, Load, SolveError};
 
@@ -405,4 +406,40 @@ fn bad_input_is_refused() {
         &settings()
     )
     .is_err());
+}
+
+#[test]
+fn the_block_method_agrees_with_the_dense_eigenproblem() {
+    // 3 fields of 30 coefficients: past the size where the block (subspace) iteration
+    // takes over. The dense reference: eigenvalues of L^-1 K L^-T with M = L L^T.
+    let model = BeamModel::new(8.0, 0.3, None, Effects::ALL).unwrap();
+    let load = Load::new(4.0, -6.0, 0.5);
+    let solver = BeamSolver::new(model, Default::default()).unwrap();
+    let m0 = solver.solve(load).unwrap().root_moment;
+    let flexure = FlexureModel::new(&model, load, m0, Some(30)).unwrap();
+    assert_eq!(flexure.dofs(), 90);
+    let m = flexure.mass_with_tip(TipBody::new(0.2, 0.01).unwrap());
+    let (omega_sq, vectors) = generalized_lowest(flexure.stiffness(), &m, 4).unwrap();
+    let l = m.clone().cholesky().unwrap().l();
+    let x = l.solve_lower_triangular(flexure.stiffness()).unwrap();
+    let c = l.solve_lower_triangular(&x.transpose()).unwrap();
+    let mut dense: Vec<f64> = SymmetricEigen::new((&c + c.transpose()) * 0.5)
+        .eigenvalues
+        .iter()
+        .copied()
+        .collect();
+    dense.sort_by(f64::total_cmp);
+    for (a, b) in omega_sq.iter().zip(&dense) {
+        // The dense route through M loses digits to K's axial and shear stiffness (its
+        // largest eigenvalue over the smallest, ~1e5 here, times round-off).
+        assert!(rel(*a, *b) < 1e-9, "{a} vs {b}");
+    }
+    // Unit modal mass, M-orthogonal.
+    for (i, u) in vectors.iter().enumerate() {
+        for (j, v) in vectors.iter().enumerate() {
+            let muv = (u.transpose() * &m * v)[(0, 0)];
+            let want = if i == j { 1.0 } else { 0.0 };
+            assert!((muv - want).abs() < 1e-9, "{i} {j}: {muv}");
+        }
+    }
 }

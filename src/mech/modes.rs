@@ -199,7 +199,8 @@ pub fn mech_modes(
     for (i, f) in mechanism.flexures.iter().enumerate() {
         let (wrench, tip) = flexure_state(case, i);
         let m0 = wrench.beta + wrench.alpha_y * tip.a - wrench.alpha_x * tip.b;
-        let model = FlexureModel::new(&f.beam.model(), wrench, m0, settings.degree)?;
+        let model =
+            FlexureModel::for_modes(&f.beam.model(), wrench, m0, settings.degree, settings.count)?;
         offsets.push(total);
         total += model.dofs();
         flexures.push(model);

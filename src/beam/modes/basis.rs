@@ -45,12 +45,13 @@ pub(crate) fn gauss_legendre(n: usize) -> (Vec<f64>, Vec<f64>) {
         // Root i of P_n, descending in x; mapped so s ascends.
         let mut x = (std::f64::consts::PI * (i as f64 + 0.75) / (nf + 0.5)).cos();
         let mut slope = 1.0;
-        for _ in 0..100 {
+        // Quadratic convergence from a guess within the root's spacing: 3 to 5 steps.
+        for _ in 0..12 {
             let (p, dp) = legendre_with_slope(n, x);
             slope = dp;
             let dx = p / dp;
             x -= dx;
-            if dx.abs() <= 1e-16 {
+            if dx.abs() <= 1e-15 {
                 break;
             }
         }
@@ -79,6 +80,22 @@ pub(crate) struct Quadrature {
 }
 
 impl Quadrature {
+    /// The `n`-point rule and its integration matrix, built once per `n` and shared.
+    pub fn shared(n: usize) -> std::sync::Arc<Quadrature> {
+        use std::collections::HashMap;
+        use std::sync::{Arc, Mutex, OnceLock};
+        static CACHE: OnceLock<Mutex<HashMap<usize, Arc<Quadrature>>>> = OnceLock::new();
+        let cache = CACHE.get_or_init(|| Mutex::new(HashMap::new()));
+        // A poisoned lock only means another thread panicked mid-insert: build afresh.
+        match cache.lock() {
+            Ok(mut map) => map
+                .entry(n)
+                .or_insert_with(|| Arc::new(Quadrature::new(n)))
+                .clone(),
+            Err(_) => Arc::new(Quadrature::new(n)),
+        }
+    }
+
     /// The `n`-point rule and its integration matrix.
     pub fn new(n: usize) -> Quadrature {
         let (nodes, weights) = gauss_legendre(n);
