@@ -10,6 +10,8 @@ use std::time::Instant;
 
 use prbfit::beam::modes::{beam_modes, ModeSettings, TipBody};
 use prbfit::beam::{BeamModel, BeamSolver, Effects, Load};
+use prbfit::mech::modes::{mech_modes, MechMass};
+use prbfit::scene::{Attach, BeamSpec, Coordinate, Drive, EffectsChoice, Flexure, Mechanism};
 
 fn main() {
     let cases: [(&str, Effects, Load); 6] = [
@@ -74,6 +76,46 @@ fn main() {
         println!(
             "{:<28} {:>6} {:>12.1} {:>12.6} {:>10.1e} {:>10.1e} {:>10.1e}",
             name, modes.degree, us, modes.omega[0], err[0], err[1], err[2]
+        );
+    }
+    // The parallel stage (two clamped flexures, L/t0 = 50, a stage of twice a flexure's
+    // mass), unloaded: the whole mechanism's first three modes.
+    for (label, effects) in [("elastica", Effects::NONE), ("all effects", Effects::ALL)] {
+        let beam = BeamSpec {
+            length: 0.05,
+            width: 0.01,
+            thickness: 0.001,
+            youngs_modulus: 70e9,
+            poisson_ratio: 0.3,
+            shear_coefficient: None,
+            effects: EffectsChoice::Fixed(effects),
+        };
+        let flexure = |y: f64| Flexure {
+            root: [0.0, y],
+            angle: 0.0,
+            attach: Attach::Clamped,
+            beam,
+        };
+        let mech = Mechanism {
+            flexures: vec![flexure(0.015), flexure(-0.015)],
+            stage_point: [0.05, 0.0],
+            drives: vec![Drive::proportional([Coordinate::Loaded(0.0); 3], 1)],
+        };
+        let mass = MechMass::uniform(2, 2.0, 0.1);
+        let settings = ModeSettings::frequencies(3);
+        let modes = mech_modes(&mech, &mass, [false; 3], None, &settings).expect("modes");
+        let runs = 100;
+        let start = Instant::now();
+        for _ in 0..runs {
+            black_box(mech_modes(&mech, &mass, [false; 3], None, &settings).expect("modes"));
+        }
+        let us = start.elapsed().as_secs_f64() / runs as f64 * 1e6;
+        println!(
+            "{:<28} {:>6} {:>12.1} {:>12.6}",
+            format!("parallel stage, {label}"),
+            "",
+            us,
+            modes.omega[0]
         );
     }
 }

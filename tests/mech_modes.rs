@@ -130,3 +130,50 @@ fn every_case_of_a_drive_has_its_modes() {
         assert!((largest - 1.0).abs() < 1e-12);
     }
 }
+
+mod properties {
+    use super::*;
+    use proptest::prelude::*;
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(12))]
+
+        /// Omega (flexure 1's) depends on the mechanism's shape only: the whole mechanism
+        /// scaled by `k`, of another material, with the stage's mass scaled as `rho k^3`
+        /// and its inertia as `rho k^5`, rings at the same Omega.
+        #[test]
+        fn frequencies_are_invariant_to_the_si_scale(
+            log_k in -3.0..3.0f64, e_ratio in 0.01..100.0f64, rho_ratio in 0.1..10.0f64,
+            stage in 0.0..5.0f64, inertia in 0.0..0.5f64, gap in 0.1..0.8f64,
+        ) {
+            let k = 10f64.powf(log_k);
+            let build = |scale: f64, e: f64| {
+                let mut mech = parallel_stage(0.0, 1);
+                for f in &mut mech.flexures {
+                    f.root = [f.root[0] * scale, f.root[1].signum() * gap * scale];
+                    f.beam.length *= scale;
+                    f.beam.width *= scale;
+                    f.beam.thickness *= scale;
+                    f.beam.youngs_modulus = e;
+                }
+                mech.stage_point = [mech.stage_point[0] * scale, 0.0];
+                mech
+            };
+            let (a, b) = (build(1.0, 12e6), build(k, 12e6 * e_ratio));
+            let (rho_a, rho_b) = (1000.0, 1000.0 * rho_ratio);
+            // The flexure's mass rho w t L and the stage's in proportion to it.
+            let mass = |m: &Mechanism, rho: f64| {
+                let beam = m.flexures[0].beam;
+                let line = rho * beam.area() * beam.length;
+                MechMass::from_si(m, rho, stage * line, inertia * line * beam.length.powi(2))
+                    .unwrap()
+            };
+            let settings = ModeSettings::frequencies(3);
+            let wa = mech_modes(&a, &mass(&a, rho_a), [false; 3], None, &settings).unwrap();
+            let wb = mech_modes(&b, &mass(&b, rho_b), [false; 3], None, &settings).unwrap();
+            for (x, y) in wa.omega.iter().zip(&wb.omega) {
+                prop_assert!(rel(*x, *y) < 1e-8, "{x} vs {y}");
+            }
+        }
+    }
+}
