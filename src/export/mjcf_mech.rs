@@ -330,6 +330,7 @@ mod tests {
             youngs_modulus,
             poisson_ratio: 0.3,
             shear_coefficient: None,
+            density: None,
             effects: EffectsChoice::Auto,
         };
         let flexure = |root: [f64; 2], deg: f64, attach, b| Flexure {
