@@ -16,7 +16,8 @@ fn matrix() -> impl Strategy<Value = PrbMatrix> {
                     gamma: g / total,
                     k_theta: if kind & 1 == 1 { kt } else { f64::INFINITY },
                     k_ex: if kind & 2 == 2 { ke } else { f64::INFINITY },
-                    free: [kind != 0, true, kt > 10.0],
+                    mu: None,
+                    free: [kind != 0, true, kt > 10.0, true],
                 })
                 .collect();
             // Exact unit sum despite round-off in the normalisation.
@@ -188,8 +189,20 @@ fn bad_matrices_are_rejected_with_row_and_column() {
     let cases: &[(&str, &str)] = &[
         ("", "row 1: expected 3 entries"),
         (
+            "0.5,inf,inf,0.6; 0.5,2,inf,0.6",
+            "the mus must sum to 1, they sum to 1.2",
+        ),
+        (
+            "0.5,inf,inf,-0.1; 0.5,2,inf,1.1",
+            "row 1, column mu: the segment's mass fraction must be a finite number >= 0, got -0.1",
+        ),
+        (
+            "0.5,inf,inf,0.5; 0.5,2,inf",
+            "row 2: every row gives a mu (a fourth entry) or none does",
+        ),
+        (
             "0.5,inf; 0.5,2,inf",
-            "row 1: expected 3 entries (gamma, k_theta, k_ex), got 2",
+            "row 1: expected 3 entries (gamma, k_theta, k_ex) or 4 (gamma, k_theta, k_ex, mu), got 2",
         ),
         (
             "0.5,inf,inf; 0.5,two,inf",
