@@ -125,7 +125,7 @@ pub fn cholesky_solve(matrix: &mut [f64], rhs: &mut [f64], n: usize) -> bool {
 /// system alike, and leaves the massless coordinates at `mu = 0` (an infinite frequency,
 /// dropped) instead of dividing by their zero mass. The lowest frequencies are the largest
 /// `mu`, computed to the Schur decomposition's relative accuracy (about `n` ulp of the
-/// largest). A `mu` with an imaginary part or a negative one (below `-1e-12` of the largest)
+/// largest); frequencies more than 1000 times the lowest are not resolved and left out. A `mu` with an imaginary part or a negative one (below `-1e-12` of the largest)
 /// means `A` is not a stable stiffness: `Err` with the most negative `omega^2`, or NaN.
 pub fn frequencies(a: &[f64], b: &[f64], n: usize) -> Result<Vec<f64>, f64> {
     if n == 0 {
@@ -155,18 +155,20 @@ pub fn frequencies(a: &[f64], b: &[f64], n: usize) -> Result<Vec<f64>, f64> {
     if largest == 0.0 || !largest.is_finite() {
         return Ok(Vec::new());
     }
-    let noise = 1e-10 * largest;
+    // The zero eigenvalues of the massless coordinates and constraints form Jordan blocks
+    // (a constrained system's saddle point), which round-off splits by about the square root
+    // of the unit round-off: they are told from true modes by size, `RESOLVED` of the largest
+    // (frequencies more than 1000 times the lowest are left out, far above any asked for).
+    const RESOLVED: f64 = 1e-6;
+    let floor = RESOLVED * largest;
     let mut out = Vec::new();
     for z in eig.iter() {
-        if z.re.abs() <= noise && z.im.abs() <= noise {
+        if z.norm() <= floor {
             continue; // a massless coordinate or a constraint
         }
-        if z.im.abs() > noise || z.re < 0.0 {
-            return Err(if z.im.abs() > noise {
-                f64::NAN
-            } else {
-                1.0 / z.re
-            });
+        let complex = z.im.abs() > 1e-6 * z.norm();
+        if complex || z.re < 0.0 {
+            return Err(if complex { f64::NAN } else { 1.0 / z.re });
         }
         out.push(1.0 / z.re.sqrt());
     }

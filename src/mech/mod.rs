@@ -63,10 +63,10 @@ pub mod exact;
 pub mod figures;
 pub mod geometry;
 pub mod measured;
-pub mod modes;
 mod path;
 pub mod pose;
 pub mod prb;
+pub mod prb_modes;
 pub mod solve;
 mod system;
 
@@ -118,7 +118,7 @@ pub struct MechCase {
     pub state: Option<SolvedState>,
 }
 
-/// A mechanism solver's state at one case: what [`prb::modes`] linearises.
+/// A mechanism solver's state at one case: what [`prb_modes`] linearises.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SolvedState {
     /// The unknowns (every flexure's wrench parameters and internal unknowns, then the

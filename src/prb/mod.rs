@@ -10,6 +10,8 @@ pub mod published;
 mod statics;
 
 pub use chain::{Linearised, PrbSolver, SolverLimits};
-pub use matrix::{Column, MatrixError, PrbMatrix, PrbRow, GAMMA_SUM_TOL, MAX_SEGMENTS, MAX_SPRING};
+pub use matrix::{
+    Column, MatrixError, PrbMatrix, PrbRow, GAMMA_SUM_TOL, MAX_SEGMENTS, MAX_SPRING, MU_SUM_TOL,
+};
 pub use modes::{ModesError, TipBody};
 pub use path::{PrbCase, PrbError, PrbSolution};

@@ -8,7 +8,7 @@
 //! compatibility rows are constraints whose multipliers are the tip wrenches. So the
 //! linearised free vibration is `A v = omega^2 B v` with `A` the solver's own Jacobian at the
 //! equilibrium (springs, constraints, and the geometric stiffness of the wrenches and of the
-//! stage's rotation) and `B` holding each chain's mass matrix ([`PrbSolver::mass_matrix`])
+//! stage's rotation) and `B` holding each chain's mass matrix ([`crate::prb::PrbSolver::mass_matrix`])
 //! and the stage's mass and inertia (its loaded coordinates only: a prescribed coordinate is
 //! held by its guide or actuator). Couplers are massless. Each chain's equations are in its
 //! own flexure's units, so its mass matrix is scaled by `(A_i L_i^4 / (E_i I_i)) / (A_1 L_1^4
@@ -142,6 +142,22 @@ mod tests {
         // Near the beams' 24 (12 E I / L^3 per flexure): Su's 3R, fitted to the end-loaded
         // cantilever, is 11 % soft in the S-shaped guided bend (21.3).
         assert!((k / 24.0 - 1.0).abs() < 0.15, "{k}");
+        // A light stage (twice a flexure's mass): the flexures' own mass lowers the frequency
+        // below sqrt(k / M) but not below sqrt(k / (M + both flexures' mass)).
+        let light = prb_modes(
+            &m,
+            &su,
+            &state,
+            TipBody {
+                mass: 2.0,
+                inertia: 0.2,
+            },
+        )
+        .unwrap();
+        assert!(
+            light[0] < (k / 2.0).sqrt() && light[0] > (k / 4.0).sqrt(),
+            "{light:?}"
+        );
         // The modes of the loaded case's state agree with the unloaded ones at a tiny load.
         let loaded = cases[0][0].state.clone().unwrap();
         let w2 = prb_modes(
