@@ -88,6 +88,7 @@ fn main() {
             youngs_modulus: 70e9,
             poisson_ratio: 0.3,
             shear_coefficient: None,
+            density: None,
             effects: EffectsChoice::Fixed(effects),
         };
         let flexure = |y: f64| Flexure {

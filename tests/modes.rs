@@ -551,6 +551,7 @@ mod properties {
                 youngs_modulus: e,
                 poisson_ratio: 0.3,
                 shear_coefficient: None,
+                density: None,
                 effects: EffectsChoice::Fixed(effects),
             };
             let (a, b) = (spec(1.0, 70e9), spec(k, 70e9 * e_ratio));

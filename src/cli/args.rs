@@ -192,14 +192,10 @@ pub struct ExportArgs {
     /// Overwrite the file if it exists.
     #[arg(long)]
     pub force: bool,
-    /// Density for the masses, kg/m^3 (only dynamics depend on it).
-    #[arg(
-        long,
-        value_name = "KG_M3",
-        default_value_t = 1000.0,
-        allow_negative_numbers = true
-    )]
-    pub density: f64,
+    /// Density for the masses, kg/m^3 (only dynamics depend on it); default: the scene's
+    /// `[beam] density`, else 1000.
+    #[arg(long, value_name = "KG_M3", allow_negative_numbers = true)]
+    pub density: Option<f64>,
     /// Fidelity of the baseline the figures and the CSV come from.
     #[arg(long, value_name = "LEVEL", default_value = "normal", value_parser = Fidelity::from_str)]
     pub fidelity: Fidelity,
