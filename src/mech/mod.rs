@@ -63,6 +63,7 @@ pub mod exact;
 pub mod figures;
 pub mod geometry;
 pub mod measured;
+pub mod modes;
 mod path;
 pub mod pose;
 pub mod prb;
