@@ -429,6 +429,7 @@ mod tests {
             flexures: Vec::new(),
             iterations: 0,
             joints: Vec::new(),
+            state: None,
         }
     }
 

@@ -60,6 +60,10 @@ pub struct BeamSpec {
     pub shear_coefficient: Option<f64>,
     /// Which effects of DESIGN §2 the beam models.
     pub effects: EffectsChoice,
+    /// kg/m^3: the beam's mass for its natural frequencies and the exports (DESIGN §10);
+    /// `None` when the scene gives none (`modes` then asks for it, exports prompt).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub density: Option<f64>,
 }
 
 impl BeamSpec {
@@ -104,7 +108,7 @@ impl BeamSpec {
 
     /// Checks the beam's rules: sizes and modulus finite and `> 0`, `1 <= L/t0 <=`
     /// [`MAX_SLENDERNESS`](crate::beam::MAX_SLENDERNESS) (named by `thickness`), `nu` in
-    /// `[0, 0.5)`, a given shear coefficient `> 0`, effects that go together. Keys are the
+    /// `[0, 0.5)`, a given shear coefficient and density `> 0`, effects that go together. Keys are the
     /// beam's own (`thickness`); a scene puts them under `beam`, a flexure under its table.
     pub fn validate(&self) -> Result<(), RuleError> {
         let check = |key: &str, r: Result<(), String>| r.map_err(|m| RuleError::new(key, m));
@@ -116,6 +120,9 @@ impl BeamSpec {
         check("poisson_ratio", rules::poisson_ratio(self.poisson_ratio))?;
         if let Some(k) = self.shear_coefficient {
             check("shear_coefficient", rules::positive(k))?;
+        }
+        if let Some(rho) = self.density {
+            check("density", rules::positive(rho))?;
         }
         if let EffectsChoice::Fixed(e) = self.effects {
             e.validate()

@@ -202,6 +202,7 @@ mod tests {
             youngs_modulus: 12e6,
             poisson_ratio: 0.3,
             shear_coefficient: None,
+            density: None,
             effects: EffectsChoice::Fixed(Effects::NONE),
         };
         let flexure = |y: f64| Flexure {
@@ -243,6 +244,7 @@ mod tests {
             max_pos_err: 0.1,
             max_ang_err: 0.02,
             max_force_err: 0.005,
+            ..Accuracy::default()
         };
         let target = MechanismTarget::new(&m, &exact, w, w_f, &accuracy).unwrap();
         let floor = target.objective_floor(1e-3);

@@ -27,6 +27,7 @@ pub mod calibrate;
 pub mod effects;
 pub mod export;
 mod fit;
+pub mod modes;
 pub mod select;
 pub mod tradeoff;
 pub mod truth;

@@ -69,6 +69,7 @@ pub fn tip_case(fraction: f64, load: Load, tip: TipPose, iterations: u32) -> Mec
         }],
         iterations,
         joints: Vec::new(),
+        state: None,
     }
 }
 
