@@ -58,9 +58,9 @@ pub fn triple(v: Option<&Value>) -> [f64; 3] {
     [at(0), at(1), at(2)]
 }
 
-/// Rows of three as an `(n, 3)` array.
-pub fn array3<'py>(py: Python<'py>, rows: &[[f64; 3]]) -> Bound<'py, PyArray2<f64>> {
-    let array = PyArray2::<f64>::zeros(py, [rows.len(), 3], false);
+/// Rows of `N` as an `(n, N)` array.
+pub fn array<'py, const N: usize>(py: Python<'py>, rows: &[[f64; N]]) -> Bound<'py, PyArray2<f64>> {
+    let array = PyArray2::<f64>::zeros(py, [rows.len(), N], false);
     // SAFETY: the array was just created here, C-contiguous, and no other reference to its
     // data exists yet (it has not been handed to Python).
     if let Ok(data) = unsafe { array.as_slice_mut() } {

@@ -4,6 +4,7 @@
 //! released, and Ctrl-C cancels them through the library's cancel token.
 
 mod convert;
+mod edit;
 mod errors;
 mod matrix;
 mod results;

@@ -1,16 +1,17 @@
 //! `prbfit.Matrix`: a PRB matrix (DESIGN §3), parsed from its text form, built from a
-//! topology name, or given as rows `[gamma, k_theta, k_ex]` (a list or a numpy array, `inf`
-//! where there is no joint); its numpy form and its topology.
+//! topology name, or given as rows `[gamma, k_theta, k_ex]` or `[gamma, k_theta, k_ex, mu]`
+//! (a list or a numpy array, `inf` where there is no joint); its numpy form and its topology.
 
-use numpy::{PyArray2, PyReadonlyArray2, PyUntypedArrayMethods};
+use numpy::{PyArray2, PyReadonlyArray2, PyUntypedArray, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 
 use prbfit::prb::{PrbMatrix, PrbRow};
 
-use crate::convert::array3;
+use crate::convert::array;
 use crate::errors;
 
-/// A PRB matrix: one row `[gamma, k_theta, k_ex]` per segment from the root; `inf` for no
+/// A PRB matrix: one row `[gamma, k_theta, k_ex, mu]` per segment from the root (`mu`
+/// optional: without it each segment's mass is where its length is); `inf` for no
 /// joint. Cells may be fixed (the text form's `!`): a fit keeps them.
 #[pyclass(module = "prbfit", frozen, eq)]
 #[derive(Clone, PartialEq)]
@@ -33,13 +34,32 @@ impl Matrix {
 }
 
 /// Rows (a numpy array or a list of lists) as a matrix; `fixed` marks the cells that stay.
+/// A numpy array must be `(N, 3)` or `(N, 4)`; each row of a list has 3 or 4 entries (mixed
+/// widths are the matrix's own error: every row gives a mu or none does).
 fn rows_matrix(
     argument: &str,
     value: &Bound<'_, PyAny>,
-    fixed: Option<Vec<[bool; 3]>>,
+    fixed: Option<Vec<Vec<bool>>>,
 ) -> PyResult<PrbMatrix> {
-    let rows: Vec<Vec<f64>> = if let Ok(a) = value.extract::<PyReadonlyArray2<'_, f64>>() {
+    let rows: Vec<Vec<f64>> = if let Ok(a) = value.cast::<PyUntypedArray>() {
         let shape = a.shape().to_vec();
+        if shape.len() != 2 || !(shape[1] == 3 || shape[1] == 4) {
+            let dims: Vec<String> = shape.iter().map(usize::to_string).collect();
+            return Err(errors::input(
+                argument,
+                format!(
+                    "expected an array of shape (N, 3) [gamma, k_theta, k_ex] or (N, 4) \
+                     [gamma, k_theta, k_ex, mu], got shape ({})",
+                    dims.join(", ")
+                ),
+            ));
+        }
+        let floats = a
+            .call_method1("astype", ("float64",))
+            .map_err(|_| errors::input(argument, "expected an array of numbers"))?;
+        let a: PyReadonlyArray2<'_, f64> = floats
+            .extract()
+            .map_err(|_| errors::input(argument, "expected an array of numbers"))?;
         let view = a.as_array();
         (0..shape[0])
             .map(|i| (0..shape[1]).map(|j| view[[i, j]]).collect())
@@ -48,7 +68,8 @@ fn rows_matrix(
         value.extract::<Vec<Vec<f64>>>().map_err(|_| {
             errors::input(
                 argument,
-                "expected a Matrix, its text form, or rows [gamma, k_theta, k_ex] of numbers",
+                "expected a Matrix, its text form, or rows [gamma, k_theta, k_ex] or \
+                 [gamma, k_theta, k_ex, mu] of numbers",
             )
         })?
     };
@@ -59,20 +80,43 @@ fn rows_matrix(
                 format!("{} rows for a matrix of {}", f.len(), rows.len()),
             ));
         }
+        for (i, (f, r)) in f.iter().zip(&rows).enumerate() {
+            if f.len() != r.len() {
+                return Err(errors::input(
+                    "fixed",
+                    format!(
+                        "row {}: {} flags for a row of {} entries",
+                        i + 1,
+                        f.len(),
+                        r.len()
+                    ),
+                ));
+            }
+        }
     }
     let mut out = Vec::with_capacity(rows.len());
     for (i, r) in rows.iter().enumerate() {
-        let [gamma, k_theta, k_ex] = r[..] else {
-            return Err(errors::input(
-                argument,
-                format!(
-                    "row {}: expected 3 entries (gamma, k_theta, k_ex), got {}",
-                    i + 1,
-                    r.len()
-                ),
-            ));
+        let (gamma, k_theta, k_ex, mu) = match r[..] {
+            [g, k, e] => (g, k, e, None),
+            [g, k, e, m] => (g, k, e, Some(m)),
+            _ => {
+                return Err(errors::input(
+                    argument,
+                    format!(
+                        "row {}: expected 3 entries (gamma, k_theta, k_ex) or 4 (gamma, \
+                         k_theta, k_ex, mu), got {}",
+                        i + 1,
+                        r.len()
+                    ),
+                ))
+            }
         };
-        for (name, x) in [("gamma", gamma), ("k_theta", k_theta), ("k_ex", k_ex)] {
+        for (name, x) in [
+            ("gamma", gamma),
+            ("k_theta", k_theta),
+            ("k_ex", k_ex),
+            ("mu", mu.unwrap_or(0.0)),
+        ] {
             if x.is_nan() {
                 return Err(errors::input(
                     argument,
@@ -80,14 +124,17 @@ fn rows_matrix(
                 ));
             }
         }
-        let free = fixed
-            .as_ref()
-            .and_then(|f| f.get(i))
-            .map_or([true; 3], |f| f.map(|fixed| !fixed));
+        let mut free = [true; 4];
+        if let Some(f) = fixed.as_ref().and_then(|f| f.get(i)) {
+            for (cell, fixed) in free.iter_mut().zip(f) {
+                *cell = !fixed;
+            }
+        }
         out.push(PrbRow {
             gamma,
             k_theta,
             k_ex,
+            mu,
             free,
         });
     }
@@ -96,12 +143,12 @@ fn rows_matrix(
 
 #[pymethods]
 impl Matrix {
-    /// A matrix from rows `[gamma, k_theta, k_ex]` (a list of lists or an (N, 3) numpy
-    /// array, `inf` for no joint), its text form, or another Matrix; `fixed` (N rows of 3
-    /// booleans) marks cells a fit keeps.
+    /// A matrix from rows `[gamma, k_theta, k_ex]` or `[gamma, k_theta, k_ex, mu]` (a list
+    /// of lists or an (N, 3) or (N, 4) numpy array, `inf` for no joint), its text form, or
+    /// another Matrix; `fixed` (N rows of as many booleans) marks cells a fit keeps.
     #[new]
     #[pyo3(signature = (rows, fixed = None))]
-    fn new(rows: &Bound<'_, PyAny>, fixed: Option<Vec<[bool; 3]>>) -> PyResult<Matrix> {
+    fn new(rows: &Bound<'_, PyAny>, fixed: Option<Vec<Vec<bool>>>) -> PyResult<Matrix> {
         let inner = match fixed {
             Some(f) => rows_matrix("rows", rows, Some(f))?,
             None => Matrix::from_any("rows", rows)?,
@@ -127,18 +174,27 @@ impl Matrix {
             .map_err(|e| errors::input("topology", format!("{name}: {e}")))
     }
 
-    /// The (N, 3) numpy array `[gamma, k_theta, k_ex]`, `inf` where there is no joint.
+    /// The (N, 4) numpy array `[gamma, k_theta, k_ex, mu]`, `inf` where there is no joint;
+    /// a matrix given without mus (three columns) has `mu = gamma` (see `has_mu`).
     fn to_numpy<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
-        let rows: Vec<[f64; 3]> = self
+        let rows: Vec<[f64; 4]> = self
             .inner
             .rows()
             .iter()
-            .map(|r| [r.gamma, r.k_theta, r.k_ex])
+            .map(|r| [r.gamma, r.k_theta, r.k_ex, r.mass()])
             .collect();
-        array3(py, &rows)
+        array(py, &rows)
     }
 
-    /// (N, 3) booleans: the cells a fit keeps (`!` in the text form).
+    /// Whether the matrix gives its mus (a fourth column); without, each segment's mass is
+    /// where its length is (`mu = gamma`), through every fit.
+    #[getter]
+    fn has_mu(&self) -> bool {
+        self.inner.has_mu()
+    }
+
+    /// (N, 4) booleans, `[gamma, k_theta, k_ex, mu]`: the cells a fit keeps (`!` in the
+    /// text form).
     #[getter]
     fn fixed<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<bool>>> {
         let rows: Vec<Vec<bool>> = self

@@ -2,14 +2,14 @@
 //! is the `--json` object, `str()` the text; every top-level key of the dict is also an
 //! attribute (the figures: `r.objective`, `r.max_pos_err`, ...), and the arrays are numpy.
 
-use numpy::PyArray2;
+use numpy::{PyArray1, PyArray2, PyArrayMethods};
 use pyo3::exceptions::PyAttributeError;
 use pyo3::prelude::*;
 use serde_json::Value;
 
 use prbfit::prb::PrbMatrix;
 
-use crate::convert::{array3, num, to_py, triple};
+use crate::convert::{array, num, to_py, triple};
 use crate::matrix::Matrix;
 
 /// What every result has: the report as JSON and as text.
@@ -83,7 +83,7 @@ impl Solution {
                 })
                 .collect(),
         };
-        array3(py, &rows)
+        array(py, &rows)
     }
 
     /// A mechanism's stage `(n, 3)`: `[dx, dy, dphi]` per case (units of flexure 1's L, rad);
@@ -99,7 +99,7 @@ impl Solution {
                 .collect()
         });
         match rows {
-            Some(r) if !r.is_empty() => array3(py, &r),
+            Some(r) if !r.is_empty() => array(py, &r),
             _ => Solution::tips(slf, py),
         }
     }
@@ -118,7 +118,7 @@ impl Solution {
                         .collect()
                 })
                 .unwrap_or_default();
-            array3(py, &rows)
+            array(py, &rows)
         };
         match v.get("cases").and_then(Value::as_array) {
             Some(cases) => cases
@@ -173,7 +173,7 @@ fn per_model(py: Python<'_>, r: &Report, beam: bool) -> Py<PyAny> {
     let rows = r.model_rows();
     let arrays: Vec<_> = rows
         .iter()
-        .map(|m| array3(py, &case_rows(m, beam)))
+        .map(|m| array(py, &case_rows(m, beam)))
         .collect();
     if r.value.get("models").is_some() {
         pyo3::types::PyList::new(py, arrays)
@@ -266,7 +266,122 @@ fn fea_rows<'py>(py: Python<'py>, v: &Value, key: &str) -> Bound<'py, PyArray2<f
                 .collect()
         })
         .unwrap_or_default();
-    array3(py, &rows)
+    array(py, &rows)
+}
+
+/// `Scene.modes()`: natural frequencies of the truth and of each model about the same
+/// equilibria.
+#[pyclass(module = "prbfit", extends = Report, frozen)]
+pub struct Modes;
+
+/// The equilibria of a modes report: its `cases`, or the report itself (one).
+fn equilibria(v: &Value) -> (Vec<&Value>, bool) {
+    match v.get("cases").and_then(Value::as_array) {
+        Some(cases) => (cases.iter().collect(), false),
+        None => (vec![v], true),
+    }
+}
+
+/// The numbers at `key` of `v` (an absent key: none).
+fn numbers(v: Option<&Value>, key: &str) -> Vec<f64> {
+    v.and_then(|v| v.get(key))
+        .and_then(Value::as_array)
+        .map(|a| a.iter().map(|x| x.as_f64().unwrap_or(f64::NAN)).collect())
+        .unwrap_or_default()
+}
+
+/// Frequencies per equilibrium as one array: `(count,)` for one equilibrium, `(n, count)`
+/// for every case; `NaN` where there is no frequency (a model with fewer, or none there).
+fn frequency_array(py: Python<'_>, v: &Value, pick: impl Fn(&Value) -> Vec<f64>) -> Py<PyAny> {
+    let (cases, one) = equilibria(v);
+    let width = cases
+        .iter()
+        .map(|c| numbers(c.get("beam"), "omega").len())
+        .max()
+        .unwrap_or(0);
+    let rows: Vec<Vec<f64>> = cases
+        .iter()
+        .map(|c| {
+            let mut r = pick(c);
+            r.resize(width, f64::NAN);
+            r
+        })
+        .collect();
+    if one {
+        let row = rows.into_iter().next().unwrap_or_default();
+        PyArray1::from_vec(py, row).into_any().unbind()
+    } else {
+        let n = rows.len();
+        let flat: Vec<f64> = rows.into_iter().flatten().collect();
+        let a = PyArray1::from_vec(py, flat);
+        match a.reshape([n, width]) {
+            Ok(a) => a.into_any().unbind(),
+            Err(_) => py.None(),
+        }
+    }
+}
+
+/// One array per model (in the order of `models`) of its `key` per equilibrium.
+fn per_model_frequencies(py: Python<'_>, v: &Value, key: &str) -> Vec<Py<PyAny>> {
+    let (cases, _) = equilibria(v);
+    let models = cases
+        .first()
+        .and_then(|c| c.get("models"))
+        .and_then(Value::as_array)
+        .map_or(0, Vec::len);
+    (0..models)
+        .map(|i| {
+            frequency_array(py, v, |c| {
+                numbers(c.get("models").and_then(|m| m.get(i)), key)
+            })
+        })
+        .collect()
+}
+
+#[pymethods]
+impl Modes {
+    /// The truth's `Omega` (flexure 1's nondimensional frequencies): `(count,)`, or
+    /// `(n, count)` with `cases=True`.
+    #[getter]
+    fn beam_omega(slf: PyRef<'_, Self>, py: Python<'_>) -> Py<PyAny> {
+        frequency_array(py, &slf.as_super().value, |c| {
+            numbers(c.get("beam"), "omega")
+        })
+    }
+
+    /// The truth's frequencies in Hz, shaped as `beam_omega`.
+    #[getter]
+    fn beam_hz(slf: PyRef<'_, Self>, py: Python<'_>) -> Py<PyAny> {
+        frequency_array(py, &slf.as_super().value, |c| numbers(c.get("beam"), "hz"))
+    }
+
+    /// Each model's `Omega`, one array per model shaped as `beam_omega`; `NaN` where the
+    /// model has no such frequency (a 1R has one; a model that failed there has none).
+    #[getter]
+    fn omega(slf: PyRef<'_, Self>, py: Python<'_>) -> Vec<Py<PyAny>> {
+        per_model_frequencies(py, &slf.as_super().value, "omega")
+    }
+
+    /// Each model's frequencies in Hz, as `omega`.
+    #[getter]
+    fn hz(slf: PyRef<'_, Self>, py: Python<'_>) -> Vec<Py<PyAny>> {
+        per_model_frequencies(py, &slf.as_super().value, "hz")
+    }
+
+    /// Each model's `Omega_PRB / Omega_beam - 1` per frequency, as `omega`.
+    #[getter]
+    fn freq_err(slf: PyRef<'_, Self>, py: Python<'_>) -> Vec<Py<PyAny>> {
+        per_model_frequencies(py, &slf.as_super().value, "freq_err")
+    }
+
+    /// The equilibria's tip (stage) loads `(n, 3)`, flexure 1's `[alpha_x, alpha_y, beta]`
+    /// (one row without `cases=True`).
+    #[getter]
+    fn loads<'py>(slf: PyRef<'py, Self>, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
+        let (cases, _) = equilibria(&slf.as_super().value);
+        let rows: Vec<[f64; 3]> = cases.iter().map(|c| triple(c.get("load"))).collect();
+        array(py, &rows)
+    }
 }
 
 /// Adds the result classes to the module.
@@ -279,5 +394,6 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<Calibration>()?;
     m.add_class::<Export>()?;
     m.add_class::<Fea>()?;
+    m.add_class::<Modes>()?;
     Ok(())
 }

@@ -16,9 +16,12 @@ use prbfit::report::{self, Control, ReportError};
 use prbfit::scene::{EffectsChoice, LoadPath};
 
 use crate::convert::{extract, finite};
+use crate::edit;
 use crate::errors;
 use crate::matrix::Matrix;
-use crate::results::{Calibration, Evaluation, Export, Fea, Fit, Report, Selection, Solution};
+use crate::results::{
+    Calibration, Evaluation, Export, Fea, Fit, Modes, Report, Selection, Solution,
+};
 use crate::run::run;
 
 /// A scene: the beam (or a mechanism's flexures, or measured data), its load paths, targets
@@ -110,6 +113,7 @@ impl Scene {
                 "shear_coefficient" => {
                     b.shear_coefficient = if v.is_none() { None } else { Some(number(&v)?) }
                 }
+                "density" => b.density = if v.is_none() { None } else { Some(number(&v)?) },
                 "effects" => {
                     let text: String = extract(&arg, &v, "a string (auto, none, all or a list)")?;
                     b.effects = if text.trim() == "auto" {
@@ -124,7 +128,7 @@ impl Scene {
                     return Err(errors::input(
                         &arg,
                         "no such beam value (length, width, thickness, youngs_modulus, \
-                         poisson_ratio, shear_coefficient, effects)",
+                         poisson_ratio, shear_coefficient, effects, density)",
                     ))
                 }
             }
@@ -197,7 +201,8 @@ impl Scene {
     }
 
     /// The beam (SI): length, width, thickness, youngs_modulus, poisson_ratio,
-    /// shear_coefficient (None: Cowper's), effects; and its slenderness L/t0.
+    /// shear_coefficient (None: Cowper's), effects, density (kg/m^3; None: the scene gives
+    /// none, and `modes` asks for it); and its slenderness L/t0.
     #[getter]
     fn beam<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let b = &self.inner.beam;
@@ -209,12 +214,14 @@ impl Scene {
         d.set_item("poisson_ratio", b.poisson_ratio)?;
         d.set_item("shear_coefficient", b.shear_coefficient)?;
         d.set_item("effects", b.effects.to_string())?;
+        d.set_item("density", b.density)?;
         d.set_item("slenderness", b.slenderness())?;
         Ok(d)
     }
 
     /// Sets beam values (`length`, `width`, `thickness`, `youngs_modulus`, `poisson_ratio`,
-    /// `shear_coefficient`, `effects`), checked by the scene's rules; a mechanism's flexures
+    /// `shear_coefficient`, `effects`, `density`; None clears the last two), checked by the
+    /// scene's rules; a mechanism's flexures
     /// and a data scene's rows follow the beam as in the UI.
     #[pyo3(signature = (**values))]
     fn set_beam(&mut self, values: Option<&Bound<'_, PyDict>>) -> PyResult<()> {
@@ -226,6 +233,51 @@ impl Scene {
     #[pyo3(signature = (**values))]
     fn with_beam(&self, values: Option<&Bound<'_, PyDict>>) -> PyResult<Scene> {
         self.edited_beam(values)
+    }
+
+    /// The rigid body at the end of the flexures: a cantilever's `[tip]` body (its centre of
+    /// mass at the tip), a mechanism's `[stage]` (at the stage point): `mass` (kg) and
+    /// `inertia` (kg m^2 about its centre of mass); 0 when the scene gives none.
+    #[getter]
+    fn body<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        edit::body_dict(py, &self.inner)
+    }
+
+    /// Sets the body's `mass` and `inertia`, checked by the scene's rules (errors name
+    /// `tip.mass` or `stage.mass`).
+    #[pyo3(signature = (**values))]
+    fn set_body(&mut self, values: Option<&Bound<'_, PyDict>>) -> PyResult<()> {
+        *self = Scene::checked(edit::body(&self.inner, values)?)?;
+        Ok(())
+    }
+
+    /// The fit's settings (`[fit]`): `angle_weight`, `force_weight`, `modes` (how many
+    /// natural frequencies the fit matches beside the statics; 0: statics only),
+    /// `frequency_weight`.
+    #[getter]
+    fn fit_settings<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        edit::fit_dict(py, &self.inner)
+    }
+
+    /// Sets fit settings (see `fit_settings`), checked by the scene's rules.
+    #[pyo3(signature = (**values))]
+    fn set_fit_settings(&mut self, values: Option<&Bound<'_, PyDict>>) -> PyResult<()> {
+        *self = Scene::checked(edit::fit(&self.inner, values)?)?;
+        Ok(())
+    }
+
+    /// The targets (`[accuracy]`): `max_pos_err`, `max_ang_err`, `max_force_err`,
+    /// `max_freq_err`.
+    #[getter]
+    fn accuracy<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        edit::accuracy_dict(py, &self.inner)
+    }
+
+    /// Sets targets (see `accuracy`), checked by the scene's rules.
+    #[pyo3(signature = (**values))]
+    fn set_accuracy(&mut self, values: Option<&Bound<'_, PyDict>>) -> PyResult<()> {
+        *self = Scene::checked(edit::accuracy(&self.inner, values)?)?;
+        Ok(())
     }
 
     /// The load paths: `(alpha_x, alpha_y, beta, steps)` each, from zero to that end load.
@@ -390,6 +442,45 @@ impl Scene {
         result!(py, r, Evaluation)
     }
 
+    /// `prbfit modes`: the natural frequencies of the scene's truth and of models (published
+    /// names, model files, matrix text or `Matrix`es; the scene's own with none, else the
+    /// beam alone) about the same equilibria: the unloaded scene, one tip `load`
+    /// `(alpha_x, alpha_y, beta)` of a cantilever, or every case (`cases=True`). Needs the
+    /// scene's `[beam] density`. Named models and files come first, then matrices, as the
+    /// CLI orders `--model` and `--prb`.
+    #[pyo3(signature = (*models, count = 3, load = None, cases = false, tol = None))]
+    fn modes(
+        &self,
+        py: Python<'_>,
+        models: &Bound<'_, PyTuple>,
+        count: i64,
+        load: Option<&Bound<'_, PyAny>>,
+        cases: bool,
+        tol: Option<f64>,
+    ) -> PyResult<Py<PyAny>> {
+        let mut args = report::modes::ModesArgs {
+            count: usize::try_from(count)
+                .map_err(|_| errors::input("count", format!("{count}: ask for at least 1 mode")))?,
+            load: load_arg(load)?,
+            cases,
+            ..Default::default()
+        };
+        if let Some(t) = tol {
+            args.tol = t;
+        }
+        for (i, m) in models.iter().enumerate() {
+            match model_arg(&format!("models[{i}]"), &m)? {
+                ModelArg::Matrix(t) => args.prb.push(t),
+                ModelArg::Named(n) => args.model.push(n),
+            }
+        }
+        let scene = &self.inner;
+        let r = run(py, None, |ctl: &mut Control<'_>| {
+            report_of(&report::modes::modes(scene, &args, ctl)?)
+        })?;
+        result!(py, r, Modes)
+    }
+
     /// `prbfit fit`: the free cells of a matrix (`topology`'s start, or `matrix` with its
     /// fixed cells, or the scene's own) fitted to the truth. `progress(dict)` is called as
     /// the search goes (phase, iteration, evaluations, best_objective, best, seconds);
@@ -465,8 +556,9 @@ impl Scene {
 
     /// `prbfit export`: writes `model` (a published name, a model file, matrix text or a
     /// `Matrix`; the scene's own with None) to `output` as prbfit's model file, MuJoCo,
-    /// URDF, SDF or CSV (`format`, or from the extension).
-    #[pyo3(signature = (model = None, output = None, *, format = None, force = false, density = 1000.0, fidelity = "normal"))]
+    /// URDF, SDF or CSV (`format`, or from the extension). `density` (kg/m^3) for the
+    /// masses: None takes the scene's `[beam] density`, else 1000.
+    #[pyo3(signature = (model = None, output = None, *, format = None, force = false, density = None, fidelity = "normal"))]
     #[allow(clippy::too_many_arguments)]
     fn export(
         &self,
@@ -475,7 +567,7 @@ impl Scene {
         output: Option<PathBuf>,
         format: Option<&str>,
         force: bool,
-        density: f64,
+        density: Option<f64>,
         fidelity: &str,
     ) -> PyResult<Py<PyAny>> {
         let Some(output) = output else {

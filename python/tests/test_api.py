@@ -23,32 +23,83 @@ def test_errors_are_one_family():
 def test_matrix_text_numpy_topology_and_fixed_cells():
     m = prbfit.Matrix.parse("0.1,inf,inf; 0.9!,2.2,inf")
     a = m.to_numpy()
-    assert a.shape == (2, 3) and a.dtype == np.float64
+    # Always (N, 4): a matrix written with three columns has mu = gamma (has_mu False).
+    assert a.shape == (2, 4) and a.dtype == np.float64
     assert a[0, 0] == 0.1 and math.isinf(a[0, 1]) and a[1, 1] == 2.2
+    assert a[:, 3].tolist() == a[:, 0].tolist() and not m.has_mu
     assert m.topology == "L-R"
-    assert m.fixed.tolist() == [[False, False, False], [True, False, False]]
-    assert prbfit.Matrix(a) == prbfit.Matrix.parse("0.1,inf,inf; 0.9,2.2,inf")
-    assert prbfit.Matrix(m.to_numpy(), fixed=m.fixed.tolist()) == m
+    assert m.fixed.tolist() == [[False] * 4, [True, False, False, False]]
+    assert prbfit.Matrix(a[:, :3]) == prbfit.Matrix.parse("0.1,inf,inf; 0.9,2.2,inf")
+    assert prbfit.Matrix(a[:, :3], fixed=m.fixed[:, :3].tolist()) == m
     assert prbfit.Matrix.parse(m.text) == m
     assert prbfit.Matrix.from_topology("L-R-R-R").topology == "L-R-R-R"
     assert len(prbfit.Matrix.from_topology("3R")) == 4
 
 
+def test_matrix_mu_column_is_kept_where_given():
+    m = prbfit.Matrix.parse("0.1,inf,inf,0.3; 0.9,2.2,inf,0.7!")
+    assert m.has_mu and m.text == "0.1,inf,inf,0.3; 0.9,2.2,inf,0.7!"
+    a = m.to_numpy()
+    assert a.shape == (2, 4) and a[:, 3].tolist() == [0.3, 0.7]
+    assert m.fixed.tolist() == [[False] * 4, [False, False, False, True]]
+    # (N, 4) numpy and four-entry lists give the mus; the fourth column round-trips.
+    assert prbfit.Matrix(a, fixed=m.fixed.tolist()) == m
+    assert prbfit.Matrix(a.tolist()).has_mu
+    # A three-column matrix's numpy form given back has its mus written out: the same
+    # masses now (mu = gamma), kept apart from the gammas from then on.
+    three = prbfit.Matrix.parse("0.1,inf,inf; 0.9,2.2,inf")
+    back = prbfit.Matrix(three.to_numpy())
+    assert back.has_mu and back.text == "0.1,inf,inf,0.1; 0.9,2.2,inf,0.9"
+    sc = prbfit.Scene.builtin()
+    sc.matrix = a
+    assert sc.matrix == prbfit.Matrix(a) and "0.3" in sc.to_toml()
+
+
 @pytest.mark.parametrize(
     "rows, words",
     [
-        ([[0.1, 1.0]], ["rows", "row 1", "3 entries"]),
+        ([[0.1, 1.0]], ["rows", "row 1", "3 entries", "4 (gamma, k_theta, k_ex, mu)"]),
         ([[0.5, float("nan"), math.inf], [0.5, 2, math.inf]], ["rows", "row 1", "k_theta", "NaN"]),
+        ([[0.5, 1, math.inf, float("nan")], [0.5, 2, math.inf, 0.5]], ["rows", "row 1", "mu", "NaN"]),
+        ([[0.5, 1, math.inf, 0.5], [0.5, 2, math.inf]], ["rows", "row 2", "every row gives a mu"]),
+        ([[0.5, 1, math.inf, 0.5], [0.5, 2, math.inf, 0.6]], ["rows", "mus must sum to 1"]),
+        ([[0.5, 1, math.inf, -0.5], [0.5, 2, math.inf, 1.5]], ["rows", "row 1", "mu", ">= 0"]),
         ("oops", ["rows", "oops"]),
         (3.5, ["rows", "expected"]),
-        (np.zeros((2, 4)), ["rows", "3 entries"]),
+        (np.zeros((2, 5)), ["rows", "shape (N, 3)", "(N, 4)", "got shape (2, 5)"]),
+        (np.zeros(3), ["rows", "got shape (3)"]),
+        (np.zeros((2, 3, 1)), ["rows", "got shape (2, 3, 1)"]),
+        (np.array([[0.5, np.nan, np.inf], [0.5, 2, np.inf]]), ["rows", "row 1", "k_theta", "NaN"]),
+        (np.array([[0.5, 1, np.inf, 0.5], [0.5, 2, np.inf, np.nan]]), ["rows", "row 2", "mu", "NaN"]),
     ],
 )
 def test_bad_matrices_are_input_errors_naming_the_argument(rows, words):
     with pytest.raises(prbfit.InputError) as e:
         prbfit.Matrix(rows)
     for w in words:
-        assert w in str(e.value)
+        assert w in str(e.value), (w, str(e.value))
+
+
+def test_matrix_parse_of_four_columns_and_its_errors():
+    m = prbfit.Matrix.parse("0.15,inf,inf,0.2; 0.85,2.2525,inf,0.8")
+    assert m.to_numpy()[:, 3].tolist() == [0.2, 0.8]
+    for text, words in [
+        ("0.5,inf,inf,0.5; 0.5,2,inf", ["text", "every row gives a mu"]),
+        ("0.5,inf,inf,0.5; 0.5,2,inf,x", ["text", "column mu"]),
+        ("0.5,inf,inf,0.5,1; 0.5,2,inf,0.5", ["text", "got 5"]),
+    ]:
+        with pytest.raises(prbfit.InputError) as e:
+            prbfit.Matrix.parse(text)
+        for w in words:
+            assert w in str(e.value), (w, str(e.value))
+
+
+def test_integer_and_fixed_arrays():
+    m = prbfit.Matrix(np.array([[1, 2, np.inf]]))  # an integer gamma is a number too
+    assert m.to_numpy().tolist() == [[1.0, 2.0, math.inf, 1.0]]
+    with pytest.raises(prbfit.InputError) as e:
+        prbfit.Matrix([[0.5, 1, math.inf], [0.5, 2, math.inf]], fixed=[[True] * 3, [True] * 4])
+    assert "fixed" in str(e.value) and "row 2" in str(e.value)
 
 
 def test_scene_constructors_and_their_errors(tmp_path):
@@ -86,6 +137,87 @@ def test_beam_edits_follow_the_rules_and_leave_the_scene_when_refused():
         for w in words:
             assert w in str(e.value)
         assert sc.beam == before
+
+
+def test_dynamics_edits_follow_the_rules():
+    sc = prbfit.Scene.load(STEEL)
+    assert sc.beam["density"] is None
+    assert sc.body == {"mass": 0.0, "inertia": 0.0}
+    assert sc.fit_settings["modes"] == 0 and sc.accuracy["max_freq_err"] == 0.01
+    sc.set_beam(density=7850.0)
+    sc.set_body(mass=0.002, inertia=1e-8)
+    sc.set_fit_settings(modes=2, frequency_weight=0.5)
+    sc.set_accuracy(max_freq_err=0.02)
+    assert sc.beam["density"] == 7850.0 and sc.body == {"mass": 0.002, "inertia": 1e-8}
+    assert sc.fit_settings["modes"] == 2 and sc.fit_settings["frequency_weight"] == 0.5
+    # The edits are the scene's: written to its TOML and read back the same.
+    back = prbfit.Scene.from_toml(sc.to_toml())
+    assert (back.beam, back.body, back.fit_settings, back.accuracy) == (
+        sc.beam, sc.body, sc.fit_settings, sc.accuracy)
+    for call, words in [
+        (lambda: sc.set_beam(density=-1.0), ["beam.density"]),
+        (lambda: sc.set_beam(density=float("nan")), ["beam.density", "finite"]),
+        (lambda: sc.set_body(mass=-0.1), ["tip.mass"]),
+        (lambda: sc.set_body(inertia="x"), ["tip.inertia", "number"]),
+        (lambda: sc.set_body(volume=1.0), ["tip.volume", "mass, inertia"]),
+        (lambda: sc.set_fit_settings(modes=-1), ["fit.modes", "whole number"]),
+        (lambda: sc.set_fit_settings(modes=1.5), ["fit.modes", "whole number"]),
+        (lambda: sc.set_fit_settings(frequency_weight=-1.0), ["fit.frequency_weight"]),
+        (lambda: sc.set_accuracy(max_freq_err=0.0), ["accuracy.max_freq_err"]),
+        (lambda: sc.set_accuracy(max_speed=1.0), ["accuracy.max_speed"]),
+    ]:
+        before = (sc.beam, sc.body, sc.fit_settings, sc.accuracy)
+        with pytest.raises(prbfit.InputError) as e:
+            call()
+        for w in words:
+            assert w in str(e.value), (w, str(e.value))
+        assert (sc.beam, sc.body, sc.fit_settings, sc.accuracy) == before
+    sc.set_beam(density=None)
+    assert sc.beam["density"] is None
+    mech = prbfit.Scene.load(REPO / "assets/scenes/parallel-stage.toml")
+    with pytest.raises(prbfit.InputError) as e:
+        mech.set_body(mass=-1.0)
+    assert "stage.mass" in str(e.value)
+
+
+def test_modes_frequencies_are_numpy_arrays():
+    sc = prbfit.Scene.load(REPO / "assets/scenes/ringing-flexure.toml")
+    r = sc.modes("su-3r", "howell-1r", count=3)
+    d = r.to_dict()
+    assert r.beam_omega.shape == r.beam_hz.shape == (3,)
+    assert r.beam_omega.tolist() == d["beam"]["omega"] and r.beam_hz.tolist() == d["beam"]["hz"]
+    assert len(r.omega) == len(r.hz) == len(r.freq_err) == 2
+    assert r.omega[0].tolist() == d["models"][0]["omega"]
+    # Howell's 1R has one frequency: the others are NaN.
+    assert r.hz[1][0] == d["models"][1]["hz"][0] and np.isnan(r.hz[1][1:]).all()
+    assert r.freq_err[0].tolist() == d["models"][0]["freq_err"]
+    assert r.loads.tolist() == [[0.0, 0.0, 0.0]] and r.density == 7850.0
+    c = sc.modes("su-3r", count=2, cases=True)
+    n = len(c.to_dict()["cases"])
+    assert c.beam_omega.shape == c.omega[0].shape == (n, 2) and c.loads.shape == (n, 3)
+    assert c.beam_hz[-1].tolist() == c.to_dict()["cases"][-1]["beam"]["hz"]
+    one = sc.modes(prbfit.Matrix.parse("0.15,inf,inf,0.5; 0.85,2.2525,inf,0.5"), count=1, load=(-2, 0, 0))
+    assert one.equilibrium == "load" and one.omega[0].shape == (1,)
+    # The beam alone when the scene has no model and none is given.
+    assert sc.modes(count=1).omega == []
+
+
+def test_modes_arguments_are_checked_naming_them():
+    sc = prbfit.Scene.load(REPO / "assets/scenes/ringing-flexure.toml")
+    mech = prbfit.Scene.load(REPO / "assets/scenes/parallel-stage.toml").with_beam(density=7850.0)
+    for call, words in [
+        (lambda: sc.modes(count=0), ["--count 0"]),
+        (lambda: sc.modes(count=-2), ["count", "at least 1"]),
+        (lambda: sc.modes(load=(0, 1, 0), cases=True), ["--load and --cases"]),
+        (lambda: sc.modes(load=(0, float("nan"), 0)), ["load", "finite"]),
+        (lambda: sc.modes([[1.0]]), ["models[0]"]),
+        (lambda: mech.modes(load=(0, 1, 0)), ["--load"]),
+        (lambda: prbfit.Scene.load(STEEL).modes(), ["beam.density", "density = 7850.0"]),
+    ]:
+        with pytest.raises(prbfit.InputError) as e:
+            call()
+        for w in words:
+            assert w in str(e.value), (w, str(e.value))
 
 
 def test_load_paths_and_matrix_edits():

@@ -5,6 +5,7 @@ Fits and selections run at draft fidelity to keep this affordable; the slowest c
 marked `slow`."""
 
 import re
+import shutil
 
 import pytest
 
@@ -65,6 +66,49 @@ def test_eval_several_models_and_one_load(cli):
         lambda: sc.eval("su-3r", prbfit.Matrix.parse(m), load=(0, 2, 0)),
     )
     assert len(r.models) == 2
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_modes(cli, name):
+    """Where the scene has no `[beam] density` the CLI refuses (status 2) and so must the
+    module, with the same message."""
+    sc = prbfit.Scene.load(scene_path(name))
+    models = model_for(sc)
+    flags = [x for m in models for x in ("--model", m)]
+    same(cli("modes", "--scene", scene_path(name), *flags), lambda: sc.modes(*models))
+
+
+def test_modes_every_case_one_load_and_matrices(cli):
+    path = scene_path("ringing-flexure")
+    sc = prbfit.Scene.load(path)
+    m = "0.15,inf,inf,0.3; 0.85,2.2525,inf,0.7"
+    same(
+        cli("modes", "--scene", path, "--model", "su-3r", "--prb", m, "--cases", "--count", 2),
+        lambda: sc.modes(prbfit.Matrix.parse(m), "su-3r", cases=True, count=2),
+    )
+    same(
+        cli("modes", "--scene", path, "--model", "howell-1r", "--load", "-2,0,0", "--count", 1),
+        lambda: sc.modes("howell-1r", load=(-2, 0, 0), count=1),
+    )
+    # Past buckling (pi^2/4 = 2.47 for the free end): the statics' own failure.
+    same(cli("modes", "--scene", path, "--load", "-40,0,0"), lambda: sc.modes(load=(-40, 0, 0)))
+
+
+@pytest.mark.parametrize("name", ["parallel-stage", "steel-flexure", "tapered-flexure-fea"])
+def test_modes_of_a_scene_given_its_density_in_python(cli, name, tmp_path):
+    """Scenes shipped without a density, given one (and a body) in Python: the same report as
+    the CLI's on the edited scene written out."""
+    sc = prbfit.Scene.load(scene_path(name))
+    sc.set_beam(density=2700.0)
+    sc.set_body(mass=0.001, inertia=1e-9)
+    if sc.kind == "data":
+        # A data scene's TOML names its CSV, read beside the scene file.
+        shutil.copy(scene_path(name).with_suffix(".csv"), tmp_path)
+    edited = tmp_path / f"{name}.toml"
+    edited.write_text(sc.to_toml())
+    models = model_for(sc)
+    flags = [x for m in models for x in ("--model", m)]
+    same(cli("modes", "--scene", edited, *flags, "--cases"), lambda: sc.modes(*models, cases=True))
 
 
 SLOW_FIT = {"slider-crank", "slider-crank-rig", "parallel-stage", "cross-axis-pivot", "fixed-guided"}
