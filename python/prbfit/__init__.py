@@ -9,10 +9,12 @@ CLI prints with ``--json`` for the same command and arguments, ``str(result)`` i
     r = sc.eval("su-3r")                  # Evaluation: .objective, .tips, .beam_tips
     f = sc.fit("L-R-R-R", fidelity="draft", seed=3)   # Fit: .matrix, .objective, ...
     m = prbfit.Matrix.parse("0.1,inf,inf; 0.9,2.2,inf"); m.to_numpy(); m.topology
+    w = prbfit.Scene.load("assets/scenes/ringing-flexure.toml").modes("su-3r")
+    w.beam_hz, w.hz[0], w.freq_err[0]    # Modes: numpy frequencies, beam's and each model's
 
 Errors raise ``InputError`` (what the CLI exits 2 on) or ``SolveError`` (exit 1), both
 subclasses of ``Error``, with the CLI's messages. Long calls release the GIL; Ctrl-C cancels
-them. Modal analysis (``modes``) is not in the module yet.
+them.
 """
 
 from ._prbfit import (
@@ -24,6 +26,7 @@ from ._prbfit import (
     Fit,
     InputError,
     Matrix,
+    Modes,
     Report,
     Scene,
     Selection,
@@ -41,6 +44,7 @@ __all__ = [
     "Fit",
     "InputError",
     "Matrix",
+    "Modes",
     "Report",
     "Scene",
     "Selection",

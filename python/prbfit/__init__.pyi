@@ -22,7 +22,8 @@ class SolveError(Error):
     """A failed computation (the CLI's exit status 1)."""
 
 class Matrix:
-    """A PRB matrix: rows [gamma, k_theta, k_ex] from the root, inf for no joint."""
+    """A PRB matrix: rows [gamma, k_theta, k_ex] or [gamma, k_theta, k_ex, mu] from the root,
+    inf for no joint; without mus each segment's mass is where its length is (mu = gamma)."""
 
     def __init__(self, rows: Union[_Rows, str, "Matrix"], fixed: Optional[Sequence[Sequence[bool]]] = None) -> None: ...
     @staticmethod
@@ -30,9 +31,14 @@ class Matrix:
     @staticmethod
     def from_topology(name: str) -> "Matrix": ...
     def to_numpy(self) -> npt.NDArray[np.float64]:
-        """(N, 3) [gamma, k_theta, k_ex], inf where there is no joint."""
+        """(N, 4) [gamma, k_theta, k_ex, mu], inf where there is no joint; mu = gamma where
+        the matrix gives no mus (has_mu False)."""
     @property
-    def fixed(self) -> npt.NDArray[np.bool_]: ...
+    def has_mu(self) -> bool:
+        """Whether the matrix gives its mus (a fourth column)."""
+    @property
+    def fixed(self) -> npt.NDArray[np.bool_]:
+        """(N, 4) the cells a fit keeps (`!` in the text form)."""
     @property
     def topology(self) -> str: ...
     @property
@@ -88,6 +94,31 @@ class Fea(Report):
     @property
     def beam_tips(self) -> npt.NDArray[np.float64]: ...
 
+class Modes(Report):
+    """Natural frequencies of the truth and of each model about the same equilibria.
+    Arrays are (count,) for one equilibrium, (n, count) with cases=True; NaN where a model
+    has no such frequency."""
+
+    @property
+    def beam_omega(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def beam_hz(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def omega(self) -> List[npt.NDArray[np.float64]]:
+        """One array per model, in the order of `models`."""
+    @property
+    def hz(self) -> List[npt.NDArray[np.float64]]: ...
+    @property
+    def freq_err(self) -> List[npt.NDArray[np.float64]]:
+        """Omega_PRB / Omega_beam - 1 per frequency, one array per model."""
+    @property
+    def loads(self) -> npt.NDArray[np.float64]:
+        """(n, 3) the equilibria's tip (stage) loads [alpha_x, alpha_y, beta]."""
+    density: float
+    hz_per_omega: float
+    max_freq_err: float
+    equilibrium: str
+
 class Scene:
     """A scene: beam (or mechanism, or measured data), load paths, targets, model."""
 
@@ -104,6 +135,32 @@ class Scene:
     def beam(self) -> Dict[str, Any]: ...
     def set_beam(self, **values: Any) -> None: ...
     def with_beam(self, **values: Any) -> "Scene": ...
+    @property
+    def body(self) -> Dict[str, float]:
+        """The [tip] body (a mechanism's [stage]): mass (kg), inertia (kg m^2)."""
+    def set_body(self, *, mass: float = ..., inertia: float = ...) -> None: ...
+    @property
+    def fit_settings(self) -> Dict[str, Any]:
+        """[fit]: angle_weight, force_weight, modes, frequency_weight."""
+    def set_fit_settings(
+        self,
+        *,
+        angle_weight: float = ...,
+        force_weight: float = ...,
+        modes: int = ...,
+        frequency_weight: float = ...,
+    ) -> None: ...
+    @property
+    def accuracy(self) -> Dict[str, float]:
+        """[accuracy]: max_pos_err, max_ang_err, max_force_err, max_freq_err."""
+    def set_accuracy(
+        self,
+        *,
+        max_pos_err: float = ...,
+        max_ang_err: float = ...,
+        max_force_err: float = ...,
+        max_freq_err: float = ...,
+    ) -> None: ...
     loads: List[Tuple[float, float, float, int]]
     matrix: Optional[Matrix]
     def validate(self) -> None: ...
@@ -132,6 +189,14 @@ class Scene:
         force: bool = False,
         progress: Optional[Callable[[Dict[str, Any]], Any]] = None,
     ) -> Fit: ...
+    def modes(
+        self,
+        *models: _Model,
+        count: int = 3,
+        load: Optional[Sequence[float]] = None,
+        cases: bool = False,
+        tol: Optional[float] = None,
+    ) -> Modes: ...
     def select(self, fidelity: str = "normal") -> Selection: ...
     def calibrate(self, param: str = "youngs_modulus") -> Calibration: ...
     def export(
@@ -141,7 +206,7 @@ class Scene:
         *,
         format: Optional[str] = None,
         force: bool = False,
-        density: float = 1000.0,
+        density: Optional[float] = None,
         fidelity: str = "normal",
     ) -> Export: ...
     def fea(
