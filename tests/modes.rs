@@ -371,6 +371,12 @@ fn frequencies_do_not_depend_on_the_beams_si_scale() {
 fn mode_shapes_are_normalised_and_the_first_is_the_cantilevers() {
     let modes = unloaded_modes(&elastica(), TipBody::NONE, &ModeSettings::default()).unwrap();
     assert_eq!(modes.shapes.len(), 3);
+    // The frequencies alone (no shapes: no eigenvectors computed) are the same numbers.
+    let alone = unloaded_modes(&elastica(), TipBody::NONE, &settings()).unwrap();
+    assert!(alone.shapes.is_empty());
+    for (a, b) in alone.omega.iter().zip(&modes.omega) {
+        assert!(rel(*a, *b) < 1e-13, "{a} vs {b}");
+    }
     // The first mode of the clamped-free beam: (cosh - cos) - s (sinh - sin), s the ratio
     // (cosh b + cos b) / (sinh b + sin b), normalised at the tip.
     let b = modes.omega[0].sqrt();

@@ -130,7 +130,12 @@ pub struct ModesArgs {
     #[arg(long, value_name = "NAME_OR_FILE")]
     pub model: Vec<String>,
     /// How many of the lowest frequencies.
-    #[arg(long, value_name = "N", default_value_t = 3)]
+    #[arg(
+        long,
+        value_name = "N",
+        default_value_t = 3,
+        allow_negative_numbers = true
+    )]
     pub count: usize,
     /// About the equilibrium under one tip load (cantilever scenes) instead of the unloaded
     /// one.

@@ -172,6 +172,46 @@ fn rod_mass(beam: &BeamSpec, mass: f64, length: f64) -> MassProperties {
     }
 }
 
+/// The MJCF time step as a fraction of the fastest spring's `1 / omega`.
+pub const STEP_FRACTION: f64 = 0.01;
+
+/// The time step: [`STEP_FRACTION`] of the fastest spring's `1 / omega`, `omega^2` its
+/// stiffness over the unloaded chain's inertia (or mass, for an extension spring) beyond it
+/// (the tip body's included):
+/// the diagonal estimate `tests/mujoco_check.py` uses for the single chain, with the stage's
+/// and couplers' inertia left out (which only slows the springs). With 100 steps per
+/// `1 / omega` and the springs' damping integrated implicitly, it is stable with a wide
+/// margin; the closures' `tau` of two steps is what needs it this small (module docs).
+pub fn time_step(chains: &[Chain]) -> f64 {
+    let mut omega_max = 0.0_f64;
+    for chain in chains {
+        let segs = &chain.segments;
+        for (i, s) in segs.iter().enumerate() {
+            let mut inertia = 0.0;
+            let mut mass = 0.0;
+            let mut d = 0.0;
+            for t in &segs[i..] {
+                let (m, c) = (t.mass.mass, d + t.mass.com);
+                inertia += t.mass.inertia[2] + m * c * c;
+                mass += m;
+                d += t.length;
+            }
+            if let Some(k) = s.hinge {
+                omega_max = omega_max.max((k / inertia).sqrt());
+            }
+            if let Some(k) = s.slide {
+                omega_max = omega_max.max((k / mass).sqrt());
+            }
+        }
+    }
+    if omega_max > 0.0 && omega_max.is_finite() {
+        STEP_FRACTION / omega_max
+    } else {
+        // A valid matrix has a spring; this only keeps the file loadable.
+        1e-3
+    }
+}
+
 /// `link` of `length` with `tip` (its centre of mass at the link's end) added: the combined
 /// mass, centre and inertias about the combined centre (parallel axis theorem; the body's
 /// own inertia about each axis taken as its given one).

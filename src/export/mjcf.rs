@@ -6,7 +6,7 @@
 //!
 //! The time step: MuJoCo's default semi-implicit Euler integrates a spring of `omega` stably
 //! only for `omega dt < 2`, and its frequency is right to `(omega dt)^2 / 24`. The file's
-//! `timestep` is [`super::mjcf_mech::time_step`]: 1/100 of the fastest joint's `1 / omega`
+//! `timestep` is [`super::chain::time_step`]: 1/100 of the fastest joint's `1 / omega`
 //! (its stiffness over the inertia beyond it, which bounds the PRB model's highest frequency
 //! within a small factor), so the export is far inside the bound and the ringing's
 //! frequency is right to about 1e-5.
@@ -27,7 +27,7 @@ pub fn write(chain: &Chain, comment: &str) -> String {
     let _ = writeln!(
         out,
         "  <option gravity=\"0 0 0\" timestep=\"{}\"/>",
-        g(super::mjcf_mech::time_step(std::slice::from_ref(chain)))
+        g(super::chain::time_step(std::slice::from_ref(chain)))
     );
     let _ = writeln!(
         out,

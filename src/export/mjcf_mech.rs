@@ -58,12 +58,11 @@ use crate::prb::PrbMatrix;
 use crate::scene::{Attach, Body, Coordinate, Mechanism};
 
 use super::chain::{g, ident, Chain};
+pub use super::chain::{time_step, STEP_FRACTION};
 use super::mjcf::{write_chain, ChainPlacement};
 
 /// The impedance every equality asks for (MuJoCo clamps larger values to this).
 pub const IMPEDANCE: f64 = 0.9999;
-/// The time step as a fraction of the fastest spring's `1 / omega`.
-pub const STEP_FRACTION: f64 = 0.01;
 /// The closures' time constant in time steps (MuJoCo's `refsafe` lower limit).
 pub const CLOSURE_STEPS: f64 = 2.0;
 
@@ -263,44 +262,6 @@ fn write_equalities(out: &mut String, mechanism: &Mechanism, chains: &[Chain]) {
         );
     }
     let _ = writeln!(out, "  </equality>");
-}
-
-/// The time step: [`STEP_FRACTION`] of the fastest spring's `1 / omega`, `omega^2` its
-/// stiffness over the unloaded chain's inertia (or mass, for an extension spring) beyond it:
-/// the diagonal estimate `tests/mujoco_check.py` uses for the single chain, with the stage's
-/// and couplers' inertia left out (which only slows the springs). With 100 steps per
-/// `1 / omega` and the springs' damping integrated implicitly, it is stable with a wide
-/// margin; the closures' `tau` of two steps is what needs it this small (module docs).
-pub fn time_step(chains: &[Chain]) -> f64 {
-    let mut omega_max = 0.0_f64;
-    for chain in chains {
-        let segs = &chain.segments;
-        for (i, s) in segs.iter().enumerate() {
-            let mut inertia = 0.0;
-            let mut mass = 0.0;
-            let mut d = 0.0;
-            for t in &segs[i..] {
-                let (m, l) = (t.mass.mass, t.length);
-                inertia += m
-                    * ((l * l + chain.thickness * chain.thickness) / 12.0
-                        + (d + l / 2.0) * (d + l / 2.0));
-                mass += m;
-                d += l;
-            }
-            if let Some(k) = s.hinge {
-                omega_max = omega_max.max((k / inertia).sqrt());
-            }
-            if let Some(k) = s.slide {
-                omega_max = omega_max.max((k / mass).sqrt());
-            }
-        }
-    }
-    if omega_max > 0.0 && omega_max.is_finite() {
-        STEP_FRACTION / omega_max
-    } else {
-        // A valid matrix has a spring; this only keeps the file loadable.
-        1e-3
-    }
 }
 
 /// How the header describes drive paths: each coordinate prescribed or loaded, SI.

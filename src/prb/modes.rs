@@ -21,7 +21,7 @@ use super::chain::{Dof, PrbSolver};
 
 /// A rigid body at the chain's tip (nondimensional: mass in units of the beam's `rho A0 L`,
 /// inertia about the tip point, its centre of mass there, in `rho A0 L^3`).
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize)]
 pub struct TipBody {
     /// Mass / (`rho A0 L`).
     pub mass: f64,

@@ -162,8 +162,8 @@ impl Scene {
     /// [`Mechanism::validate_measured`], its drives being the file's rows); a data file's
     /// name (`truth.data`); a cantilever's load paths (at least one, each by
     /// [`LoadPath::validate`] under `loads[i]` unless they are a data file's rows, at most
-    /// [`MAX_CASES`] cases); the targets (under `accuracy`) and weights (under `fit`); the
-    /// body (under `tip` or `stage`, [`Scene::body_table`]); the model (`prb.matrix`).
+    /// [`MAX_CASES`] cases); the targets (under `accuracy`) and weights (under `fit`; `modes` needs `[beam]
+    /// density`); the body (under `tip` or `stage`, [`Scene::body_table`]); the model (`prb.matrix`).
     pub fn check_rules(&self) -> Result<(), RuleError> {
         self.beam.validate().map_err(|e| e.under("beam"))?;
         if let Some(m) = &self.mechanism {
@@ -202,6 +202,13 @@ impl Scene {
             .map_err(|m| RuleError::new("loads", m))?;
         self.accuracy.validate().map_err(|e| e.under("accuracy"))?;
         self.fit.validate().map_err(|e| e.under("fit"))?;
+        if self.fit.modes > 0 && self.beam.density.is_none() {
+            return Err(RuleError::new(
+                "fit.modes",
+                "a dynamic fit needs the beam's density: add `density = ...` (kg/m^3) under \
+                 [beam]",
+            ));
+        }
         self.body
             .validate()
             .map_err(|e| e.under(self.body_table()))?;

@@ -387,6 +387,10 @@ fn dynamics_keys_read_and_round_trip() {
     }
     let e = read_error(&text.replacen("modes = 3", "modes = -2", 1));
     assert_eq!(e.key.as_deref(), Some("fit.modes"));
+    // A dynamic fit without the beam's density says to add it (DESIGN §10).
+    let e = read_error(&text.replacen("density = 7850.0\n", "", 1));
+    assert_eq!(e.key.as_deref(), Some("fit.modes"));
+    assert!(e.to_string().contains("add `density"), "{e}");
     // A mechanism's body is its stage's; [tip] there is refused.
     let mech = SLIDER_CRANK.replacen(
         "point = [0.07, -0.02]",
