@@ -172,6 +172,11 @@ def test_dynamics_edits_follow_the_rules():
         for w in words:
             assert w in str(e.value), (w, str(e.value))
         assert (sc.beam, sc.body, sc.fit_settings, sc.accuracy) == before
+    # The scene's own rule across tables: a dynamic fit needs the density.
+    with pytest.raises(prbfit.InputError) as e:
+        sc.set_beam(density=None)
+    assert "fit.modes" in str(e.value) and sc.beam["density"] == 7850.0
+    sc.set_fit_settings(modes=0)
     sc.set_beam(density=None)
     assert sc.beam["density"] is None
     mech = prbfit.Scene.load(REPO / "assets/scenes/parallel-stage.toml")
