@@ -252,6 +252,10 @@ fn bad_input_is_refused_naming_the_key_or_flag() {
         &prbfit(&["modes", "--scene", &ok, "--count", "0"]),
         &["--count"],
     );
+    assert_input_error(
+        &prbfit(&["modes", "--scene", &ok, "--count", "-1"]),
+        &["--count"],
+    );
     for (name, extra, key) in [
         ("neg.toml", "density = -1.0\n", "density"),
         ("nan.toml", "density = nan\n", "density"),
