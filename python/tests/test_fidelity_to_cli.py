@@ -111,6 +111,20 @@ def test_modes_of_a_scene_given_its_density_in_python(cli, name, tmp_path):
     same(cli("modes", "--scene", edited, *flags, "--cases"), lambda: sc.modes(*models, cases=True))
 
 
+def test_dynamic_fit_of_a_scene_edited_in_python(cli, tmp_path):
+    """[fit] modes set in Python frees the mus: the same fit as the CLI's on the edited scene
+    written out, its matrix four columns."""
+    sc = prbfit.Scene.load(scene_path("ringing-flexure"))
+    sc.set_fit_settings(modes=2, frequency_weight=0.5)
+    edited = tmp_path / "dynamic.toml"
+    edited.write_text(sc.to_toml())
+    f = same(
+        cli("fit", "--scene", edited, "--topology", "L-R-R", "--fidelity", "draft", "--seed", 3),
+        lambda: sc.fit("L-R-R", fidelity="draft", seed=3),
+    )
+    assert f.matrix.has_mu and f.matrix.to_numpy().shape == (3, 4)
+
+
 SLOW_FIT = {"slider-crank", "slider-crank-rig", "parallel-stage", "cross-axis-pivot", "fixed-guided"}
 
 
