@@ -90,9 +90,12 @@ class Export(Report): ...
 
 class Fea(Report):
     @property
-    def tips(self) -> npt.NDArray[np.float64]: ...
+    def tips(self) -> npt.NDArray[np.float64]:
+        """(n, 3) the FEA's tips per case; a mechanism's: its stage [dx, dy, dphi]."""
     @property
-    def beam_tips(self) -> npt.NDArray[np.float64]: ...
+    def beam_tips(self) -> npt.NDArray[np.float64]:
+        """(n, 3) the beam's tips beside them; (0, 3) for a mechanism (its differences are
+        in to_dict())."""
 
 class Modes(Report):
     """Natural frequencies of the truth and of each model about the same equilibria.

@@ -239,19 +239,24 @@ pub struct Fea;
 
 #[pymethods]
 impl Fea {
-    /// The FEA tips `(n, 3)` per case.
+    /// The FEA tips `(n, 3)` per case; a mechanism's: the FEA's stage `[dx, dy, dphi]` per
+    /// case (units of flexure 1's L, rad).
     #[getter]
     fn tips<'py>(slf: PyRef<'py, Self>, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
         fea_rows(py, &slf.as_super().value, "fea")
     }
 
-    /// The beam's tips `(n, 3)` beside them.
+    /// The beam's tips `(n, 3)` beside them; a mechanism's report gives the beam
+    /// mechanism's differences instead (`pos_diff`, `ang_diff`, `force_diff` per case in
+    /// `to_dict()`): `(0, 3)`.
     #[getter]
     fn beam_tips<'py>(slf: PyRef<'py, Self>, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
         fea_rows(py, &slf.as_super().value, "beam")
     }
 }
 
+/// The `[a, b, phi]` at `key` of each case; a mechanism's cases (a `stage` of their own):
+/// the FEA's stage for `fea`, none for `beam`.
 fn fea_rows<'py>(py: Python<'py>, v: &Value, key: &str) -> Bound<'py, PyArray2<f64>> {
     let rows: Vec<[f64; 3]> = v
         .get("cases")
@@ -259,9 +264,13 @@ fn fea_rows<'py>(py: Python<'py>, v: &Value, key: &str) -> Bound<'py, PyArray2<f
         .map(|cases| {
             cases
                 .iter()
-                .map(|c| {
-                    let t = c.get(key).unwrap_or(&Value::Null);
-                    [num(t, "a"), num(t, "b"), num(t, "phi")]
+                .filter_map(|c| match (c.get("stage"), key) {
+                    (Some(s), "fea") => Some(triple(Some(s))),
+                    (Some(_), _) => None,
+                    (None, _) => {
+                        let t = c.get(key).unwrap_or(&Value::Null);
+                        Some([num(t, "a"), num(t, "b"), num(t, "phi")])
+                    }
                 })
                 .collect()
         })

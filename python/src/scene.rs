@@ -595,7 +595,10 @@ impl Scene {
     }
 
     /// `prbfit fea`: the scene's beam in CalculiX (`ccx`) along its load paths, written to
-    /// `output` as measured-data CSV, the beam beside it.
+    /// `output` as measured-data CSV, the beam beside it; a mechanism scene's whole
+    /// mechanism (every flexure, the stage a rigid body) along its drives, the beam mechanism
+    /// beside it. A drive path CalculiX cannot finish raises `SolveError` (its solved cases
+    /// are in the CSV, marked), as the CLI exits 1.
     #[pyo3(signature = (output, *, mesh = 40, section = "plane-stress", taper = 1.0, deck = None, force = false, timeout = 900))]
     #[allow(clippy::too_many_arguments)]
     fn fea(
@@ -618,7 +621,16 @@ impl Scene {
         args.timeout = timeout;
         let scene = &self.inner;
         let r = run(py, None, |ctl: &mut Control<'_>| {
-            report_of(&report::fea::fea(scene, &args, ctl)?)
+            if scene.mechanism.is_none() {
+                return report_of(&report::fea::fea(scene, &args, ctl)?);
+            }
+            // A mechanism: a drive path CalculiX could not finish is the CLI's exit status 1
+            // after its report (the solved cases are in the CSV, the path marked).
+            let r = report::fea_mech::fea_mechanism(scene, &args, ctl)?;
+            match r.incomplete() {
+                Some(m) => Err(ReportError::solve(m)),
+                None => report_of(&r),
+            }
         })?;
         result!(py, r, Fea)
     }
