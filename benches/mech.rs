@@ -36,6 +36,7 @@ fn flexure(root: [f64; 2], attach: Attach) -> Flexure {
             poisson_ratio: 0.3,
             shear_coefficient: None,
             effects: EffectsChoice::Fixed(Effects::NONE),
+            allowable_stress: None,
         },
     }
 }

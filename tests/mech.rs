@@ -30,6 +30,7 @@ fn beam() -> BeamSpec {
         poisson_ratio: 0.3,
         shear_coefficient: None,
         effects: EffectsChoice::Fixed(Effects::NONE),
+        allowable_stress: None,
     }
 }
 

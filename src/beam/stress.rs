@@ -128,24 +128,89 @@ impl BeamSolver {
         let moment = |p: &ShapePoint| {
             load.beta + load.alpha_y * (tip.a - p.x) - load.alpha_x * (tip.b - p.y)
         };
-        let mut nodes = Vec::with_capacity(shape.len());
-        for p in shape {
-            let (sigma, slope) = stress_and_slope(model, force, p.psi, moment(p))?;
-            nodes.push((p.s, sigma, slope));
+        if load.alpha_x == 0.0 && load.alpha_y == 0.0 {
+            // No force: `M = beta` and `N = 0` at every section (statics), so the stress is
+            // the same everywhere; the clamp is where it is first reached.
+            let max = model.fibre_stress(0.0, load.beta)?;
+            return shape.first().map(|p| Stress { max, at: p.s });
         }
-        let (mut best_s, mut best) = nodes.first().map(|n| (n.0, n.1))?;
-        for n in &nodes {
-            if n.1 > best {
-                (best_s, best) = (n.0, n.1);
+        // Values first (cheap); slopes only around the shape's own local maxima, where an
+        // interior peak can hide (a single peak between points makes its higher neighbour
+        // a local maximum of the samples).
+        //
+        // The section's shrink `p` costs a solve of the material law per point, and changes
+        // the stress by a factor within `[1 / p(-F)^3, 1 / p(F)^3]` (`F = |force|` bounds
+        // `|N|`), so the points are first ranked without it, and it is applied only to
+        // those that can still be the largest.
+        let bend = 1.0 / (2.0 * model.slenderness);
+        let c_e = model.axial_compliance();
+        let mut values = Vec::with_capacity(shape.len());
+        let mut forces = Vec::with_capacity(shape.len());
+        for p in shape {
+            let (sn, cs) = p.psi.sin_cos();
+            let n = force.alpha_x * cs + force.alpha_y * sn;
+            values.push(c_e * n.abs() + bend * moment(p).abs());
+            forces.push(n);
+        }
+        if model.effects.poisson {
+            let f = load.alpha_x.hypot(load.alpha_y);
+            let p_of = |n: f64| model.axial_strain(n).ok().map(|(_, _, p)| p);
+            // A force the law cannot carry along the section's axis (that the beam's own
+            // sections never meet): no bound, every point gets its shrink.
+            let (lo, hi) = match (p_of(-f), p_of(f)) {
+                (Some(a), Some(b)) => (a.powi(-3), b.powi(-3)),
+                _ => (0.0, f64::INFINITY),
+            };
+            let top = values.iter().copied().fold(0.0, f64::max);
+            for ((v, &n), p) in values.iter_mut().zip(&forces).zip(shape) {
+                if *v * hi >= top * lo {
+                    *v = model.fibre_stress(n, moment(p))?;
+                } else {
+                    // Below the largest whatever its shrink: a lower bound will do.
+                    *v *= lo;
+                }
             }
         }
-        // The interval whose interpolant peaks highest inside.
+        let (mut best_i, mut best) = (0, *values.first()?);
+        for (i, &v) in values.iter().enumerate() {
+            if v > best {
+                (best_i, best) = (i, v);
+            }
+        }
+        let mut best_s = shape[best_i].s;
+        let last = values.len() - 1;
+        let mut slopes: Vec<Option<f64>> = vec![None; values.len()];
+        let mut slope = |i: usize| -> Option<f64> {
+            if slopes[i].is_none() {
+                let p = &shape[i];
+                slopes[i] = Some(stress_and_slope(model, force, p.psi, moment(p))?.1);
+            }
+            slopes[i]
+        };
+        // The interval whose interpolant peaks highest inside: `(left point, value)`.
         let mut interior: Option<(usize, f64)> = None;
-        for (i, w) in nodes.windows(2).enumerate() {
-            let h = w[1].0 - w[0].0;
-            if let Some((_, v)) = hermite_peak(w[0].1, w[1].1, w[0].2 * h, w[1].2 * h) {
-                if v > best && interior.is_none_or(|(_, b)| v > b) {
-                    interior = Some((i, v));
+        for i in 0..=last {
+            let left = if i == 0 { values[i] } else { values[i - 1] };
+            let right = if i == last { values[i] } else { values[i + 1] };
+            // Not a local maximum of the samples, a plateau (within round-off), or far
+            // below the largest sample: no peak between its neighbours can matter.
+            let rise = values[i] - left.max(right);
+            let plateau = values[i] - left.min(right) <= 1e-12 * best;
+            if rise < 0.0 || plateau || values[i] < 0.5 * best {
+                continue;
+            }
+            for j in [i.wrapping_sub(1), i] {
+                if j >= last {
+                    continue;
+                }
+                let h = shape[j + 1].s - shape[j].s;
+                let (d0, d1) = (slope(j)? * h, slope(j + 1)? * h);
+                if let Some((_, v)) = hermite_peak(values[j], values[j + 1], d0, d1) {
+                    // A gain within round-off of the samples (a constant stress, as under a
+                    // pure moment) is no peak.
+                    if v > best * (1.0 + 1e-12) && interior.is_none_or(|(_, b)| v > b) {
+                        interior = Some((j, v));
+                    }
                 }
             }
         }

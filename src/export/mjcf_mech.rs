@@ -331,6 +331,7 @@ mod tests {
             poisson_ratio: 0.3,
             shear_coefficient: None,
             effects: EffectsChoice::Auto,
+            allowable_stress: None,
         };
         let flexure = |root: [f64; 2], deg: f64, attach, b| Flexure {
             root,

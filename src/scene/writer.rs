@@ -20,6 +20,9 @@ impl Scene {
         if let Some(k) = b.shear_coefficient {
             out.push_str(&format!("shear_coefficient = {k:?}\n"));
         }
+        if let Some(s) = b.allowable_stress {
+            out.push_str(&format!("allowable_stress = {s:e}\n"));
+        }
         match b.effects {
             EffectsChoice::Auto => out.push_str("effects = \"auto\"\n"),
             EffectsChoice::Fixed(e) => {
@@ -110,6 +113,12 @@ fn mechanism_tables(m: &Mechanism, scene_beam: &BeamSpec, drives: bool, out: &mu
             if mine != scene {
                 let _ = writeln!(out, "{name} = {mine:?}");
             }
+        }
+        if let (Some(s), true) = (
+            b.allowable_stress,
+            b.allowable_stress != scene_beam.allowable_stress,
+        ) {
+            let _ = writeln!(out, "allowable_stress = {s:e}");
         }
     }
     let _ = write!(

@@ -203,6 +203,7 @@ mod tests {
             poisson_ratio: 0.3,
             shear_coefficient: None,
             effects: EffectsChoice::Fixed(Effects::NONE),
+            allowable_stress: None,
         };
         let flexure = |y: f64| Flexure {
             root: [0.0, y],

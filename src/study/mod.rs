@@ -12,7 +12,7 @@
 //! ([`Study::judge`], one [`Figures`] type whose reaction figures are absent when nothing is
 //! prescribed), fit ([`Study::fit`]), select ([`Study::select`]), calibrate
 //! ([`calibrate::calibrate`]), decide effects ([`effects::resolve_effects`]) and export
-//! ([`Study::export`]). The layers above never ask which kind of scene they hold; the one
+//! ([`Study::export`]), and find each path's stroke limit ([`Study::stroke_limits`]). The layers above never ask which kind of scene they hold; the one
 //! place that does is here, where a cantilever keeps its fast paths: the beam's shooting
 //! along a load path for the truth, and the chain's own statics for a PRB model (the
 //! figures of DESIGN §8's one-flexure mechanism are the cantilever's, which
@@ -28,6 +28,7 @@ pub mod effects;
 pub mod export;
 mod fit;
 pub mod select;
+pub mod stroke;
 pub mod tradeoff;
 pub mod truth;
 
@@ -46,6 +47,7 @@ use crate::scene::{Drive, Mechanism, Scene};
 pub use crate::mech::figures::{CompareError, Figures, JudgedCase, Judgement, UnfollowedPath};
 pub use effects::{resolve_effects, EffectsDecision, EffectsError};
 pub use fit::FitError;
+pub use stroke::StrokeLimit;
 
 /// The PRB mechanism's Newton tolerance in every judgement and fit (a cantilever's chain has
 /// its own); the truth's own is the study's resolution. 1e-8 is far below any model error.
@@ -388,8 +390,13 @@ impl Study {
                         }
                         let e = CaseError::new(prb.load, b.tip, prb.tip);
                         let truth = self.truth[path][k].clone();
-                        let mut model =
-                            truth::tip_case(truth.fraction, prb.load, prb.tip, prb.iterations);
+                        let mut model = truth::tip_case(
+                            truth.fraction,
+                            prb.load,
+                            prb.tip,
+                            prb.iterations,
+                            None,
+                        );
                         model.joints = vec![prb.q.to_vec()];
                         cases.borrow_mut().push(JudgedCase {
                             path: path + 1,

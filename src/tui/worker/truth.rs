@@ -167,7 +167,13 @@ fn beam_at_rows(
             };
             // The data in the truth slot, the beam in the model's.
             let e = CaseError::new(row.load, row.tip, solved.tip);
-            let model: MechCase = tip_case(t.fraction, row.load, solved.tip, solved.iterations);
+            let model: MechCase = tip_case(
+                t.fraction,
+                row.load,
+                solved.tip,
+                solved.iterations,
+                solved.stress,
+            );
             judged.push(JudgedCase {
                 path: i + 1,
                 fraction: t.fraction,
