@@ -2,8 +2,8 @@
 //! cantilever) or inside the mechanism it serves, against the large-deflection beam or
 //! against measured data.
 //!
-//! The library is the numerical core and its files; the binary's command line (`cli`) and
-//! the terminal UI ([`tui`]) are two front ends over one problem, [`study`]. Bottom up (a
+//! The library is the numerical core and its files; the binary's command line (`cli`), the
+//! terminal UI ([`tui`]) and the Python module (`python/`) are front ends over one problem, [`study`]. Bottom up (a
 //! module uses only those before it; `tests/layering.rs` checks it):
 //! - [`cancel`], [`text`], [`linalg`]: a cancel token, safe text, small dense solvers;
 //! - [`continuation`]: the one path-following driver of the beam, PRB and mechanism
@@ -22,6 +22,8 @@
 //! - [`study`]: ONE problem (§7): a scene's truth — the beam, the beam mechanism or measured
 //!   data — and what every front end asks of it: judge, fit, select, calibrate, effects,
 //!   export, trade-off;
+//! - [`report`]: the commands' reports (§6, §12): a scene and a command's arguments in, the
+//!   `--json` object and the text out, for the CLI and the Python module alike;
 //! - [`plot`]: charts for reports as SVG or PNG;
 //! - [`tui`]: the terminal UI (the only module that touches the terminal).
 
@@ -39,6 +41,7 @@ pub mod linalg;
 pub mod mech;
 pub mod plot;
 pub mod prb;
+pub mod report;
 pub mod scene;
 pub mod si;
 pub mod study;

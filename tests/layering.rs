@@ -6,7 +6,7 @@
 use std::path::Path;
 
 /// Bottom first; each module may use those before it. `cli` is the binary and sits on top.
-const LAYERS: [&str; 19] = [
+const LAYERS: [&str; 20] = [
     "cancel",
     "continuation",
     "text",
@@ -24,6 +24,7 @@ const LAYERS: [&str; 19] = [
     "fea",
     "export",
     "study",
+    "report",
     "plot",
     "tui",
 ];

@@ -487,6 +487,55 @@ fn worker_judges_and_fits_the_slider_crank() {
     );
 }
 
+/// A model that stops part way along a path (DESIGN §6): the UI shows its figures over the
+/// cases it followed, marks them PARTIAL on the status line (never a pass), draws what it
+/// followed, and says where and why it stopped.
+#[test]
+fn a_model_that_stops_part_way_is_shown_partial() {
+    let dir = common::Scratch::new("tui-partial");
+    let path = dir.write("deep.toml", &common::driven_cantilever_pushed_deep());
+    let worker = Worker::spawn().unwrap();
+    let mut app = common::tui::app_on(std::path::Path::new(&path));
+    // One joint at mid-length cannot reach 0.7 L sideways (tests/study.rs).
+    app.edit.matrix = prbfit::prb::PrbMatrix::parse("0.5,inf,inf; 0.5,2.0,inf").unwrap();
+    let Command::Submit(job) = app.submit(false) else {
+        panic!("a judge job")
+    };
+    let msg = common::tui::run_job(&mut app, &worker, job);
+    assert!(matches!(msg, WorkerMsg::Done { .. }), "{msg:?}");
+    let model = app.shown.model().unwrap();
+    assert_eq!(model.unfollowed.len(), 1, "{:?}", model.unfollowed);
+    let u = &model.unfollowed[0];
+    assert_eq!(u.path, 1);
+    assert!(u.fraction > 0.0 && u.fraction < 1.0, "{u:?}");
+    let followed = model.case_count();
+    assert!(followed > 0 && followed < 8, "{followed} cases");
+    assert!(model.figures.max_pos_err.is_finite());
+    let (message, _) = app.message.clone().expect("a message");
+    assert!(
+        message.contains("the model stops on 1 path (path 1 at"),
+        "{message}"
+    );
+    // The job's own time is not part of the snapshot.
+    app.jobs.activity = Activity::Done {
+        seconds: 0.01,
+        stop: None,
+        iterations: 0,
+        evaluations: 0,
+    };
+    let screen = common::tui::render(&app, 120, 40);
+    assert!(
+        screen.contains("PARTIAL 0/1 paths: path 1 stops at"),
+        "{screen}"
+    );
+    insta::assert_snapshot!("mech_partial_model_120x40", screen);
+    // Every case is drawn, the ones past the model's stop with the truth alone.
+    for case in 0..8 {
+        app.edit.mech_state.case = Some(case);
+        common::tui::render(&app, 120, 40);
+    }
+}
+
 mod no_panics {
     use super::*;
     use proptest::prelude::*;

@@ -1,5 +1,7 @@
-//! The command line (DESIGN §6): one file per command, each building a report that derives
-//! `Serialize` (the `--json` form) and implements `Display` (the text form).
+//! The command line (DESIGN §6): parses the flags, has the library build the command's
+//! report ([`prbfit::report`], one file per command, each report deriving `Serialize` — the
+//! `--json` form — and implementing `Display` — the text form), and prints it. `plot` and
+//! `tradeoff`, which no other front end has, are built here.
 //!
 //! Exit status: 0 on success; 2 for bad input (a malformed scene file, a bad flag value, a file
 //! that may not be written), with one line on stderr naming the file, line, key or flag; 1 when
@@ -7,30 +9,23 @@
 //! written. A closed stdout pipe ends the program quietly with status 0.
 
 mod args;
-mod calibrate;
-mod eval;
-mod export;
-mod fea;
-mod fit;
+mod commands;
 mod output;
 mod plot;
-mod select;
-mod solve;
-mod stage;
 mod tradeoff;
 
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 use clap::{CommandFactory, FromArgMatches};
 
-use prbfit::beam::Resolution;
 use prbfit::cancel::CancelToken;
 use prbfit::io::files::{ReadError, WriteError};
 use prbfit::prb::PrbMatrix;
+use prbfit::report::{self, ReportError};
 use prbfit::scene::{Scene, SceneError};
-use prbfit::study::{resolve_effects, EffectsDecision, Sampling, Study};
+use prbfit::study::{EffectsDecision, Sampling, Study};
 
 use args::{Cli, Command, Common};
 
@@ -46,7 +41,7 @@ fn bad(message: impl Into<String>) -> anyhow::Error {
 
 /// Parses the matrix given to `flag`; errors name the flag and the text.
 fn parse_matrix(flag: &str, text: &str) -> Result<PrbMatrix> {
-    PrbMatrix::parse(text).map_err(|e| bad(format!("{flag} \"{text}\": {e}")))
+    Ok(report::parse_matrix(flag, text)?)
 }
 
 /// Parses the command line and runs the command; the process's exit status.
@@ -62,15 +57,15 @@ pub fn run() -> ExitCode {
         Err(e) => return clap_error(e.format(&mut Cli::command())),
     };
     let outcome = match cli.command {
-        Some(Command::Solve(args)) => solve::run(args),
-        Some(Command::Eval(args)) => eval::run(args),
-        Some(Command::Fit(args)) => fit::run(args),
-        Some(Command::Select(args)) => select::run(args),
+        Some(Command::Solve(args)) => commands::solve(args),
+        Some(Command::Eval(args)) => commands::eval(args),
+        Some(Command::Fit(args)) => commands::fit(args),
+        Some(Command::Select(args)) => commands::select(args),
         Some(Command::Tradeoff(args)) => tradeoff::run(args),
-        Some(Command::Export(args)) => export::run(args),
+        Some(Command::Export(args)) => commands::export(args),
         Some(Command::Plot(args)) => plot::run(args, matches.subcommand_matches("plot")),
-        Some(Command::Calibrate(args)) => calibrate::run(args),
-        Some(Command::Fea(args)) => fea::run(args),
+        Some(Command::Calibrate(args)) => commands::calibrate(args),
+        Some(Command::Fea(args)) => commands::fea(args),
         Some(Command::Tui { scene }) => tui(scene),
         None => tui(None),
     };
@@ -78,7 +73,10 @@ pub fn run() -> ExitCode {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) if e.downcast_ref::<output::StdoutClosed>().is_some() => ExitCode::SUCCESS,
         Err(e) => {
-            let input = e.downcast_ref::<BadInput>().is_some()
+            let input = e
+                .downcast_ref::<ReportError>()
+                .is_some_and(ReportError::is_input)
+                || e.downcast_ref::<BadInput>().is_some()
                 || e.downcast_ref::<SceneError>().is_some()
                 || e.downcast_ref::<WriteError>().is_some()
                 || e.downcast_ref::<ReadError>().is_some();
@@ -130,7 +128,7 @@ fn clap_error(e: clap::Error) -> ExitCode {
 fn one_line(e: &anyhow::Error) -> String {
     let mut out = String::new();
     for cause in e.chain() {
-        let text = output::safe(&cause.to_string().replace('\n', " ")).into_owned();
+        let text = report::safe(&cause.to_string().replace('\n', " ")).into_owned();
         if out.contains(&text) {
             continue;
         }
@@ -144,17 +142,7 @@ fn one_line(e: &anyhow::Error) -> String {
 
 /// The scene's own model (`[prb] matrix`), named "scene", for commands given no model.
 fn scene_model(scene: &Scene) -> Result<(String, PrbMatrix)> {
-    scene
-        .prb
-        .clone()
-        .map(|m| ("scene".to_string(), m))
-        .ok_or_else(|| {
-            bad(format!(
-                "give a model (--prb MATRIX or --model NAME_OR_FILE), or put one in the scene \
-             \"{}\" as [prb] matrix = \"...\"",
-                output::safe(&scene.name)
-            ))
-        })
+    Ok(report::scene_model(scene)?)
 }
 
 /// The scene named by `--scene`, or the built-in one: a cantilever or a mechanism scene.
@@ -165,82 +153,29 @@ fn load_scene(common: &Common) -> Result<Scene> {
     })
 }
 
-/// Mechanism scenes (DESIGN §8) are solved, judged, fitted and selected on by `solve`,
-/// `eval`, `fit` and `select`, drawn by `plot`, exported by `export` and edited in the UI;
-/// the other commands cannot take them yet: say so (bad input, exit 2) instead of
-/// judging a cantilever that is not there.
-fn refuse_mechanism(scene: &Scene, command: &str) -> Result<()> {
-    match &scene.mechanism {
-        None => Ok(()),
-        Some(m) => Err(bad(format!(
-            "\"{}\" is a mechanism scene ({} flexures, {} drive paths): mechanism scenes are \
-             not supported by `{command}` yet (`solve`, `eval`, `fit`, `select`, `plot`, \
-             `export` and the UI take them)",
-            output::safe(&scene.name),
-            m.flexures.len(),
-            m.drives.len()
-        ))),
-    }
-}
-
-/// Commands that have nothing to say about measured data refuse a data scene (DESIGN §9),
-/// naming what does work on it, instead of solving the nominal beam as if it were the truth.
+/// A data scene refused by `command` (see [`report::refuse_data`]).
 fn refuse_data(scene: &Scene, command: &str, why: &str) -> Result<()> {
-    match &scene.truth {
-        None => Ok(()),
-        Some(t) => Err(bad(format!(
-            "\"{}\" is a data scene (its truth is {}): `{command}` {why}; eval, fit, select, \
-             calibrate, export, plot{} work on it (eval shows the beam's own error against the \
-             data)",
-            output::safe(&scene.name),
-            output::safe(&t.file),
-            if scene.mechanism.is_some() {
-                ""
-            } else {
-                " and the UI (prbfit tui)"
-            }
-        ))),
-    }
-}
-
-/// The scene with `effects = "auto"` decided, and the decision.
-fn resolve_scene(scene: &Scene) -> Result<(Scene, Option<EffectsDecision>)> {
-    resolve_effects(scene, Resolution::default(), &CancelToken::new())
-        .context("deciding the beam effects")
-}
-
-/// The beam resolution of `--tol`, checked on every flexure's beam so that a bad `--tol` is
-/// bad input naming the flag.
-fn resolution(scene: &Scene, tol: f64) -> Result<Resolution> {
-    let resolution = Resolution::with_tol(tol);
-    Study::check_resolution(scene, resolution)
-        .map_err(|e| bad(format!("--tol {}: {e}", output::num(tol))))?;
-    Ok(resolution)
+    Ok(report::refuse_data(scene, command, why)?)
 }
 
 /// The study of `scene` (its effects decided, its truth solved as `sampling` says), with a
 /// progress line; a failure names the scene.
 fn study(scene: &Scene, sampling: Sampling) -> Result<Study> {
-    let mut progress = output::Progress::new("solving the truth");
-    let study = Study::solve(
-        scene,
-        sampling,
-        &CancelToken::new(),
-        &mut |done, paths, cases| {
-            progress.update(|| format!("path {done}/{paths}, {cases} cases"));
-        },
-    )
-    .with_context(|| format!("scene \"{}\"", output::safe(&scene.name)))?;
-    progress.finish();
-    Ok(study)
+    let mut line = output::ProgressLine::default();
+    let mut progress = |p: &report::Progress<'_>| line.show(p);
+    let mut ctl = report::Control {
+        cancel: CancelToken::new(),
+        progress: &mut progress,
+    };
+    Ok(report::study(scene, sampling, &mut ctl)?)
 }
 
 /// The cantilever scene `command` works on, with `effects = "auto"` decided, and the
 /// decision; a mechanism scene is refused.
 fn resolved_scene(common: &Common, command: &str) -> Result<(Scene, Option<EffectsDecision>)> {
     let scene = load_scene(common)?;
-    refuse_mechanism(&scene, command)?;
-    resolve_scene(&scene)
+    report::refuse_mechanism(&scene, command)?;
+    Ok(report::resolve_scene(&scene, &CancelToken::new())?)
 }
 
 #[cfg(feature = "tui")]

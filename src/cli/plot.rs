@@ -20,7 +20,9 @@ use prbfit::scene::{Scene, COORDINATE_KEYS};
 use prbfit::study::{CaseForm, Sampling, Study};
 
 use super::args::PlotArgs;
-use super::output::{emit, safe};
+use prbfit::report::safe;
+
+use super::output::emit;
 use super::{bad, load_scene, parse_matrix, scene_model, study};
 
 /// A model drawn.

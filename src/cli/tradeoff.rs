@@ -11,7 +11,9 @@ use prbfit::study::tradeoff::{measure, Knob};
 use prbfit::study::EffectsDecision;
 
 use super::args::TradeoffArgs;
-use super::output::{emit, safe, DecisionLine};
+use prbfit::report::{safe, DecisionLine};
+
+use super::output::emit;
 use super::{bad, resolved_scene};
 
 /// The measured tables.

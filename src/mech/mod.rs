@@ -43,7 +43,13 @@
 //! - A Jacobian that is singular in the unloaded pose means the drive asks for a motion no
 //!   flexure can make to first order (a tip pinned onto a guide through its unloaded tip and
 //!   pushed along the inextensible flexure's axis; a 1R model asked to keep its tip angle
-//!   while moving sideways; a stage coordinate nothing holds): [`MechError::Immobile`].
+//!   while moving sideways; a stage coordinate nothing holds): [`MechError::Immobile`]; or
+//!   that the flexures can carry a self-stress, forces balancing each other on the stage
+//!   with nothing moving, so the load's division among them is undetermined (three or more
+//!   parallel clamped flexures that cannot stretch): [`MechError::Indeterminate`], told apart
+//!   by the singular Jacobian's null vector (forces only, or a motion). Stiff but legitimate
+//!   stages (the same flexures with their stretch on, at any slenderness) are regular: the
+//!   singularity test is a pivot at rounding, not a small one (see `path.rs`).
 //!
 //! # Accuracy
 //! Newton stops when every tip compatibility residual is below the solver's tolerance `tol`
@@ -121,6 +127,15 @@ pub enum TipFailure {
     Prb(#[from] PrbError),
 }
 
+/// "1, 2 and 3": flexure numbers in a sentence.
+fn list_flexures(flexures: &[usize]) -> String {
+    let names: Vec<String> = flexures.iter().map(usize::to_string).collect();
+    match names.split_last() {
+        Some((last, rest)) if !rest.is_empty() => format!("{} and {last}", rest.join(", ")),
+        _ => names.join(""),
+    }
+}
+
 /// Why a mechanism's drive path could not be followed.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum MechError {
@@ -137,6 +152,25 @@ pub enum MechError {
         drive: usize,
         /// The Jacobian's smallest pivot relative to its largest.
         detail: String,
+    },
+    /// The unloaded stage is statically indeterminate: some flexures can carry forces that
+    /// balance each other on the stage without moving anything (a self-stress), so how the
+    /// load divides among them is undetermined. Three or more clamped flexures in parallel
+    /// do this along their axes when nothing lets them stretch.
+    #[error(
+        "the mechanism cannot follow drive {drive}: the unloaded stage is statically \
+         indeterminate: flexures {} can carry forces that balance each other on the stage \
+         without moving it, so how a load divides among them is undetermined (three or more \
+         clamped flexures in parallel do this along their axes when none can stretch). Give \
+         them axial compliance: the `extension` effect in `[beam] effects` (or the flexures' \
+         own tables) for the beam, a prismatic (P) joint for a PRB model",
+        list_flexures(flexures)
+    )]
+    Indeterminate {
+        /// Which drive path (from 1).
+        drive: usize,
+        /// The flexures (from 1) that carry the self-stress.
+        flexures: Vec<usize>,
     },
     /// The mechanism's equilibrium path reaches a limit point or a bifurcation.
     #[error(

@@ -16,11 +16,21 @@ use super::solve::{FlexEval, FlexureModel, MechSolver};
 use super::system::equilibrate;
 use super::{FlexureCase, MechCase, MechError};
 
-/// An equilibrated Jacobian (see [`equilibrate`]) whose smallest pivot is this small next to
-/// its largest is singular: a regular mechanism's pivots are within a few orders of
-/// magnitude, an exactly singular one's at rounding (the beam's variational equations are
-/// integrated to a relative 1e-7 at most).
-const SINGULAR: f64 = 1e-5;
+/// An equilibrated Jacobian (see [`equilibrate`]) of the unloaded pose whose smallest pivot
+/// is this small next to its largest is singular. The unloaded flexures are straight, so a
+/// structurally singular pose (an inextensible flexure pushed along its axis, a 1R that
+/// cannot keep its tip angle, a stage coordinate nothing holds, inextensible flexures in
+/// parallel) has exact zeros where the motion or force is free, and its smallest pivot is
+/// nought or rounding (`n eps`, below 1e-14 for any mechanism's size). A stiff but
+/// legitimate one's smallest pivot is its stiffest direction's compliance over its softest:
+/// three stretchy flexures in parallel bring the axial over the bending compliance, about
+/// `(t / L)^2 / 2` (5.6e-6 at slenderness 100, 5.6e-8 at 1000, 5.6e-13 at the slenderness
+/// limit 1e6), and no scaling of rows and columns removes it, because it is the mechanism's
+/// own. The threshold sits between the two, so no legitimate stage is refused however stiff
+/// its stretch (tests/mech_parallel.rs); a singular one is then told apart as a self-stress
+/// ([`MechError::Indeterminate`]) or a free motion ([`MechError::Immobile`]) by its null
+/// vector.
+const SINGULAR: f64 = 1e-13;
 /// Continuation that stalls where the equilibrated Jacobian's pivot spread has fallen below
 /// this fraction of the unloaded mechanism's has reached a limit point: the spread falls
 /// like the distance to the fold, and Newton's basin at a fixed drive fraction with it (the
@@ -108,9 +118,19 @@ impl<M: FlexureModel> MechSolver<M> {
             detail: format!("its smallest pivot is {ratio:.1e} of its largest"),
         };
         equilibrate(&mut jac, n);
+        let equilibrated = jac.clone();
         let (sign0, ratio0) = match lu_solve(&mut jac, &mut rhs, n) {
             Some(lu) if lu.pivot_ratio > SINGULAR => (lu.det_sign, lu.pivot_ratio),
-            other => return Err(immobile(other.map_or(0.0, |l| l.pivot_ratio))),
+            other => {
+                let ratio = other.map_or(0.0, |l| l.pivot_ratio);
+                return Err(match self.self_stress(&equilibrated, n) {
+                    Some(flexures) => MechError::Indeterminate {
+                        drive: index,
+                        flexures,
+                    },
+                    None => immobile(ratio),
+                });
+            }
         };
         let start = Point {
             lambda: 0.0,

@@ -332,6 +332,47 @@ fn flexure_error(i: usize, source: TipFailure) -> MechError {
 /// unknowns and equations are written (a flexure's axial compliance is `1e-9` of its
 /// bending compliance at `L / t0 = 1e4`, and is no singularity). Positive scaling keeps the
 /// determinant's sign.
+impl<M: FlexureModel> MechSolver<M> {
+    /// Whether the singular equilibrated Jacobian `jac` (row-major, `n` by `n`) of the
+    /// unloaded pose has a self-stress for its null vector: a change of the flexures' forces
+    /// alone (no stage coordinate, chain coordinate or coupler direction moves) that keeps
+    /// every equation satisfied. Returns the flexures (from 1) that carry it, or `None` when
+    /// the null vector moves something (a motion nothing resists, reported as immobile).
+    pub(super) fn self_stress(&self, jac: &[f64], n: usize) -> Option<Vec<usize>> {
+        let svd = nalgebra::DMatrix::from_row_slice(n, n, jac).svd(false, true);
+        let v_t = svd.v_t?;
+        let (k, _) = svd
+            .singular_values
+            .iter()
+            .enumerate()
+            .min_by(|a, b| a.1.total_cmp(b.1))?;
+        let v = v_t.row(k);
+        let big = v.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+        // The null vector of an exactly singular matrix is found to rounding; a component
+        // this far below the largest is nought.
+        let moves = |x: f64| x.abs() > 1e-8 * big;
+        let mut flexures = Vec::new();
+        for (j, &vj) in v.iter().enumerate() {
+            let force = self
+                .offsets
+                .iter()
+                .zip(&self.geometry.frames)
+                .position(|(&o, f)| {
+                    // A coupler's second unknown is its direction: a motion, not a force.
+                    let direction = matches!(f.joint, Joint::Link { .. }) && j == o + 1;
+                    (o..o + 3).contains(&j) && !direction
+                });
+            match force {
+                Some(i) if moves(vj) && !flexures.contains(&(i + 1)) => flexures.push(i + 1),
+                Some(_) => {}
+                None if moves(vj) => return None,
+                None => {}
+            }
+        }
+        (flexures.len() > 1).then_some(flexures)
+    }
+}
+
 pub(super) fn equilibrate(matrix: &mut [f64], n: usize) {
     for row in matrix.chunks_mut(n.max(1)) {
         let big = row.iter().fold(0.0_f64, |m, v| m.max(v.abs()));

@@ -47,10 +47,25 @@ impl App {
                 compare,
                 ..
             } => {
+                let stop = model.unfollowed.first().map(|u| {
+                    let paths = model.unfollowed.len();
+                    format!(
+                        "the model stops on {paths} path{} (path {} at {:.3} of it: {}); its \
+                         figures are over the cases it followed",
+                        if paths == 1 { "" } else { "s" },
+                        u.path,
+                        u.fraction,
+                        u.reason
+                    )
+                });
                 self.shown.take(truth, *model, compare.map(|c| *c));
                 self.finished(report.as_deref(), seconds);
                 self.shown.report = report.map(|r| *r);
                 self.clear_worker_error();
+                if let Some(stop) = stop {
+                    self.set_error(stop);
+                    self.message_from_worker = true;
+                }
                 true
             }
             WorkerMsg::Failed { message, .. } => {

@@ -86,10 +86,10 @@ impl<'a> View<'a> {
 
 /// The shown `cases` of path `path` of `per_path` (none where it has none).
 fn of_path<'p, T>(per_path: &'p [Vec<T>], path: usize, cases: &Range<usize>) -> &'p [T] {
-    per_path
-        .get(path)
-        .and_then(|p| p.get(cases.clone()))
-        .unwrap_or(&[])
+    // A model that stopped on this path (DESIGN §6) has only its first cases.
+    per_path.get(path).map_or(&[], |p| {
+        &p[cases.start.min(p.len())..cases.end.min(p.len())]
+    })
 }
 
 /// Points of a pose, for the chart's bounds.

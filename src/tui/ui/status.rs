@@ -14,7 +14,7 @@ use ratatui::widgets::Paragraph;
 use ratatui::Frame;
 
 use crate::fit::Fidelity;
-use crate::mech::figures::Figures;
+use crate::mech::figures::{Figures, UnfollowedPath};
 use crate::scene::{Accuracy, Mechanism};
 
 use crate::text::sanitize_terminal;
@@ -22,6 +22,7 @@ use crate::text::sanitize_terminal;
 use super::super::app::{Activity, App, Tone};
 use super::super::keymap;
 use super::super::units::trim_number;
+use super::super::worker::ModelView;
 use super::parts::{Palette, MEASURED_COLOR};
 
 /// What the title line draws.
@@ -82,6 +83,34 @@ pub struct FigureLine {
     pub figures: Figures,
     /// Which errors the paths have: force, position, angle ([`errors_shown`]).
     pub shown: [bool; 3],
+    /// When the model could not follow every path: the figures are over the cases it
+    /// followed.
+    pub partial: Option<Partial>,
+}
+
+/// A model that stopped on some paths (DESIGN §6): how many, and the first one.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Partial {
+    /// How many paths it did not follow to their end.
+    pub paths: usize,
+    /// Of how many.
+    pub of: usize,
+    /// The first such path (from 1).
+    pub path: usize,
+    /// The fraction of it the model reached.
+    pub fraction: f64,
+}
+
+impl Partial {
+    /// The model's stops, `None` when it followed every path.
+    pub fn of(unfollowed: &[UnfollowedPath], of: usize) -> Option<Partial> {
+        unfollowed.first().map(|u| Partial {
+            paths: unfollowed.len(),
+            of,
+            path: u.path,
+            fraction: u.fraction,
+        })
+    }
 }
 
 /// Which errors a scene's paths have: force (some path prescribes a stage coordinate),
@@ -140,9 +169,15 @@ impl<'a> View<'a> {
     pub fn new(app: &'a App) -> View<'a> {
         let scene = &app.edit.scene;
         let truth = app.shown.truth();
+        let shown = truth.map_or([false, true, true], |t| errors_shown(&t.mechanism));
         let line = |figures: Figures| FigureLine {
             figures,
-            shown: truth.map_or([false, true, true], |t| errors_shown(&t.mechanism)),
+            shown,
+            partial: None,
+        };
+        let model_line = |m: &ModelView| FigureLine {
+            partial: Partial::of(&m.unfollowed, m.cases.len()),
+            ..line(m.figures)
         };
         let (w, w_f) = (scene.fit.angle_weight, scene.fit.force_weight);
         // The beam's cases beside the data are kept; judging them is arithmetic.
@@ -156,8 +191,8 @@ impl<'a> View<'a> {
         });
         View {
             message: app.message.as_ref().map(|(m, t)| (m.as_str(), *t)),
-            figures: app.shown.model().map(|m| line(m.figures)),
-            compare: app.shown.shown_compare().map(|(n, v)| (n, line(v.figures))),
+            figures: app.shown.model().map(model_line),
+            compare: app.shown.shown_compare().map(|(n, v)| (n, model_line(v))),
             data,
             accuracy: scene.accuracy,
             activity: &app.jobs.activity,
@@ -177,7 +212,7 @@ pub fn height(view: &View) -> u16 {
 /// have.
 fn figure_spans(f: FigureLine, acc: &Accuracy, pal: Palette) -> Vec<Span<'static>> {
     let verdict = |ok: bool| Span::styled(if ok { "PASS" } else { "FAIL" }, pal.pass(ok));
-    let (shown, f) = (f.shown, f.figures);
+    let (shown, partial, f) = (f.shown, f.partial, f.figures);
     let (objective, pos, ang, force) = (f.objective, f.max_pos_err, f.max_ang_err, f.max_force());
     let mut spans = vec![Span::raw(format!(" J {objective:.3e} | "))];
     let mut figure = |name: &str, value: String, ok: bool, target: String| {
@@ -208,6 +243,25 @@ fn figure_spans(f: FigureLine, acc: &Accuracy, pal: Palette) -> Vec<Span<'static
             ang <= acc.max_ang_err,
             trim_number(acc.max_ang_err.to_degrees(), 3),
         );
+    }
+    if let Some(p) = partial {
+        // The figures above are over the followed cases only: never a pass for the model.
+        let more = if p.paths > 1 {
+            format!(" (+{} more)", p.paths - 1)
+        } else {
+            String::new()
+        };
+        spans.push(Span::styled(
+            format!(
+                "PARTIAL {}/{} paths: path {} stops at {:.3}{more}",
+                p.of - p.paths,
+                p.of,
+                p.path,
+                p.fraction
+            ),
+            pal.pass(false),
+        ));
+        spans.push(Span::raw(" | "));
     }
     spans
 }

@@ -10,7 +10,7 @@
 //! ([`pose::chains`]). A data scene's truth is its measured cases, with the scene's beam
 //! (or beam mechanism) beside them ([`MeasuredView`], built in `worker/truth.rs`).
 
-use crate::mech::figures::{has_reactions, Figures, JudgedCase};
+use crate::mech::figures::{has_reactions, Figures, JudgedCase, UnfollowedPath};
 use crate::mech::pose::{self, Pose};
 use crate::mech::MechCase;
 use crate::prb::PrbMatrix;
@@ -104,6 +104,9 @@ pub struct ModelView {
     pub cases: Vec<Vec<JudgedCase>>,
     /// Per path, per case, the PRB model as drawn.
     pub poses: Vec<Vec<Pose>>,
+    /// The paths the model could not follow to their end (DESIGN §6): its cases there stop
+    /// where it stopped, and the figures are over the cases it followed.
+    pub unfollowed: Vec<UnfollowedPath>,
 }
 
 impl ModelView {
@@ -138,13 +141,14 @@ pub fn per_path(cases: Vec<JudgedCase>, paths: usize) -> Vec<Vec<JudgedCase>> {
     out
 }
 
-/// `matrix` judged on `study`'s truth as every front end judges it ([`Study::judge`], the
-/// scene's weights), with its poses.
+/// `matrix` judged on `study`'s truth as `eval` judges it ([`Study::judge_followed`], the
+/// scene's weights: the cases it can follow, the paths it cannot listed), with its poses. An
+/// error only when it follows no case at all.
 pub fn model_view(study: &Study, matrix: &PrbMatrix) -> Result<ModelView, String> {
     let judged = study
-        .judge(matrix)
+        .judge_followed(matrix)
         .map_err(|e| format!("the PRB model ({}) cannot follow: {e}", matrix.topology()))?;
-    if judged.cases.len() != study.case_count() {
+    if judged.cases.len() > study.case_count() {
         return Err(format!(
             "internal error: {} PRB cases for {} cases of the truth",
             judged.cases.len(),
@@ -158,5 +162,6 @@ pub fn model_view(study: &Study, matrix: &PrbMatrix) -> Result<ModelView, String
         figures: judged.figures,
         cases,
         poses,
+        unfollowed: judged.unfollowed,
     })
 }

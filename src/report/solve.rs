@@ -13,22 +13,74 @@
 use std::fmt;
 use std::time::Instant;
 
-use anyhow::{Context, Result};
 use serde::Serialize;
 
-use prbfit::beam::{BeamModel, BeamSolution, BeamSolver, Effects, Load, ModelError, Resolution};
-use prbfit::beam::{ShapePoint, TipPose};
-use prbfit::mech::MechCase;
-use prbfit::scene::{Mechanism, Scene};
-use prbfit::si::MechUnits;
-use prbfit::study::{EffectsDecision, Sampling};
+use crate::beam::{BeamModel, BeamSolution, BeamSolver, Effects, Load, ModelError, Resolution};
+use crate::beam::{ShapePoint, TipPose};
+use crate::mech::MechCase;
+use crate::scene::{Mechanism, Scene};
+use crate::si::MechUnits;
+use crate::study::{EffectsDecision, Sampling};
 
-use super::args::SolveArgs;
-use super::output::{emit, num, safe, DecisionLine, Progress};
 use super::stage::{
     count, drive_line, refuse_flag, tidy, units_line, DriveInfo, LOADS_ARE_DRIVES, LOAD_NAMES,
 };
-use super::{bad, load_scene, resolve_scene};
+use super::{num, resolve_scene, safe, Control, DecisionLine, Progress, ReportError, Result};
+
+/// `solve`'s arguments (the CLI's flags).
+#[derive(Debug, Clone, PartialEq)]
+pub struct SolveArgs {
+    /// One tip load instead of the scene's cases (`--load`).
+    pub load: Option<Load>,
+    /// Beam effects overriding the scene's, as `--effects` takes them (a list, `none`, `all`).
+    pub effects: Option<String>,
+    /// Slenderness `L/t0` overriding the scene's beam.
+    pub slenderness: Option<f64>,
+    /// Poisson's ratio overriding the scene's beam.
+    pub nu: Option<f64>,
+    /// Shear coefficient (default: Cowper's rectangle value for nu).
+    pub kappa: Option<f64>,
+    /// Integrator tolerance (`--tol`).
+    pub tol: f64,
+    /// Include the deformed shapes (`--shape`).
+    pub shape: bool,
+}
+
+impl Default for SolveArgs {
+    fn default() -> SolveArgs {
+        SolveArgs {
+            load: None,
+            effects: None,
+            slenderness: None,
+            nu: None,
+            kappa: None,
+            tol: Resolution::default().tol,
+            shape: false,
+        }
+    }
+}
+
+/// What `solve` reports: one load, the scene's cases, or a mechanism's.
+#[derive(Debug, Serialize)]
+#[serde(untagged)]
+pub enum SolveReport {
+    /// `--load`: one tip.
+    One(OneLoad),
+    /// A cantilever's cases.
+    Scene(SceneCases),
+    /// A mechanism's cases.
+    Stage(StageCases),
+}
+
+impl fmt::Display for SolveReport {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            SolveReport::One(r) => r.fmt(f),
+            SolveReport::Scene(r) => r.fmt(f),
+            SolveReport::Stage(r) => r.fmt(f),
+        }
+    }
+}
 
 /// The beam as solved, for the reports.
 #[derive(Debug, Serialize)]
@@ -282,7 +334,7 @@ impl fmt::Display for StageCases {
 }
 
 /// `prbfit solve` on a mechanism scene: the beam mechanism (DESIGN §8) along every drive.
-fn solve_stage(scene: &Scene, args: &SolveArgs) -> Result<()> {
+fn solve_stage(scene: &Scene, args: &SolveArgs, ctl: &mut Control<'_>) -> Result<StageCases> {
     if args.load.is_some() {
         return Err(refuse_flag("--load", scene, LOADS_ARE_DRIVES));
     }
@@ -309,7 +361,7 @@ fn solve_stage(scene: &Scene, args: &SolveArgs) -> Result<()> {
     }
     let resolution = super::resolution(scene, args.tol)?;
     let t0 = Instant::now();
-    let study = super::study(scene, Sampling::Every(resolution))?;
+    let study = super::study(scene, Sampling::Every(resolution), ctl)?;
     let mechanism = study.mechanism();
     let cases = study
         .truth()
@@ -327,7 +379,7 @@ fn solve_stage(scene: &Scene, args: &SolveArgs) -> Result<()> {
         seconds: t0.elapsed().as_secs_f64(),
         mechanism: mechanism.clone(),
     };
-    emit(&report, args.common.json)
+    Ok(report)
 }
 
 /// The beam of the scene with the command-line overrides applied; errors name the flag.
@@ -335,9 +387,8 @@ fn beam_model(scene: &Scene, args: &SolveArgs) -> Result<BeamModel> {
     let base = scene.beam.model();
     let effects = match &args.effects {
         None => base.effects,
-        Some(text) => {
-            Effects::parse_list(text).map_err(|e| bad(format!("--effects {text}: {e}")))?
-        }
+        Some(text) => Effects::parse_list(text)
+            .map_err(|e| ReportError::input(format!("--effects {text}: {e}")))?,
     };
     let slenderness = args.slenderness.unwrap_or(base.slenderness);
     let nu = args.nu.unwrap_or(base.nu);
@@ -355,36 +406,36 @@ fn beam_model(scene: &Scene, args: &SolveArgs) -> Result<BeamModel> {
                 ModelError::ShearCoefficient(_) => "--kappa",
                 ModelError::UnknownEffect(_) | ModelError::PoissonWithoutExtension => "--effects",
             };
-            bad(format!("{flag}: {e}"))
+            ReportError::input(format!("{flag}: {e}"))
         })
         // The section's width in thicknesses stays the scene's (plane strain's plate fraction).
         .map(|m| m.with_width_ratio(scene.beam.width / scene.beam.thickness))
 }
 
-/// Runs `prbfit solve`.
-pub fn run(args: SolveArgs) -> Result<()> {
-    let scene = load_scene(&args.common)?;
+/// `prbfit solve` on `scene`.
+pub fn solve(scene: &Scene, args: &SolveArgs, ctl: &mut Control<'_>) -> Result<SolveReport> {
     super::refuse_data(
-        &scene,
+        scene,
         "solve",
         "solves the beam along [[loads]], and a data scene's loads are its rows",
     )?;
     if scene.mechanism.is_some() {
-        return solve_stage(&scene, &args);
+        return solve_stage(scene, args, ctl).map(SolveReport::Stage);
     }
     let (scene, decision) = if args.effects.is_some() {
-        (scene, None)
+        (scene.clone(), None)
     } else {
-        resolve_scene(&scene)?
+        resolve_scene(scene, &ctl.cancel)?
     };
-    let model = beam_model(&scene, &args)?;
+    let model = beam_model(&scene, args)?;
     let solver = BeamSolver::new(model, Resolution::with_tol(args.tol))
-        .map_err(|e| bad(format!("--tol {}: {e}", num(args.tol))))?;
-    let json = args.common.json;
+        .map_err(|e| ReportError::input(format!("--tol {}: {e}", num(args.tol))))?;
     let shape = |s: &BeamSolution| args.shape.then(|| s.shape.clone());
     if let Some(load) = args.load {
         let t0 = Instant::now();
-        let sol = solver.solve(load).context("solve failed")?;
+        let sol = solver
+            .solve(load)
+            .map_err(|e| ReportError::failed_in("solve failed", &e))?;
         let report = OneLoad {
             load,
             a: sol.tip.a,
@@ -400,23 +451,20 @@ pub fn run(args: SolveArgs) -> Result<()> {
             seconds: t0.elapsed().as_secs_f64(),
             shape: shape(&sol),
         };
-        return super::output::emit(&report, json);
+        return Ok(SolveReport::One(report));
     }
     let t0 = Instant::now();
     let mut cases = Vec::new();
-    let mut progress = Progress::new("solving");
     let n_paths = scene.loads.len();
     for (i, path) in scene.loads.iter().enumerate() {
-        progress.update(|| {
-            format!(
-                "load path {}/{n_paths}, {} cases so far",
-                i + 1,
-                cases.len()
-            )
+        (ctl.progress)(&Progress::Solving {
+            path: i + 1,
+            paths: n_paths,
+            cases: cases.len(),
         });
         let sols = solver
             .solve_path(path.end, path.steps)
-            .with_context(|| format!("load path {} of the scene", i + 1))?;
+            .map_err(|e| ReportError::failed_in(format!("load path {} of the scene", i + 1), &e))?;
         cases.extend(sols.iter().map(|s| Case {
             load: s.load,
             tip: s.tip,
@@ -424,7 +472,6 @@ pub fn run(args: SolveArgs) -> Result<()> {
             shape: shape(s),
         }));
     }
-    progress.finish();
     let report = SceneCases {
         scene: scene.name,
         beam: BeamInfo::from(&model),
@@ -433,5 +480,5 @@ pub fn run(args: SolveArgs) -> Result<()> {
         cases,
         seconds: t0.elapsed().as_secs_f64(),
     };
-    super::output::emit(&report, json)
+    Ok(SolveReport::Scene(report))
 }

@@ -4,16 +4,39 @@
 use std::fmt;
 use std::time::Instant;
 
-use anyhow::Result;
 use serde::Serialize;
 
-use prbfit::beam::Resolution;
-use prbfit::mech::figures::Figures;
-use prbfit::study::calibrate::{calibrate, BeamParam, CalibrateError, Calibration};
+use crate::beam::Resolution;
+use crate::mech::figures::Figures;
+use crate::scene::Scene;
+use crate::study::calibrate::{calibrate, BeamParam, CalibrateError, Calibration};
 
-use super::args::CalibrateArgs;
-use super::output::{emit, num, safe};
-use super::{bad, load_scene, resolve_scene};
+use super::{num, resolve_scene, safe, Control, ReportError, Result};
+
+/// `calibrate`'s arguments (the CLI's flags).
+#[derive(Debug, Clone, PartialEq)]
+pub struct CalibrateArgs {
+    /// The beam parameter fitted: `youngs_modulus` or `thickness` (`--param`).
+    pub param: String,
+}
+
+impl Default for CalibrateArgs {
+    fn default() -> CalibrateArgs {
+        CalibrateArgs {
+            param: "youngs_modulus".to_string(),
+        }
+    }
+}
+
+/// The parameter `args` names; bad input naming `--param` if none.
+pub fn param(args: &CalibrateArgs) -> Result<BeamParam> {
+    BeamParam::from_name(&args.param).ok_or_else(|| {
+        ReportError::input(format!(
+            "--param {}: the parameters that can be calibrated are youngs_modulus and thickness",
+            safe(&args.param)
+        ))
+    })
+}
 
 /// What `calibrate` found: the beam's (a mechanism's beam mechanism's) figures against the
 /// data before and after.
@@ -102,26 +125,25 @@ impl fmt::Display for CalibrateOutput {
     }
 }
 
-/// Runs `prbfit calibrate`.
-pub fn run(args: CalibrateArgs) -> Result<()> {
-    let param = BeamParam::from_name(&args.param).ok_or_else(|| {
-        bad(format!(
-            "--param {}: the parameters that can be calibrated are youngs_modulus and thickness",
-            safe(&args.param)
-        ))
-    })?;
-    let scene = load_scene(&args.common)?;
+/// `prbfit calibrate` on `scene`.
+pub fn calibrate_scene(
+    scene: &Scene,
+    args: &CalibrateArgs,
+    ctl: &mut Control<'_>,
+) -> Result<CalibrateOutput> {
+    let param = param(args)?;
     let Some(truth) = &scene.truth else {
-        return Err(bad(format!(
+        return Err(ReportError::input(format!(
             "\"{}\": {}",
             safe(&scene.name),
             CalibrateError::NoData
         )));
     };
     let data = truth.file.clone();
-    let (scene, _) = resolve_scene(&scene)?;
+    let (scene, _) = resolve_scene(scene, &ctl.cancel)?;
     let t0 = Instant::now();
-    let calibration = calibrate(&scene, param, Resolution::default())?;
+    let calibration =
+        calibrate(&scene, param, Resolution::default()).map_err(|e| ReportError::failed(&e))?;
     let out = CalibrateOutput {
         ratio: calibration.value / calibration.nominal,
         calibration,
@@ -130,5 +152,5 @@ pub fn run(args: CalibrateArgs) -> Result<()> {
         seconds: t0.elapsed().as_secs_f64(),
         mechanism: scene.mechanism.is_some(),
     };
-    emit(&out, args.common.json)
+    Ok(out)
 }

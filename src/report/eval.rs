@@ -1,6 +1,6 @@
 //! `prbfit eval`: PRB models judged against the scene's truth (the beam, the beam mechanism,
 //! or measured data), at one load or over the scene. Every model is judged on one study
-//! ([`prbfit::study::Study::judge`]); the report reads as the scene's cases do (DESIGN §4's
+//! ([`crate::study::Study::judge`]); the report reads as the scene's cases do (DESIGN §4's
 //! tips, §8's stage).
 //!
 //! A model that cannot follow some load paths or drives to their end is judged over the
@@ -12,24 +12,68 @@
 use std::fmt;
 use std::time::Instant;
 
-use anyhow::{Context, Result};
 use serde::Serialize;
 
-use prbfit::beam::{BeamSolver, Load, Resolution, TipPose};
-use prbfit::eval::CaseError;
-use prbfit::io::ModelFile;
-use prbfit::mech::figures::{Figures, JudgedCase, UnfollowedPath};
-use prbfit::prb::{PrbMatrix, PrbSolver};
-use prbfit::scene::{Accuracy, Mechanism, Scene, COORDINATE_KEYS};
-use prbfit::si::MechUnits;
-use prbfit::study::{CaseForm, EffectsDecision, Sampling};
+use crate::beam::{BeamSolver, Load, Resolution, TipPose};
+use crate::eval::CaseError;
+use crate::io::ModelFile;
+use crate::mech::figures::{Figures, JudgedCase, UnfollowedPath};
+use crate::prb::{PrbMatrix, PrbSolver};
+use crate::scene::{Accuracy, Mechanism, Scene, COORDINATE_KEYS};
+use crate::si::MechUnits;
+use crate::study::{CaseForm, EffectsDecision, Sampling};
 
-use super::args::EvalArgs;
-use super::output::{emit, met, num, safe, DecisionLine, TruthInfo, TruthLine};
 use super::stage::{
     count, drive_line, refuse_flag, tidy, units_line, DriveInfo, LOADS_ARE_DRIVES, LOAD_NAMES,
 };
-use super::{bad, load_scene, parse_matrix, scene_model, study};
+use super::{
+    met, num, parse_matrix, safe, scene_model, study, Control, DecisionLine, ReportError, Result,
+    TruthInfo, TruthLine,
+};
+
+/// `eval`'s arguments (the CLI's flags).
+#[derive(Debug, Clone, PartialEq)]
+pub struct EvalArgs {
+    /// PRB matrices in text form (`--prb`, repeatable).
+    pub prb: Vec<String>,
+    /// Published model names or model files (`--model`, repeatable). With neither: the
+    /// scene's `[prb] matrix`.
+    pub model: Vec<String>,
+    /// One tip load instead of the scene's cases (`--load`).
+    pub load: Option<Load>,
+    /// Baseline integrator tolerance (`--tol`).
+    pub tol: f64,
+}
+
+impl Default for EvalArgs {
+    fn default() -> EvalArgs {
+        EvalArgs {
+            prb: Vec::new(),
+            model: Vec::new(),
+            load: None,
+            tol: Resolution::default().tol,
+        }
+    }
+}
+
+/// What `eval` reports: the models at one load, or over the scene.
+#[derive(Debug, Serialize)]
+#[serde(untagged)]
+pub enum EvalOutput {
+    /// `--load`.
+    AtLoad(AtLoadReport),
+    /// Over the scene's cases.
+    Scene(Box<EvalReport>),
+}
+
+impl fmt::Display for EvalOutput {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            EvalOutput::AtLoad(r) => r.fmt(f),
+            EvalOutput::Scene(r) => r.fmt(f),
+        }
+    }
+}
 
 /// One model's row, or several under `models` (DESIGN §6).
 #[derive(Debug, Serialize)]
@@ -523,15 +567,14 @@ pub(super) fn named_models(args: &EvalArgs, scene: &Scene) -> Result<Vec<(String
     Ok(out)
 }
 
-/// Runs `prbfit eval`.
-pub fn run(args: EvalArgs) -> Result<()> {
-    let scene = load_scene(&args.common)?;
+/// `prbfit eval` on `scene`.
+pub fn eval(scene: &Scene, args: &EvalArgs, ctl: &mut Control<'_>) -> Result<EvalOutput> {
     if let Some(load) = args.load {
-        return at_load(&args, &scene, load);
+        return at_load(args, scene, load, ctl).map(EvalOutput::AtLoad);
     }
-    let resolution = super::resolution(&scene, args.tol)?;
-    let models = named_models(&args, &scene)?;
-    let study = study(&scene, Sampling::Every(resolution))?;
+    let resolution = super::resolution(scene, args.tol)?;
+    let models = named_models(args, scene)?;
+    let study = study(scene, Sampling::Every(resolution), ctl)?;
     let form = study.case_form();
     let scene = study.scene();
     let accuracy = scene.accuracy;
@@ -574,7 +617,7 @@ pub fn run(args: EvalArgs) -> Result<()> {
                     .map(|why| format!("model {}: {why}", safe(&r.model)))
             })
             .collect();
-        anyhow::bail!(
+        return Err(ReportError::solve(format!(
             "no model given can follow the {} of \"{}\": {}",
             match form {
                 CaseForm::Tip => "loads",
@@ -582,7 +625,7 @@ pub fn run(args: EvalArgs) -> Result<()> {
             },
             safe(&scene.name),
             reasons.join("; ")
-        );
+        )));
     }
     let mechanism = form == CaseForm::Stage;
     let report = EvalReport {
@@ -600,33 +643,40 @@ pub fn run(args: EvalArgs) -> Result<()> {
         force_weight: scene.fit.force_weight,
         mechanism: study.mechanism().clone(),
     };
-    emit(&report, args.common.json)
+    Ok(EvalOutput::Scene(Box::new(report)))
 }
 
 /// `eval --load`: the models against the cantilever's beam at one load.
-fn at_load(args: &EvalArgs, scene: &Scene, load: Load) -> Result<()> {
+fn at_load(
+    args: &EvalArgs,
+    scene: &Scene,
+    load: Load,
+    ctl: &mut Control<'_>,
+) -> Result<AtLoadReport> {
     if scene.mechanism.is_some() {
         return Err(refuse_flag("--load", scene, LOADS_ARE_DRIVES));
     }
     if let Some(truth) = &scene.truth {
-        return Err(bad(format!(
+        return Err(ReportError::input(format!(
             "--load: \"{}\" is a data scene: its load cases are the rows of {} (judge the \
              model over them without --load)",
             safe(&scene.name),
             safe(&truth.file)
         )));
     }
-    let (scene, _) = super::resolve_scene(scene)?;
+    let (scene, _) = super::resolve_scene(scene, &ctl.cancel)?;
     let models = named_models(args, &scene)?;
     let beam = scene.beam.model();
     let solver = BeamSolver::new(beam, Resolution::with_tol(args.tol))
-        .map_err(|e| bad(format!("--tol {}: {e}", num(args.tol))))?;
-    let sol = solver.solve(load).context("baseline beam")?;
+        .map_err(|e| ReportError::input(format!("--tol {}: {e}", num(args.tol))))?;
+    let sol = solver
+        .solve(load)
+        .map_err(|e| ReportError::failed_in("baseline beam", &e))?;
     let mut rows = Vec::new();
     for (name, m) in models {
         let prb = PrbSolver::new(&m, beam.axial_compliance())
             .solve(load)
-            .with_context(|| format!("model {name}"))?;
+            .map_err(|e| ReportError::failed_in(format!("model {name}"), &e))?;
         let case = CaseError::new(load, sol.tip, prb.tip);
         rows.push(AtLoad {
             model: name,
@@ -638,5 +688,5 @@ fn at_load(args: &EvalArgs, scene: &Scene, load: Load) -> Result<()> {
             beam: case.beam,
         });
     }
-    emit(&AtLoadReport(OneOrMany::new(rows)), args.common.json)
+    Ok(AtLoadReport(OneOrMany::new(rows)))
 }

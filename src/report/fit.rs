@@ -1,25 +1,58 @@
 //! `prbfit fit`: the free cells of a matrix fitted to the scene's truth (the beam over its
 //! loads, the beam mechanism along its drives — one matrix for every flexure — or measured
-//! data), by [`prbfit::study::Study::fit`].
+//! data), by [`crate::study::Study::fit`].
 
 use std::fmt;
 
-use anyhow::Result;
+use std::path::PathBuf;
+
 use serde::Serialize;
 
-use prbfit::fidelity::Fidelity;
-use prbfit::fit::{CancelToken, FitOptions, FitProgress, SearchError, StopReason};
-use prbfit::format::Format;
-use prbfit::io::files::{check_target, write_atomic};
-use prbfit::io::ModelFile;
-use prbfit::mech::figures::Figures;
-use prbfit::prb::PrbMatrix;
-use prbfit::scene::{Accuracy, Scene};
-use prbfit::study::{CaseForm, EffectsDecision, FitError, Sampling};
+use crate::fidelity::Fidelity;
+use crate::fit::{FitOptions, SearchError, StopReason};
+use crate::format::Format;
+use crate::io::files::{check_target, write_atomic};
+use crate::io::ModelFile;
+use crate::mech::figures::Figures;
+use crate::prb::PrbMatrix;
+use crate::scene::{Accuracy, Scene};
+use crate::study::{CaseForm, EffectsDecision, FitError, Sampling};
 
-use super::args::FitArgs;
-use super::output::{emit, met, num, safe, DecisionLine, Progress, TruthInfo, TruthLine};
-use super::{bad, load_scene, parse_matrix, scene_model, study};
+use super::{
+    met, num, parse_matrix, safe, scene_model, study, Control, DecisionLine, Progress, ReportError,
+    Result, TruthInfo, TruthLine,
+};
+
+/// `fit`'s arguments (the CLI's flags).
+#[derive(Debug, Clone, PartialEq)]
+pub struct FitArgs {
+    /// Topology to fit from (`--topology`); it and `prb` are exclusive. With neither: the
+    /// scene's `[prb] matrix`.
+    pub topology: Option<String>,
+    /// Matrix to start from (`--prb`); cells ending in `!` stay fixed.
+    pub prb: Option<String>,
+    /// The fit's preset.
+    pub fidelity: Fidelity,
+    /// Seed of the random starts.
+    pub seed: u64,
+    /// Save the fitted model here (`-o`, .toml or .json).
+    pub output: Option<PathBuf>,
+    /// Overwrite the output if it exists.
+    pub force: bool,
+}
+
+impl Default for FitArgs {
+    fn default() -> FitArgs {
+        FitArgs {
+            topology: None,
+            prb: None,
+            fidelity: Fidelity::Normal,
+            seed: 1,
+            output: None,
+            force: false,
+        }
+    }
+}
 
 /// What `fit` found.
 #[derive(Debug, Serialize)]
@@ -156,11 +189,10 @@ impl FitOutput {
 }
 
 /// The matrix a fit starts from: `--topology`, `--prb`, or the scene's own model.
-pub(super) fn start_matrix(args: &FitArgs, scene: &Scene) -> Result<PrbMatrix> {
+pub fn start_matrix(args: &FitArgs, scene: &Scene) -> Result<PrbMatrix> {
     Ok(match (&args.topology, &args.prb) {
-        (Some(t), _) => {
-            PrbMatrix::from_topology(t).map_err(|e| bad(format!("--topology {t}: {e}")))?
-        }
+        (Some(t), _) => PrbMatrix::from_topology(t)
+            .map_err(|e| ReportError::input(format!("--topology {t}: {e}")))?,
         (None, Some(text)) => parse_matrix("--prb", text)?,
         (None, None) => scene_model(scene)?.1,
     })
@@ -168,14 +200,14 @@ pub(super) fn start_matrix(args: &FitArgs, scene: &Scene) -> Result<PrbMatrix> {
 
 /// The format of the model file `-o` names (checked, and refused if it exists without
 /// `--force`, before any time is spent on a fit); none without `-o`.
-pub(super) fn model_file_target(args: &FitArgs) -> Result<Option<Format>> {
+pub fn model_file_target(args: &FitArgs) -> Result<Option<Format>> {
     let Some(path) = &args.output else {
         return Ok(None);
     };
     let format = Format::from_path(path)
         .filter(|f| f.is_model_file())
         .ok_or_else(|| {
-            bad(format!(
+            ReportError::input(format!(
                 "{}: a model file must end in .toml or .json",
                 path.display()
             ))
@@ -184,49 +216,38 @@ pub(super) fn model_file_target(args: &FitArgs) -> Result<Option<Format>> {
     Ok(Some(format))
 }
 
-/// A fit's progress on the progress line.
-pub(super) fn show(progress: &mut Progress, p: &FitProgress) {
-    progress.update(|| {
-        format!(
-            "{} iteration {}, {} evaluations, best J {:.4e}",
-            p.phase, p.iteration, p.evaluations, p.best_objective
-        )
-    })
-}
-
-/// Runs `prbfit fit`.
-pub fn run(args: FitArgs) -> Result<()> {
-    let scene = load_scene(&args.common)?;
-    let start = start_matrix(&args, &scene)?;
-    let format = model_file_target(&args)?;
+/// `prbfit fit` on `scene`.
+pub fn fit(scene: &Scene, args: &FitArgs, ctl: &mut Control<'_>) -> Result<FitOutput> {
+    let start = start_matrix(args, scene)?;
+    let format = model_file_target(args)?;
     let t0 = std::time::Instant::now();
-    let study = study(&scene, Sampling::Fidelity(args.fidelity))?;
+    let study = study(scene, Sampling::Fidelity(args.fidelity), ctl)?;
     let scene = study.scene();
     let options = FitOptions {
         fidelity: args.fidelity,
         angle_weight: scene.fit.angle_weight,
         seed: args.seed,
     };
-    let mut progress = Progress::new("fitting");
+    let progress = &mut *ctl.progress;
     let report = study
         .fit(
             &start,
             &options,
-            &mut |p| show(&mut progress, p),
-            &CancelToken::new(),
+            &mut |p| progress(&Progress::Fit(p)),
+            &ctl.cancel,
         )
         .map_err(|e| match e {
-            FitError::Search(SearchError::Param(p)) => bad(format!("--prb: {p}")),
-            other => anyhow::Error::new(other),
+            FitError::Search(SearchError::Param(p)) => ReportError::input(format!("--prb: {p}")),
+            other => ReportError::failed(&other),
         })?;
-    progress.finish();
     let figures = report.figures;
     if let (Some(path), Some(format)) = (&args.output, format) {
         let model = ModelFile::fitted(&report.matrix, scene, &args.fidelity.to_string(), &figures);
         let text = match format {
-            Format::Json => model.to_json()?,
-            _ => model.to_toml()?,
-        };
+            Format::Json => model.to_json(),
+            _ => model.to_toml(),
+        }
+        .map_err(|e| ReportError::failed(&e))?;
         write_atomic(path, text.as_bytes(), args.force)?;
     }
     let out = FitOutput {
@@ -250,5 +271,5 @@ pub fn run(args: FitArgs) -> Result<()> {
         accuracy: scene.accuracy,
         form: study.case_form(),
     };
-    emit(&out, args.common.json)
+    Ok(out)
 }

@@ -4,11 +4,10 @@
 
 use serde::Serialize;
 
-use prbfit::scene::{Drive, Mechanism, Scene, COORDINATE_KEYS};
-use prbfit::si::MechUnits;
+use crate::scene::{Drive, Mechanism, Scene, COORDINATE_KEYS};
+use crate::si::MechUnits;
 
-use super::bad;
-use super::output::{num, safe};
+use super::{num, safe, ReportError};
 
 /// Names of the stage coordinates' loads in the text tables, with their SI unit.
 pub(super) const LOAD_NAMES: [&str; 3] = ["Fx N", "Fy N", "Mz N m"];
@@ -110,8 +109,8 @@ pub(super) fn drive_line(drive: usize, d: &Drive, units: &MechUnits) -> String {
 }
 
 /// A flag of the single beam given with a mechanism scene: bad input naming the flag.
-pub(super) fn refuse_flag(flag: &str, scene: &Scene, why: &str) -> anyhow::Error {
-    bad(format!(
+pub(super) fn refuse_flag(flag: &str, scene: &Scene, why: &str) -> ReportError {
+    ReportError::input(format!(
         "{flag}: \"{}\" is a mechanism scene, and {why}",
         safe(&scene.name)
     ))

@@ -5,22 +5,54 @@ use std::fmt;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
-use anyhow::{Context, Result};
 use serde::Serialize;
 
-use prbfit::beam::{Load, Resolution, TipPose};
-use prbfit::eval::Baseline;
-use prbfit::fea::{self, Ccx, CcxError, FeaCase, FeaError, Mesh, Section, Taper};
-use prbfit::io::files::{check_target, write_atomic};
-use prbfit::study::EffectsDecision;
+use crate::beam::{Load, Resolution, TipPose};
+use crate::eval::Baseline;
+use crate::fea::{self, Ccx, CcxError, FeaCase, FeaError, Mesh, Section, Taper};
+use crate::io::files::{check_target, write_atomic};
+use crate::scene::Scene;
+use crate::study::EffectsDecision;
 
-use super::args::FeaArgs;
-use super::output::{emit, safe, DecisionLine, Progress};
-use super::{bad, load_scene, resolve_scene};
+use super::{resolve_scene, safe, Control, DecisionLine, Progress, ReportError, Result};
+
+/// `fea`'s arguments (the CLI's flags).
+#[derive(Debug, Clone, PartialEq)]
+pub struct FeaArgs {
+    /// The CSV to write (`-o`).
+    pub output: PathBuf,
+    /// Elements along the beam (`--mesh`).
+    pub mesh: u32,
+    /// The section model (`--section`).
+    pub section: Section,
+    /// Tip thickness over root thickness (`--taper`).
+    pub taper: Taper,
+    /// Where to write the CalculiX deck; default: beside the output, extension .inp.
+    pub deck: Option<PathBuf>,
+    /// Overwrite the output and the decks if they exist.
+    pub force: bool,
+    /// Time limit of each CalculiX run, seconds.
+    pub timeout: u64,
+}
+
+impl FeaArgs {
+    /// The arguments that write `output` with the defaults of the CLI's flags.
+    pub fn new(output: PathBuf) -> FeaArgs {
+        FeaArgs {
+            output,
+            mesh: 40,
+            section: Section::PlaneStress,
+            taper: Taper::default(),
+            deck: None,
+            force: false,
+            timeout: 900,
+        }
+    }
+}
 
 /// One case: the load, the FEA tip and the beam's, in units of L.
 #[derive(Debug, Serialize)]
-struct Case {
+pub struct Case {
     path: usize,
     load: Load,
     /// `[Fx, Fy, Mz]`, N, N, N m.
@@ -35,7 +67,7 @@ struct Case {
 
 /// What `prbfit fea` did.
 #[derive(Debug, Serialize)]
-struct FeaReport {
+pub struct FeaReport {
     scene: String,
     output: String,
     decks: Vec<String>,
@@ -144,22 +176,21 @@ fn deck_path(deck: &Path, k: usize, n: usize) -> PathBuf {
     deck.with_file_name(format!("{stem}-path{k}{ext}"))
 }
 
-/// Runs `prbfit fea`.
-pub fn run(args: FeaArgs) -> Result<()> {
+/// `prbfit fea` on `scene`: writes the CSV and the decks, and compares the FEA with the beam.
+pub fn fea(scene: &Scene, args: &FeaArgs, ctl: &mut Control<'_>) -> Result<FeaReport> {
     let t0 = Instant::now();
-    let scene = load_scene(&args.common)?;
     if scene.mechanism.is_some() {
-        return Err(bad(format!(
+        return Err(ReportError::input(format!(
             "\"{}\": {}",
             safe(&scene.name),
             FeaError::Mechanism
         )));
     }
     if args.timeout == 0 {
-        return Err(bad("--timeout: must be at least 1 second"));
+        return Err(ReportError::input("--timeout: must be at least 1 second"));
     }
     let mesh = Mesh::for_tapered_beam(args.mesh, &scene.beam, args.section, args.taper)
-        .map_err(|e| bad(format!("--mesh {}: {e}", args.mesh)))?;
+        .map_err(|e| ReportError::input(format!("--mesh {}: {e}", args.mesh)))?;
     let deck_base = args
         .deck
         .clone()
@@ -170,14 +201,15 @@ pub fn run(args: FeaArgs) -> Result<()> {
     check_target(&args.output, args.force)?;
     for d in &deck_files {
         if d == &args.output {
-            return Err(bad(format!(
+            return Err(ReportError::input(format!(
                 "--deck {}: the deck would overwrite the CSV output",
                 d.display()
             )));
         }
         check_target(d, args.force)?;
     }
-    let decks = fea::scene_decks(&scene, &mesh, args.section, args.taper)?;
+    let decks = fea::scene_decks(scene, &mesh, args.section, args.taper)
+        .map_err(|e| ReportError::failed(&e))?;
     for (file, text) in deck_files.iter().zip(&decks) {
         write_atomic(file, text.as_bytes(), args.force)?;
     }
@@ -185,14 +217,17 @@ pub fn run(args: FeaArgs) -> Result<()> {
     let ccx = match Ccx::find() {
         Ok(c) => c,
         Err(e @ CcxError::NotInstalled) => {
-            anyhow::bail!("{e}; the deck was written to {}", deck_names.join(", "))
+            return Err(ReportError::solve(format!(
+                "{e}; the deck was written to {}",
+                deck_names.join(", ")
+            )))
         }
-        Err(e) => return Err(e.into()),
+        Err(e) => return Err(ReportError::failed(&e)),
     };
-    let mut progress = Progress::new("fea");
     let mut ccx_seconds = 0.0;
+    let progress = &mut *ctl.progress;
     let fea_cases = fea::solve_scene(
-        &scene,
+        scene,
         &mesh,
         args.section,
         args.taper,
@@ -200,20 +235,21 @@ pub fn run(args: FeaArgs) -> Result<()> {
         Duration::from_secs(args.timeout),
         &mut |path, seconds| {
             ccx_seconds += seconds;
-            progress.update(|| format!("load path {path}/{n} solved"));
+            progress(&Progress::Fea { path, paths: n });
         },
     )
-    .with_context(|| format!("the FEA (decks: {})", deck_names.join(", ")))?;
-    progress.finish();
+    .map_err(|e| {
+        ReportError::failed_in(format!("the FEA (decks: {})", deck_names.join(", ")), &e)
+    })?;
     write_atomic(
         &args.output,
         fea::csv(&fea_cases, args.taper).as_bytes(),
         args.force,
     )?;
 
-    let (resolved, decision) = resolve_scene(&scene)?;
-    let baseline =
-        Baseline::compute(&resolved, Resolution::default()).context("the beam beside the FEA")?;
+    let (resolved, decision) = resolve_scene(scene, &ctl.cancel)?;
+    let baseline = Baseline::compute(&resolved, Resolution::default())
+        .map_err(|e| ReportError::failed_in("the beam beside the FEA", &e))?;
     let cases = compare(&fea_cases, &baseline, scene.beam.length);
     let max = |f: fn(&Case) -> f64| cases.iter().map(f).fold(0.0, f64::max);
     let report = FeaReport {
@@ -231,7 +267,7 @@ pub fn run(args: FeaArgs) -> Result<()> {
         ccx_seconds,
         seconds: t0.elapsed().as_secs_f64(),
     };
-    emit(&report, args.common.json)
+    Ok(report)
 }
 
 /// Pairs each FEA case with the beam's solution of the same case.

@@ -5,18 +5,32 @@
 use std::fmt;
 use std::time::Instant;
 
-use anyhow::Result;
 use serde::Serialize;
 
-use prbfit::fit::CancelToken;
-use prbfit::mech::figures::Figures;
-use prbfit::scene::{Accuracy, Scene};
-use prbfit::study::select::{Rung, Selection, Unfollowed};
-use prbfit::study::{CaseForm, EffectsDecision, Sampling};
+use crate::fidelity::Fidelity;
+use crate::mech::figures::Figures;
+use crate::scene::{Accuracy, Scene};
+use crate::study::select::{Rung, Selection, Unfollowed};
+use crate::study::{CaseForm, EffectsDecision, Sampling};
 
-use super::args::SelectArgs;
-use super::output::{emit, num, safe, DecisionLine, Progress, TruthInfo, TruthLine};
-use super::{load_scene, study};
+use super::{
+    num, safe, study, Control, DecisionLine, Progress, ReportError, Result, TruthInfo, TruthLine,
+};
+
+/// `select`'s arguments (the CLI's flags).
+#[derive(Debug, Clone, PartialEq)]
+pub struct SelectArgs {
+    /// The fits' preset and the baseline's sampling.
+    pub fidelity: Fidelity,
+}
+
+impl Default for SelectArgs {
+    fn default() -> SelectArgs {
+        SelectArgs {
+            fidelity: Fidelity::Normal,
+        }
+    }
+}
 
 /// The figures' own columns in the text table: the header, a row's cells, the targets line;
 /// a mechanism's have the reaction error beside the stage's position and angle errors.
@@ -70,7 +84,7 @@ pub struct SelectOutput {
     chosen: Option<Rung>,
     closest: Option<Rung>,
     unfollowed: Vec<Unfollowed>,
-    fidelity: prbfit::fidelity::Fidelity,
+    fidelity: Fidelity,
     scene: String,
     targets: Accuracy,
     effects_decision: Option<EffectsDecision>,
@@ -179,18 +193,21 @@ impl fmt::Display for SelectOutput {
     }
 }
 
-/// Runs `prbfit select`.
-pub fn run(args: SelectArgs) -> Result<()> {
-    let scene = load_scene(&args.common)?;
+/// `prbfit select` on `scene`.
+pub fn select(scene: &Scene, args: &SelectArgs, ctl: &mut Control<'_>) -> Result<SelectOutput> {
     let t0 = Instant::now();
-    let study = study(&scene, Sampling::Fidelity(args.fidelity))?;
-    let mut progress = Progress::new("selecting");
+    let study = study(scene, Sampling::Fidelity(args.fidelity), ctl)?;
+    let progress = &mut *ctl.progress;
     let mut done = 0;
-    let selection = study.select(args.fidelity, &CancelToken::new(), &mut |row| {
-        done += 1;
-        progress.update(|| format!("{done} models judged, last {}", row.name));
-    })?;
-    progress.finish();
+    let selection = study
+        .select(args.fidelity, &ctl.cancel, &mut |row| {
+            done += 1;
+            progress(&Progress::Select {
+                done,
+                last: &row.name,
+            });
+        })
+        .map_err(|e| ReportError::failed(&e))?;
     let out = SelectOutput::new(
         selection,
         study.scene(),
@@ -202,5 +219,5 @@ pub fn run(args: SelectArgs) -> Result<()> {
             t0.elapsed().as_secs_f64(),
         ),
     );
-    emit(&out, args.common.json)
+    Ok(out)
 }

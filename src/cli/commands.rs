@@ -1,0 +1,130 @@
+//! The commands whose reports the library builds ([`prbfit::report`]): each parses its flags
+//! into the report's arguments, loads the scene, and prints the report as text or JSON. The
+//! progress of a long run goes to a progress line on stderr (a terminal only).
+
+use anyhow::Result;
+
+use prbfit::cancel::CancelToken;
+use prbfit::report::{self, Control, Progress};
+use prbfit::scene::Scene;
+
+use super::args::{
+    CalibrateArgs, Common, EvalArgs, ExportArgs, FeaArgs, FitArgs, SelectArgs, SolveArgs,
+};
+use super::load_scene;
+use super::output::{self, emit};
+
+/// Runs `report` on the scene of `common` with a progress line, and prints what it reports.
+fn run<R: serde::Serialize + std::fmt::Display>(
+    common: &Common,
+    report: impl FnOnce(&Scene, &mut Control<'_>) -> report::Result<R>,
+) -> Result<()> {
+    let scene = load_scene(common)?;
+    let mut line = output::ProgressLine::default();
+    let out = {
+        let mut progress = |p: &Progress<'_>| line.show(p);
+        let mut ctl = Control {
+            cancel: CancelToken::new(),
+            progress: &mut progress,
+        };
+        report(&scene, &mut ctl)
+    };
+    // The progress line is erased before anything is printed.
+    drop(line);
+    emit(&out?, common.json)
+}
+
+/// Runs `prbfit solve`.
+pub fn solve(args: SolveArgs) -> Result<()> {
+    let a = report::solve::SolveArgs {
+        load: args.load,
+        effects: args.effects,
+        slenderness: args.slenderness,
+        nu: args.nu,
+        kappa: args.kappa,
+        tol: args.tol,
+        shape: args.shape,
+    };
+    run(&args.common, |scene, ctl| {
+        report::solve::solve(scene, &a, ctl)
+    })
+}
+
+/// Runs `prbfit eval`.
+pub fn eval(args: EvalArgs) -> Result<()> {
+    let a = report::eval::EvalArgs {
+        prb: args.prb,
+        model: args.model,
+        load: args.load,
+        tol: args.tol,
+    };
+    run(&args.common, |scene, ctl| {
+        report::eval::eval(scene, &a, ctl)
+    })
+}
+
+/// Runs `prbfit fit`.
+pub fn fit(args: FitArgs) -> Result<()> {
+    let a = report::fit::FitArgs {
+        topology: args.topology,
+        prb: args.prb,
+        fidelity: args.fidelity,
+        seed: args.seed,
+        output: args.output,
+        force: args.force,
+    };
+    run(&args.common, |scene, ctl| report::fit::fit(scene, &a, ctl))
+}
+
+/// Runs `prbfit select`.
+pub fn select(args: SelectArgs) -> Result<()> {
+    let a = report::select::SelectArgs {
+        fidelity: args.fidelity,
+    };
+    run(&args.common, |scene, ctl| {
+        report::select::select(scene, &a, ctl)
+    })
+}
+
+/// Runs `prbfit calibrate`.
+pub fn calibrate(args: CalibrateArgs) -> Result<()> {
+    let a = report::calibrate::CalibrateArgs { param: args.param };
+    // The parameter is checked before the scene is read.
+    report::calibrate::param(&a)?;
+    run(&args.common, |scene, ctl| {
+        report::calibrate::calibrate_scene(scene, &a, ctl)
+    })
+}
+
+/// Runs `prbfit export`.
+pub fn export(args: ExportArgs) -> Result<()> {
+    let a = report::export::ExportArgs {
+        prb: args.prb,
+        model: args.model,
+        format: args.format,
+        output: args.output,
+        force: args.force,
+        density: args.density,
+        fidelity: args.fidelity,
+    };
+    // Refused before the scene is read and the baseline solved: no format, an existing file
+    // without --force, a device, a dangling link.
+    report::export::target(&a)?;
+    run(&args.common, |scene, ctl| {
+        report::export::export(scene, &a, ctl)
+    })
+}
+
+/// Runs `prbfit fea`.
+pub fn fea(args: FeaArgs) -> Result<()> {
+    let a = report::fea::FeaArgs {
+        output: args.output,
+        mesh: args.mesh,
+        section: args.section,
+        taper: args.taper,
+        deck: args.deck,
+        force: args.force,
+        timeout: args.timeout,
+    };
+    run(&args.common, |scene, ctl| report::fea::fea(scene, &a, ctl))
+}
