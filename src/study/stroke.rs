@@ -68,6 +68,86 @@ fn ratio(allowables: &[Option<f64>], youngs: &[f64], case: &MechCase) -> Option<
     worst
 }
 
+/// The stroke limit of path `path` (from 1) from its cases in order, each `(fraction,
+/// stress ratio and the flexure that sets it)` (a `None` ratio: unknown, so no limit),
+/// solving the truth at single fractions with `ratio_at(lambda)` (`None` where it cannot)
+/// inside the bracket the cases give (module docs). Every kind of scene's limits go through
+/// here: the study's ([`Study::stroke_limits`]) and `solve`'s beam with its own flags.
+pub fn path_limit(
+    path: usize,
+    cases: impl IntoIterator<Item = (f64, Option<(f64, usize)>)>,
+    ratio_at: &dyn Fn(f64) -> Option<f64>,
+) -> StrokeLimit {
+    let mut limit = StrokeLimit {
+        path,
+        fraction: None,
+        flexure: None,
+        shots: 0,
+    };
+    let mut before = (0.0, -1.0);
+    for (fraction, ratio) in cases {
+        let Some((r, i)) = ratio else {
+            return limit;
+        };
+        if r >= 1.0 {
+            let (at, shots) = search(before, (fraction, r - 1.0), &|l| {
+                ratio_at(l).map(|r| r - 1.0)
+            });
+            limit.flexure = Some(i + 1);
+            limit.fraction = Some(at);
+            limit.shots = shots;
+            break;
+        }
+        before = (fraction, r - 1.0);
+    }
+    limit
+}
+
+/// The zero of `g(lambda)` between `lo` (below) and `hi` (at or above), each
+/// `(lambda, g)`: `(lambda, solves spent)`.
+fn search(lo: (f64, f64), hi: (f64, f64), g: &dyn Fn(f64) -> Option<f64>) -> (f64, u32) {
+    let ((mut a, mut ga), (mut b, mut gb)) = (lo, hi);
+    if gb == 0.0 {
+        return (b, 0);
+    }
+    let mut shots = 0;
+    let mut side = 0i8;
+    let mut guess = b;
+    while shots < MAX_SHOTS && b - a > FRACTION_TOL {
+        guess = (a * gb - b * ga) / (gb - ga);
+        if !(guess > a && guess < b) {
+            guess = 0.5 * (a + b);
+        }
+        shots += 1;
+        let Some(gx) = g(guess) else {
+            // A fraction the solver cannot reach inside a bracket the path's own cases
+            // reached: keep the bracket's end, which did.
+            return (b, shots);
+        };
+        if gx.abs() <= 1e-10 {
+            return (guess, shots);
+        }
+        if gx < 0.0 {
+            (a, ga) = (guess, gx);
+            if side == -1 {
+                gb *= 0.5;
+            }
+            side = -1;
+        } else {
+            (b, gb) = (guess, gx);
+            if side == 1 {
+                ga *= 0.5;
+            }
+            side = 1;
+        }
+    }
+    if b - a <= FRACTION_TOL {
+        // The root lies in [a, b]: its secant estimate.
+        guess = ((a * gb - b * ga) / (gb - ga)).clamp(a, b);
+    }
+    (guess, shots)
+}
+
 impl Study {
     /// The allowable stress of each flexure (Pa; a cantilever's is its beam's), `None` where
     /// none is given.
@@ -79,108 +159,46 @@ impl Study {
             .collect()
     }
 
-    /// Each path's stroke limit, in order (module docs); `None` when no flexure has an
-    /// allowable stress.
-    pub fn stroke_limits(&self) -> Option<Vec<StrokeLimit>> {
+    /// A case's stress ratio (its largest `max_stress / allowable` over the flexures that
+    /// have an allowable) and the flexure (from 0) that sets it; `None` when one of those
+    /// flexures has no stress (measured data) or none has an allowable.
+    pub fn stress_ratio(&self, case: &MechCase) -> Option<(f64, usize)> {
         let allowables = self.allowable_stresses();
-        if allowables.iter().all(Option::is_none) {
-            return None;
-        }
         let youngs: Vec<f64> = self
             .mechanism
             .flexures
             .iter()
             .map(|f| f.beam.youngs_modulus)
             .collect();
-        let at = |c: &MechCase| ratio(&allowables, &youngs, c);
+        ratio(&allowables, &youngs, case)
+    }
+
+    /// Each path's stroke limit, in order (module docs); `None` when no flexure has an
+    /// allowable stress.
+    pub fn stroke_limits(&self) -> Option<Vec<StrokeLimit>> {
+        if self.allowable_stresses().iter().all(Option::is_none) {
+            return None;
+        }
         Some(
             self.truth
                 .iter()
                 .enumerate()
                 .map(|(p, cases)| {
-                    let mut limit = StrokeLimit {
-                        path: p + 1,
-                        fraction: None,
-                        flexure: None,
-                        shots: 0,
-                    };
-                    if self.is_measured() {
-                        return limit;
-                    }
-                    let mut before = (0.0, -1.0);
-                    for c in cases {
-                        let Some((r, i)) = at(c) else {
-                            return limit;
-                        };
-                        if r >= 1.0 {
-                            limit.flexure = Some(i + 1);
-                            let (fraction, shots) = self.search(
-                                p,
-                                (before.0, before.1),
-                                (c.fraction, r - 1.0),
-                                &|case| at(case).map(|(r, _)| r - 1.0),
-                            );
-                            limit.fraction = Some(fraction);
-                            limit.shots = shots;
-                            break;
-                        }
-                        before = (c.fraction, r - 1.0);
-                    }
-                    limit
+                    let measured = self.is_measured();
+                    path_limit(
+                        p + 1,
+                        cases
+                            .iter()
+                            .map(|c| (c.fraction, self.stress_ratio(c).filter(|_| !measured))),
+                        &|l| {
+                            self.case_at(p, l)
+                                .and_then(|c| self.stress_ratio(&c))
+                                .map(|r| r.0)
+                        },
+                    )
                 })
                 .collect(),
         )
-    }
-
-    /// The zero of `g(lambda)` (a case's ratio minus 1) on path `p` between `lo` (below) and
-    /// `hi` (at or above), each `(lambda, g)`: `(lambda, solves spent)`.
-    fn search(
-        &self,
-        p: usize,
-        lo: (f64, f64),
-        hi: (f64, f64),
-        g: &dyn Fn(&MechCase) -> Option<f64>,
-    ) -> (f64, u32) {
-        let ((mut a, mut ga), (mut b, mut gb)) = (lo, hi);
-        if gb == 0.0 {
-            return (b, 0);
-        }
-        let mut shots = 0;
-        let mut side = 0i8;
-        let mut guess = b;
-        while shots < MAX_SHOTS && b - a > FRACTION_TOL {
-            guess = (a * gb - b * ga) / (gb - ga);
-            if !(guess > a && guess < b) {
-                guess = 0.5 * (a + b);
-            }
-            shots += 1;
-            let Some(gx) = self.case_at(p, guess).as_ref().and_then(g) else {
-                // A fraction the solver cannot reach inside a bracket the path's own cases
-                // reached: keep the bracket's end, which did.
-                return (b, shots);
-            };
-            if gx.abs() <= 1e-10 {
-                return (guess, shots);
-            }
-            if gx < 0.0 {
-                (a, ga) = (guess, gx);
-                if side == -1 {
-                    gb *= 0.5;
-                }
-                side = -1;
-            } else {
-                (b, gb) = (guess, gx);
-                if side == 1 {
-                    ga *= 0.5;
-                }
-                side = 1;
-            }
-        }
-        if b - a <= FRACTION_TOL {
-            // The root lies in [a, b]: its secant estimate.
-            guess = ((a * gb - b * ga) / (gb - ga)).clamp(a, b);
-        }
-        (guess, shots)
     }
 
     /// The truth's case at `lambda` of path `p`, solved on its own from the unloaded state.
