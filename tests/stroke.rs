@@ -181,3 +181,36 @@ fn bad_allowable_stresses_are_refused_naming_the_key() {
         ],
     );
 }
+
+/// `solve --json` lists the stroke limits in order, marks the cases past them, and gives
+/// every case its stress in Pa; the text names the limits.
+#[test]
+fn solve_lists_stroke_limits_and_marks_the_cases_past_them() {
+    let dir = Scratch::new("stroke-cli");
+    let p = format!("{}/assets/scenes/default.toml", env!("CARGO_MANIFEST_DIR"));
+    let text = std::fs::read_to_string(p).unwrap();
+    let scene = dir.write(
+        "s.toml",
+        &text.replacen("[beam]", "[beam]\nallowable_stress = 1.3e9", 1),
+    );
+    let v = common::json(&prbfit(&["solve", "--scene", &scene, "--json"]));
+    let limits = v["stroke_limits"].as_array().unwrap();
+    assert_eq!(limits.len(), 4);
+    assert!((limits[2].as_f64().unwrap() - 0.65).abs() < 1e-9);
+    assert_eq!(v["allowable_stress"].as_f64(), Some(1.3e9));
+    for c in v["cases"].as_array().unwrap() {
+        let stress = c["max_stress"].as_f64().unwrap();
+        let past = c["past_stroke_limit"].as_bool().unwrap();
+        // Stress grows along every path of this scene, so past the limit is above it.
+        assert_eq!(past, stress > 1.3e9, "{c}");
+    }
+    let out = prbfit(&["solve", "--scene", &scene]);
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(text.contains("stroke limits (allowable stress 1300.0000 MPa): load path 1 at"));
+    assert!(text.contains("load path 3 at 0.650000"));
+    assert!(text.contains("past the stroke limit"));
+    // Without an allowable: stresses, but no limits.
+    let v = common::json(&prbfit(&["solve", "--json"]));
+    assert!(v["stroke_limits"].is_null());
+    assert!(v["cases"][0]["max_stress"].as_f64().unwrap() > 0.0);
+}
