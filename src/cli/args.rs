@@ -251,9 +251,11 @@ pub struct FeaArgs {
     #[arg(long, value_name = "N", default_value_t = 40)]
     pub mesh: u32,
     /// plane-stress (the beam of DESIGN §2), plane-strain (a very wide section) or solid
-    /// (the 3D strip).
-    #[arg(long, value_name = "MODEL", default_value = "plane-stress", value_parser = Section::from_str)]
-    pub section: Section,
+    /// (the 3D strip); default: the scene's, solid when its beam keeps plane strain (after
+    /// `auto` is decided), else plane-stress. A section given here is compared with the beam
+    /// of the same section.
+    #[arg(long, value_name = "MODEL", value_parser = Section::from_str)]
+    pub section: Option<Section>,
     /// Tip thickness over root thickness: the thickness tapers linearly from the scene's
     /// [beam] thickness at the clamp to R times it at the tip, the width constant (0.05 to
     /// 20; 1 is the uniform beam). The beam printed beside the FEA stays the uniform one.
