@@ -629,10 +629,19 @@ fn fea_refuses_bad_input_and_says_how_to_install_ccx() {
         "/assets/scenes/fixed-guided.toml"
     );
     let out = dir.file("d.csv");
-    assert_input_error(
-        &prbfit(&["fea", "--scene", mech, "-o", &out]),
-        &["mechanism", "not supported"],
+    // A mechanism's coupler of zero length (its stage end on its flexure's tip) is no
+    // coupler: refused naming the key, before any file is written.
+    let text = std::fs::read_to_string(mech).unwrap().replace(
+        "attach = \"clamped\"          # the tip turns with the stage",
+        "attach = \"link\"\nlink_to = [0.05, 0.0]",
     );
+    assert!(text.contains("link_to"));
+    let zero = dir.write("zero-coupler.toml", &text);
+    assert_input_error(
+        &prbfit(&["fea", "--scene", &zero, "-o", &out]),
+        &["flexures[1].link_to", "zero length"],
+    );
+    assert!(!std::path::Path::new(&out).exists());
     let scene = scene_file(&dir, SLENDER);
     assert_input_error(
         &prbfit(&["fea", "--scene", &scene, "-o", &out, "--mesh", "1"]),

@@ -270,6 +270,25 @@ impl BeamModel {
         .with_plate_fraction(ends)
     }
 
+    /// The same beam with a section `w0 / t0` wide, held flat at both ends and bent in an S
+    /// by them (a flexure clamped to the ground and to a guided stage): with plane strain
+    /// its plate fraction is the guided ends' ([`crate::beam::plate::guided_ends_fraction`]).
+    /// A ratio that is not a positive number leaves the beam as it is.
+    pub fn with_guided_width_ratio(self, width_over_thickness: f64) -> BeamModel {
+        if !(width_over_thickness.is_finite() && width_over_thickness > 0.0) {
+            return self;
+        }
+        let ends = super::plate::guided_ends_fraction(
+            width_over_thickness / self.slenderness,
+            width_over_thickness,
+        );
+        BeamModel {
+            width_ratio: Some(width_over_thickness),
+            ..self
+        }
+        .with_plate_fraction(ends)
+    }
+
     /// The same beam with the plate fraction `phi` (clamped to `[0, 1]`): the modulus is
     /// `E / (1 - nu^2 phi)` with plane strain on, `E` without it (`phi` is then 0).
     pub fn with_plate_fraction(self, phi: f64) -> BeamModel {

@@ -51,12 +51,48 @@
 //! | 10    | 0.67  | 1.5  | 0.68     | 0.64 | 0.80        | 0.72     |
 //! | 30    | 2     | 1.5  | 0.89     | 0.88 | 0.98        | 0.93     |
 //!
+//! **Guided flexures** (DESIGN §13). A flexure clamped to the ground and to a stage that
+//! keeps its tip from turning (a parallel stage's, a fixed-guided segment) is held flat at
+//! both ends and bent in an S: its bending moment peaks at *both* held ends, so more of its
+//! bending compliance lies where the ends flatten the section (within one width of an end:
+//! 87 % of it for `b / L = 1/4`, against 58 % for a cantilever under a tip force), and it
+//! stiffens far more than the cantilever's rule says. [`guided_ends_fraction`]
+//! `= 1 - exp(-2.06 (b / L)^0.84 (1 - exp(-b / (2.4 t))))` is a fit to prbfit's own 3D FEA
+//! of mechanisms (`prbfit fea --section solid` on a parallel stage of two such flexures
+//! pushed sideways by `alpha_y = 0.2`, so only the ends act): the plate fraction is
+//! `(1 - dy_solid / dy_plane_stress) / (nu^2 s_b)`, the two FEA runs on the same bricks
+//! along and through (their mesh errors cancel in part) and `s_b` the bending share of the
+//! beam mechanism's compliance (shear excluded). `tests/fea_mech.rs`
+//! (`guided_flexure_plate_fraction_sweep`, `--ignored`) prints it. Measured (mesh density
+//! `n` = bricks along; the fit's stiffness gap `nu^2 |phi - fit| / (1 - nu^2 phi)`):
+//!
+//! | b / t | b / L | nu   | n  | measured | coarser mesh   | cantilever's rule | fit  | gap    |
+//! |-------|-------|------|----|----------|----------------|-------------------|------|--------|
+//! | 10    | 0.25  | 0.3  | 80 | 0.43     | 0.46 (40), 0.50 (20) | 0.20        | 0.47 | 0.36 % |
+//! | 30    | 0.25  | 0.3  | 80 | 0.48     | 0.50 (40)      | 0.21              | 0.47 | 0.06 % |
+//! | 10    | 0.5   | 0.3  | 40 | 0.67     |                | 0.36              | 0.68 | 0.12 % |
+//! | 10    | 0.67  | 0.49 | 60 | 0.78     | 0.84 (30)      | 0.45              | 0.76 | 0.36 % |
+//! | 10    | 1     | 0.3  | 30 | 0.83     |                | 0.59              | 0.87 | 0.35 % |
+//! | 3.3   | 0.83  | 0.3  | 24 | 0.74     |                | 0.41              | 0.74 | 0.02 % |
+//! | 30    | 2     | 0.3  | 30 | 0.95     |                | 0.84              | 0.98 | 0.30 % |
+//!
+//! The fit holds every measurement within 0.4 % of stiffness (the cantilever's rule would
+//! miss them by 2-5 %). The measurements are not mesh-converged: the 3D model's fraction
+//! falls by 0.02-0.06 per halving of the bricks (the width's bricks refine with the others,
+//! and the flattening's boundary layer at the clamps converges slowly), so the converged
+//! fractions may lie up to about 0.1 below the table. At `nu = 0.3` that is under 1 % of
+//! stiffness; at `nu = 0.49` up to 2.4 %. A flexure pinned or coupled to the stage keeps
+//! the cantilever's rule (its tip moment is zero: its bending peaks at the clamp alone), and
+//! a clamped flexure bent mostly by a stage moment (a cross-axis pivot's) has a uniform
+//! moment, between the two and not measured here: it takes the guided rule, an upper bound.
+//! [`crate::scene::Flexure::model`] chooses.
+//!
 //! The plane-strain effect ([`crate::beam::Effects::plane_strain`]) is this fraction put to
 //! use: a case's modulus is `E / (1 - nu^2 phi)`. [`crate::beam::BeamSolver`] follows a load
 //! path as a narrow beam first, takes each case's fraction from that solution
 //! ([`case_fraction`]) and solves the case at it, from the unloaded beam along the same ray
 //! (so on the same branch). A beam solved without its own path (a mechanism's flexure) takes
-//! the ends' fraction alone. Against the 3D FEA the effect leaves at most 1 % of the gap in
+//! the ends' fraction alone (the guided one when it is clamped to the stage). Against the 3D FEA the effect leaves at most 1 % of the gap in
 //! stiffness (`tests/fea.rs`), where the plate modulus overshoots by 3-5 %.
 
 /// The plate fraction the ends give a strip of width `b`, thickness `t` and length `L` (a
@@ -65,6 +101,22 @@ pub fn ends_fraction(width_over_length: f64, width_over_thickness: f64) -> f64 {
     let plate_like = 1.0 - (-width_over_thickness.max(0.0) / 2.8).exp();
     1.0 - (-0.92 * width_over_length.max(0.0) * plate_like).exp()
 }
+
+/// The plate fraction the ends give a strip held flat at both ends and bent in an S by
+/// them, as a flexure clamped to the ground and to a guided stage is (a parallel stage's),
+/// of width `b`, thickness `t` and length `L`: a fit to 3D FEA of guided pairs (see the
+/// module docs), `1 - exp(-GUIDED_SCALE (b / L)^GUIDED_POWER (1 - exp(-b / (GUIDED_THICK t))))`.
+pub fn guided_ends_fraction(width_over_length: f64, width_over_thickness: f64) -> f64 {
+    let plate_like = 1.0 - (-width_over_thickness.max(0.0) / GUIDED_THICK).exp();
+    1.0 - (-GUIDED_SCALE * width_over_length.max(0.0).powf(GUIDED_POWER) * plate_like).exp()
+}
+
+/// The guided rule's scale (see [`guided_ends_fraction`]).
+pub const GUIDED_SCALE: f64 = 2.06;
+/// The guided rule's power of `b / L`.
+pub const GUIDED_POWER: f64 = 0.84;
+/// The guided rule's thickness scale: the section is plate-like beyond a few of these.
+pub const GUIDED_THICK: f64 = 2.4;
 
 /// The plate fraction of a load case from its ends' and anticlastic fractions: the mean of
 /// their maximum and of `1 - (1 - ends)(1 - anticlastic)` (fitted to 3D FEA, see the module
@@ -201,6 +253,29 @@ mod tests {
         ] {
             assert!((ends_fraction(b_l, b_t) - fit).abs() < 0.006, "{b_t} {b_l}");
         }
+    }
+
+    /// The guided rule of the module docs: its fit column, and the measured fractions (3D
+    /// FEA, `tests/fea_mech.rs`) within its stated stiffness gap of 0.4 %.
+    #[test]
+    fn the_guided_rule_meets_its_table() {
+        for (b_t, b_l, nu, measured, fit) in [
+            (10.0, 0.25, 0.3, 0.431, 0.469),
+            (30.0, 0.25, 0.3, 0.481, 0.474),
+            (10.0, 0.5, 0.3, 0.665, 0.678),
+            (10.0, 2.0 / 3.0, 0.49, 0.776, 0.764),
+            (10.0, 1.0, 0.3, 0.833, 0.868),
+            (10.0 / 3.0, 0.8333, 0.3, 0.737, 0.735),
+            (30.0, 2.0, 0.3, 0.945, 0.975),
+        ] {
+            let got = guided_ends_fraction(b_l, b_t);
+            assert!((got - fit).abs() < 0.001, "{b_t} {b_l}: {got}");
+            let gap = nu * nu * (measured - got).abs() / (1.0 - nu * nu * got.max(measured));
+            assert!(gap < 0.004, "{b_t} {b_l}: gap {gap}");
+            // Stiffer than the cantilever's ends: held at both ends.
+            assert!(got > ends_fraction(b_l, b_t));
+        }
+        assert_eq!(guided_ends_fraction(0.0, 10.0), 0.0);
     }
 
     #[test]

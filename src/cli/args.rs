@@ -44,8 +44,8 @@ pub enum Command {
     Plot(PlotArgs),
     /// Fit one beam parameter (E or the thickness) to a data scene's measurements.
     Calibrate(CalibrateArgs),
-    /// FEA of the scene's beam with CalculiX (ccx) along the scene's load paths, written as
-    /// measured-data CSV (DESIGN §9), the beam beside it.
+    /// FEA of the scene's beam or mechanism with CalculiX (ccx) along its load or drive
+    /// paths, written as measured-data CSV (DESIGN §9, §13), the beam beside it.
     Fea(FeaArgs),
     /// Open the terminal UI (the default with no command) on a scene file or the built-in one.
     Tui {
@@ -243,10 +243,11 @@ pub struct PlotArgs {
 pub struct FeaArgs {
     #[command(flatten)]
     pub common: Common,
-    /// The CSV to write (DESIGN §9: path,fx,fy,mz,x,y,theta in SI).
+    /// The CSV to write (DESIGN §9: path,fx,fy,mz,x,y,theta in SI; a mechanism's: path, the
+    /// drive's inputs and stage_dx..stage_mz).
     #[arg(short = 'o', long = "output", value_name = "FILE")]
     pub output: PathBuf,
-    /// Mesh density: elements along the beam (through the thickness and across the width in
+    /// Mesh density: elements along the beam, or along flexure 1 (through the thickness and across the width in
     /// proportion, at least one).
     #[arg(long, value_name = "N", default_value_t = 40)]
     pub mesh: u32,
@@ -261,14 +262,14 @@ pub struct FeaArgs {
     /// 20; 1 is the uniform beam). The beam printed beside the FEA stays the uniform one.
     #[arg(long, value_name = "R", default_value = "1", value_parser = Taper::from_str)]
     pub taper: Taper,
-    /// Where to write the CalculiX deck (one per load path, numbered -pathK when there are
+    /// Where to write the CalculiX deck (one per load or drive path, numbered -pathK when there are
     /// several); default: beside the output, with extension .inp.
     #[arg(long, value_name = "FILE.inp")]
     pub deck: Option<PathBuf>,
     /// Overwrite the output and the decks if they exist.
     #[arg(long)]
     pub force: bool,
-    /// Time limit of each CalculiX run (one per load path), seconds.
+    /// Time limit of each CalculiX run (one per load or drive path), seconds.
     #[arg(long, value_name = "SECONDS", default_value_t = 900)]
     pub timeout: u64,
 }

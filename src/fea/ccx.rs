@@ -45,6 +45,15 @@ pub enum CcxError {
     },
 }
 
+/// A failed run: why, and the `.dat` text it had written by then (empty if none).
+#[derive(Debug)]
+pub struct CcxFailure {
+    /// Why it failed.
+    pub error: CcxError,
+    /// Its `.dat` output up to the failure.
+    pub dat: String,
+}
+
 /// A CalculiX solver executable.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Ccx {
@@ -78,8 +87,22 @@ impl Ccx {
     /// `timeout`. A run that prints `*ERROR` or exits with a failure status is an error
     /// carrying CalculiX's own message.
     pub fn run(&self, deck: &str, timeout: Duration) -> Result<CcxOutput, CcxError> {
-        let dir = scratch_dir()?;
-        let result = self.run_in(&dir, deck, timeout);
+        self.run_partial(deck, timeout).map_err(|f| f.error)
+    }
+
+    /// [`Ccx::run`], keeping what a failed run had written to its `.dat` file by then (the
+    /// steps that converged before it stopped).
+    pub fn run_partial(&self, deck: &str, timeout: Duration) -> Result<CcxOutput, CcxFailure> {
+        let dir = scratch_dir().map_err(|error| CcxFailure {
+            error,
+            dat: String::new(),
+        })?;
+        let result = self
+            .run_in(&dir, deck, timeout)
+            .map_err(|error| CcxFailure {
+                error,
+                dat: fs::read_to_string(dir.join(format!("{JOB}.dat"))).unwrap_or_default(),
+            });
         let _ = fs::remove_dir_all(&dir);
         result
     }

@@ -55,8 +55,11 @@ pub enum DatError {
     },
 }
 
-/// One printed block: its set, total time and the first node's `(ux, uy, uz)`.
+/// One printed block: what it prints (`U` or `RF`), its set, total time and the first
+/// node's three values.
 struct Block {
+    /// Displacements (`true`) or forces.
+    displacement: bool,
     set: String,
     time: f64,
     u: Option<[f64; 3]>,
@@ -68,6 +71,7 @@ fn shorten(s: &str) -> String {
 
 fn blocks(text: &str) -> Result<Vec<Block>, DatError> {
     const HEAD: &str = "displacements (vx,vy,vz) for set ";
+    const FORCES: &str = "forces (fx,fy,fz) for set ";
     let mut out: Vec<Block> = Vec::new();
     let mut in_block = false;
     for (n, raw) in text.lines().enumerate() {
@@ -75,7 +79,11 @@ fn blocks(text: &str) -> Result<Vec<Block>, DatError> {
         if line.is_empty() {
             continue;
         }
-        if let Some(rest) = line.strip_prefix(HEAD) {
+        let header = line
+            .strip_prefix(HEAD)
+            .map(|r| (true, r))
+            .or_else(|| line.strip_prefix(FORCES).map(|r| (false, r)));
+        if let Some((displacement, rest)) = header {
             let bad = || DatError::BadHeader {
                 line: n + 1,
                 text: shorten(line),
@@ -86,6 +94,7 @@ fn blocks(text: &str) -> Result<Vec<Block>, DatError> {
                 return Err(bad());
             }
             out.push(Block {
+                displacement,
                 set: set.trim().to_string(),
                 time,
                 u: None,
@@ -121,16 +130,24 @@ fn blocks(text: &str) -> Result<Vec<Block>, DatError> {
     Ok(out)
 }
 
+/// The values printed for `set` at total time `time` (the last such block): displacements
+/// or forces.
+fn value_at(blocks: &[Block], displacement: bool, set: &str, time: f64) -> Option<[f64; 3]> {
+    blocks
+        .iter()
+        .rev()
+        .find(|b| {
+            b.displacement == displacement
+                && b.set.eq_ignore_ascii_case(set)
+                && (b.time - time).abs() <= 1e-6 * time
+        })
+        .and_then(|b| b.u)
+}
+
 /// The tip at the end of each of `steps` steps, from the text of a `.dat` file.
 pub fn step_ends(text: &str, steps: usize) -> Result<Vec<StepEnd>, DatError> {
     let blocks = blocks(text)?;
-    let at = |set: &str, time: f64| {
-        blocks
-            .iter()
-            .rev()
-            .find(|b| b.set.eq_ignore_ascii_case(set) && (b.time - time).abs() <= 1e-6 * time)
-            .and_then(|b| b.u)
-    };
+    let at = |set: &str, time: f64| value_at(&blocks, true, set, time);
     (1..=steps)
         .map(|k| {
             let time = k as f64;
@@ -144,6 +161,57 @@ pub fn step_ends(text: &str, steps: usize) -> Result<Vec<StepEnd>, DatError> {
             }
         })
         .collect()
+}
+
+/// What the end of one step of a mechanism left at the stage: its reference node's and
+/// rotation node's displacements and reactions.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StageEnd {
+    /// `[ux, uy, rotation]` of the stage point, m and rad.
+    pub pose: [f64; 3],
+    /// `[Fx, Fy, Mz]` printed as reactions at the stage point (N, N m): the load the
+    /// boundary conditions put on the stage where a coordinate is prescribed, the applied
+    /// load where it is loaded.
+    pub reaction: [f64; 3],
+}
+
+/// The stage at the end of each of `steps` steps, from the text of a `.dat` file that
+/// prints `U` and `RF` of the sets `reference` (the stage point) and `rotation` (its
+/// rotation node).
+pub fn stage_ends(
+    text: &str,
+    steps: usize,
+    reference: &str,
+    rotation: &str,
+) -> Result<Vec<StageEnd>, DatError> {
+    let blocks = blocks(text)?;
+    (1..=steps)
+        .map(|k| {
+            let time = k as f64;
+            let u = value_at(&blocks, true, reference, time);
+            let r = value_at(&blocks, true, rotation, time);
+            let fu = value_at(&blocks, false, reference, time);
+            let fr = value_at(&blocks, false, rotation, time);
+            match (u, r, fu, fr) {
+                (Some(u), Some(r), Some(fu), Some(fr)) => Ok(StageEnd {
+                    pose: [u[0], u[1], r[2]],
+                    reaction: [fu[0], fu[1], fr[2]],
+                }),
+                _ => Err(DatError::MissingStep { step: k, steps }),
+            }
+        })
+        .collect()
+}
+
+/// How many steps of `steps` have a complete result for `set`'s displacement: the steps
+/// that converged before an analysis stopped.
+pub fn finished_steps(text: &str, steps: usize, set: &str) -> usize {
+    let Ok(blocks) = blocks(text) else {
+        return 0;
+    };
+    (1..=steps)
+        .take_while(|&k| value_at(&blocks, true, set, k as f64).is_some())
+        .count()
 }
 
 #[cfg(test)]

@@ -102,6 +102,14 @@ impl Grid {
     }
 }
 
+/// The opening of every load case's step: geometrically nonlinear, automatic increments from
+/// the whole step down to 1e-5 of it, and tight convergence controls (residual 1e-7 of the
+/// mean force).
+pub(super) const STEP_HEAD: &str = "*STEP, NLGEOM, INC=1000\n\
+     *STATIC\n1.0, 1.0, 1e-5, 1.0\n\
+     *CONTROLS, PARAMETERS=TIME INCREMENTATION\n8, 16, 9, 200, 10, 4, 0, 5\n\
+     *CONTROLS, PARAMETERS=FIELD\n1e-7, 1e-6\n";
+
 /// The material constants CalculiX is given: `(E, nu)` of the bricks. Plane stress is
 /// modelled as plane strain with `E* = E (1 + 2 nu) / (1 + nu)^2`, `nu* = nu / (1 + nu)`,
 /// whose in-plane law is exactly plane stress's with `E, nu` (the same condensed matrix
@@ -138,7 +146,6 @@ pub fn deck(
     let grid = Grid::new(mesh);
     let (width, share) = modelled_width(beam, section);
     let (l, t) = (beam.length, beam.thickness);
-    let (ex, ey, ez) = (grid.nx - 1, grid.ny - 1, grid.nz - 1);
     let reference = grid.count + 1;
     let rotation = grid.count + 2;
     let mut out = String::new();
@@ -162,67 +169,26 @@ pub fn deck(
         );
     }
     let _ = writeln!(out, "*HEADING\nprbfit beam\n*NODE");
-    for (id, i, j, k) in grid.nodes() {
-        let x = l * i as f64 / ex as f64;
-        // The local thickness; exactly `t` on a uniform beam (a factor of exactly 1), so its
-        // deck is the one written before tapers existed.
-        let t = t * taper.thickness_factor(i as f64 / ex as f64);
-        let y = -t / 2.0 + t * j as f64 / ey as f64;
-        let z = width * k as f64 / ez as f64;
-        let _ = writeln!(out, "{id}, {x:.12e}, {y:.12e}, {z:.12e}");
-    }
+    let slab = Slab {
+        beam,
+        mesh,
+        section,
+        taper,
+        nodes: 0,
+        elements: 0,
+    };
+    slab.write_nodes(&mut out, &|p| p);
     let _ = writeln!(
         out,
         "{reference}, {l:.12e}, 0, 0\n{rotation}, {l:.12e}, 0, 0"
     );
-    let _ = writeln!(out, "*ELEMENT, TYPE=C3D20R, ELSET=EBEAM");
-    let mut element = 0;
-    for ez_ in 0..mesh.across as usize {
-        for ey_ in 0..mesh.through as usize {
-            for ex_ in 0..mesh.along as usize {
-                element += 1;
-                let ids: Vec<String> = BRICK
-                    .iter()
-                    .map(|&(a, b, c)| grid.id(2 * ex_ + a, 2 * ey_ + b, 2 * ez_ + c).to_string())
-                    .collect();
-                // At most 16 entries on a line: the first 15 nodes, then the other 5.
-                let _ = writeln!(
-                    out,
-                    "{element}, {},\n{}",
-                    ids[..15].join(", "),
-                    ids[15..].join(", ")
-                );
-            }
-        }
-    }
-    let set = |out: &mut String, name: &str, ids: Vec<usize>| {
-        let _ = writeln!(out, "*NSET, NSET={name}");
-        for chunk in ids.chunks(16) {
-            let line: Vec<String> = chunk.iter().map(ToString::to_string).collect();
-            let _ = writeln!(out, "{},", line.join(", "));
-        }
-    };
-    let nodes: Vec<(usize, usize, usize, usize)> = grid.nodes().collect();
-    let pick = |f: &dyn Fn(usize, usize) -> bool| -> Vec<usize> {
-        nodes
-            .iter()
-            .filter(|&&(_, i, _, k)| f(i, k))
-            .map(|&(id, ..)| id)
-            .collect()
-    };
-    set(&mut out, "NROOT", pick(&|i, _| i == 0));
-    set(&mut out, "NTIP", pick(&|i, _| i == ex));
-    // Out of the plane: the plane models hold every node in its plane (plane strain, and
-    // plane stress through its equivalent material); the solid holds its symmetry plane.
-    // Root and tip nodes are held by the clamp and the rigid tip instead.
-    let inner = |i: usize| i > 0 && i < ex;
-    let held = match section {
-        Section::PlaneStress | Section::PlaneStrain => pick(&|i, _| inner(i)),
-        Section::Solid => pick(&|i, k| inner(i) && k == 0),
-    };
-    set(&mut out, "NPLANE", held);
-    set(&mut out, REF_SET, vec![reference]);
-    set(&mut out, ROT_SET, vec![rotation]);
+    slab.write_elements(&mut out, "EBEAM");
+    let sets = slab.sets();
+    node_set(&mut out, "NROOT", &sets.root);
+    node_set(&mut out, "NTIP", &sets.tip);
+    node_set(&mut out, "NPLANE", &sets.plane);
+    node_set(&mut out, REF_SET, &[reference]);
+    node_set(&mut out, ROT_SET, &[rotation]);
     let (e, nu) = material(beam, section);
     // CalculiX reads at most 20 characters a field: 13 digits in scientific notation.
     let _ = writeln!(
@@ -236,15 +202,134 @@ pub fn deck(
         let [fx, fy, mz] = load.map(|v| v * share);
         let _ = writeln!(
             out,
-            "*STEP, NLGEOM, INC=1000\n\
-             *STATIC\n1.0, 1.0, 1e-5, 1.0\n\
-             *CONTROLS, PARAMETERS=TIME INCREMENTATION\n8, 16, 9, 200, 10, 4, 0, 5\n\
-             *CONTROLS, PARAMETERS=FIELD\n1e-7, 1e-6\n\
-             *CLOAD\n{reference}, 1, {fx:.12e}\n{reference}, 2, {fy:.12e}\n{rotation}, 3, {mz:.12e}\n\
+            "{STEP_HEAD}*CLOAD\n{reference}, 1, {fx:.12e}\n{reference}, 2, {fy:.12e}\n{rotation}, 3, {mz:.12e}\n\
              *NODE PRINT, NSET={REF_SET}\nU\n*NODE PRINT, NSET={ROT_SET}\nU\n*END STEP"
         );
     }
     out
+}
+
+/// Writes a node set, at most 16 numbers a line.
+pub(super) fn node_set(out: &mut String, name: &str, ids: &[usize]) {
+    let _ = writeln!(out, "*NSET, NSET={name}");
+    for chunk in ids.chunks(16) {
+        let line: Vec<String> = chunk.iter().map(ToString::to_string).collect();
+        let _ = writeln!(out, "{},", line.join(", "));
+    }
+}
+
+/// The node sets of one slab: its root face (the clamp), its tip face, and the nodes held
+/// out of the plane (every node but the root's and tip's in the plane models, the symmetry
+/// plane's in the solid).
+pub(super) struct SlabSets {
+    /// The clamped face.
+    pub root: Vec<usize>,
+    /// The tip face.
+    pub tip: Vec<usize>,
+    /// Held out of the plane (z).
+    pub plane: Vec<usize>,
+}
+
+/// One beam's slab of bricks, its nodes numbered after `nodes` and its elements after
+/// `elements` (so several slabs share one deck), in its own frame: x along the length from
+/// the root, y through the thickness (centred), z across the modelled width.
+pub(super) struct Slab<'a> {
+    /// The beam.
+    pub beam: &'a BeamSpec,
+    /// Its mesh.
+    pub mesh: &'a Mesh,
+    /// The section model.
+    pub section: Section,
+    /// Its taper.
+    pub taper: Taper,
+    /// Node numbers already used.
+    pub nodes: usize,
+    /// Element numbers already used.
+    pub elements: usize,
+}
+
+impl Slab<'_> {
+    /// How many nodes the slab has.
+    pub fn node_count(&self) -> usize {
+        Grid::new(self.mesh).count
+    }
+
+    /// How many elements the slab has.
+    pub fn element_count(&self) -> usize {
+        (self.mesh.along * self.mesh.through * self.mesh.across) as usize
+    }
+
+    /// The `*NODE` lines (no header), each node's frame position put in place by `place`.
+    pub fn write_nodes(&self, out: &mut String, place: &dyn Fn([f64; 3]) -> [f64; 3]) {
+        let grid = Grid::new(self.mesh);
+        let (width, _) = modelled_width(self.beam, self.section);
+        let (l, t0) = (self.beam.length, self.beam.thickness);
+        let (ex, ey, ez) = (grid.nx - 1, grid.ny - 1, grid.nz - 1);
+        for (id, i, j, k) in grid.nodes() {
+            let x = l * i as f64 / ex as f64;
+            // The local thickness; exactly `t0` on a uniform beam (a factor of exactly 1),
+            // so its deck is the one written before tapers existed.
+            let t = t0 * self.taper.thickness_factor(i as f64 / ex as f64);
+            let y = -t / 2.0 + t * j as f64 / ey as f64;
+            let z = width * k as f64 / ez as f64;
+            let [x, y, z] = place([x, y, z]);
+            let _ = writeln!(out, "{}, {x:.12e}, {y:.12e}, {z:.12e}", id + self.nodes);
+        }
+    }
+
+    /// The `*ELEMENT` block of C3D20R bricks in the element set `elset`.
+    pub fn write_elements(&self, out: &mut String, elset: &str) {
+        let grid = Grid::new(self.mesh);
+        let _ = writeln!(out, "*ELEMENT, TYPE=C3D20R, ELSET={elset}");
+        let mut element = self.elements;
+        for ez_ in 0..self.mesh.across as usize {
+            for ey_ in 0..self.mesh.through as usize {
+                for ex_ in 0..self.mesh.along as usize {
+                    element += 1;
+                    let ids: Vec<String> = BRICK
+                        .iter()
+                        .map(|&(a, b, c)| {
+                            (grid.id(2 * ex_ + a, 2 * ey_ + b, 2 * ez_ + c) + self.nodes)
+                                .to_string()
+                        })
+                        .collect();
+                    // At most 16 entries on a line: the first 15 nodes, then the other 5.
+                    let _ = writeln!(
+                        out,
+                        "{element}, {},\n{}",
+                        ids[..15].join(", "),
+                        ids[15..].join(", ")
+                    );
+                }
+            }
+        }
+    }
+
+    /// The slab's root, tip and out-of-plane node sets.
+    pub fn sets(&self) -> SlabSets {
+        let grid = Grid::new(self.mesh);
+        let ex = grid.nx - 1;
+        let nodes: Vec<(usize, usize, usize, usize)> = grid.nodes().collect();
+        let pick = |f: &dyn Fn(usize, usize) -> bool| -> Vec<usize> {
+            nodes
+                .iter()
+                .filter(|&&(_, i, _, k)| f(i, k))
+                .map(|&(id, ..)| id + self.nodes)
+                .collect()
+        };
+        // Out of the plane: the plane models hold every node in its plane (plane strain, and
+        // plane stress through its equivalent material); the solid holds its symmetry plane.
+        // Root and tip nodes are held by the clamp and the rigid tip instead.
+        let inner = |i: usize| i > 0 && i < ex;
+        SlabSets {
+            root: pick(&|i, _| i == 0),
+            tip: pick(&|i, _| i == ex),
+            plane: match self.section {
+                Section::PlaneStress | Section::PlaneStrain => pick(&|i, _| inner(i)),
+                Section::Solid => pick(&|i, k| inner(i) && k == 0),
+            },
+        }
+    }
 }
 
 #[cfg(test)]

@@ -51,6 +51,7 @@
 pub mod ccx;
 pub mod dat;
 pub mod deck;
+pub mod mech;
 
 use std::fmt;
 use std::str::FromStr;
@@ -62,7 +63,7 @@ use crate::beam::Load;
 use crate::scene::{BeamSpec, Scene};
 use crate::si::load_si;
 
-pub use ccx::{Ccx, CcxError, INSTALL_HINT};
+pub use ccx::{Ccx, CcxError, CcxFailure, INSTALL_HINT};
 pub use dat::{DatError, StepEnd};
 
 /// How the section is modelled.
@@ -282,8 +283,8 @@ pub struct FeaCase {
 /// Why an FEA of a scene failed.
 #[derive(Debug, thiserror::Error)]
 pub enum FeaError {
-    /// A mechanism scene: only the single cantilever is modelled.
-    #[error("FEA of mechanism scenes is not supported: `prbfit fea` models a single cantilever's [beam] under [[loads]]")]
+    /// A mechanism scene given to the cantilever's model ([`mech`] models mechanisms).
+    #[error("a mechanism scene: its FEA is the mechanism's (fea::mech), not a cantilever's")]
     Mechanism,
     /// Running CalculiX failed on a path.
     #[error("load path {path}: {source}")]

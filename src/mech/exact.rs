@@ -66,11 +66,10 @@ pub fn solver(
 ) -> Result<MechSolver<BeamFlexure>, MechError> {
     let mut models = Vec::with_capacity(mechanism.flexures.len());
     for (i, f) in mechanism.flexures.iter().enumerate() {
-        let solver =
-            BeamSolver::new(f.beam.model(), resolution).map_err(|e| MechError::Flexure {
-                flexure: i + 1,
-                source: e.into(),
-            })?;
+        let solver = BeamSolver::new(f.model(), resolution).map_err(|e| MechError::Flexure {
+            flexure: i + 1,
+            source: e.into(),
+        })?;
         models.push(BeamFlexure { solver });
     }
     Ok(MechSolver::new(

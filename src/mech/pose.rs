@@ -88,7 +88,7 @@ pub fn exact(
     let solvers = mechanism
         .flexures
         .iter()
-        .map(|f| BeamSolver::new(f.beam.model(), resolution))
+        .map(|f| BeamSolver::new(f.model(), resolution))
         .collect::<Result<Vec<_>, _>>()?;
     cases
         .iter()
@@ -123,7 +123,7 @@ pub fn chains(
     let solvers: Vec<PrbSolver> = mechanism
         .flexures
         .iter()
-        .map(|f| PrbSolver::new(matrix, f.beam.model().axial_compliance()))
+        .map(|f| PrbSolver::new(matrix, f.model().axial_compliance()))
         .collect();
     cases
         .iter()

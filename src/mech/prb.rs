@@ -94,7 +94,7 @@ pub fn solver(mechanism: &Mechanism, matrix: &PrbMatrix, tol: f64) -> MechSolver
     let models = mechanism
         .flexures
         .iter()
-        .map(|f| ChainFlexure::new(PrbSolver::new(matrix, f.beam.model().axial_compliance())))
+        .map(|f| ChainFlexure::new(PrbSolver::new(matrix, f.model().axial_compliance())))
         .collect();
     MechSolver::new(Geometry::new(mechanism), models, tol)
 }

@@ -168,7 +168,7 @@ impl fmt::Display for FeaReport {
 
 /// Where path `k` (1-based) of `n` goes: `deck` itself for one path, else `deck` with
 /// `-path{k}` before its extension.
-fn deck_path(deck: &Path, k: usize, n: usize) -> PathBuf {
+pub(super) fn deck_path(deck: &Path, k: usize, n: usize) -> PathBuf {
     if n == 1 {
         return deck.to_path_buf();
     }
@@ -188,7 +188,7 @@ pub fn fea(scene: &Scene, args: &FeaArgs, ctl: &mut Control<'_>) -> Result<FeaRe
     let t0 = Instant::now();
     if scene.mechanism.is_some() {
         return Err(ReportError::input(format!(
-            "\"{}\": {}",
+            "\"{}\": {} (its report is the mechanism FEA's, report::fea_mech)",
             safe(&scene.name),
             FeaError::Mechanism
         )));

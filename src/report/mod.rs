@@ -14,6 +14,7 @@ mod common;
 pub mod eval;
 pub mod export;
 pub mod fea;
+pub mod fea_mech;
 pub mod fit;
 pub mod select;
 pub mod solve;

@@ -56,6 +56,19 @@ impl Flexure {
         ]
     }
 
+    /// Its beam model in the mechanism: the beam's ([`BeamSpec::model`]), whose plane-strain
+    /// plate fraction is the guided flexure's when the tip is clamped to the stage (held flat
+    /// at both ends, [`crate::beam::plate::guided_ends_fraction`]) and the cantilever's ends'
+    /// when it is pinned or coupled (the tip free to turn, its moment zero: the bending
+    /// peaks at the clamp alone, as a cantilever's under a tip force).
+    pub fn model(&self) -> crate::beam::BeamModel {
+        let model = self.beam.model();
+        match self.attach {
+            Attach::Clamped => model.with_guided_width_ratio(self.beam.width / self.beam.thickness),
+            Attach::Pinned | Attach::Link { .. } => model,
+        }
+    }
+
     /// Checks the flexure's rules: a finite `root` and `angle_deg`, its beam's rules
     /// ([`BeamSpec::validate`]: its overrides are keys of the flexure's own table) and a
     /// finite coupler end (`link_to`). A scene puts the keys under `flexures[i]`.

@@ -52,7 +52,7 @@ pub struct EffectsDecision {
     pub impacts: Vec<EffectImpact>,
     /// Where the section lies between the narrow beam and the plate (the plate fraction the
     /// plane-strain effect uses, case by case); `None` on mechanism scenes, whose flexures
-    /// take their ends' fraction.
+    /// take their ends' fraction (the guided flexure's when clamped to the stage).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub plate: Option<PlateCriterion>,
     /// The tip change of dropping every dropped effect together (checked, not assumed), as a
@@ -306,9 +306,10 @@ fn decide_mechanism_effects(
         m
     };
     let mut solved: Vec<(Effects, Vec<Vec<MechCase>>)> = Vec::new();
-    // A flexure's plate stiffening in a mechanism is its ends' (`BeamModel::with_width_ratio`):
-    // the anticlastic part is load dependent, and the mechanism solver does not follow each
-    // flexure's own load path case by case.
+    // A flexure's plate stiffening in a mechanism is its ends' (`Flexure::model`: the guided
+    // flexure's when its tip is clamped to the stage, the cantilever's when pinned or
+    // coupled): the anticlastic part is load dependent, and the mechanism solver does not
+    // follow each flexure's own load path case by case.
     let full = Effects::ALL.with_plane_strain(true);
     decide(
         accuracy,

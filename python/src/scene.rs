@@ -1,0 +1,557 @@
+//! `prbfit.Scene`: a scene (DESIGN §5, §8, §9) read from a file or text, edited from Python
+//! by the scene's own rules, and the commands run on it.
+
+use std::path::PathBuf;
+use std::str::FromStr;
+
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList, PyTuple};
+
+use prbfit::beam::{Effects, Load};
+use prbfit::fea::{Section, Taper};
+use prbfit::fidelity::Fidelity;
+use prbfit::format::Format;
+use prbfit::prb::PrbMatrix;
+use prbfit::report::{self, Control, ReportError};
+use prbfit::scene::{EffectsChoice, LoadPath};
+
+use crate::convert::{extract, finite};
+use crate::errors;
+use crate::matrix::Matrix;
+use crate::results::{Calibration, Evaluation, Export, Fea, Fit, Report, Selection, Solution};
+use crate::run::run;
+
+/// A scene: the beam (or a mechanism's flexures, or measured data), its load paths, targets
+/// and model. Edits are checked by the scene's rules: a broken one raises `InputError`
+/// naming the key and leaves the scene as it was.
+#[pyclass(module = "prbfit")]
+#[derive(Clone)]
+pub struct Scene {
+    pub inner: prbfit::scene::Scene,
+}
+
+/// The report of `work`, as JSON and text, computed on the worker thread.
+fn report_of<R: serde::Serialize + std::fmt::Display>(r: &R) -> report::Result<Report> {
+    let value = serde_json::to_value(r)
+        .map_err(|e| ReportError::solve(format!("internal error: the report: {e}")))?;
+    Ok(Report {
+        value,
+        text: r.to_string(),
+    })
+}
+
+/// A result of class `C`.
+macro_rules! result {
+    ($py:expr, $report:expr, $class:expr) => {{
+        let init = pyo3::PyClassInitializer::from($report).add_subclass($class);
+        Ok(Py::new($py, init)?.into_any())
+    }};
+}
+
+fn fidelity(text: &str) -> PyResult<Fidelity> {
+    Fidelity::from_str(text).map_err(|e| errors::input("fidelity", e))
+}
+
+fn load_arg(value: Option<&Bound<'_, PyAny>>) -> PyResult<Option<Load>> {
+    let Some(v) = value else { return Ok(None) };
+    let [alpha_x, alpha_y, beta]: [f64; 3] = extract("load", v, "(alpha_x, alpha_y, beta)")?;
+    for x in [alpha_x, alpha_y, beta] {
+        finite("load", x)?;
+    }
+    Ok(Some(Load {
+        alpha_x,
+        alpha_y,
+        beta,
+    }))
+}
+
+/// A model argument: a `Matrix` or matrix text goes as a matrix (`--prb`), any other text
+/// as a published name or model file (`--model`).
+enum ModelArg {
+    Matrix(String),
+    Named(String),
+}
+
+fn model_arg(argument: &str, v: &Bound<'_, PyAny>) -> PyResult<ModelArg> {
+    if let Ok(text) = v.extract::<String>() {
+        return Ok(match PrbMatrix::parse(&text) {
+            Ok(_) => ModelArg::Matrix(text),
+            Err(_) => ModelArg::Named(text),
+        });
+    }
+    Ok(ModelArg::Matrix(Matrix::from_any(argument, v)?.to_text()))
+}
+
+impl Scene {
+    /// `scene` checked by its rules: bad input with the rule's message if broken.
+    fn checked(scene: prbfit::scene::Scene) -> PyResult<Scene> {
+        scene
+            .validate()
+            .map_err(|e| errors::report_error(ReportError::from(e)))?;
+        Ok(Scene { inner: scene })
+    }
+
+    /// The scene with the beam values of `kwargs` set.
+    fn edited_beam(&self, kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<Scene> {
+        let mut scene = self.inner.clone();
+        let b = &mut scene.beam;
+        for (k, v) in kwargs.into_iter().flat_map(|d| d.iter()) {
+            let key: String = extract("beam key", &k, "a key name")?;
+            let arg = format!("beam.{key}");
+            let number = |v: &Bound<'_, PyAny>| -> PyResult<f64> {
+                finite(&arg, extract(&arg, v, "a number")?)
+            };
+            match key.as_str() {
+                "length" => b.length = number(&v)?,
+                "width" => b.width = number(&v)?,
+                "thickness" => b.thickness = number(&v)?,
+                "youngs_modulus" => b.youngs_modulus = number(&v)?,
+                "poisson_ratio" => b.poisson_ratio = number(&v)?,
+                "shear_coefficient" => {
+                    b.shear_coefficient = if v.is_none() { None } else { Some(number(&v)?) }
+                }
+                "effects" => {
+                    let text: String = extract(&arg, &v, "a string (auto, none, all or a list)")?;
+                    b.effects = if text.trim() == "auto" {
+                        EffectsChoice::Auto
+                    } else {
+                        EffectsChoice::Fixed(
+                            Effects::parse_list(&text).map_err(|e| errors::input(&arg, e))?,
+                        )
+                    };
+                }
+                _ => {
+                    return Err(errors::input(
+                        &arg,
+                        "no such beam value (length, width, thickness, youngs_modulus, \
+                         poisson_ratio, shear_coefficient, effects)",
+                    ))
+                }
+            }
+        }
+        let scene = scene
+            .rebased(&self.inner.beam)
+            .map_err(|e| errors::input("beam", e))?;
+        Scene::checked(scene)
+    }
+}
+
+#[pymethods]
+impl Scene {
+    /// Reads a scene file (TOML; a data scene's CSV beside it).
+    #[staticmethod]
+    fn load(path: PathBuf) -> PyResult<Scene> {
+        prbfit::scene::Scene::from_file(&path)
+            .map(|inner| Scene { inner })
+            .map_err(|e| errors::report_error(ReportError::from(e)))
+    }
+
+    /// Parses a scene from TOML text; `origin` names it in errors. A data scene (`[truth]`)
+    /// is refused: its measurements are a file beside the scene, read by `Scene.load`.
+    #[staticmethod]
+    #[pyo3(signature = (text, origin = "<string>"))]
+    fn from_toml(text: &str, origin: &str) -> PyResult<Scene> {
+        let scene = prbfit::scene::Scene::from_toml_str(text, origin)
+            .map_err(|e| errors::report_error(ReportError::from(e)))?;
+        if let Some(t) = &scene.truth {
+            return Err(errors::input(
+                "text",
+                format!(
+                    "{origin} is a data scene: its measurements ({}) are read beside the scene \
+                     file; use Scene.load(path)",
+                    t.file
+                ),
+            ));
+        }
+        Ok(Scene { inner: scene })
+    }
+
+    /// The built-in scene (what `prbfit` runs on without `--scene`).
+    #[staticmethod]
+    fn builtin() -> Scene {
+        Scene {
+            inner: prbfit::scene::Scene::builtin(),
+        }
+    }
+
+    /// The scene's name.
+    #[getter]
+    fn name(&self) -> String {
+        self.inner.name.clone()
+    }
+
+    #[setter]
+    fn set_name(&mut self, name: String) {
+        self.inner.name = name;
+    }
+
+    /// `cantilever`, `mechanism`, `data` (a cantilever's measured data) or `mechanism data`.
+    #[getter]
+    fn kind(&self) -> &'static str {
+        match (&self.inner.mechanism, &self.inner.truth) {
+            (None, None) => "cantilever",
+            (Some(_), None) => "mechanism",
+            (None, Some(_)) => "data",
+            (Some(_), Some(_)) => "mechanism data",
+        }
+    }
+
+    /// The beam (SI): length, width, thickness, youngs_modulus, poisson_ratio,
+    /// shear_coefficient (None: Cowper's), effects; and its slenderness L/t0.
+    #[getter]
+    fn beam<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let b = &self.inner.beam;
+        let d = PyDict::new(py);
+        d.set_item("length", b.length)?;
+        d.set_item("width", b.width)?;
+        d.set_item("thickness", b.thickness)?;
+        d.set_item("youngs_modulus", b.youngs_modulus)?;
+        d.set_item("poisson_ratio", b.poisson_ratio)?;
+        d.set_item("shear_coefficient", b.shear_coefficient)?;
+        d.set_item("effects", b.effects.to_string())?;
+        d.set_item("slenderness", b.slenderness())?;
+        Ok(d)
+    }
+
+    /// Sets beam values (`length`, `width`, `thickness`, `youngs_modulus`, `poisson_ratio`,
+    /// `shear_coefficient`, `effects`), checked by the scene's rules; a mechanism's flexures
+    /// and a data scene's rows follow the beam as in the UI.
+    #[pyo3(signature = (**values))]
+    fn set_beam(&mut self, values: Option<&Bound<'_, PyDict>>) -> PyResult<()> {
+        *self = self.edited_beam(values)?;
+        Ok(())
+    }
+
+    /// A copy with these beam values (see `set_beam`).
+    #[pyo3(signature = (**values))]
+    fn with_beam(&self, values: Option<&Bound<'_, PyDict>>) -> PyResult<Scene> {
+        self.edited_beam(values)
+    }
+
+    /// The load paths: `(alpha_x, alpha_y, beta, steps)` each, from zero to that end load.
+    #[getter]
+    fn loads<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
+        let items: Vec<Bound<'py, PyTuple>> = self
+            .inner
+            .loads
+            .iter()
+            .map(|p| {
+                PyTuple::new(
+                    py,
+                    [
+                        p.end.alpha_x.into_pyobject(py)?.into_any(),
+                        p.end.alpha_y.into_pyobject(py)?.into_any(),
+                        p.end.beta.into_pyobject(py)?.into_any(),
+                        p.steps.into_pyobject(py)?.into_any(),
+                    ],
+                )
+            })
+            .collect::<PyResult<_>>()?;
+        PyList::new(py, items)
+    }
+
+    #[setter]
+    fn set_loads(&mut self, paths: &Bound<'_, PyAny>) -> PyResult<()> {
+        if self.inner.truth.is_some() {
+            return Err(errors::input(
+                "loads",
+                "a data scene's load paths are its data file's rows",
+            ));
+        }
+        let items: Vec<Bound<'_, PyAny>> =
+            extract("loads", paths, "a list of (alpha_x, alpha_y, beta, steps)")?;
+        let mut loads = Vec::with_capacity(items.len());
+        for (i, item) in items.iter().enumerate() {
+            let arg = format!("loads[{}]", i + 1);
+            let (alpha_x, alpha_y, beta, steps): (f64, f64, f64, u32) =
+                extract(&arg, item, "(alpha_x, alpha_y, beta, steps)")?;
+            for x in [alpha_x, alpha_y, beta] {
+                finite(&arg, x)?;
+            }
+            loads.push(LoadPath {
+                end: Load {
+                    alpha_x,
+                    alpha_y,
+                    beta,
+                },
+                steps,
+            });
+        }
+        let mut scene = self.inner.clone();
+        scene.loads = loads;
+        *self = Scene::checked(scene)?;
+        Ok(())
+    }
+
+    /// The scene's model (`[prb] matrix`), or None.
+    #[getter]
+    fn matrix(&self) -> Option<Matrix> {
+        self.inner.prb.clone().map(|inner| Matrix { inner })
+    }
+
+    #[setter]
+    fn set_matrix(&mut self, value: Option<&Bound<'_, PyAny>>) -> PyResult<()> {
+        let mut scene = self.inner.clone();
+        scene.prb = match value {
+            Some(v) if !v.is_none() => Some(Matrix::from_any("matrix", v)?),
+            _ => None,
+        };
+        *self = Scene::checked(scene)?;
+        Ok(())
+    }
+
+    /// Checks the scene by its rules (every edit already is).
+    fn validate(&self) -> PyResult<()> {
+        Scene::checked(self.inner.clone()).map(|_| ())
+    }
+
+    /// The scene as TOML (a scene file).
+    fn to_toml(&self) -> String {
+        self.inner.to_toml()
+    }
+
+    /// A copy.
+    fn copy(&self) -> Scene {
+        self.clone()
+    }
+
+    fn __copy__(&self) -> Scene {
+        self.clone()
+    }
+
+    fn __deepcopy__(&self, _memo: &Bound<'_, PyAny>) -> Scene {
+        self.clone()
+    }
+
+    fn __repr__(&self) -> String {
+        format!("<prbfit.Scene {:?} ({})>", self.inner.name, self.kind())
+    }
+
+    /// `prbfit solve`: the baseline beam over the scene's cases, or at one `load`
+    /// `(alpha_x, alpha_y, beta)`; a mechanism's beam mechanism along its drives.
+    #[pyo3(signature = (load = None, *, effects = None, slenderness = None, nu = None, kappa = None, tol = None, shape = false))]
+    #[allow(clippy::too_many_arguments)]
+    fn solve(
+        &self,
+        py: Python<'_>,
+        load: Option<&Bound<'_, PyAny>>,
+        effects: Option<String>,
+        slenderness: Option<f64>,
+        nu: Option<f64>,
+        kappa: Option<f64>,
+        tol: Option<f64>,
+        shape: bool,
+    ) -> PyResult<Py<PyAny>> {
+        let args = report::solve::SolveArgs {
+            load: load_arg(load)?,
+            effects,
+            slenderness,
+            nu,
+            kappa,
+            tol: tol.unwrap_or(report::solve::SolveArgs::default().tol),
+            shape,
+        };
+        let scene = &self.inner;
+        let r = run(py, None, |ctl: &mut Control<'_>| {
+            report_of(&report::solve::solve(scene, &args, ctl)?)
+        })?;
+        result!(py, r, Solution)
+    }
+
+    /// `prbfit eval`: models (published names, model files, matrix text or `Matrix`es; the
+    /// scene's own with none) judged against the truth, over the scene or at one `load`.
+    /// Named models and files are judged first, then matrices, as the CLI orders `--model`
+    /// and `--prb`.
+    #[pyo3(signature = (*models, load = None, tol = None))]
+    fn eval(
+        &self,
+        py: Python<'_>,
+        models: &Bound<'_, PyTuple>,
+        load: Option<&Bound<'_, PyAny>>,
+        tol: Option<f64>,
+    ) -> PyResult<Py<PyAny>> {
+        let mut args = report::eval::EvalArgs {
+            load: load_arg(load)?,
+            ..Default::default()
+        };
+        if let Some(t) = tol {
+            args.tol = t;
+        }
+        for (i, m) in models.iter().enumerate() {
+            match model_arg(&format!("models[{i}]"), &m)? {
+                ModelArg::Matrix(t) => args.prb.push(t),
+                ModelArg::Named(n) => args.model.push(n),
+            }
+        }
+        let scene = &self.inner;
+        let r = run(py, None, |ctl: &mut Control<'_>| {
+            report_of(&report::eval::eval(scene, &args, ctl)?)
+        })?;
+        result!(py, r, Evaluation)
+    }
+
+    /// `prbfit fit`: the free cells of a matrix (`topology`'s start, or `matrix` with its
+    /// fixed cells, or the scene's own) fitted to the truth. `progress(dict)` is called as
+    /// the search goes (phase, iteration, evaluations, best_objective, best, seconds);
+    /// `output` saves the model file (.toml or .json).
+    #[pyo3(signature = (topology = None, *, matrix = None, fidelity = "normal", seed = 1, output = None, force = false, progress = None))]
+    #[allow(clippy::too_many_arguments)]
+    fn fit(
+        &self,
+        py: Python<'_>,
+        topology: Option<String>,
+        matrix: Option<&Bound<'_, PyAny>>,
+        fidelity: &str,
+        seed: u64,
+        output: Option<PathBuf>,
+        force: bool,
+        progress: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<Py<PyAny>> {
+        if topology.is_some() && matrix.is_some() {
+            return Err(errors::input(
+                "topology",
+                "give a topology or a matrix to start from, not both",
+            ));
+        }
+        if let Some(cb) = progress {
+            if !cb.is_callable() {
+                return Err(errors::input("progress", "expected a callable"));
+            }
+        }
+        let args = report::fit::FitArgs {
+            topology,
+            prb: matrix
+                .map(|m| Matrix::from_any("matrix", m).map(|m| m.to_text()))
+                .transpose()?,
+            fidelity: self::fidelity(fidelity)?,
+            seed,
+            output,
+            force,
+        };
+        let scene = &self.inner;
+        let r = run(py, progress, |ctl: &mut Control<'_>| {
+            report_of(&report::fit::fit(scene, &args, ctl)?)
+        })?;
+        result!(py, r, Fit)
+    }
+
+    /// `prbfit select`: the topology ladder fitted, the simplest model that meets the
+    /// targets chosen.
+    #[pyo3(signature = (fidelity = "normal"))]
+    fn select(&self, py: Python<'_>, fidelity: &str) -> PyResult<Py<PyAny>> {
+        let args = report::select::SelectArgs {
+            fidelity: self::fidelity(fidelity)?,
+        };
+        let scene = &self.inner;
+        let r = run(py, None, |ctl: &mut Control<'_>| {
+            report_of(&report::select::select(scene, &args, ctl)?)
+        })?;
+        result!(py, r, Selection)
+    }
+
+    /// `prbfit calibrate`: one beam parameter (`youngs_modulus` or `thickness`) fitted to a
+    /// data scene's measurements.
+    #[pyo3(signature = (param = "youngs_modulus"))]
+    fn calibrate(&self, py: Python<'_>, param: &str) -> PyResult<Py<PyAny>> {
+        let args = report::calibrate::CalibrateArgs {
+            param: param.to_string(),
+        };
+        let scene = &self.inner;
+        let r = run(py, None, |ctl: &mut Control<'_>| {
+            report_of(&report::calibrate::calibrate_scene(scene, &args, ctl)?)
+        })?;
+        result!(py, r, Calibration)
+    }
+
+    /// `prbfit export`: writes `model` (a published name, a model file, matrix text or a
+    /// `Matrix`; the scene's own with None) to `output` as prbfit's model file, MuJoCo,
+    /// URDF, SDF or CSV (`format`, or from the extension).
+    #[pyo3(signature = (model = None, output = None, *, format = None, force = false, density = 1000.0, fidelity = "normal"))]
+    #[allow(clippy::too_many_arguments)]
+    fn export(
+        &self,
+        py: Python<'_>,
+        model: Option<&Bound<'_, PyAny>>,
+        output: Option<PathBuf>,
+        format: Option<&str>,
+        force: bool,
+        density: f64,
+        fidelity: &str,
+    ) -> PyResult<Py<PyAny>> {
+        let Some(output) = output else {
+            return Err(errors::input("output", "give the file to write"));
+        };
+        let mut args = report::export::ExportArgs::new(output);
+        match model.filter(|m| !m.is_none()) {
+            None => {}
+            Some(m) => match model_arg("model", m)? {
+                ModelArg::Matrix(t) => args.prb = Some(t),
+                ModelArg::Named(n) => args.model = Some(n),
+            },
+        }
+        args.format = format
+            .map(|f| Format::from_str(f).map_err(|e| errors::input("format", e)))
+            .transpose()?;
+        args.force = force;
+        args.density = density;
+        args.fidelity = self::fidelity(fidelity)?;
+        let scene = &self.inner;
+        let r = run(py, None, |ctl: &mut Control<'_>| {
+            report_of(&report::export::export(scene, &args, ctl)?)
+        })?;
+        result!(py, r, Export)
+    }
+
+    /// `prbfit fea`: the scene's beam in CalculiX (`ccx`) along its load paths, written to
+    /// `output` as measured-data CSV, the beam beside it.
+    #[pyo3(signature = (output, *, mesh = 40, section = "plane-stress", taper = 1.0, deck = None, force = false, timeout = 900))]
+    #[allow(clippy::too_many_arguments)]
+    fn fea(
+        &self,
+        py: Python<'_>,
+        output: PathBuf,
+        mesh: u32,
+        section: &str,
+        taper: f64,
+        deck: Option<PathBuf>,
+        force: bool,
+        timeout: u64,
+    ) -> PyResult<Py<PyAny>> {
+        let mut args = report::fea::FeaArgs::new(output);
+        args.mesh = mesh;
+        args.section = Section::from_str(section).map_err(|e| errors::input("section", e))?;
+        args.taper = Taper::from_str(&format!("{taper}")).map_err(|e| errors::input("taper", e))?;
+        args.deck = deck;
+        args.force = force;
+        args.timeout = timeout;
+        let scene = &self.inner;
+        let r = run(py, None, |ctl: &mut Control<'_>| {
+            report_of(&report::fea::fea(scene, &args, ctl)?)
+        })?;
+        result!(py, r, Fea)
+    }
+
+    /// For the overhead benchmark: the mean seconds of `n` `solve(load)` reports built in
+    /// Rust alone, on this thread (the Rust call the module's calls wrap).
+    #[pyo3(signature = (load, n = 100))]
+    fn _rust_solve_seconds(&self, load: &Bound<'_, PyAny>, n: u32) -> PyResult<f64> {
+        let args = report::solve::SolveArgs {
+            load: load_arg(Some(load))?,
+            ..Default::default()
+        };
+        let mut quiet = |_: &report::Progress<'_>| {};
+        let t0 = std::time::Instant::now();
+        for _ in 0..n {
+            let mut ctl = Control {
+                cancel: prbfit::cancel::CancelToken::new(),
+                progress: &mut quiet,
+            };
+            report_of(
+                &report::solve::solve(&self.inner, &args, &mut ctl)
+                    .map_err(errors::report_error)?,
+            )
+            .map_err(errors::report_error)?;
+        }
+        Ok(t0.elapsed().as_secs_f64() / f64::from(n.max(1)))
+    }
+}
