@@ -8,6 +8,7 @@ use std::path::Path;
 
 use common::{assert_input_error, prbfit, Scratch};
 use prbfit::beam::{BeamSolver, Resolution};
+use prbfit::fit::{CancelToken, Fidelity};
 use prbfit::mech::exact;
 use prbfit::scene::{DrivePath, Scene};
 use prbfit::study::{Sampling, Study};
@@ -213,4 +214,90 @@ fn solve_lists_stroke_limits_and_marks_the_cases_past_them() {
     let v = common::json(&prbfit(&["solve", "--json"]));
     assert!(v["stroke_limits"].is_null());
     assert!(v["cases"][0]["max_stress"].as_f64().unwrap() > 0.0);
+}
+
+/// `Study::within_stroke` (`select --within-stroke`): each path ends at its limit, sampled
+/// as fully as the whole path, so its last case's stress is the allowable (to the limit's
+/// 1e-6 of the path times the stress's slope, ~1 per path: 1e-5 relative is ample).
+#[test]
+fn within_stroke_ends_each_path_at_its_limit() {
+    let scene = scene("default.toml", "1.3e9");
+    let full = study(&scene);
+    let (within, limits) = full.within_stroke(&CancelToken::new()).unwrap().unwrap();
+    assert_eq!(within.case_count(), full.case_count());
+    for ((path, short), l) in scene.loads.iter().zip(&within.scene().loads).zip(&limits) {
+        let f = l.fraction.unwrap();
+        assert_eq!(short.end, path.end.scaled(f));
+    }
+    for (kept, l) in within.truth().iter().zip(&limits) {
+        let (r, _) = within.stress_ratio(kept.last().unwrap()).unwrap();
+        assert!((r - 1.0).abs() < 1e-5, "path {}: ratio {r}", l.path);
+    }
+    // The shorter study fits and selects as the whole one does.
+    let selection = within
+        .select(Fidelity::Draft, &CancelToken::new(), &mut |_| {})
+        .unwrap();
+    assert!(!selection.rows.is_empty());
+    // No allowable: nothing to judge within.
+    let none = study_without_allowable();
+    assert!(none.within_stroke(&CancelToken::new()).unwrap().is_none());
+}
+
+/// A mechanism's drives end at their limits: the parallel stage's last case of each drive
+/// has its worst flexure at the allowable (as above, 1e-5 relative).
+#[test]
+fn within_stroke_shortens_a_mechanisms_drives() {
+    let scene = scene("parallel-stage.toml", "4e8");
+    let full = study(&scene);
+    let (within, limits) = full.within_stroke(&CancelToken::new()).unwrap().unwrap();
+    assert_eq!(within.case_count(), full.case_count());
+    for (kept, l) in within.truth().iter().zip(&limits) {
+        assert!(l.fraction.is_some());
+        let (r, _) = within.stress_ratio(kept.last().unwrap()).unwrap();
+        assert!((r - 1.0).abs() < 1e-5, "drive {}: ratio {r}", l.path);
+        // Before it, below the allowable.
+        let (r, _) = within.stress_ratio(&kept[kept.len() - 2]).unwrap();
+        assert!(r < 1.0);
+    }
+}
+
+/// `select --within-stroke` says which part of each path it judged (text and JSON), and
+/// refuses a scene with no allowable stress (exit 2, naming the flag).
+#[test]
+fn select_within_stroke_judges_up_to_the_limits() {
+    let dir = Scratch::new("select-within");
+    let p = format!("{}/assets/scenes/default.toml", env!("CARGO_MANIFEST_DIR"));
+    let text = std::fs::read_to_string(p).unwrap();
+    let scene = dir.write(
+        "s.toml",
+        &text.replacen("[beam]", "[beam]\nallowable_stress = 1.3e9", 1),
+    );
+    let args = [
+        "select",
+        "--scene",
+        &scene,
+        "--fidelity",
+        "draft",
+        "--within-stroke",
+    ];
+    let out = prbfit(&args);
+    assert!(out.status.success());
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(
+        text.contains("judged within the stroke limits: path 1 to 0."),
+        "{text}"
+    );
+    assert!(text.contains("path 3 to 0.650000"), "{text}");
+    let v = common::json(&prbfit(&[&args[..], &["--json"]].concat()));
+    let limits = v["within_stroke"].as_array().unwrap();
+    assert_eq!(limits.len(), 4);
+    assert!((limits[2].as_f64().unwrap() - 0.65).abs() < 1e-9);
+    assert!(!v["rows"].as_array().unwrap().is_empty());
+    // Without the flag the JSON has no such field.
+    let v = common::json(&prbfit(&[&args[..5], &["--json"]].concat()));
+    assert!(v.get("within_stroke").is_none());
+    assert_input_error(
+        &prbfit(&["select", "--fidelity", "draft", "--within-stroke"]),
+        &["--within-stroke", "no allowable_stress"],
+    );
 }

@@ -148,6 +148,10 @@ pub struct SelectArgs {
     /// draft, normal or precise.
     #[arg(long, value_name = "LEVEL", default_value = "normal", value_parser = Fidelity::from_str)]
     pub fidelity: Fidelity,
+    /// Judge only the cases up to each path's stroke limit, where the stress first reaches
+    /// the scene's allowable_stress (a model need not fit what the part cannot survive).
+    #[arg(long)]
+    pub within_stroke: bool,
 }
 
 /// `prbfit calibrate`.

@@ -21,10 +21,11 @@
 use serde::Serialize;
 
 use crate::beam::BeamSolver;
+use crate::cancel::CancelToken;
 use crate::mech::{exact, MechCase};
-use crate::scene::DrivePath;
+use crate::scene::{Coordinate, DrivePath};
 
-use super::Study;
+use super::{Study, StudyError};
 
 /// How close the stroke limit is found, as a fraction of the path.
 pub const FRACTION_TOL: f64 = 1e-6;
@@ -223,5 +224,48 @@ impl Study {
         let mut case = cases.pop()?;
         case.fraction = lambda;
         Some(case)
+    }
+}
+
+impl Study {
+    /// This study judged only up to the stroke limits (`select --within-stroke`): the scene
+    /// with each path ending at its limit (a cantilever's end load, a drive's end values
+    /// times the limit's fraction; a path without a limit whole), its truth solved afresh
+    /// with the same effects, sampling and steps, so every judgement, fit and selection sees
+    /// the shorter paths as fully as the whole ones. `None` when no flexure has an allowable
+    /// stress.
+    pub fn within_stroke(
+        &self,
+        cancel: &CancelToken,
+    ) -> Result<Option<(Study, Vec<StrokeLimit>)>, StudyError> {
+        let Some(limits) = self.stroke_limits() else {
+            return Ok(None);
+        };
+        let mut scene = self.scene.clone();
+        let fraction = |i: usize| limits.get(i).and_then(|l| l.fraction);
+        for (i, path) in scene.loads.iter_mut().enumerate() {
+            if let Some(l) = fraction(i) {
+                path.end = path.end.scaled(l);
+            }
+        }
+        if let Some(m) = &mut scene.mechanism {
+            // Measured drives (rows) have no stress, so no limit: only sampled drives scale.
+            for (i, d) in m.drives.iter_mut().enumerate() {
+                if let (Some(l), true) = (fraction(i), d.rows.is_empty()) {
+                    d.coordinates = d.coordinates.map(|c| match c {
+                        Coordinate::Prescribed(v) => Coordinate::Prescribed(v * l),
+                        Coordinate::Loaded(v) => Coordinate::Loaded(v * l),
+                    });
+                }
+            }
+        }
+        let study = Study::decided(
+            scene,
+            self.decision.clone(),
+            self.sampling,
+            cancel,
+            &mut |_, _, _| {},
+        )?;
+        Ok(Some((study, limits)))
     }
 }
