@@ -7,6 +7,7 @@ mod notation;
 mod path;
 pub mod published;
 mod statics;
+mod stress;
 
 pub use chain::{Linearised, PrbSolver, SolverLimits};
 pub use matrix::{Column, MatrixError, PrbMatrix, PrbRow, GAMMA_SUM_TOL, MAX_SEGMENTS, MAX_SPRING};

@@ -360,7 +360,8 @@ impl Study {
     /// Judges `matrix` over the cases it can follow (DESIGN §6, `eval`): a path it cannot
     /// follow to its end is listed in [`Judgement::unfollowed`] with how far it got and why,
     /// and the figures are over the cases it followed. An error only when it follows no case
-    /// at all.
+    /// at all. Its model cases carry the PRB model's own stress estimate (DESIGN §11,
+    /// [`crate::prb::PrbSolver::max_stress`]), which [`Study::judge`] leaves out.
     pub fn judge_followed(&self, matrix: &PrbMatrix) -> Result<Judgement, JudgeError> {
         self.judge_with(matrix, self.scene.fit.angle_weight, true)
     }
@@ -390,12 +391,16 @@ impl Study {
                         }
                         let e = CaseError::new(prb.load, b.tip, prb.tip);
                         let truth = self.truth[path][k].clone();
+                        // The model's own stress estimate, for eval (DESIGN §11).
+                        let stress = partial
+                            .then(|| solver.max_stress(&baseline.model, prb.load, prb.q))
+                            .flatten();
                         let mut model = truth::tip_case(
                             truth.fraction,
                             prb.load,
                             prb.tip,
                             prb.iterations,
-                            None,
+                            stress,
                         );
                         model.joints = vec![prb.q.to_vec()];
                         cases.borrow_mut().push(JudgedCase {
