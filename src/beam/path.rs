@@ -87,6 +87,10 @@ pub(super) struct BeamPath<'a> {
     peak_direction: f64,
     /// The cases reached, in order.
     cases: Vec<BeamSolution>,
+    /// With a wide section's plane strain: the plate fraction of each case `k / steps`
+    /// (`k = 1..=steps`), which the model takes at the case and linearly in between
+    /// ([`BeamPath::solver_at`]); `None`: the solver's own model throughout.
+    plate: Option<&'a [f64]>,
 }
 
 impl BeamSolver {
@@ -96,6 +100,20 @@ impl BeamSolver {
         &self,
         end: Load,
         steps: u32,
+        cancel: &crate::cancel::CancelToken,
+    ) -> Result<Vec<BeamSolution>, SolveError> {
+        self.follow_with_plate(end, steps, None, cancel)
+    }
+
+    /// As [`BeamSolver::follow`], with the plate fraction varying along the path: `plate`
+    /// holds case `k / steps`'s (`k = 1..=steps`), taken exactly at the case and linearly in
+    /// between, so each case is solved at its own fraction on the branch the path follows,
+    /// in one continuation.
+    pub(super) fn follow_with_plate(
+        &self,
+        end: Load,
+        steps: u32,
+        plate: Option<&[f64]>,
         cancel: &crate::cancel::CancelToken,
     ) -> Result<Vec<BeamSolution>, SolveError> {
         let steps = steps.max(1);
@@ -123,6 +141,7 @@ impl BeamSolver {
             peak_stability: 1.0,
             peak_direction: 0.0,
             cases: Vec::with_capacity(steps as usize),
+            plate,
         };
         let start = PathPoint::unloaded(segment_count(&self.model, end));
         crate::continuation::follow(&mut path, start, steps, &limits, Some(cancel))?;
@@ -131,6 +150,29 @@ impl BeamSolver {
 }
 
 impl BeamPath<'_> {
+    /// The solver at path fraction `lambda`: the solver's own, or with the plate fraction
+    /// interpolated between the cases' (constant before the first case).
+    fn solver_at(&self, lambda: f64) -> BeamSolver {
+        let Some(phis) = self.plate.filter(|p| !p.is_empty()) else {
+            return *self.solver;
+        };
+        let x = (lambda * phis.len() as f64).clamp(0.0, phis.len() as f64);
+        // Case k (from 1) sits at x = k; below case 1 the first fraction holds.
+        let k = (x.ceil() as usize).clamp(1, phis.len());
+        let phi = if k == 1 {
+            phis[0]
+        } else {
+            let t = x - (k - 1) as f64;
+            phis[k - 2] + (phis[k - 1] - phis[k - 2]) * t
+        };
+        let mut model = self.solver.model.with_plate_fraction(phi);
+        model.forget_width();
+        BeamSolver {
+            model,
+            ..*self.solver
+        }
+    }
+
     /// How far a step from `from` to `to` turns and moves the tip, and the move allowed.
     fn motion(from: &TipPose, to: &TipPose) -> (f64, f64, f64) {
         let turn = (to.phi - from.phi).abs();
@@ -208,7 +250,7 @@ impl PathProblem for BeamPath<'_> {
             })
         };
         match self
-            .solver
+            .solver_at(lambda)
             .newton(end.scaled(lambda), guess, &mut self.meter, effort)
         {
             Ok(result) => {
@@ -323,7 +365,7 @@ impl PathProblem for BeamPath<'_> {
         let tip_tol = self.solver.resolution.tol * load.magnitude().min(1.0);
         let mut shots = tally.iterations;
         let again: Option<NewtonResult> = if point.convergence.last_update > tip_tol {
-            self.solver
+            self.solver_at(lambda)
                 .newton(load, point.nodes.clone(), &mut self.meter, effort)
                 .ok()
         } else {

@@ -1,6 +1,9 @@
 //! Solving one load, or a proportional load path, from the unloaded beam (see the parent
 //! module for the method and its accuracy), with a wide section's plate correction applied
-//! case by case: each case is solved again at the plate fraction its narrow-beam shape gives.
+//! case by case: each case takes the plate fraction its narrow-beam shape gives. A path is
+//! followed twice, narrow and then wide, the wide continuation's solver changing its plate
+//! fraction from case to case (interpolated between them), so each wide case starts from its
+//! neighbour instead of from the unloaded beam.
 
 use super::{plate, BeamSolution, BeamSolver, Load, Resolution, SolveError};
 use crate::cancel::CancelToken;
@@ -47,13 +50,17 @@ impl BeamSolver {
         })
     }
 
+    /// The plate fraction of the case whose narrow-beam solution is `narrow`.
+    fn case_plate(&self, narrow: &BeamSolution) -> f64 {
+        let m = &self.model;
+        let width_ratio = m.width_ratio().unwrap_or(f64::INFINITY);
+        plate::case_fraction(width_ratio, m.slenderness, m.nu, narrow).0
+    }
+
     /// This solver with the plate fraction of the case whose narrow-beam solution is
     /// `narrow`, and no width (so that it solves with that fraction as it is).
     fn with_case_plate(&self, narrow: &BeamSolution) -> BeamSolver {
-        let m = &self.model;
-        let width_ratio = m.width_ratio().unwrap_or(f64::INFINITY);
-        let (phi, _) = plate::case_fraction(width_ratio, m.slenderness, m.nu, narrow);
-        let mut model = m.with_plate_fraction(phi);
+        let mut model = self.model.with_plate_fraction(self.case_plate(narrow));
         model.forget_width();
         BeamSolver { model, ..*self }
     }
@@ -74,13 +81,18 @@ impl BeamSolver {
         cancel: &CancelToken,
     ) -> Result<Vec<BeamSolution>, SolveError> {
         if let Some(narrow) = self.plate_refined() {
-            // Each case at its own plate fraction, solved from the unloaded beam along the
-            // same ray (so on the branch the path follows).
-            return narrow
+            // Each case at its own plate fraction (from its narrow-beam solution), all in one
+            // continuation along the path with the fraction varying between the cases: each
+            // case on the branch the path follows, no case re-solved from rest.
+            let phis: Vec<f64> = narrow
                 .follow_path(end, steps, cancel)?
                 .iter()
-                .map(|c| self.with_case_plate(c).solve_cancellable(c.load, cancel))
+                .map(|c| self.case_plate(c))
                 .collect();
+            if !end.is_finite() {
+                return Err(SolveError::NonFiniteLoad(end));
+            }
+            return self.follow_with_plate(end, steps, Some(&phis), cancel);
         }
         self.follow_path(end, steps, cancel)
     }

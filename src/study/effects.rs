@@ -147,6 +147,10 @@ pub fn decide_effects(
     }
 }
 
+/// The most cases per load path on which each effect of a beam is judged (see
+/// [`decide_beam_effects`]).
+pub const DECIDE_STEPS: u32 = 8;
+
 /// The effects of a beam under the given loads and targets.
 ///
 /// Every effect is judged against the full model (all on): drop it (dropping extension drops
@@ -154,6 +158,24 @@ pub fn decide_effects(
 /// [`AUTO_FRACTION`] of the target. Then all dropped effects are dropped together and checked
 /// once more; should the combination exceed the fraction, the most influential dropped
 /// effect is taken back until it does not.
+///
+/// On a scene whose paths have more than [`DECIDE_STEPS`] cases, each effect is judged on a
+/// sample of every path: its cases at the fractions `k / d` of the path's end, `d` the
+/// largest divisor of the path's steps not above [`DECIDE_STEPS`] (so the sample's cases are
+/// the path's own, its end among them). The decision is then checked on every case: the
+/// model with the decided effects is solved on all of them and must stay within
+/// [`AUTO_FRACTION`] of the full model, and that figure is the one reported as
+/// `dropped_together_fraction`; should it not, the decision is made again on every case. A
+/// kept effect stays kept on every case (its change there is at least its change on the
+/// sample, its cases among them); each effect's own figure is its change on the sample, a
+/// lower bound of its change on every case, equal to it wherever the change is largest at
+/// a sampled case (the path's end, for an effect that grows with the load). The plate
+/// criterion is computed on every case, as before. So the decision is the full procedure's
+/// unless one dropped effect alone moves the tip by more than the threshold between the
+/// sampled cases while all the dropped ones together do not; and what it claims, that the
+/// decided model is within the threshold of the full one, is checked on every case. Each
+/// set of effects is solved on the sample at a few of its cases' cost, so the decision costs
+/// about three solves of the scene (narrow beam, full model, decided model) instead of six.
 fn decide_beam_effects(
     beam: &BeamSpec,
     loads: &[LoadPath],
@@ -161,42 +183,90 @@ fn decide_beam_effects(
     resolution: Resolution,
     cancel: &CancelToken,
 ) -> Result<EffectsDecision, BaselineError> {
-    // Each set of effects is solved once, however often the procedure asks for it.
-    let mut solved: Vec<(Effects, Vec<BeamSolution>)> = Vec::new();
-    let solve = |solved: &mut Vec<(Effects, Vec<BeamSolution>)>,
-                 e: Effects|
-     -> Result<usize, BaselineError> {
-        if let Some(i) = solved.iter().position(|(k, _)| *k == e) {
-            return Ok(i);
-        }
-        let mut b = *beam;
-        b.effects = EffectsChoice::Fixed(e);
-        solved.push((
-            e,
-            Baseline::solve(b.model(), loads, resolution, cancel, &mut |_, _| {})?.solutions,
-        ));
-        Ok(solved.len() - 1)
-    };
-    // The plate criterion on the narrow beam with every refinement.
-    let narrow = solve(&mut solved, Effects::ALL)?;
-    let plate = plate_criterion(beam, &solved[narrow].1);
+    let mut every = Solved::new(beam, loads, resolution, cancel);
+    // The plate criterion on the narrow beam with every refinement, on every case.
+    let narrow = every.get(Effects::ALL)?;
+    let plate = plate_criterion(beam, &every.solved[narrow].1);
     let full = Effects::ALL.with_plane_strain(true);
-    let mut decision = decide(
-        accuracy,
-        full,
-        |effects: Effects| -> Result<Change, BaselineError> {
-            let reference = solve(&mut solved, full)?;
-            let this = solve(&mut solved, effects)?;
-            let (pos, ang) = tip_change(&solved[reference].1, &solved[this].1);
-            Ok(Change {
-                pos,
-                ang,
-                force: None,
-            })
-        },
-    )?;
+    let sample: Vec<LoadPath> = loads
+        .iter()
+        .map(|p| LoadPath {
+            end: p.end,
+            steps: (1..=p.steps.min(DECIDE_STEPS))
+                .rev()
+                .find(|d| p.steps % d == 0)
+                .unwrap_or(p.steps),
+        })
+        .collect();
+    if sample.as_slice() != loads {
+        let mut sampled = Solved::new(beam, &sample, resolution, cancel);
+        let mut decision = decide(accuracy, full, |e| sampled.change(full, e))?;
+        let together = every.change(full, decision.effects)?.fraction(accuracy);
+        if together <= AUTO_FRACTION {
+            decision.dropped_together_fraction = together;
+            decision.plate = Some(plate);
+            return Ok(decision);
+        }
+    }
+    let mut decision = decide(accuracy, full, |e| every.change(full, e))?;
     decision.plate = Some(plate);
     Ok(decision)
+}
+
+/// A beam's cases solved with several sets of effects, each set solved once however often
+/// it is asked for.
+struct Solved<'a> {
+    beam: &'a BeamSpec,
+    loads: &'a [LoadPath],
+    resolution: Resolution,
+    cancel: &'a CancelToken,
+    solved: Vec<(Effects, Vec<BeamSolution>)>,
+}
+
+impl<'a> Solved<'a> {
+    fn new(
+        beam: &'a BeamSpec,
+        loads: &'a [LoadPath],
+        resolution: Resolution,
+        cancel: &'a CancelToken,
+    ) -> Self {
+        Solved {
+            beam,
+            loads,
+            resolution,
+            cancel,
+            solved: Vec::new(),
+        }
+    }
+
+    /// The index in `solved` of the cases solved with `e`.
+    fn get(&mut self, e: Effects) -> Result<usize, BaselineError> {
+        if let Some(i) = self.solved.iter().position(|(k, _)| *k == e) {
+            return Ok(i);
+        }
+        let mut b = *self.beam;
+        b.effects = EffectsChoice::Fixed(e);
+        let cases = Baseline::solve(
+            b.model(),
+            self.loads,
+            self.resolution,
+            self.cancel,
+            &mut |_, _| {},
+        )?;
+        self.solved.push((e, cases.solutions));
+        Ok(self.solved.len() - 1)
+    }
+
+    /// What modelling with `effects` instead of `reference` changes on the cases.
+    fn change(&mut self, reference: Effects, effects: Effects) -> Result<Change, BaselineError> {
+        let (r, e) = (self.get(reference)?, self.get(effects)?);
+        let (pos, ang) = tip_change(&self.solved[r].1, &self.solved[e].1);
+        Ok(Change {
+            pos,
+            ang,
+            force: None,
+        })
+    }
 }
 
 /// What dropping effects changes: the largest position (units of L) and angle changes, and
