@@ -231,7 +231,9 @@ pub struct PlotArgs {
     /// Cantilever scenes: shapes (deformed shapes of one load path), errors (tip errors of
     /// every load path) or all (both, side by side). Mechanism scenes: force (each prescribed
     /// stage coordinate's reaction against the stroke), motion (each loaded coordinate's
-    /// stage motion against the load) or all (both).
+    /// stage motion against the load) or all (both). Either: stress (each flexure's largest
+    /// fibre stress against the load, every path, the models' estimates beside the truth's,
+    /// with the allowable stress and the stroke limits).
     #[arg(long, value_name = "KIND", default_value = "all", value_parser = ChartKind::from_str)]
     pub kind: ChartKind,
     /// Fidelity of the baseline beam (and its load sampling).
