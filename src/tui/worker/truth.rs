@@ -67,6 +67,13 @@ pub fn truth_view(study: &Study, cancel: &CancelToken) -> Result<TruthView, Stri
         cases,
         poses,
         measured,
+        // Measured data has no stress, so no limit (and no solves spent looking).
+        stroke_limits: study
+            .scene()
+            .truth
+            .is_none()
+            .then(|| study.stroke_limits())
+            .flatten(),
         seconds: study.seconds() + t0.elapsed().as_secs_f64(),
     })
 }
