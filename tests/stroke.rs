@@ -168,19 +168,24 @@ fn bad_allowable_stresses_are_refused_naming_the_key() {
         env!("CARGO_MANIFEST_DIR")
     ))
     .unwrap();
-    let text = stage.replacen(
-        "attach = \"clamped\"",
-        "attach = \"clamped\"\nallowable_stress = -5.0",
-        1,
-    );
-    let p = dir.write("bad-flexure.toml", &text);
-    assert_input_error(
-        &prbfit(&["solve", "--scene", &p]),
-        &[
-            "flexures[1].allowable_stress",
-            "must be a finite number > 0",
-        ],
-    );
+    for bad in ["-5.0", "0.0", "nan", "inf"] {
+        let text = stage.replacen(
+            "attach = \"clamped\"",
+            &format!("attach = \"clamped\"\nallowable_stress = {bad}"),
+            1,
+        );
+        let p = dir.write("bad-flexure.toml", &text);
+        // Every command reads the scene through the same rules.
+        for cmd in ["solve", "eval", "select"] {
+            assert_input_error(
+                &prbfit(&[cmd, "--scene", &p]),
+                &[
+                    "flexures[1].allowable_stress",
+                    "must be a finite number > 0",
+                ],
+            );
+        }
+    }
 }
 
 /// `solve --json` lists the stroke limits in order, marks the cases past them, and gives
