@@ -5,6 +5,7 @@
 //! (`prbfit solve | head -1`) ends the program quietly, any other failed write (`> /dev/full`)
 //! is one line on stderr and exit status 1 — never a panic.
 
+use prbfit::cancel::CancelToken;
 use std::fmt::Display;
 use std::io::Write;
 
@@ -14,6 +15,24 @@ use serde::Serialize;
 #[derive(Debug, thiserror::Error)]
 #[error("stdout was closed")]
 pub struct StdoutClosed;
+
+/// The command was interrupted (Ctrl-C): exit status 130, the shell's for SIGINT.
+#[derive(Debug, thiserror::Error)]
+#[error("interrupted (Ctrl-C){0}")]
+pub struct Interrupted(pub &'static str);
+
+/// Makes Ctrl-C (SIGINT) cancel `cancel` instead of killing the process, so a long run stops
+/// at its next check and says what it has; a second Ctrl-C ends the process at once (status
+/// 130). Should the handler not install, Ctrl-C keeps its default, which also ends the run.
+pub fn cancel_on_interrupt(cancel: &CancelToken) {
+    use signal_hook::consts::SIGINT;
+    use signal_hook::flag;
+    // The first registered action runs first: with the flag already set (a second Ctrl-C)
+    // the process ends; otherwise the flag is set.
+    if flag::register_conditional_shutdown(SIGINT, 130, cancel.flag()).is_ok() {
+        let _ = flag::register(SIGINT, cancel.flag());
+    }
+}
 
 /// Stdout could not be written (a full disk, `/dev/full`).
 #[derive(Debug, thiserror::Error)]
