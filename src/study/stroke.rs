@@ -17,6 +17,10 @@
 //! may still reach the allowable past its end, which the scene does not ask about. A limit
 //! between two cases where the ratio rises above 1 and falls back is not seen (the cases
 //! are the bracket). Measured data has no stress, so no limit either.
+//!
+//! [`Study::within_stroke`] (`select --within-stroke`) is the study with each path ending at
+//! its limit, solved afresh as fully as the whole path, so a model is judged only on the
+//! stroke the part survives.
 
 use serde::Serialize;
 
