@@ -35,6 +35,7 @@ fn flexure(root: [f64; 2], attach: Attach) -> Flexure {
             youngs_modulus: 12e6,
             poisson_ratio: 0.3,
             shear_coefficient: None,
+            density: None,
             effects: EffectsChoice::Fixed(Effects::NONE),
             allowable_stress: None,
         },

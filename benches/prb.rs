@@ -1,5 +1,6 @@
 //! PRB statics speed: a 3R (and other topologies) equilibrium solved warm-started along a
-//! load path, median time per load case.
+//! load path, median time per load case; and the PRB natural frequencies (DESIGN §10) of each
+//! model about an equilibrium, median time per call (the bound: 10 us).
 //!
 //! Run: `cargo bench --bench prb`. Prints a table; asserts nothing.
 
@@ -12,7 +13,7 @@ use std::hint::black_box;
 use std::time::Instant;
 
 use prbfit::beam::Load;
-use prbfit::prb::{PrbMatrix, PrbSolver};
+use prbfit::prb::{PrbMatrix, PrbSolver, TipBody};
 
 fn main() {
     let c135 = (3.0 * PI / 4.0).cos();
@@ -76,6 +77,36 @@ fn main() {
             " {:>8.3} {:>12.2}",
             all[all.len() / 2],
             its as f64 / cases as f64
+        );
+    }
+    modes(&models);
+}
+
+/// Median microseconds per `PrbSolver::modes` call (linearise, mass matrix, eigenvalues)
+/// about the equilibrium under `alpha_y = 2`, with a tip body.
+fn modes(models: &[(&str, &str)]) {
+    println!("\nPRB modes about the equilibrium at alpha_y = 2: median us per call");
+    for (name, text) in models {
+        let m = PrbMatrix::parse(text).unwrap();
+        let solver = PrbSolver::new(&m, 1.0 / 120000.0);
+        let load = Load::new(0.0, 2.0, 0.0);
+        let q = solver.solve(load).unwrap().q;
+        let body = TipBody {
+            mass: 0.1,
+            inertia: 0.001,
+        };
+        let mut times = Vec::new();
+        let mut first = 0.0;
+        for _ in 0..2000 {
+            let t0 = Instant::now();
+            let w = solver.modes(black_box(load), black_box(&q), body).unwrap();
+            times.push(t0.elapsed().as_secs_f64() * 1e6);
+            first = w[0];
+        }
+        times.sort_by(f64::total_cmp);
+        println!(
+            "{name:<12} {:>8.3} us  (first Omega {first:.4})",
+            times[times.len() / 2]
         );
     }
 }

@@ -115,9 +115,92 @@ pub fn cholesky_solve(matrix: &mut [f64], rhs: &mut [f64], n: usize) -> bool {
     rhs.iter().all(|v| v.is_finite())
 }
 
+/// The lowest natural frequencies of the linear system `A v = omega^2 B v` (`n` x `n`,
+/// row-major): `A` the stiffness (the Jacobian of the restoring forces and of any
+/// constraints, nonsingular at a regular equilibrium), `B` the mass (zero in the rows and
+/// columns of massless coordinates and of constraints' multipliers), in ascending order.
+///
+/// Solved as the eigenvalues `mu = 1 / omega^2` of `A^-1 B` (Schur decomposition), which
+/// holds for a symmetric pair and for a constrained mechanism's unsymmetric saddle-point
+/// system alike, and leaves the massless coordinates at `mu = 0` (an infinite frequency,
+/// dropped) instead of dividing by their zero mass. The lowest frequencies are the largest
+/// `mu`, computed to the Schur decomposition's relative accuracy (about `n` ulp of the
+/// largest); frequencies more than 1000 times the lowest are not resolved and left out. A `mu` with an imaginary part or a negative one (below `-1e-12` of the largest)
+/// means `A` is not a stable stiffness: `Err` with the most negative `omega^2`, or NaN.
+pub fn frequencies(a: &[f64], b: &[f64], n: usize) -> Result<Vec<f64>, f64> {
+    if n == 0 {
+        return Ok(Vec::new());
+    }
+    let mut lu = a.to_vec();
+    let mut c = vec![0.0; n * n];
+    // A^-1 B column by column (n is a few dozen at most).
+    let mut col = vec![0.0; n];
+    let mut factor = lu.clone();
+    for j in 0..n {
+        for i in 0..n {
+            col[i] = b[i * n + j];
+        }
+        factor.copy_from_slice(&lu);
+        if lu_solve(&mut factor, &mut col, n).is_none() {
+            return Err(0.0);
+        }
+        for i in 0..n {
+            c[i * n + j] = col[i];
+        }
+    }
+    lu.clear();
+    let m = nalgebra::DMatrix::from_row_slice(n, n, &c);
+    let eig = m.complex_eigenvalues();
+    let largest = eig.iter().fold(0.0_f64, |a, z| a.max(z.norm()));
+    if largest == 0.0 || !largest.is_finite() {
+        return Ok(Vec::new());
+    }
+    // The zero eigenvalues of the massless coordinates and constraints form Jordan blocks
+    // (a constrained system's saddle point), which round-off splits by about the square root
+    // of the unit round-off: they are told from true modes by size, `RESOLVED` of the largest
+    // (frequencies more than 1000 times the lowest are left out, far above any asked for).
+    const RESOLVED: f64 = 1e-6;
+    let floor = RESOLVED * largest;
+    let mut out = Vec::new();
+    for z in eig.iter() {
+        if z.norm() <= floor {
+            continue; // a massless coordinate or a constraint
+        }
+        let complex = z.im.abs() > 1e-6 * z.norm();
+        if complex || z.re < 0.0 {
+            return Err(if complex { f64::NAN } else { 1.0 / z.re });
+        }
+        out.push(1.0 / z.re.sqrt());
+    }
+    out.sort_by(f64::total_cmp);
+    Ok(out)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn frequencies_of_a_spring_mass_chain() {
+        // Two unit masses, springs 1 (ground) and 1 (between): omega^2 = (3 -+ sqrt 5) / 2.
+        let k = [2.0, -1.0, -1.0, 1.0];
+        let m = [1.0, 0.0, 0.0, 1.0];
+        let w = frequencies(&k, &m, 2).unwrap();
+        let want = [
+            ((3.0 - 5f64.sqrt()) / 2.0).sqrt(),
+            ((3.0 + 5f64.sqrt()) / 2.0).sqrt(),
+        ];
+        for (a, b) in w.iter().zip(want) {
+            assert!((a - b).abs() < 1e-14, "{w:?}");
+        }
+        // A massless second coordinate (a free spring end): it follows the first, which
+        // keeps its own spring alone: one finite frequency, 1.
+        let w = frequencies(&k, &[1.0, 0.0, 0.0, 0.0], 2).unwrap();
+        assert_eq!(w.len(), 1);
+        assert!((w[0] - 1.0).abs() < 1e-14, "{w:?}");
+        // Unstable: a negative stiffness.
+        assert!(frequencies(&[-1.0], &[1.0], 1).is_err());
+    }
     use proptest::prelude::*;
 
     proptest! {

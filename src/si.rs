@@ -56,13 +56,20 @@ pub struct LoadRange {
 }
 
 /// SI value per nondimensional unit of a matrix column for `beam`: L (m) for gamma,
-/// `E I0 / L` (N m/rad) for k_theta, `E A0 / L` (N/m) for k_ex.
+/// `E I0 / L` (N m/rad) for k_theta, `E A0 / L` (N/m) for k_ex, the beam's mass
+/// `rho A0 L` (kg) for mu, or 1 (mu stays a fraction) when the beam has no density.
 pub fn column_factor(beam: &BeamSpec, col: Column) -> f64 {
     match col {
         Column::Gamma => beam.length,
         Column::KTheta => beam.youngs_modulus * beam.second_moment() / beam.length,
         Column::KEx => beam.youngs_modulus * beam.area() / beam.length,
+        Column::Mu => beam_mass(beam).unwrap_or(1.0),
     }
+}
+
+/// The beam's mass `rho A0 L` (kg), when the scene gives its density.
+pub fn beam_mass(beam: &BeamSpec) -> Option<f64> {
+    beam.density.map(|rho| rho * beam.area() * beam.length)
 }
 
 /// The force (N) of `alpha = 1` and the moment (N m) of `beta = 1` for `beam`.

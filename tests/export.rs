@@ -425,3 +425,112 @@ fn a_mechanism_scene_exports_as_mjcf_and_model_files_only() {
         assert!(!Path::new(&p).exists(), "{format}: nothing written");
     }
 }
+
+/// Issue 25.5: every robot format carries the mus' masses (DESIGN §10): segment i's link is
+/// `mu_i rho A0 L` with a uniform rod's inertia `m l^2 / 12` about the bending axis at its
+/// middle, and the `[tip]` body joins the last link (centre of mass and inertia by the
+/// parallel axis theorem); `[beam] density` is the density without `--density`.
+#[test]
+fn robot_formats_carry_the_mus_masses_and_the_tip_body() {
+    let dir = Dir::new("masses");
+    let text = prbfit::scene::DEFAULT_SCENE_TOML.replacen(
+        "poisson_ratio = 0.3",
+        "poisson_ratio = 0.3\ndensity = 2700.0",
+        1,
+    ) + "\n[tip]\nmass = 0.002\ninertia = 3e-8\n";
+    let scene_path = dir.write("scene.toml", &text);
+    let b = Scene::from_toml_str(&text, "scene.toml").unwrap().beam;
+    let total = 2700.0 * b.area() * b.length;
+    let l = b.length;
+    // Mass parked on the rigid root, the rest over three R segments.
+    let matrix = "0.1,inf,inf,0.3; 0.35,3.5,inf,0.2; 0.4,2.9,inf,0.3; 0.15,2.6,inf,0.2";
+    let (gammas, mus) = ([0.1, 0.35, 0.4, 0.15], [0.3, 0.2, 0.3, 0.2]);
+    // (mass, com from the link's root, izz about the com) as the formats should carry them.
+    let want: Vec<(f64, f64, f64)> = (0..4)
+        .map(|i| {
+            let (m, li) = (mus[i] * total, gammas[i] * l);
+            if i < 3 {
+                return (m, li / 2.0, m * li * li / 12.0);
+            }
+            let (mt, it) = (0.002, 3e-8);
+            let com = (m * li / 2.0 + mt * li) / (m + mt);
+            let izz =
+                m * li * li / 12.0 + m * (li / 2.0 - com).powi(2) + it + mt * (li - com).powi(2);
+            (m + mt, com, izz)
+        })
+        .collect();
+    let close = |a: f64, b: f64| (a - b).abs() <= 1e-9 * b.abs();
+    let export = |format: &str| {
+        let path = dir.file(&format!("m.{format}"));
+        succeeded(&prbfit(&[
+            "export",
+            "--scene",
+            &scene_path,
+            "--prb",
+            matrix,
+            "--format",
+            format,
+            "-o",
+            &path,
+        ]));
+        std::fs::read_to_string(&path).unwrap()
+    };
+    let first = |s: &str| num(s.split(' ').next().unwrap());
+    // MJCF: each segment body's `inertial`.
+    let text = export("mjcf");
+    let doc = roxmltree::Document::parse(&text).unwrap();
+    let inertials: Vec<_> = doc
+        .descendants()
+        .filter(|n| n.has_tag_name("inertial"))
+        .collect();
+    assert_eq!(inertials.len(), 4);
+    for (n, &(m, com, izz)) in inertials.iter().zip(&want) {
+        assert!(close(num(n.attribute("mass").unwrap()), m), "mjcf {n:?}");
+        assert!(close(first(n.attribute("pos").unwrap()), com), "mjcf {n:?}");
+        let diag: Vec<f64> = n
+            .attribute("diaginertia")
+            .unwrap()
+            .split(' ')
+            .map(num)
+            .collect();
+        assert!(close(diag[2], izz), "mjcf {diag:?} vs {izz}");
+    }
+    // URDF and SDF: each `segment{n}` link's `inertial`.
+    for format in ["urdf", "sdf"] {
+        let text = export(format);
+        let doc = roxmltree::Document::parse(&text).unwrap();
+        for (i, &(m, com, izz)) in want.iter().enumerate() {
+            let name = format!("segment{}", i + 1);
+            let link = doc
+                .descendants()
+                .find(|n| n.has_tag_name("link") && n.attribute("name") == Some(name.as_str()))
+                .unwrap_or_else(|| panic!("{format}: {name}"));
+            let inertial = link
+                .children()
+                .find(|c| c.has_tag_name("inertial"))
+                .unwrap();
+            let child = |tag: &str| {
+                inertial
+                    .descendants()
+                    .find(|c| c.has_tag_name(tag))
+                    .unwrap_or_else(|| panic!("{format}: {tag}"))
+            };
+            let (mass, pos, iz) = if format == "urdf" {
+                (
+                    num(child("mass").attribute("value").unwrap()),
+                    first(child("origin").attribute("xyz").unwrap()),
+                    num(child("inertia").attribute("izz").unwrap()),
+                )
+            } else {
+                (
+                    num(child("mass").text().unwrap()),
+                    first(child("pose").text().unwrap()),
+                    num(child("izz").text().unwrap()),
+                )
+            };
+            assert!(close(mass, m), "{format} {name}: {mass} vs {m}");
+            assert!(close(pos, com), "{format} {name}: {pos} vs {com}");
+            assert!(close(iz, izz), "{format} {name}: {iz} vs {izz}");
+        }
+    }
+}

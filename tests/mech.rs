@@ -29,6 +29,7 @@ fn beam() -> BeamSpec {
         youngs_modulus: 12e6,
         poisson_ratio: 0.3,
         shear_coefficient: None,
+        density: None,
         effects: EffectsChoice::Fixed(Effects::NONE),
         allowable_stress: None,
     }

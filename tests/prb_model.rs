@@ -2,7 +2,7 @@
 #![allow(clippy::unwrap_used, clippy::expect_used)] // tests: a failure should panic
 
 use prbfit::beam::Load;
-use prbfit::prb::{Column, MatrixError, PrbMatrix, PrbRow, PrbSolver};
+use prbfit::prb::{Column, MatrixError, PrbMatrix, PrbRow, PrbSolver, TipBody};
 use proptest::prelude::*;
 
 /// A random valid matrix: 1 to 5 rows, any mix of L, R, P, RP (at least one joint).
@@ -16,7 +16,8 @@ fn matrix() -> impl Strategy<Value = PrbMatrix> {
                     gamma: g / total,
                     k_theta: if kind & 1 == 1 { kt } else { f64::INFINITY },
                     k_ex: if kind & 2 == 2 { ke } else { f64::INFINITY },
-                    free: [kind != 0, true, kt > 10.0],
+                    mu: None,
+                    free: [kind != 0, true, kt > 10.0, true],
                 })
                 .collect();
             // Exact unit sum despite round-off in the normalisation.
@@ -48,6 +49,32 @@ const C_E: f64 = 1.0 / 1200.0;
 
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(64))]
+
+    /// The chain's mass matrix (DESIGN §10) is symmetric and positive definite at any
+    /// configuration when every segment carries mass (mu = gamma) and the tip a body: every
+    /// joint then moves some mass. Checked by Cholesky; and the modes of the unloaded chain
+    /// are finite and positive, one per degree of freedom.
+    #[test]
+    fn mass_matrix_is_symmetric_positive_definite(
+        m in matrix(),
+        q in proptest::collection::vec(-0.5..0.5f64, 10),
+        tip in 0.0..2.0f64,
+    ) {
+        let s = PrbSolver::new(&m, C_E);
+        let n = s.dof_count();
+        let body = TipBody { mass: tip, inertia: 0.1 * tip };
+        let mass = s.mass_matrix(&q[..n], body);
+        for a in 0..n {
+            for b in 0..n {
+                prop_assert!((mass[a * n + b] - mass[b * n + a]).abs() <= 1e-15 * mass[a * n + a].abs().max(1.0));
+            }
+        }
+        let dense = nalgebra::DMatrix::from_row_slice(n, n, &mass);
+        prop_assert!(dense.cholesky().is_some(), "{mass:?}");
+        let w = s.modes(Load::new(0.0, 0.0, 0.0), &vec![0.0; n], body).unwrap();
+        prop_assert_eq!(w.len(), n);
+        prop_assert!(w.iter().all(|w| w.is_finite() && *w > 0.0), "{:?}", w);
+    }
 
     /// Under a pure moment every joint carries beta, so phi = beta sum 1/k_theta: exact for
     /// the circle when the compliances sum to 1, at any beta.
@@ -188,8 +215,20 @@ fn bad_matrices_are_rejected_with_row_and_column() {
     let cases: &[(&str, &str)] = &[
         ("", "row 1: expected 3 entries"),
         (
+            "0.5,inf,inf,0.6; 0.5,2,inf,0.6",
+            "the mus must sum to 1, they sum to 1.2",
+        ),
+        (
+            "0.5,inf,inf,-0.1; 0.5,2,inf,1.1",
+            "row 1, column mu: the segment's mass fraction must be a finite number >= 0, got -0.1",
+        ),
+        (
+            "0.5,inf,inf,0.5; 0.5,2,inf",
+            "row 2: every row gives a mu (a fourth entry) or none does",
+        ),
+        (
             "0.5,inf; 0.5,2,inf",
-            "row 1: expected 3 entries (gamma, k_theta, k_ex), got 2",
+            "row 1: expected 3 entries (gamma, k_theta, k_ex) or 4 (gamma, k_theta, k_ex, mu), got 2",
         ),
         (
             "0.5,inf,inf; 0.5,two,inf",

@@ -1051,6 +1051,25 @@ fn export_asks_for_the_density_of_the_robot_formats() {
     let _ = run_command;
 }
 
+/// Issue 25.5: a scene giving `[beam] density` is not asked for one; its density goes with
+/// the export job.
+#[test]
+fn export_takes_the_scenes_density_without_asking() {
+    use prbfit::tui::worker::JobKind;
+    let t0 = Instant::now();
+    let mut app = app();
+    app.edit.scene.beam.density = Some(2700.0);
+    app.on_key(key(KeyCode::Char('e')), t0);
+    type_text(&mut app, "/nonexistent-dir-prbfit/arm.xml", t0);
+    let cmds = app.on_key(key(KeyCode::Enter), t0);
+    assert!(app.prompt.is_none());
+    let Some(Command::Export { path, overwrite }) = cmds.into_iter().next() else {
+        panic!("an export")
+    };
+    let job = app.export_job(path, overwrite);
+    assert!(matches!(job.kind, JobKind::Export { density, .. } if density == 2700.0));
+}
+
 /// Issue 15.6: the text box takes the readline keys (they used to insert `u` and `a`), and
 /// the first character typed over a pre-filled value replaces it.
 #[test]

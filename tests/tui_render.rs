@@ -673,3 +673,49 @@ fn mechanism_stress_and_stroke_limits_120x40() {
     assert!(app.shown.truth().unwrap().stroke_limit(0).is_some());
     insta::assert_snapshot!("mech_stress_120x40", render(&app, 120, 40).backend());
 }
+
+/// The built-in scene with steel's density and `[fit] modes = 3` (issue 25.6).
+fn dynamic_app(matrix: &str) -> App {
+    let text = prbfit::scene::DEFAULT_SCENE_TOML
+        .replacen(
+            "poisson_ratio = 0.3",
+            "poisson_ratio = 0.3\ndensity = 7850.0",
+            1,
+        )
+        .replacen("angle_weight = 1.0", "angle_weight = 1.0\nmodes = 3", 1);
+    let mut scene = Scene::from_toml_str(&text, "dynamic.toml").unwrap();
+    scene.prb = Some(prbfit::prb::PrbMatrix::parse(matrix).unwrap());
+    let mut app = common::tui::judged_as_given(scene, None);
+    app.jobs.activity = Activity::Done {
+        seconds: 0.0123,
+        stop: Some(StopReason::Converged),
+        iterations: 42,
+        evaluations: 900,
+    };
+    app
+}
+
+/// Issue 25.6: with `[beam] density` the status shows the first frequencies of the beam and
+/// the model in Hz, each model frequency's error, and PASS/FAIL against `max_freq_err` on
+/// those `[fit] modes` matches (also as `freq` beside the other targets). Su's 3R with
+/// uniform mass fails (its third is 21 % high on this every-effect beam); a 3R fitted with
+/// `modes = 3` (the matrix `tests/dynamic_fit.rs` prints) passes.
+#[test]
+fn frequencies_against_their_target_120x40() {
+    let su = dynamic_app("0.10,inf,inf; 0.35,3.51,inf; 0.40,2.99,inf; 0.15,2.58,inf");
+    let t = render(&su, 120, 40);
+    let text = format!("{}", t.backend());
+    assert!(
+        text.contains("modes Hz beam 163.06 1021.4 2857.8"),
+        "{text}"
+    );
+    assert!(text.contains("first 3 FAIL<1%"), "{text}");
+    assert!(text.contains("freq 20.8% FAIL<1"), "{text}");
+    insta::assert_snapshot!("modes_su_120x40", t.backend());
+    let fitted = dynamic_app(
+        "0.072832,inf,inf,0.103299; 0.333493,4.818223,inf,0.336029; \
+         0.416092,2.724012,inf,0.362472; 0.177583,2.633040,inf,0.198200",
+    );
+    let text = format!("{}", render(&fitted, 120, 40).backend());
+    assert!(text.contains("first 3 PASS<1%"), "{text}");
+}

@@ -65,6 +65,7 @@
 mod band;
 mod load;
 mod model;
+pub mod modes;
 mod newton;
 mod path;
 pub mod plate;

@@ -1,6 +1,15 @@
 //! MuJoCo MJCF: a body per segment, `hinge` joints with `stiffness` and `springref="0"`,
-//! `slide` joints for extension springs (both in the segment's body), gravity off, contacts
-//! off, a `tip` site at the free end. Verified in MuJoCo by `tests/mujoco.rs`.
+//! `slide` joints for extension springs (both in the segment's body), each body's
+//! `inertial` the segment's mass (DESIGN §10, [`super::chain`]), gravity off, contacts off, a
+//! `tip` site at the free end. Verified in MuJoCo by `tests/mujoco.rs` (statics) and
+//! `tests/mujoco_modes.rs` (free vibration at prbfit's PRB frequency).
+//!
+//! The time step: MuJoCo's default semi-implicit Euler integrates a spring of `omega` stably
+//! only for `omega dt < 2`, and its frequency is right to `(omega dt)^2 / 24`. The file's
+//! `timestep` is [`super::chain::time_step`]: 1/100 of the fastest joint's `1 / omega`
+//! (its stiffness over the inertia beyond it, which bounds the PRB model's highest frequency
+//! within a small factor), so the export is far inside the bound and the ringing's
+//! frequency is right to about 1e-5.
 //!
 //! The chain's bodies are written by [`write_chain`], which the whole mechanism's MJCF
 //! ([`super::mjcf_mech`]) shares: one chain per flexure, its names prefixed.
@@ -15,7 +24,11 @@ pub fn write(chain: &Chain, comment: &str) -> String {
     let _ = writeln!(out, "<mujoco model=\"{}\">", chain.name);
     let _ = writeln!(out, "  <!-- {comment} -->");
     let _ = writeln!(out, "  <compiler angle=\"radian\" autolimits=\"true\"/>");
-    let _ = writeln!(out, "  <option gravity=\"0 0 0\"/>");
+    let _ = writeln!(
+        out,
+        "  <option gravity=\"0 0 0\" timestep=\"{}\"/>",
+        g(super::chain::time_step(std::slice::from_ref(chain)))
+    );
     let _ = writeln!(
         out,
         "  <default>\n    <geom contype=\"0\" conaffinity=\"0\"/>\n  </default>"
@@ -104,14 +117,23 @@ pub fn write_chain(
                 g(k)
             );
         }
+        let [ix, iy, iz] = seg.mass.inertia;
         let _ = writeln!(
             out,
-            "{inner}<geom name=\"{prefix}link{n}\" type=\"box\" pos=\"{} 0 0\" size=\"{} {} {}\" mass=\"{}\"/>",
+            "{inner}<inertial pos=\"{} 0 0\" mass=\"{}\" diaginertia=\"{} {} {}\"/>",
+            g(seg.mass.com),
+            g(seg.mass.mass),
+            g(ix),
+            g(iy),
+            g(iz)
+        );
+        let _ = writeln!(
+            out,
+            "{inner}<geom name=\"{prefix}link{n}\" type=\"box\" pos=\"{} 0 0\" size=\"{} {} {}\"/>",
             g(seg.length / 2.0),
             g((seg.length / 2.0).max(1e-9 * chain.beam_length)),
             g(chain.thickness / 2.0),
-            g(chain.width / 2.0),
-            g(seg.mass.mass)
+            g(chain.width / 2.0)
         );
         if i + 1 == n_segments {
             if let Some(f) = at_tip.take() {

@@ -47,21 +47,22 @@
 //! target must move in small steps: a jump asks for accelerations past MuJoCo's `1e10`
 //! guard, which resets the simulation (the check moves it every 10 steps). The integrator is
 //! `implicitfast`;
-//! gravity and contacts are off. Masses (boxes of the scene's
-//! density) only set the dynamics; the stage's mass is flexure 1's.
+//! gravity and contacts are off. Masses are the matrix's mus of each flexure's `rho A0 L`
+//! (DESIGN §10, [`super::chain`]), the stage's the scene's `[stage] mass` and `inertia` (flexure
+//! 1's mass when it gives none); couplers are boxes of the density (prbfit's modes take
+//! them massless: a coupler's mass is a difference between the two).
 
 use std::fmt::Write as _;
 
 use crate::prb::PrbMatrix;
-use crate::scene::{Attach, Coordinate, Mechanism};
+use crate::scene::{Attach, Body, Coordinate, Mechanism};
 
 use super::chain::{g, ident, Chain};
+pub use super::chain::{time_step, STEP_FRACTION};
 use super::mjcf::{write_chain, ChainPlacement};
 
 /// The impedance every equality asks for (MuJoCo clamps larger values to this).
 pub const IMPEDANCE: f64 = 0.9999;
-/// The time step as a fraction of the fastest spring's `1 / omega`.
-pub const STEP_FRACTION: f64 = 0.01;
 /// The closures' time constant in time steps (MuJoCo's `refsafe` lower limit).
 pub const CLOSURE_STEPS: f64 = 2.0;
 
@@ -74,11 +75,20 @@ pub const STAGE_JOINTS: [(&str, &str); 3] = [
 
 /// The MJCF document of `mechanism` with `matrix` in place of every flexure, links of
 /// `density` (kg/m^3), `comment` at the top.
-pub fn write(mechanism: &Mechanism, matrix: &PrbMatrix, density: f64, comment: &str) -> String {
+/// `stage` is the stage's mass and inertia (`[stage]`); with neither given the stage gets
+/// flexure 1's mass and that as a rod's inertia, since a simulator refuses a massless moving
+/// body.
+pub fn write(
+    mechanism: &Mechanism,
+    matrix: &PrbMatrix,
+    density: f64,
+    stage: &Body,
+    comment: &str,
+) -> String {
     let chains: Vec<Chain> = mechanism
         .flexures
         .iter()
-        .map(|f| Chain::new(matrix, &f.beam, density))
+        .map(|f| Chain::new(matrix, &f.beam, density, &Body::default()))
         .collect();
     let step = time_step(&chains);
     let mut out = String::new();
@@ -159,20 +169,27 @@ pub fn write(mechanism: &Mechanism, matrix: &PrbMatrix, density: f64, comment: &
             },
         );
     }
-    write_stage(&mut out, mechanism, density);
+    write_stage(&mut out, mechanism, density, stage);
     let _ = writeln!(out, "  </worldbody>");
     write_equalities(&mut out, mechanism, &chains);
     let _ = writeln!(out, "</mujoco>");
     out
 }
 
-/// The stage body: three joints whose positions are the stage pose, flexure 1's mass.
-fn write_stage(out: &mut String, mechanism: &Mechanism, density: f64) {
+/// The stage body: three joints whose positions are the stage pose; the scene's stage mass
+/// and inertia (about P), or flexure 1's mass when it gives neither. A part left at 0 gets
+/// 1e-9 of flexure 1's: MuJoCo refuses a massless moving body.
+fn write_stage(out: &mut String, mechanism: &Mechanism, density: f64, stage: &Body) {
     let [px, py] = mechanism.stage_point;
     let b = mechanism.flexures.first().map(|f| f.beam);
     let (mass, inertia) = b.map_or((1.0, 1.0), |b| {
         let m = density * b.length * b.width * b.thickness;
-        (m, m * b.length * b.length / 12.0)
+        let i = m * b.length * b.length / 12.0;
+        if stage.is_none() {
+            (m, i)
+        } else {
+            (stage.mass.max(1e-9 * m), stage.inertia.max(1e-9 * i))
+        }
     });
     let _ = writeln!(
         out,
@@ -247,44 +264,6 @@ fn write_equalities(out: &mut String, mechanism: &Mechanism, chains: &[Chain]) {
     let _ = writeln!(out, "  </equality>");
 }
 
-/// The time step: [`STEP_FRACTION`] of the fastest spring's `1 / omega`, `omega^2` its
-/// stiffness over the unloaded chain's inertia (or mass, for an extension spring) beyond it:
-/// the diagonal estimate `tests/mujoco_check.py` uses for the single chain, with the stage's
-/// and couplers' inertia left out (which only slows the springs). With 100 steps per
-/// `1 / omega` and the springs' damping integrated implicitly, it is stable with a wide
-/// margin; the closures' `tau` of two steps is what needs it this small (module docs).
-pub fn time_step(chains: &[Chain]) -> f64 {
-    let mut omega_max = 0.0_f64;
-    for chain in chains {
-        let segs = &chain.segments;
-        for (i, s) in segs.iter().enumerate() {
-            let mut inertia = 0.0;
-            let mut mass = 0.0;
-            let mut d = 0.0;
-            for t in &segs[i..] {
-                let (m, l) = (t.mass.mass, t.length);
-                inertia += m
-                    * ((l * l + chain.thickness * chain.thickness) / 12.0
-                        + (d + l / 2.0) * (d + l / 2.0));
-                mass += m;
-                d += l;
-            }
-            if let Some(k) = s.hinge {
-                omega_max = omega_max.max((k / inertia).sqrt());
-            }
-            if let Some(k) = s.slide {
-                omega_max = omega_max.max((k / mass).sqrt());
-            }
-        }
-    }
-    if omega_max > 0.0 && omega_max.is_finite() {
-        STEP_FRACTION / omega_max
-    } else {
-        // A valid matrix has a spring; this only keeps the file loadable.
-        1e-3
-    }
-}
-
 /// How the header describes drive paths: each coordinate prescribed or loaded, SI.
 pub fn describe_drives(mechanism: &Mechanism) -> String {
     let mut out = String::new();
@@ -330,6 +309,7 @@ mod tests {
             youngs_modulus,
             poisson_ratio: 0.3,
             shear_coefficient: None,
+            density: None,
             effects: EffectsChoice::Auto,
             allowable_stress: None,
         };
@@ -414,7 +394,7 @@ mod tests {
     fn every_loop_closes_in_the_unloaded_pose_it_is_written_in() {
         let m = mixed();
         let matrix = PrbMatrix::parse(SU_3R_EX).unwrap();
-        let text = write(&m, &matrix, 1000.0, "test");
+        let text = write(&m, &matrix, 1000.0, &Body::default(), "test");
         let doc = Document::parse(&text).expect("well-formed XML");
         let site = |name: &str| {
             let s = named(&doc, "site", name);
@@ -449,7 +429,7 @@ mod tests {
     fn springs_are_scaled_to_each_flexure_and_the_drive_is_the_scenes() {
         let m = mixed();
         let matrix = PrbMatrix::parse(SU_3R_EX).unwrap();
-        let text = write(&m, &matrix, 1000.0, "test");
+        let text = write(&m, &matrix, 1000.0, &Body::default(), "test");
         let doc = Document::parse(&text).unwrap();
         let count = |tag: &str| doc.descendants().filter(|n| n.has_tag_name(tag)).count();
         // 4 segments per flexure, one coupler, the stage.
@@ -502,7 +482,7 @@ mod tests {
                     == time_step(
                         &m.flexures
                             .iter()
-                            .map(|f| Chain::new(&matrix, &f.beam, 1000.0))
+                            .map(|f| Chain::new(&matrix, &f.beam, 1000.0, &Body::default()))
                             .collect::<Vec<_>>()
                     )
         );
@@ -515,7 +495,7 @@ mod tests {
             let matrix = PrbMatrix::parse(matrix).unwrap();
             m.flexures
                 .iter()
-                .map(|f| Chain::new(&matrix, &f.beam, 1000.0))
+                .map(|f| Chain::new(&matrix, &f.beam, 1000.0, &Body::default()))
                 .collect()
         };
         // Four times the springs: half the time step.

@@ -14,7 +14,7 @@ fn link(chain: &Chain, name: &str, x: f64, length: f64, m: &MassProperties) -> S
          <visual name=\"visual\">\n        <pose>{} 0 0 0 0 0</pose>\n        \
          <geometry><box><size>{} {} {}</size></box></geometry>\n      </visual>\n    </link>\n",
         g(x),
-        g(length / 2.0),
+        g(m.com),
         g(m.mass),
         g(ixx),
         g(iyy),

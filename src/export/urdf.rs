@@ -5,12 +5,12 @@ use std::fmt::Write as _;
 
 use super::chain::{g, Chain, MassProperties};
 
-fn inertial(m: &MassProperties, length: f64) -> String {
+fn inertial(m: &MassProperties) -> String {
     let [ixx, iyy, izz] = m.inertia;
     format!(
         "    <inertial>\n      <origin xyz=\"{} 0 0\"/>\n      <mass value=\"{}\"/>\n      \
          <inertia ixx=\"{}\" ixy=\"0\" ixz=\"0\" iyy=\"{}\" iyz=\"0\" izz=\"{}\"/>\n    </inertial>\n",
-        g(length / 2.0),
+        g(m.com),
         g(m.mass),
         g(ixx),
         g(iyy),
@@ -49,7 +49,7 @@ pub fn write(chain: &Chain, comment: &str) -> String {
         let first_child = seg.first_child();
         if seg.slide.is_some() {
             let _ = writeln!(out, "  <link name=\"{first_child}\">");
-            out.push_str(&inertial(&chain.hinge_link_mass, chain.hinge_link_length()));
+            out.push_str(&inertial(&chain.hinge_link_mass));
             let _ = writeln!(out, "  </link>");
         }
         let joint = seg.root_joint();
@@ -86,7 +86,7 @@ pub fn write(chain: &Chain, comment: &str) -> String {
             gazebo.push_str(&spring(&slide, k));
         }
         let _ = writeln!(out, "  <link name=\"{link}\">");
-        out.push_str(&inertial(&seg.mass, seg.length));
+        out.push_str(&inertial(&seg.mass));
         let _ = writeln!(
             out,
             "    <visual>\n      <origin xyz=\"{} 0 0\"/>\n      <geometry><box size=\"{} {} {}\"/></geometry>\n    </visual>",

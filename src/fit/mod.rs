@@ -201,7 +201,11 @@ pub fn search(
 ) -> Result<Found, SearchError> {
     let t0 = Instant::now();
     options.validate()?;
-    let param = Parameterisation::new(start)?;
+    let param = if target.masses() {
+        Parameterisation::with_masses(start)?
+    } else {
+        Parameterisation::new(start)?
+    };
     let objective = Objective::new(target, &param, cancel);
     let p_start = param.encode(start);
     // J of the start itself (its encoding decodes to the start only up to round-off).

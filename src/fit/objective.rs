@@ -54,6 +54,12 @@ pub trait Target {
         let _ = fraction;
         0.0
     }
+    /// Whether the residuals depend on the mus (a dynamic fit, DESIGN §10): the search then
+    /// frees them ([`super::Parameterisation::with_masses`]). False (the default): the
+    /// statics, which do not see them.
+    fn masses(&self) -> bool {
+        false
+    }
 }
 
 /// The single beam's target (DESIGN §4): three residuals per load case,

@@ -3,7 +3,10 @@
 //!
 //! - free gammas share what the fixed ones leave, `1 - sum(fixed)`, through a softmax of
 //!   logits (the first logit is pinned at 0, which removes the softmax's redundant direction);
-//! - free spring constants are `exp(u)`, positive for every real `u`.
+//! - free spring constants are `exp(u)`, positive for every real `u`;
+//! - in a dynamic fit ([`Parameterisation::with_masses`], DESIGN §10) the free mus share what
+//!   the fixed ones leave through a softmax of their own, after the springs; a statics-only
+//!   fit leaves the mus alone (the statics do not see them).
 
 use nalgebra::DVector;
 
@@ -41,6 +44,10 @@ pub struct Parameterisation {
     free_length: f64,
     /// Free spring cells.
     free_springs: Vec<(usize, Column)>,
+    /// Rows whose mu is free (a dynamic fit only).
+    free_mus: Vec<usize>,
+    /// What the free mus share.
+    free_mass: f64,
 }
 
 impl Parameterisation {
@@ -73,12 +80,41 @@ impl Parameterisation {
             free_gammas,
             free_length,
             free_springs,
+            free_mus: Vec::new(),
+            free_mass: 0.0,
         })
+    }
+
+    /// As [`Parameterisation::new`], the mu cells not pinned with `!` free too (a dynamic
+    /// fit): the template's mus are written out (a three-column matrix's are its gammas) and
+    /// the free ones share `1 - sum(fixed mus)` through one logit each after the first. When
+    /// the fixed mus leave nothing, the free ones stay at 0.
+    pub fn with_masses(template: &PrbMatrix) -> Result<Parameterisation, ParamError> {
+        let explicit = template.with_explicit_mu();
+        let mut p = Parameterisation::new(&explicit)?;
+        let rows = explicit.rows();
+        let free: Vec<usize> = (0..rows.len())
+            .filter(|&i| rows[i].is_free(Column::Mu))
+            .collect();
+        let fixed: f64 = (0..rows.len())
+            .filter(|i| !free.contains(i))
+            .map(|i| rows[i].mass())
+            .sum();
+        if fixed < 1.0 {
+            p.free_mus = free;
+            p.free_mass = 1.0 - fixed;
+        }
+        Ok(p)
+    }
+
+    /// The number of mu logits (one per free mu after the first).
+    fn n_mu_logits(&self) -> usize {
+        self.free_mus.len().saturating_sub(1)
     }
 
     /// Number of parameters (zero: nothing to fit).
     pub fn len(&self) -> usize {
-        self.free_gammas.len().saturating_sub(1) + self.free_springs.len()
+        self.free_gammas.len().saturating_sub(1) + self.free_springs.len() + self.n_mu_logits()
     }
 
     /// Whether there is no parameter, i.e. nothing to fit.
@@ -104,6 +140,18 @@ impl Parameterisation {
         }
         for &(i, c) in &self.free_springs {
             p.push(rows[i].get(c).ln());
+        }
+        if let Some((&first, rest)) = self.free_mus.split_first() {
+            // A mu of 0 (mass parked elsewhere) is the softmax's far edge.
+            let tiny = (-2.0 * LOGIT_LIMIT).exp() * self.free_mass;
+            let m0 = rows[first].mass().max(tiny);
+            for &i in rest {
+                p.push(
+                    (rows[i].mass().max(tiny) / m0)
+                        .ln()
+                        .clamp(-LOGIT_LIMIT, LOGIT_LIMIT),
+                );
+            }
         }
         DVector::from_vec(p)
     }
@@ -145,15 +193,38 @@ impl Parameterisation {
         for (&(i, c), u) in self.free_springs.iter().zip(p.iter().skip(n_logits)) {
             rows[i].set(c, u.clamp(-SPRING_LOG_LIMIT, SPRING_LOG_LIMIT).exp());
         }
+        if !self.free_mus.is_empty() {
+            let skip = n_logits + self.free_springs.len();
+            let shares = softmax(p.iter().skip(skip).copied(), self.free_mus.len());
+            for (&i, w) in self.free_mus.iter().zip(&shares) {
+                rows[i].mu = Some(self.free_mass * w);
+            }
+            // The mus must sum to 1 to round-off: the largest free one takes the residue.
+            let sum: f64 = rows.iter().map(|r| r.mass()).sum();
+            if let Some(&largest) = self
+                .free_mus
+                .iter()
+                .max_by(|&&a, &&b| rows[a].mass().total_cmp(&rows[b].mass()))
+            {
+                rows[largest].mu = Some((rows[largest].mass() + 1.0 - sum).max(0.0));
+            }
+        }
         PrbMatrix::new(rows).ok()
     }
 
     /// Box for a global search in parameter space: logits within +-3 of the start (gamma
-    /// ratios up to e^3 either way) and spring constants from 1/20 to 20 times the start's.
+    /// and mu ratios up to e^3 either way) and spring constants from 1/20 to 20 times the start's.
     pub fn search_box(&self, start: &DVector<f64>) -> (DVector<f64>, DVector<f64>) {
         let n_logits = self.free_gammas.len().saturating_sub(1);
+        let springs = n_logits..n_logits + self.free_springs.len();
         let widths: Vec<f64> = (0..self.len())
-            .map(|k| if k < n_logits { 3.0 } else { 20f64.ln() })
+            .map(|k| {
+                if springs.contains(&k) {
+                    20f64.ln()
+                } else {
+                    3.0
+                }
+            })
             .collect();
         let lower =
             DVector::from_iterator(self.len(), start.iter().zip(&widths).map(|(s, w)| s - w));
@@ -161,6 +232,22 @@ impl Parameterisation {
             DVector::from_iterator(self.len(), start.iter().zip(&widths).map(|(s, w)| s + w));
         (lower, upper)
     }
+}
+
+/// The softmax of `n` shares whose first logit is pinned at 0 and the rest are `logits`
+/// (clamped to [`LOGIT_LIMIT`]), shifted by the largest for stability.
+fn softmax(logits: impl Iterator<Item = f64>, n: usize) -> Vec<f64> {
+    let logits: Vec<f64> = std::iter::once(0.0)
+        .chain(
+            logits
+                .take(n.saturating_sub(1))
+                .map(|l| l.clamp(-LOGIT_LIMIT, LOGIT_LIMIT)),
+        )
+        .collect();
+    let top = logits.iter().cloned().fold(f64::MIN, f64::max);
+    let weights: Vec<f64> = logits.iter().map(|l| (l - top).exp()).collect();
+    let total: f64 = weights.iter().sum();
+    weights.iter().map(|w| w / total).collect()
 }
 
 #[cfg(test)]
@@ -182,6 +269,42 @@ mod tests {
             }
         }
         assert_eq!(back.rows()[2].gamma, 0.4, "fixed cells are untouched");
+    }
+
+    /// A dynamic fit frees the mus not pinned: a three-column matrix's are its gammas,
+    /// written out; they round-trip, keep summing to 1, and a pinned one stays.
+    #[test]
+    fn mus_are_free_only_in_a_dynamic_fit() {
+        let m =
+            PrbMatrix::parse("0.1,inf,inf; 0.35,3.51,inf; 0.4,2.99,inf; 0.15,2.58,inf").unwrap();
+        let statics = Parameterisation::new(&m).unwrap();
+        let dynamic = Parameterisation::with_masses(&m).unwrap();
+        assert_eq!(dynamic.len(), statics.len() + 3);
+        let back = dynamic.decode(&dynamic.encode(&m)).unwrap();
+        assert!(back.has_mu());
+        for (a, b) in back.rows().iter().zip(m.rows()) {
+            assert!((a.mass() - b.gamma).abs() < 1e-14, "{back:?}");
+        }
+        // Pin the root's mu at 0.3: the others share 0.7 whatever the parameters.
+        let pinned = PrbMatrix::parse(
+            "0.1,inf,inf,0.3!; 0.35,3.51,inf,0.2; 0.4,2.99,inf,0.3; 0.15,2.58,inf,0.2",
+        )
+        .unwrap();
+        let p = Parameterisation::with_masses(&pinned).unwrap();
+        let mut v = p.encode(&pinned);
+        let n = v.len();
+        v[n - 1] += 1.7;
+        v[n - 2] -= 0.4;
+        let d = p.decode(&v).unwrap();
+        assert_eq!(d.rows()[0].mass(), 0.3);
+        let sum: f64 = d.rows().iter().map(|r| r.mass()).sum();
+        assert!((sum - 1.0).abs() < 1e-15, "{sum}");
+        // A mu of 0 encodes to the softmax's edge and decodes to its floor, e^-LOGIT_LIMIT
+        // of the other (4.5e-5: a negligible mass).
+        let zero = PrbMatrix::parse("0.15,inf,inf,0; 0.85,2.25,inf,1").unwrap();
+        let p = Parameterisation::with_masses(&zero).unwrap();
+        let d = p.decode(&p.encode(&zero)).unwrap();
+        assert!(d.rows()[0].mass() <= 1.0001 * (-LOGIT_LIMIT).exp(), "{d:?}");
     }
 
     #[test]

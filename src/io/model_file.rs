@@ -274,6 +274,7 @@ mod tests {
             rms_force_err: None,
             max_force_err: None,
             max_tip_err: None,
+            max_freq_err: None,
         };
         let file = ModelFile::fitted(&m, &scene, "normal", &figures);
         let text = file.to_toml().unwrap();
@@ -305,6 +306,7 @@ mod tests {
             rms_force_err: Some(6.0),
             max_force_err: Some(7.0),
             max_tip_err: Some(8.0),
+            max_freq_err: None,
         };
         let file = ModelFile::fitted(&m, &scene, "normal", &figures);
         let record = file.fit.as_ref().unwrap().mechanism.as_ref().unwrap();

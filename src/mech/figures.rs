@@ -65,6 +65,12 @@ pub struct Figures {
     /// truth has no flexure tips (measured data).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub max_tip_err: Option<f64>,
+    /// Largest relative error `|Omega_PRB,i / Omega_beam,i - 1|` of the first `[fit] modes`
+    /// natural frequencies about the unloaded equilibrium (DESIGN §10; infinite when the
+    /// model has fewer or is unstable there); absent when the scene asks for none. `J`
+    /// then includes `w_omega mean_i (Omega_PRB,i / Omega_beam,i - 1)^2`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_freq_err: Option<f64>,
 }
 
 impl Figures {
@@ -118,6 +124,7 @@ impl Figures {
             rms_force_err: reactions.then(|| (sf / n).sqrt()),
             max_force_err: reactions.then_some(mf),
             max_tip_err: tips.then_some(mt),
+            max_freq_err: None,
         }
     }
 
@@ -127,11 +134,17 @@ impl Figures {
     }
 
     /// Whether the figures meet a scene's targets (position, angle and, where there are
-    /// reactions, reaction).
+    /// reactions, reaction; where frequencies are judged, `max_freq_err`).
     pub fn meets(&self, accuracy: &Accuracy) -> bool {
         self.max_pos_err <= accuracy.max_pos_err
             && self.max_ang_err <= accuracy.max_ang_err
             && self.max_force() <= accuracy.max_force_err
+            && self.max_freq() <= accuracy.max_freq_err
+    }
+
+    /// The frequency error's largest value, 0 when no frequency is judged.
+    pub fn max_freq(&self) -> f64 {
+        self.max_freq_err.unwrap_or(0.0)
     }
 
     /// The worst ratio of a figure to its target (1 = on target).
@@ -139,6 +152,7 @@ impl Figures {
         (self.max_pos_err / accuracy.max_pos_err)
             .max(self.max_ang_err / accuracy.max_ang_err)
             .max(self.max_force() / accuracy.max_force_err)
+            .max(self.max_freq() / accuracy.max_freq_err)
     }
 }
 
@@ -180,6 +194,54 @@ pub struct Judgement {
     /// the cases it followed); empty when it followed every case.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub unfollowed: Vec<UnfollowedPath>,
+    /// The model's natural frequencies against the truth's (DESIGN §10), when the scene
+    /// gives `[beam] density`; filled by the study.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub frequencies: Option<Frequencies>,
+}
+
+/// A model's natural frequencies against the truth's (DESIGN §10), about the unloaded
+/// equilibrium, in flexure 1's `Omega = omega sqrt(rho A0 L^4 / (E I0))` and in Hz.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Frequencies {
+    /// The truth's `Omega`, lowest first.
+    pub beam: Vec<f64>,
+    /// The model's, as many (fewer when the model has fewer moving joints).
+    pub model: Vec<f64>,
+    /// The truth's in Hz.
+    pub beam_hz: Vec<f64>,
+    /// The model's in Hz.
+    pub model_hz: Vec<f64>,
+    /// `Omega_model / Omega_beam - 1` per frequency the model has.
+    pub freq_err: Vec<f64>,
+    /// How many of them the scene's fit matches and targets (`[fit] modes`).
+    pub judged: usize,
+    /// The truth is measured data, which has no dynamics: the beam's frequencies are the
+    /// nominal beam's.
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub nominal: bool,
+}
+
+impl Frequencies {
+    /// The largest `|freq_err|` over the judged frequencies (infinite when the model has
+    /// fewer).
+    pub fn max_err(&self) -> f64 {
+        (0..self.judged)
+            .map(|i| self.freq_err.get(i).map_or(f64::INFINITY, |e| e.abs()))
+            .fold(0.0, f64::max)
+    }
+
+    /// `mean_i (Omega_PRB,i / Omega_beam,i - 1)^2` over the judged frequencies (a missing
+    /// one counts as an error of 1).
+    pub fn mean_square(&self) -> f64 {
+        if self.judged == 0 {
+            return 0.0;
+        }
+        (0..self.judged)
+            .map(|i| self.freq_err.get(i).map_or(1.0, |e| e * e))
+            .sum::<f64>()
+            / self.judged as f64
+    }
 }
 
 /// A load path or drive a model could not follow to its end.
@@ -391,6 +453,7 @@ fn compare_scaled(
         reaction_scale,
         cases,
         unfollowed: Vec::new(),
+        frequencies: None,
     }
 }
 
@@ -429,6 +492,7 @@ mod tests {
             flexures: Vec::new(),
             iterations: 0,
             joints: Vec::new(),
+            state: None,
         }
     }
 

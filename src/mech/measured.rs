@@ -91,6 +91,7 @@ pub fn truth_cases(mechanism: &Mechanism, stage: &StageData) -> Vec<Vec<MechCase
                     flexures: Vec::new(),
                     iterations: 0,
                     joints: Vec::new(),
+                    state: None,
                 })
                 .collect()
         })

@@ -63,9 +63,11 @@ pub mod exact;
 pub mod figures;
 pub mod geometry;
 pub mod measured;
+pub mod modes;
 mod path;
 pub mod pose;
 pub mod prb;
+pub mod prb_modes;
 pub mod solve;
 mod system;
 
@@ -114,6 +116,21 @@ pub struct MechCase {
     /// whose shape follows from its tip wrench.
     #[serde(skip)]
     pub joints: Vec<Vec<f64>>,
+    /// The mechanism solver's state at this case (its unknowns and the drive's coordinates
+    /// there), from which the case is linearised (its natural frequencies, DESIGN §10);
+    /// `None` for a case that no mechanism solver made (a cantilever's, measured data).
+    #[serde(skip)]
+    pub state: Option<SolvedState>,
+}
+
+/// A mechanism solver's state at one case: what [`prb_modes`] linearises.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SolvedState {
+    /// The unknowns (every flexure's wrench parameters and internal unknowns, then the
+    /// stage's loaded coordinates).
+    pub unknowns: Vec<f64>,
+    /// The drive's coordinates at the case.
+    pub at: [crate::scene::Coordinate; 3],
 }
 
 /// Why a flexure's tip could not be solved.

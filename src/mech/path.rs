@@ -14,7 +14,7 @@ use crate::scene::{Coordinate, DrivePath, Mechanism};
 
 use super::solve::{FlexEval, FlexureModel, MechSolver};
 use super::system::equilibrate;
-use super::{FlexureCase, MechCase, MechError};
+use super::{FlexureCase, MechCase, MechError, SolvedState};
 
 /// An equilibrated Jacobian (see [`equilibrate`]) of the unloaded pose whose smallest pivot
 /// is this small next to its largest is singular. The unloaded flexures are straight, so a
@@ -279,6 +279,10 @@ impl<M: FlexureModel> MechSolver<M> {
             flexures,
             iterations,
             joints,
+            state: Some(SolvedState {
+                unknowns: point.x.clone(),
+                at,
+            }),
         }
     }
 }

@@ -406,6 +406,7 @@ mod tests {
             youngs_modulus: 2e9,
             poisson_ratio: 0.45,
             shear_coefficient: None,
+            density: None,
             effects: EffectsChoice::Fixed(Effects {
                 shear: true,
                 extension: true,

@@ -102,6 +102,8 @@ pub struct PrbSolver {
     pub(super) k_theta: Vec<f64>,
     /// `k_ex / c_e` per row (infinite for rows without an extension spring).
     pub(super) k_ex_scaled: Vec<f64>,
+    /// Each segment's mass as a fraction of the beam's (DESIGN §10: mu, or gamma).
+    pub(super) mu: Vec<f64>,
     pub(super) dofs: Vec<Dof>,
     /// The smallest continuation step before giving up on a load path.
     pub(super) min_step: f64,
@@ -134,6 +136,7 @@ impl PrbSolver {
             gamma: rows.iter().map(|r| r.gamma).collect(),
             k_theta: rows.iter().map(|r| r.k_theta).collect(),
             k_ex_scaled: rows.iter().map(|r| r.k_ex / axial_compliance).collect(),
+            mu: rows.iter().map(|r| r.mass()).collect(),
             dofs,
             min_step: MIN_STEP,
             case_budget: u32::MAX,

@@ -1,11 +1,16 @@
-//! The PRB matrix `Omega` (DESIGN §3): one row per rigid segment, root first, columns
-//! `[gamma, k_theta, k_ex]`.
+//! The PRB matrix `Omega` (DESIGN §3, §10): one row per rigid segment, root first, columns
+//! `[gamma, k_theta, k_ex, mu]`.
 //!
 //! - `gamma`: the segment's nominal length as a fraction of L (the gammas sum to 1);
 //! - `k_theta`: torsion spring at the segment's root end, `K_theta = k_theta E I0 / L`, or
 //!   `inf` for no joint there;
 //! - `k_ex`: extension spring along the segment, `K_ex = k_ex E A0 / L`, or `inf` for a fixed
-//!   length.
+//!   length;
+//! - `mu`: the segment's mass as a fraction of the beam's `rho A0 L` (DESIGN §10), its centre
+//!   of mass at the segment's middle. The column is optional: a matrix written with three
+//!   columns has `mu_i = gamma_i` (the beam's mass where its length is) and keeps it through
+//!   every gamma edit and fit, so every three-column file and command keeps its meaning.
+//!   Either every row gives a mu or none does; given mus are finite, `>= 0` and sum to 1.
 //!
 //! The matrix's text form, its TOML/JSON form and topology names are in `notation.rs`.
 
@@ -29,7 +34,10 @@ pub const MAX_SPRING: f64 = 1e12;
 /// of hundreds would fit for minutes: refused at once instead.
 pub const MAX_SEGMENTS: usize = 32;
 
-/// The three columns of a row.
+/// How far the mus' sum may stray from 1 (as [`GAMMA_SUM_TOL`]).
+pub const MU_SUM_TOL: f64 = GAMMA_SUM_TOL;
+
+/// The four columns of a row.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Column {
     /// `gamma`: the segment's nominal length as a fraction of L.
@@ -38,29 +46,36 @@ pub enum Column {
     KTheta,
     /// `k_ex`: the extension spring along the segment, in units of `E A0 / L`.
     KEx,
+    /// `mu`: the segment's mass as a fraction of the beam's `rho A0 L` (DESIGN §10).
+    Mu,
 }
 
 impl Column {
-    /// The three columns in matrix order: gamma, k_theta, k_ex.
-    pub const ALL: [Column; 3] = [Column::Gamma, Column::KTheta, Column::KEx];
+    /// The four columns in matrix order: gamma, k_theta, k_ex, mu.
+    pub const ALL: [Column; 4] = [Column::Gamma, Column::KTheta, Column::KEx, Column::Mu];
 
-    /// The column's 0-based position in a row (gamma 0, k_theta 1, k_ex 2), also the index
-    /// into [`PrbRow::free`].
+    /// The statics' three columns (a three-column matrix's): gamma, k_theta, k_ex.
+    pub const STATICS: [Column; 3] = [Column::Gamma, Column::KTheta, Column::KEx];
+
+    /// The column's 0-based position in a row (gamma 0, k_theta 1, k_ex 2, mu 3), also the
+    /// index into [`PrbRow::free`].
     pub fn index(self) -> usize {
         match self {
             Column::Gamma => 0,
             Column::KTheta => 1,
             Column::KEx => 2,
+            Column::Mu => 3,
         }
     }
 
     /// The column's name as the text form, files and messages spell it (`gamma`,
-    /// `k_theta`, `k_ex`).
+    /// `k_theta`, `k_ex`, `mu`).
     pub fn name(self) -> &'static str {
         match self {
             Column::Gamma => "gamma",
             Column::KTheta => "k_theta",
             Column::KEx => "k_ex",
+            Column::Mu => "mu",
         }
     }
 }
@@ -83,28 +98,51 @@ pub struct PrbRow {
     /// Extension spring along the segment, in units of `E A0 / L` (> 0), or `inf` for a fixed
     /// length.
     pub k_ex: f64,
-    /// Per cell (gamma, k_theta, k_ex): may the fit change it? `inf` cells never are.
-    pub free: [bool; 3],
+    /// The segment's mass as a fraction of the beam's `rho A0 L`; `None` (a three-column
+    /// matrix): `gamma`, whatever the gamma becomes ([`PrbRow::mass`]).
+    pub mu: Option<f64>,
+    /// Per cell (gamma, k_theta, k_ex, mu): may the fit change it? `inf` cells never are.
+    pub free: [bool; 4],
 }
 
 impl PrbRow {
+    /// A row of the statics' three columns, every cell free, its mass where its length is.
+    pub fn new(gamma: f64, k_theta: f64, k_ex: f64) -> PrbRow {
+        PrbRow {
+            gamma,
+            k_theta,
+            k_ex,
+            mu: None,
+            free: [true; 4],
+        }
+    }
+
     /// The value in `column` (gamma as a fraction of L, k_theta in `E I0 / L`, k_ex in
-    /// `E A0 / L`).
+    /// `E A0 / L`, mu as a fraction of `rho A0 L`: [`PrbRow::mass`]).
     pub fn get(&self, column: Column) -> f64 {
         match column {
             Column::Gamma => self.gamma,
             Column::KTheta => self.k_theta,
             Column::KEx => self.k_ex,
+            Column::Mu => self.mass(),
         }
     }
 
-    /// Overwrites the value in `column`, unchecked: the owning [`PrbMatrix`] validates.
+    /// Overwrites the value in `column` (a mu becomes explicit), unchecked: the owning
+    /// [`PrbMatrix`] validates.
     pub fn set(&mut self, column: Column, value: f64) {
         match column {
             Column::Gamma => self.gamma = value,
             Column::KTheta => self.k_theta = value,
             Column::KEx => self.k_ex = value,
+            Column::Mu => self.mu = Some(value),
         }
+    }
+
+    /// The segment's mass as a fraction of the beam's `rho A0 L`: its mu, or its gamma in a
+    /// three-column matrix.
+    pub fn mass(&self) -> f64 {
+        self.mu.unwrap_or(self.gamma)
     }
 
     /// A torsion spring at this segment's root end.
@@ -151,8 +189,8 @@ pub enum MatrixError {
         /// How many rows it has.
         got: usize,
     },
-    /// A row of the text form does not have exactly three entries.
-    #[error("row {row}: expected 3 entries (gamma, k_theta, k_ex), got {got}")]
+    /// A row of the text form does not have three or four entries.
+    #[error("row {row}: expected 3 entries (gamma, k_theta, k_ex) or 4 (gamma, k_theta, k_ex, mu), got {got}")]
     RowLength {
         /// 1-based row of the text.
         row: usize,
@@ -193,6 +231,33 @@ pub enum MatrixError {
         column: Column,
         /// The rejected constant (`E I0 / L` or `E A0 / L`).
         value: f64,
+    },
+    /// Some rows give a mu and others do not.
+    #[error("row {row}: every row gives a mu (a fourth entry) or none does; row 1 has {first} entries, row {row} has {got}")]
+    MixedMu {
+        /// 1-based: the first row that differs from row 1.
+        row: usize,
+        /// Entries of row 1.
+        first: usize,
+        /// Entries of that row.
+        got: usize,
+    },
+    /// A mass fraction is not a finite number >= 0.
+    #[error(
+        "row {row}, column mu: the segment's mass fraction must be a finite number >= 0, got {}",
+        bounded(*value)
+    )]
+    Mu {
+        /// 1-based row.
+        row: usize,
+        /// The rejected mu (fraction of `rho A0 L`).
+        value: f64,
+    },
+    /// The mus do not sum to 1 within [`MU_SUM_TOL`].
+    #[error("the mus must sum to 1, they sum to {sum} (off by {:.3e})", sum - 1.0)]
+    MuSum {
+        /// The sum of the mus found.
+        sum: f64,
     },
     /// The gammas do not sum to 1 within [`GAMMA_SUM_TOL`].
     #[error("the gammas must sum to 1, they sum to {sum} (off by {:.3e})", sum - 1.0)]
@@ -235,7 +300,7 @@ impl PrbMatrix {
         // A flag on an `inf` cell means nothing; keep it canonical (free, so that a cell
         // later given a finite value starts out free) so equal matrices compare equal.
         for r in &mut rows {
-            for c in Column::ALL {
+            for c in Column::STATICS {
                 if r.get(c) == f64::INFINITY {
                     r.free[c.index()] = true;
                 }
@@ -291,6 +356,35 @@ impl PrbMatrix {
         if (sum - 1.0).abs() > GAMMA_SUM_TOL {
             return Err(MatrixError::GammaSum { sum });
         }
+        let explicit = self.rows[0].mu.is_some();
+        for (i, r) in self.rows.iter().enumerate() {
+            match r.mu {
+                Some(_) if !explicit => {
+                    return Err(MatrixError::MixedMu {
+                        row: i + 1,
+                        first: 3,
+                        got: 4,
+                    })
+                }
+                None if explicit => {
+                    return Err(MatrixError::MixedMu {
+                        row: i + 1,
+                        first: 4,
+                        got: 3,
+                    })
+                }
+                Some(value) if !(value.is_finite() && value >= 0.0) => {
+                    return Err(MatrixError::Mu { row: i + 1, value })
+                }
+                _ => {}
+            }
+        }
+        if explicit {
+            let sum: f64 = self.rows.iter().map(PrbRow::mass).sum();
+            if (sum - 1.0).abs() > MU_SUM_TOL {
+                return Err(MatrixError::MuSum { sum });
+            }
+        }
         if !self
             .rows
             .iter()
@@ -301,16 +395,64 @@ impl PrbMatrix {
         Ok(())
     }
 
-    /// Sets one cell and validates; on error the matrix is unchanged.
+    /// Sets one cell and validates; on error the matrix is unchanged. A mu edit is
+    /// [`PrbMatrix::with_mu`] (the mus keep summing to 1).
     pub fn with_cell(
         &self,
         row: usize,
         column: Column,
         value: f64,
     ) -> Result<PrbMatrix, MatrixError> {
+        if column == Column::Mu {
+            return self.with_mu(row, value);
+        }
         let mut rows = self.rows.clone();
         rows[row].set(column, value);
         PrbMatrix::new(rows)
+    }
+
+    /// Whether the matrix gives its mus (a fourth column); otherwise each mu is its gamma.
+    pub fn has_mu(&self) -> bool {
+        self.rows.first().is_some_and(|r| r.mu.is_some())
+    }
+
+    /// The same matrix with its mus written out (`mu_i = gamma_i` where it had none): what an
+    /// edit or a fit of the masses starts from.
+    pub fn with_explicit_mu(&self) -> PrbMatrix {
+        let mut m = self.clone();
+        for r in &mut m.rows {
+            r.mu = Some(r.mass());
+        }
+        m
+    }
+
+    /// Sets segment `row`'s mu (0-based) and keeps the mus summing to 1, the way
+    /// [`PrbMatrix::with_gamma`] keeps the gammas: one other segment, a free one after `row`
+    /// by preference, takes the difference. A three-column matrix gets its mus written out
+    /// first. On error the matrix is unchanged and the error names the donor.
+    pub fn with_mu(&self, row: usize, mu: f64) -> Result<PrbMatrix, MatrixError> {
+        let rows = &self.with_explicit_mu().rows;
+        if row >= rows.len() {
+            return Err(MatrixError::NoRow {
+                row: row + 1,
+                rows: rows.len(),
+            });
+        }
+        let mut new_rows = rows.clone();
+        new_rows[row].mu = Some(mu);
+        if rows.len() == 1 {
+            return PrbMatrix::new(new_rows);
+        }
+        let delta = mu - rows[row].mass();
+        let donor = (0..rows.len())
+            .filter(|&i| i != row)
+            .max_by_key(|&i| (rows[i].is_free(Column::Mu), i > row, i))
+            .ok_or(MatrixError::SingleSegmentGamma)?;
+        new_rows[donor].mu = Some(rows[donor].mass() - delta);
+        PrbMatrix::new(new_rows).map_err(|e| MatrixError::Rebalance {
+            donor: donor + 1,
+            source: Box::new(e),
+        })
     }
 
     /// Sets segment `row`'s gamma (0-based) to `gamma` and keeps the gammas summing to 1: one
@@ -340,8 +482,12 @@ impl PrbMatrix {
         })
     }
 
-    /// Marks a cell free (the fit may change it) or fixed.
+    /// Marks a cell free (the fit may change it) or fixed; marking a mu of a three-column
+    /// matrix writes its mus out first ([`PrbMatrix::with_explicit_mu`]), so the mark shows.
     pub fn set_free(&mut self, row: usize, column: Column, free: bool) {
+        if column == Column::Mu && !self.has_mu() {
+            *self = self.with_explicit_mu();
+        }
         self.rows[row].free[column.index()] = free;
     }
 
@@ -381,5 +527,43 @@ mod tests {
             m.with_gamma(7, 0.5),
             Err(MatrixError::NoRow { .. })
         ));
+    }
+
+    #[test]
+    fn mus_are_gammas_unless_given_and_sum_to_one() {
+        let three = PrbMatrix::parse("0.15,inf,inf; 0.85,2.2525,inf").unwrap();
+        assert!(!three.has_mu());
+        assert_eq!(three.rows()[1].mass(), 0.85);
+        // A gamma edit carries an implicit mu along.
+        let moved = three.with_gamma(1, 0.8).unwrap();
+        assert_eq!(moved.rows()[1].mass(), 0.8);
+        // A mu edit writes every mu out and rebalances one donor.
+        let parked = three.with_mu(0, 0.3).unwrap();
+        assert!(parked.has_mu());
+        let mus: Vec<f64> = parked.rows().iter().map(PrbRow::mass).collect();
+        assert!(
+            (mus[0] - 0.3).abs() < 1e-15 && (mus[1] - 0.7).abs() < 1e-15,
+            "{mus:?}"
+        );
+        assert_eq!(parked.rows()[1].gamma, 0.85, "gammas stay");
+        let e = three.with_mu(0, 1.5).unwrap_err().to_string();
+        assert!(
+            e.contains("mass fraction must be a finite number >= 0"),
+            "{e}"
+        );
+        assert!(e.contains("segment 2 would get the rest"), "{e}");
+        assert!(matches!(
+            PrbMatrix::parse("0.15,inf,inf,0.2; 0.85,2.2525,inf,0.7"),
+            Err(MatrixError::MuSum { .. })
+        ));
+        assert!(matches!(
+            PrbMatrix::parse("0.15,inf,inf,-0.1; 0.85,2.2525,inf,1.1"),
+            Err(MatrixError::Mu { row: 1, .. })
+        ));
+        assert!(matches!(
+            PrbMatrix::parse("0.15,inf,inf; 0.85,2.2525,inf,1"),
+            Err(MatrixError::MixedMu { row: 2, .. })
+        ));
+        assert!(PrbMatrix::parse("0.15,inf,inf,nan; 0.85,2.2525,inf,1").is_err());
     }
 }

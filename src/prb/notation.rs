@@ -2,7 +2,9 @@
 //! names.
 //!
 //! Text form: rows separated by `;`, entries by `,`, `inf` for infinity, and a trailing `!`
-//! on a cell that the fit must leave alone (`0.1!,inf,inf; 0.9,2.25,inf`). `inf` cells are
+//! on a cell that the fit must leave alone (`0.1!,inf,inf; 0.9,2.25,inf`). Each row has three
+//! entries (`gamma, k_theta, k_ex`, its mass where its length is) or four (`..., mu`),
+//! every row alike; a three-column matrix prints as three columns. `inf` cells are
 //! the topology and never fitted. Floats print in Rust's shortest round-trip form, so text,
 //! TOML and JSON all round-trip exactly.
 //!
@@ -80,26 +82,33 @@ impl PrbMatrix {
         let rows = kinds
             .iter()
             .zip(&gammas)
-            .map(|(k, &gamma)| PrbRow {
-                gamma,
-                k_theta: if k.contains('R') { n_r } else { f64::INFINITY },
-                k_ex: if k.contains('P') {
-                    1.0 / gamma
-                } else {
-                    f64::INFINITY
-                },
-                free: [true; 3],
+            .map(|(k, &gamma)| {
+                PrbRow::new(
+                    gamma,
+                    if k.contains('R') { n_r } else { f64::INFINITY },
+                    if k.contains('P') {
+                        1.0 / gamma
+                    } else {
+                        f64::INFINITY
+                    },
+                )
             })
             .collect();
         PrbMatrix::new(rows)
     }
 
-    /// The text form (with `!` on fixed finite cells).
+    /// The text form (with `!` on fixed finite cells; the mu column only when the matrix
+    /// gives its mus).
     pub fn to_text(&self) -> String {
+        let columns: &[Column] = if self.has_mu() {
+            &Column::ALL
+        } else {
+            &Column::STATICS
+        };
         self.rows
             .iter()
             .map(|r| {
-                Column::ALL
+                columns
                     .iter()
                     .map(|&c| {
                         let v = r.get(c);
@@ -128,14 +137,14 @@ impl PrbMatrix {
                 continue; // a trailing `;`
             }
             let cells: Vec<&str> = trimmed.split(',').map(str::trim).collect();
-            if cells.len() != 3 {
+            if !(3..=4).contains(&cells.len()) {
                 return Err(MatrixError::RowLength {
                     row,
                     got: if trimmed.is_empty() { 0 } else { cells.len() },
                 });
             }
-            let mut values = [0.0; 3];
-            let mut free = [true; 3];
+            let mut values = [0.0; 4];
+            let mut free = [true; 4];
             for (j, cell) in cells.iter().enumerate() {
                 let column = Column::ALL[j];
                 let (number, fixed) = match cell.strip_suffix('!') {
@@ -154,6 +163,7 @@ impl PrbMatrix {
                 gamma: values[0],
                 k_theta: values[1],
                 k_ex: values[2],
+                mu: (cells.len() == 4).then_some(values[3]),
                 free,
             });
         }
@@ -186,15 +196,18 @@ impl FromStr for PrbMatrix {
     }
 }
 
-/// Serialised as a table of rows, each `{gamma, k_theta, k_ex, fixed}` with infinity as the
-/// string `"inf"` (JSON has no infinity) and `fixed` listing the pinned columns. The same
-/// encoding serves TOML and JSON and round-trips exactly.
+/// Serialised as a table of rows, each `{gamma, k_theta, k_ex, mu, fixed}` with infinity as
+/// the string `"inf"` (JSON has no infinity), `mu` only when the matrix gives its mus, and
+/// `fixed` listing the pinned columns. The same encoding serves TOML and JSON and
+/// round-trips exactly.
 #[derive(Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct RowRepr {
     gamma: f64,
     k_theta: Entry,
     k_ex: Entry,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    mu: Option<f64>,
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     fixed: Vec<String>,
 }
@@ -232,9 +245,14 @@ impl Serialize for PrbMatrix {
                 gamma: r.gamma,
                 k_theta: Entry::from_value(r.k_theta),
                 k_ex: Entry::from_value(r.k_ex),
+                mu: r.mu,
                 fixed: Column::ALL
                     .iter()
-                    .filter(|c| !r.free[c.index()] && r.get(**c).is_finite())
+                    .filter(|c| {
+                        !r.free[c.index()]
+                            && r.get(**c).is_finite()
+                            && (**c != Column::Mu || r.mu.is_some())
+                    })
                     .map(|c| c.name().to_string())
                     .collect(),
             })
@@ -249,7 +267,7 @@ impl<'de> Deserialize<'de> for PrbMatrix {
         let mut rows = Vec::with_capacity(reprs.len());
         for (i, r) in reprs.iter().enumerate() {
             let ctx = |e: String| de::Error::custom(format!("row {}: {e}", i + 1));
-            let mut free = [true; 3];
+            let mut free = [true; 4];
             for name in &r.fixed {
                 let c = Column::ALL
                     .iter()
@@ -261,6 +279,7 @@ impl<'de> Deserialize<'de> for PrbMatrix {
                 gamma: r.gamma,
                 k_theta: r.k_theta.value().map_err(ctx)?,
                 k_ex: r.k_ex.value().map_err(ctx)?,
+                mu: r.mu,
                 free,
             });
         }
@@ -320,6 +339,25 @@ mod tests {
         assert!(m.rows()[1].is_free(Column::Gamma));
         assert!(!m.rows()[1].is_free(Column::KEx), "inf is never free");
         assert_eq!(PrbMatrix::parse(&m.to_text()).unwrap(), m);
+    }
+
+    #[test]
+    fn mu_column_round_trips_in_text_and_json() {
+        let text = "0.1,inf,inf,0.2!; 0.35,3.51,inf,0.3; 0.4,2.99,inf,0.4; 0.15,2.58,inf,0.1";
+        let m = PrbMatrix::parse(text).unwrap();
+        assert!(m.has_mu() && !m.rows()[0].is_free(Column::Mu));
+        assert_eq!(m.to_text(), text);
+        let json = serde_json::to_string(&m).unwrap();
+        assert!(
+            json.contains("\"mu\":0.2") && json.contains("\"fixed\":[\"mu\"]"),
+            "{json}"
+        );
+        assert_eq!(serde_json::from_str::<PrbMatrix>(&json).unwrap(), m);
+        // Three columns stay three: no mu in text or JSON.
+        let su =
+            PrbMatrix::parse("0.1,inf,inf; 0.35,3.51,inf; 0.4,2.99,inf; 0.15,2.58,inf").unwrap();
+        assert!(!serde_json::to_string(&su).unwrap().contains("mu"));
+        assert_eq!(su.to_text().matches(',').count(), 8);
     }
 
     #[test]

@@ -34,8 +34,9 @@ pub struct ExportArgs {
     pub output: PathBuf,
     /// Overwrite the file if it exists.
     pub force: bool,
-    /// Density for the masses, kg/m^3.
-    pub density: f64,
+    /// Density for the masses, kg/m^3; `None`: the scene's `[beam] density`, else
+    /// [`DEFAULT_DENSITY`].
+    pub density: Option<f64>,
     /// Fidelity of the baseline the figures and the CSV come from.
     pub fidelity: Fidelity,
 }
@@ -49,11 +50,15 @@ impl ExportArgs {
             format: None,
             output,
             force: false,
-            density: 1000.0,
+            density: None,
             fidelity: Fidelity::Normal,
         }
     }
 }
+
+/// The links' density when neither `--density` nor the scene's `[beam] density` gives one
+/// (water's, kg/m^3: only the dynamics depend on it).
+pub const DEFAULT_DENSITY: f64 = 1000.0;
 
 /// What was written.
 #[derive(Debug, Serialize)]
@@ -95,7 +100,14 @@ pub fn export(scene: &Scene, args: &ExportArgs, ctl: &mut Control<'_>) -> Result
     let (name, matrix) = model(args, scene)?;
     let study = study(scene, Sampling::Fidelity(args.fidelity), ctl)?;
     let text = study
-        .export(&name, &matrix, format, args.density)
+        .export(
+            &name,
+            &matrix,
+            format,
+            args.density
+                .or(scene.beam.density)
+                .unwrap_or(DEFAULT_DENSITY),
+        )
         .map_err(input_error)?;
     write_atomic(&args.output, text.as_bytes(), args.force)?;
     let out = ExportOutput {

@@ -64,6 +64,10 @@ pub struct BeamSpec {
     /// factor), which sets each path's stroke limit (DESIGN §11); `None`: no limit.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub allowable_stress: Option<f64>,
+    /// kg/m^3: the beam's mass for its natural frequencies and the exports (DESIGN §10);
+    /// `None` when the scene gives none (`modes` then asks for it, exports prompt).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub density: Option<f64>,
 }
 
 impl BeamSpec {
@@ -108,7 +112,7 @@ impl BeamSpec {
 
     /// Checks the beam's rules: sizes, modulus and an allowable stress finite and `> 0`, `1 <= L/t0 <=`
     /// [`MAX_SLENDERNESS`](crate::beam::MAX_SLENDERNESS) (named by `thickness`), `nu` in
-    /// `[0, 0.5)`, a given shear coefficient `> 0`, effects that go together. Keys are the
+    /// `[0, 0.5)`, a given shear coefficient and density `> 0`, effects that go together. Keys are the
     /// beam's own (`thickness`); a scene puts them under `beam`, a flexure under its table.
     pub fn validate(&self) -> Result<(), RuleError> {
         let check = |key: &str, r: Result<(), String>| r.map_err(|m| RuleError::new(key, m));
@@ -123,6 +127,9 @@ impl BeamSpec {
         }
         if let Some(s) = self.allowable_stress {
             check("allowable_stress", rules::positive(s))?;
+        }
+        if let Some(rho) = self.density {
+            check("density", rules::positive(rho))?;
         }
         if let EffectsChoice::Fixed(e) = self.effects {
             e.validate()

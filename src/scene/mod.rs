@@ -36,7 +36,7 @@ pub use error::{RuleError, SceneError};
 pub use load::LoadPath;
 pub use mechanism::{Attach, Flexure, Mechanism};
 pub use rules::{MAX_CASES, MAX_STEPS};
-pub use settings::{Accuracy, FitSettings};
+pub use settings::{Accuracy, Body, FitSettings};
 
 use serde::{Deserialize, Serialize};
 
@@ -62,6 +62,10 @@ pub struct Scene {
     pub accuracy: Accuracy,
     /// The fit's settings.
     pub fit: FitSettings,
+    /// The rigid body at the end of the flexures (DESIGN §10): a cantilever's `[tip]` body, a
+    /// mechanism's `[stage]` mass and inertia.
+    #[serde(default)]
+    pub body: Body,
     /// The model being worked on (`[prb] matrix`, fixed cells marked `!`), if the scene
     /// names one: `eval`, `fit` and `export` use it when no model is given, and the UI
     /// saves and opens it.
@@ -158,8 +162,8 @@ impl Scene {
     /// [`Mechanism::validate_measured`], its drives being the file's rows); a data file's
     /// name (`truth.data`); a cantilever's load paths (at least one, each by
     /// [`LoadPath::validate`] under `loads[i]` unless they are a data file's rows, at most
-    /// [`MAX_CASES`] cases); the targets (under `accuracy`) and weights (under `fit`); the
-    /// model (`prb.matrix`).
+    /// [`MAX_CASES`] cases); the targets (under `accuracy`) and weights (under `fit`; `modes` needs `[beam]
+    /// density`); the body (under `tip` or `stage`, [`Scene::body_table`]); the model (`prb.matrix`).
     pub fn check_rules(&self) -> Result<(), RuleError> {
         self.beam.validate().map_err(|e| e.under("beam"))?;
         if let Some(m) = &self.mechanism {
@@ -198,11 +202,30 @@ impl Scene {
             .map_err(|m| RuleError::new("loads", m))?;
         self.accuracy.validate().map_err(|e| e.under("accuracy"))?;
         self.fit.validate().map_err(|e| e.under("fit"))?;
+        if self.fit.modes > 0 && self.beam.density.is_none() {
+            return Err(RuleError::new(
+                "fit.modes",
+                "a dynamic fit needs the beam's density: add `density = ...` (kg/m^3) under \
+                 [beam]",
+            ));
+        }
+        self.body
+            .validate()
+            .map_err(|e| e.under(self.body_table()))?;
         if let Some(m) = &self.prb {
             m.validate()
                 .map_err(|e| RuleError::new("prb.matrix", e.to_string()))?;
         }
         Ok(())
+    }
+
+    /// The table that holds [`Scene::body`]: `stage` in a mechanism scene, `tip` otherwise.
+    pub fn body_table(&self) -> &'static str {
+        if self.mechanism.is_some() {
+            "stage"
+        } else {
+            "tip"
+        }
     }
 
     /// The scene after an edit of its beam from `from`: what follows the beam follows it. A
@@ -269,6 +292,15 @@ mod tests {
         assert_eq!(
             s.validate().unwrap_err().key.as_deref(),
             Some("loads[2].steps")
+        );
+        let mut s = good.clone();
+        s.body.mass = -1.0;
+        assert_eq!(s.validate().unwrap_err().key.as_deref(), Some("tip.mass"));
+        let mut s = good.clone();
+        s.beam.density = Some(f64::NAN);
+        assert_eq!(
+            s.validate().unwrap_err().key.as_deref(),
+            Some("beam.density")
         );
         let mut s = good;
         s.loads.clear();

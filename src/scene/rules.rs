@@ -94,6 +94,18 @@ pub fn case_count(steps: impl Iterator<Item = u32>, paths: &str) -> Result<(), S
     })
 }
 
+/// The most natural frequencies a scene's fit may match (`[fit] modes`) or a command may ask
+/// for (`--count`).
+pub const MAX_MODES: i64 = 12;
+
+/// `[fit] modes`: a whole number from 0 to [`MAX_MODES`], as the `u32` the settings hold.
+pub fn modes(v: i64) -> Result<u32, String> {
+    (0..=MAX_MODES)
+        .contains(&v)
+        .then_some(v as u32)
+        .ok_or_else(|| format!("must be a whole number from 0 to {MAX_MODES}, got {v}"))
+}
+
 /// A load path's end load is not zero.
 pub fn nonzero(end: &Load) -> Result<(), String> {
     (end.magnitude() != 0.0)
@@ -113,6 +125,8 @@ mod tests {
         assert!(non_negative(0.0).is_ok() && non_negative(-1.0).is_err());
         assert!(point([0.0, 1.0]).is_ok() && point([f64::NAN, 0.0]).is_err());
         assert_eq!(steps(10), Ok(10));
+        assert_eq!(modes(0), Ok(0));
+        assert!(modes(-1).unwrap_err().contains("from 0 to 12, got -1"));
         assert!(steps(0).unwrap_err().contains("from 1 to 10000, got 0"));
         assert!(steps(-3).unwrap_err().contains("got -3"));
         assert!(steps(i64::MAX).is_err());

@@ -4,6 +4,7 @@
 use super::beam::{BeamSpec, EffectsChoice};
 use super::drive::{Coordinate, COORDINATE_KEYS};
 use super::mechanism::{Attach, Mechanism};
+use super::settings::{Accuracy, Body, FitSettings};
 use super::Scene;
 
 impl Scene {
@@ -30,6 +31,9 @@ impl Scene {
                 out.push_str(&format!("effects = [{}]\n", names.join(", ")));
             }
         }
+        if let Some(rho) = b.density {
+            out.push_str(&format!("density = {rho:?}\n"));
+        }
         if let Some(t) = &self.truth {
             out.push_str(&format!("\n[truth]\ndata = {}\n", toml_string(&t.file)));
         }
@@ -41,7 +45,12 @@ impl Scene {
         }
         if let Some(m) = &self.mechanism {
             // A data scene's drive paths are its file's rows.
-            mechanism_tables(m, &self.beam, self.truth.is_none(), &mut out);
+            mechanism_tables(m, &self.beam, self.truth.is_none(), &self.body, &mut out);
+        } else if !self.body.is_none() {
+            out.push_str(&format!(
+                "\n[tip]\nmass = {:?}\ninertia = {:?}\n",
+                self.body.mass, self.body.inertia
+            ));
         }
         out.push_str(&format!(
             "\n[accuracy]\nmax_pos_err = {:?}\nmax_ang_err = {:?}\n",
@@ -53,12 +62,26 @@ impl Scene {
                 self.accuracy.max_force_err
             ));
         }
+        if self.accuracy.max_freq_err != Accuracy::default().max_freq_err {
+            out.push_str(&format!(
+                "max_freq_err = {:?}\n",
+                self.accuracy.max_freq_err
+            ));
+        }
         out.push_str(&format!(
             "\n[fit]\nangle_weight = {:?}\n",
             self.fit.angle_weight
         ));
         if self.mechanism.is_some() {
             out.push_str(&format!("force_weight = {:?}\n", self.fit.force_weight));
+        }
+        if self.fit.modes != 0
+            || self.fit.frequency_weight != FitSettings::default().frequency_weight
+        {
+            out.push_str(&format!(
+                "modes = {}\nfrequency_weight = {:?}\n",
+                self.fit.modes, self.fit.frequency_weight
+            ));
         }
         if let Some(m) = &self.prb {
             out.push_str(&format!(
@@ -76,8 +99,14 @@ fn toml_string(s: &str) -> String {
 
 /// Writes `m`'s tables in the scene file's schema: a flexure's beam values only where they
 /// differ from the scene's `[beam]`, and the `[[drives]]` only with `drives` (a data scene's
-/// drive paths are its file's rows).
-fn mechanism_tables(m: &Mechanism, scene_beam: &BeamSpec, drives: bool, out: &mut String) {
+/// drive paths are its file's rows), and the stage's `body`.
+fn mechanism_tables(
+    m: &Mechanism,
+    scene_beam: &BeamSpec,
+    drives: bool,
+    body: &Body,
+    out: &mut String,
+) {
     use std::fmt::Write as _;
     for f in &m.flexures {
         let _ = write!(
@@ -126,6 +155,13 @@ fn mechanism_tables(m: &Mechanism, scene_beam: &BeamSpec, drives: bool, out: &mu
         "\n[stage]\npoint = [{:?}, {:?}]\n",
         m.stage_point[0], m.stage_point[1]
     );
+    if !body.is_none() {
+        let _ = write!(
+            out,
+            "mass = {:?}\ninertia = {:?}\n",
+            body.mass, body.inertia
+        );
+    }
     for d in m.drives.iter().filter(|_| drives) {
         out.push_str("\n[[drives]]\n");
         for (c, (dk, lk)) in d.coordinates.iter().zip(COORDINATE_KEYS) {

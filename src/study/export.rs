@@ -60,11 +60,12 @@ impl Study {
                 m,
                 matrix,
                 density,
+                &scene.body,
                 &mechanism_comment(name, matrix, scene, m),
             )),
             (Format::Mjcf | Format::Urdf | Format::Sdf, None, _) => {
                 judged()?;
-                let chain = Chain::new(matrix, &scene.beam, density);
+                let chain = Chain::new(matrix, &scene.beam, density, &scene.body);
                 let comment = header_comment(matrix, scene);
                 Ok(match format {
                     Format::Mjcf => mjcf::write(&chain, &comment),

@@ -10,6 +10,11 @@
 //! angle), a prescribed one's reaction error over its reaction scale times `sqrt(w_f)`, all
 //! over `sqrt(n)`; their squares sum to `J = mean(e_pos^2 + w e_ang^2 + w_f e_force^2)`. A
 //! drive a trial model cannot follow costs [`PENALTY`] for every residual of its cases.
+//!
+//! A dynamic fit (`[fit] modes = N`, DESIGN §10) wraps either target in a `ModesTarget`,
+//! which appends the first N frequencies' relative errors (about the unloaded equilibrium,
+//! [`Study::prb_frequencies`]) weighted by `frequency_weight`, and frees the mus not pinned
+//! with `!`. One code path for every kind of scene: the study gives the frequencies.
 
 use std::time::Instant;
 
@@ -80,26 +85,104 @@ impl Study {
         options.validate()?;
         let (w, w_f) = (options.angle_weight, self.scene().fit.force_weight);
         let floor_j = target_objective(self.drives(), w, w_f, &self.scene().accuracy);
-        let found = match self.baseline() {
+        let cantilever;
+        let mechanism;
+        let statics: &dyn Target = match self.baseline() {
             Some(baseline) => {
-                let target = CantileverTarget::new(baseline, w).with_target_objective(floor_j);
-                search(&target, start, options, progress, cancel)?
+                cantilever = CantileverTarget::new(baseline, w).with_target_objective(floor_j);
+                &cantilever
             }
             None => {
-                let target = MechanismTarget::new(
+                mechanism = MechanismTarget::new(
                     self.mechanism(),
                     self.truth(),
                     w,
                     w_f,
                     &self.scene().accuracy,
                 )?;
-                search(&target, start, options, progress, cancel)?
+                &mechanism
             }
+        };
+        let found = match ModesTarget::new(self, statics) {
+            Some(target) => search(&target, start, options, progress, cancel)?,
+            None => search(statics, start, options, progress, cancel)?,
         };
         let judged = self
             .judge_weighted(&found.matrix, w)
             .map_err(FitError::NoFeasibleModel)?;
         Ok(found.report(judged.figures, t0, options.fidelity))
+    }
+}
+
+/// A dynamic fit's target (DESIGN §10, `[fit] modes = N`): the statics' residuals and, after
+/// them, `sqrt(w_omega / N) (Omega_PRB,i / Omega_beam,i - 1)` for the first N frequencies
+/// about the unloaded equilibrium (a missing or unstable one costs [`PENALTY`]), so that
+/// `J` gains `w_omega mean_i (Omega_PRB,i / Omega_beam,i - 1)^2`. It frees the mus.
+struct ModesTarget<'a> {
+    statics: &'a dyn Target,
+    study: &'a Study,
+    /// The truth's first N `Omega`.
+    beam: Vec<f64>,
+    body: crate::prb::TipBody,
+    /// `sqrt(w_omega / N)`.
+    scale: f64,
+    /// `J` of frequency errors exactly at `max_freq_err`: `w_omega max_freq_err^2`.
+    target_objective: f64,
+}
+
+impl<'a> ModesTarget<'a> {
+    /// The dynamic target over `statics` when the study's scene asks for modes (and so has
+    /// the truth's frequencies); `None` for a statics-only fit.
+    fn new(study: &'a Study, statics: &'a dyn Target) -> Option<ModesTarget<'a>> {
+        let n = study.scene().fit.modes as usize;
+        let truth = study.truth_modes()?;
+        if n == 0 || truth.omega.len() < n {
+            return None;
+        }
+        let w = study.scene().fit.frequency_weight;
+        Some(ModesTarget {
+            statics,
+            study,
+            beam: truth.omega[..n].to_vec(),
+            body: truth.body,
+            scale: (w / n as f64).sqrt(),
+            target_objective: w * study.scene().accuracy.max_freq_err.powi(2),
+        })
+    }
+}
+
+impl Target for ModesTarget<'_> {
+    fn len(&self) -> usize {
+        self.statics.len() + self.beam.len()
+    }
+
+    /// The nearer of the statics' floor and frequency errors at `fraction` of
+    /// `max_freq_err`.
+    fn objective_floor(&self, fraction: f64) -> f64 {
+        let own = fraction * fraction * self.target_objective;
+        let statics = self.statics.objective_floor(fraction);
+        if statics > 0.0 {
+            statics.min(own)
+        } else {
+            own
+        }
+    }
+
+    fn residuals(&self, matrix: &PrbMatrix, out: &mut Vec<f64>) {
+        self.statics.residuals(matrix, out);
+        let model = self
+            .study
+            .prb_frequencies(matrix, self.body)
+            .unwrap_or_default();
+        for (i, b) in self.beam.iter().enumerate() {
+            out.push(model.get(i).map_or(PENALTY, |m| {
+                (self.scale * (m / b - 1.0)).clamp(-PENALTY, PENALTY)
+            }));
+        }
+    }
+
+    fn masses(&self) -> bool {
+        true
     }
 }
 
@@ -204,6 +287,7 @@ mod tests {
             youngs_modulus: 12e6,
             poisson_ratio: 0.3,
             shear_coefficient: None,
+            density: None,
             effects: EffectsChoice::Fixed(Effects::NONE),
             allowable_stress: None,
         };
@@ -246,6 +330,7 @@ mod tests {
             max_pos_err: 0.1,
             max_ang_err: 0.02,
             max_force_err: 0.005,
+            ..Accuracy::default()
         };
         let target = MechanismTarget::new(&m, &exact, w, w_f, &accuracy).unwrap();
         let floor = target.objective_floor(1e-3);

@@ -24,9 +24,11 @@
 //! field of [`crate::mech::MechCase`] or of [`JudgedCase`], filled where the cases are made.
 
 pub mod calibrate;
+pub mod dynamics;
 pub mod effects;
 pub mod export;
 mod fit;
+pub mod modes;
 pub mod select;
 pub mod stroke;
 pub mod tradeoff;
@@ -107,6 +109,9 @@ pub enum StudyError {
     /// Cancelled before the truth was complete.
     #[error("cancelled")]
     Cancelled,
+    /// The truth's natural frequencies could not be had (DESIGN §10).
+    #[error("the truth's natural frequencies: {0}")]
+    Modes(#[from] crate::beam::modes::ModesError),
 }
 
 /// Why a model could not be judged.
@@ -136,6 +141,8 @@ pub struct Study {
     /// The resolution the truth was solved at.
     resolution: Resolution,
     seconds: f64,
+    /// The truth's natural frequencies (with `[beam] density`).
+    modes: Option<dynamics::TruthModes>,
 }
 
 impl Study {
@@ -257,7 +264,9 @@ impl Study {
                 (mechanism, None, cases)
             }
         };
+        let modes = dynamics::TruthModes::of(&scene, &mechanism).transpose()?;
         Ok(Study {
+            modes,
             scene,
             decision,
             mechanism,
@@ -443,6 +452,7 @@ impl Study {
                     reaction_scale: [None; 3],
                     cases,
                     unfollowed: unfollowed.into_inner(),
+                    frequencies: None,
                 }
             }
             None if partial => {
@@ -482,7 +492,22 @@ impl Study {
                 )?
             }
         };
-        Ok(judgement)
+        Ok(self.with_frequencies(judgement, matrix))
+    }
+
+    /// `judgement` with `matrix`'s frequencies against the truth's (DESIGN §10): with
+    /// `[fit] modes = N`, `max_freq_err` over the first N and
+    /// `w_omega mean_i (Omega_PRB,i / Omega_beam,i - 1)^2` added to `J`.
+    fn with_frequencies(&self, mut judgement: Judgement, matrix: &PrbMatrix) -> Judgement {
+        let Some(f) = self.frequencies(matrix) else {
+            return judgement;
+        };
+        if f.judged > 0 {
+            judgement.figures.max_freq_err = Some(f.max_err());
+            judgement.figures.objective += self.scene.fit.frequency_weight * f.mean_square();
+        }
+        judgement.frequencies = Some(f);
+        judgement
     }
 
     /// The PRB mechanism's tolerance: [`PRB_TOL`], or the truth's own when finer.

@@ -76,6 +76,7 @@ pub fn tip_case(
         }],
         iterations,
         joints: Vec::new(),
+        state: None,
     }
 }
 

@@ -36,6 +36,9 @@ pub(super) struct RawFlexure {
 #[serde(deny_unknown_fields)]
 pub(super) struct RawStage {
     point: Option<Spanned<[f64; 2]>>,
+    /// The stage's mass and inertia (DESIGN §10), read with the scene's body.
+    pub(super) mass: Option<Spanned<f64>>,
+    pub(super) inertia: Option<Spanned<f64>>,
 }
 
 #[derive(Deserialize)]

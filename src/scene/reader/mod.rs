@@ -25,7 +25,8 @@ use super::beam::{BeamSpec, EffectsChoice};
 use super::data;
 use super::error::SceneError;
 use super::load::LoadPath;
-use super::settings::{Accuracy, FitSettings};
+use super::rules;
+use super::settings::{Accuracy, Body, FitSettings};
 use super::{Scene, DEFAULT_SCENE_NAME, DEFAULT_SCENE_TOML};
 use spans::{line_of, Spans};
 
@@ -62,6 +63,7 @@ struct RawScene {
     accuracy: Option<Spanned<RawAccuracy>>,
     fit: Option<Spanned<RawFit>>,
     prb: Option<Spanned<RawPrb>>,
+    tip: Option<Spanned<RawTip>>,
     truth: Option<Spanned<RawTruth>>,
     #[serde(default)]
     flexures: Vec<Spanned<mech::RawFlexure>>,
@@ -74,6 +76,14 @@ struct RawScene {
 #[serde(deny_unknown_fields)]
 struct RawTruth {
     data: Spanned<String>,
+}
+
+/// `[tip]`: the body bolted to a cantilever's tip (DESIGN §10).
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawTip {
+    mass: Option<Spanned<f64>>,
+    inertia: Option<Spanned<f64>>,
 }
 
 #[derive(Deserialize)]
@@ -95,6 +105,7 @@ struct RawBeam {
     /// Any TOML value: checked by hand, so a wrong type gets a message that says what is
     /// expected (serde's untagged enums only say "did not match any variant").
     effects: Option<Spanned<toml::Value>>,
+    density: Option<Spanned<f64>>,
 }
 
 #[derive(Deserialize)]
@@ -112,6 +123,7 @@ struct RawAccuracy {
     max_pos_err: Option<Spanned<f64>>,
     max_ang_err: Option<Spanned<f64>>,
     max_force_err: Option<Spanned<f64>>,
+    max_freq_err: Option<Spanned<f64>>,
 }
 
 #[derive(Deserialize)]
@@ -119,6 +131,8 @@ struct RawAccuracy {
 struct RawFit {
     angle_weight: Option<Spanned<f64>>,
     force_weight: Option<Spanned<f64>>,
+    modes: Option<Spanned<i64>>,
+    frequency_weight: Option<Spanned<f64>>,
 }
 
 /// The scene as the file writes it, defaults filled in, not yet checked by its rules.
@@ -208,6 +222,12 @@ fn scene(spans: &mut Spans<'_>, raw: RawScene) -> Result<Scene, SceneError> {
             "accuracy.max_force_err",
             default.max_force_err,
         ),
+        max_freq_err: number(
+            spans,
+            acc.and_then(|a| a.max_freq_err.as_ref()),
+            "accuracy.max_freq_err",
+            default.max_freq_err,
+        ),
     };
     let fit_raw = raw.fit.as_ref().map(|f| f.get_ref());
     let defaults = FitSettings::default();
@@ -224,7 +244,26 @@ fn scene(spans: &mut Spans<'_>, raw: RawScene) -> Result<Scene, SceneError> {
             "fit.force_weight",
             defaults.force_weight,
         ),
+        modes: match fit_raw.and_then(|f| f.modes.as_ref()) {
+            None => defaults.modes,
+            Some(m) => {
+                let v = spans.take("fit.modes", m);
+                rules::modes(v).map_err(|e| spans.error(m.span(), "fit.modes", e))?
+            }
+        },
+        frequency_weight: number(
+            spans,
+            fit_raw.and_then(|f| f.frequency_weight.as_ref()),
+            "fit.frequency_weight",
+            defaults.frequency_weight,
+        ),
     };
+    let body = body(
+        spans,
+        raw.tip.as_ref(),
+        raw.stage.as_ref(),
+        mechanism.is_some(),
+    )?;
     let prb = match &raw.prb {
         None => None,
         Some(p) => {
@@ -242,9 +281,52 @@ fn scene(spans: &mut Spans<'_>, raw: RawScene) -> Result<Scene, SceneError> {
         loads,
         accuracy,
         fit,
+        body,
         prb,
         mechanism,
         truth,
+    })
+}
+
+/// The body at the end of the flexures: `[tip]` of a cantilever, the mass and inertia of a
+/// mechanism's `[stage]`; each table only in its kind of scene.
+fn body(
+    spans: &mut Spans<'_>,
+    tip: Option<&Spanned<RawTip>>,
+    stage: Option<&Spanned<mech::RawStage>>,
+    mechanism: bool,
+) -> Result<Body, SceneError> {
+    let (table, mass, inertia) = match (tip, mechanism) {
+        (Some(t), true) => {
+            return Err(spans.error(
+                t.span(),
+                "tip",
+                "a mechanism's flexures end on its stage: give the body's mass and inertia \
+                 under [stage]"
+                    .into(),
+            ))
+        }
+        (Some(t), false) => {
+            spans.record("tip", t.span());
+            let t = t.get_ref();
+            ("tip", t.mass.as_ref(), t.inertia.as_ref())
+        }
+        (None, false) => return Ok(Body::default()),
+        (None, true) => match stage {
+            None => return Ok(Body::default()),
+            Some(s) => {
+                spans.record("stage", s.span());
+                let s = s.get_ref();
+                ("stage", s.mass.as_ref(), s.inertia.as_ref())
+            }
+        },
+    };
+    let mut value = |v: Option<&Spanned<f64>>, key: &str| {
+        v.map_or(0.0, |v| spans.take(format!("{table}.{key}"), v))
+    };
+    Ok(Body {
+        mass: value(mass, "mass"),
+        inertia: value(inertia, "inertia"),
     })
 }
 
@@ -273,6 +355,7 @@ fn beam(spans: &mut Spans<'_>, raw: &Spanned<RawBeam>) -> Result<BeamSpec, Scene
             .allowable_stress
             .as_ref()
             .map(|s| spans.take("beam.allowable_stress", s)),
+        density: raw.density.as_ref().map(|d| spans.take("beam.density", d)),
     })
 }
 

@@ -314,3 +314,94 @@ fn scene_rules_are_the_same_from_a_file_and_from_code() {
         same(&read_error(&text), &rule);
     }
 }
+
+/// The dynamics keys (DESIGN §10) read, save and read again; a bad value is refused at its
+/// line naming its key, by the same rule as in code; each body table only in its kind of
+/// scene.
+#[test]
+fn dynamics_keys_read_and_round_trip() {
+    let text = DEFAULT_SCENE_TOML.replacen(
+        "poisson_ratio = 0.3",
+        "poisson_ratio = 0.3\ndensity = 7850.0",
+        1,
+    ) + "\n[tip]\nmass = 0.002\ninertia = 1e-7\n";
+    let text = text.replacen(
+        "angle_weight = 1.0",
+        "angle_weight = 1.0\nmodes = 3\nfrequency_weight = 0.5",
+        1,
+    );
+    let text = text.replacen(
+        "max_ang_err = 0.02",
+        "max_ang_err = 0.02\nmax_freq_err = 0.02",
+        1,
+    );
+    let scene = Scene::from_toml_str(&text, "dyn.toml").unwrap();
+    assert_eq!(scene.beam.density, Some(7850.0));
+    assert_eq!((scene.body.mass, scene.body.inertia), (0.002, 1e-7));
+    assert_eq!((scene.fit.modes, scene.fit.frequency_weight), (3, 0.5));
+    assert_eq!(scene.accuracy.max_freq_err, 0.02);
+    let again = Scene::from_toml_str(&scene.to_toml(), "again").unwrap();
+    assert_eq!(again, scene);
+    // Defaults: no density, no body, statics only, 1 % on the frequencies.
+    let plain = Scene::builtin();
+    assert_eq!(plain.beam.density, None);
+    assert!(plain.body.is_none());
+    assert_eq!((plain.fit.modes, plain.fit.frequency_weight), (0, 1.0));
+    assert_eq!(plain.accuracy.max_freq_err, 0.01);
+
+    type Edit = fn(&mut Scene);
+    let cases: [(&str, &str, Edit, &str); 4] = [
+        (
+            "density = 7850.0",
+            "density = -1.0",
+            |s| s.beam.density = Some(-1.0),
+            "beam.density",
+        ),
+        (
+            "mass = 0.002",
+            "mass = nan",
+            |s| s.body.mass = f64::NAN,
+            "tip.mass",
+        ),
+        (
+            "inertia = 1e-7",
+            "inertia = -1e-7",
+            |s| s.body.inertia = -1e-7,
+            "tip.inertia",
+        ),
+        (
+            "frequency_weight = 0.5",
+            "frequency_weight = -0.5",
+            |s| s.fit.frequency_weight = -0.5,
+            "fit.frequency_weight",
+        ),
+    ];
+    for (from, to, edit, key) in cases {
+        let bad_text = text.replacen(from, to, 1);
+        assert_ne!(bad_text, text, "{from}");
+        let mut bad = scene.clone();
+        edit(&mut bad);
+        let rule = bad.check_rules().unwrap_err();
+        assert_eq!(rule.key, key, "{rule}");
+        same(&read_error(&bad_text), &rule);
+    }
+    let e = read_error(&text.replacen("modes = 3", "modes = -2", 1));
+    assert_eq!(e.key.as_deref(), Some("fit.modes"));
+    // A dynamic fit without the beam's density says to add it (DESIGN §10).
+    let e = read_error(&text.replacen("density = 7850.0\n", "", 1));
+    assert_eq!(e.key.as_deref(), Some("fit.modes"));
+    assert!(e.to_string().contains("add `density"), "{e}");
+    // A mechanism's body is its stage's; [tip] there is refused.
+    let mech = SLIDER_CRANK.replacen(
+        "point = [0.07, -0.02]",
+        "point = [0.07, -0.02]\nmass = 0.1\ninertia = 2e-5",
+        1,
+    );
+    let m = Scene::from_toml_str(&mech, "m.toml").unwrap();
+    assert_eq!((m.body.mass, m.body.inertia), (0.1, 2e-5));
+    assert_eq!(Scene::from_toml_str(&m.to_toml(), "again").unwrap(), m);
+    let e = read_error(&mech.replacen("mass = 0.1", "mass = -0.1", 1));
+    assert_eq!(e.key.as_deref(), Some("stage.mass"));
+    let e = read_error(&(SLIDER_CRANK.to_string() + "[tip]\nmass = 1.0\n"));
+    assert_eq!(e.key.as_deref(), Some("tip"));
+}

@@ -75,9 +75,9 @@ impl App {
     }
 
     /// The export job for `path` (replacing the file when `overwrite`), with the links'
-    /// density.
+    /// density: the scene's `[beam] density`, else the one typed at the prompt.
     pub fn export_job(&mut self, path: PathBuf, overwrite: bool) -> Job {
-        let density = self.export_density;
+        let density = self.edit.scene.beam.density.unwrap_or(self.export_density);
         self.job(JobKind::Export {
             path,
             density,

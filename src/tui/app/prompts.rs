@@ -71,10 +71,13 @@ impl App {
                     }],
                     PromptKind::OpenScene => vec![Command::OpenScene(PathBuf::from(text))],
                     // Exported by the worker from its baseline: no solve on this thread. The
-                    // formats with masses ask for the links' density first.
+                    // formats with masses ask for the links' density first, unless the scene
+                    // gives it (`[beam] density`).
                     PromptKind::ExportModel | PromptKind::ExportMechanism => {
                         let path = PathBuf::from(text);
-                        if Format::from_path(&path).is_some_and(has_masses) {
+                        if Format::from_path(&path).is_some_and(has_masses)
+                            && self.edit.scene.beam.density.is_none()
+                        {
                             self.export_path = Some(path);
                             let density = trim_number(self.export_density, 6);
                             self.open_prompt(PromptKind::ExportDensity, density);

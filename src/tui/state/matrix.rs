@@ -1,5 +1,7 @@
-//! The PRB matrix panel: one row per segment (gamma, k_theta, k_ex), nondimensional or in SI
-//! for the scene's beam; cells are free (fitted) or fixed.
+//! The PRB matrix panel: one row per segment (gamma, k_theta, k_ex, mu), nondimensional or in
+//! SI for the scene's beam (mu in kg when the beam has a density); cells are free (fitted) or
+//! fixed. A three-column matrix shows each mu as its gamma; editing or fixing a mu writes
+//! every mu out.
 
 use crate::prb::{Column, PrbMatrix, PrbRow};
 use crate::scene::BeamSpec;
@@ -120,12 +122,13 @@ impl MatrixState {
         new_rows.insert(
             i + 1,
             PrbRow {
-                gamma: half,
-                k_theta: k,
-                k_ex: f64::INFINITY,
-                free: [true; 3],
+                mu: r.mu.map(|mu| mu / 2.0),
+                ..PrbRow::new(half, k, f64::INFINITY)
             },
         );
+        if let Some(mu) = r.mu {
+            new_rows[i].mu = Some(mu / 2.0);
+        }
         PrbMatrix::new(new_rows).map_err(|e| e.to_string())
     }
 
@@ -138,6 +141,9 @@ impl MatrixState {
         let gone = rows.remove(self.row.min(rows.len() - 1));
         let neighbour = self.row.saturating_sub(1).min(rows.len() - 1);
         rows[neighbour].gamma += gone.gamma;
+        if let (Some(mu), Some(gone)) = (rows[neighbour].mu, gone.mu) {
+            rows[neighbour].mu = Some(mu + gone);
+        }
         PrbMatrix::new(rows).map_err(|e| format!("rejected: {e}"))
     }
 

@@ -1,4 +1,4 @@
-//! The PRB matrix panel: gamma, k_theta, k_ex per segment (or their SI values); free cells
+//! The PRB matrix panel: gamma, k_theta, k_ex, mu per segment (or their SI values); free cells
 //! green, fixed ones yellow and marked `!`, `inf` grey.
 
 use ratatui::layout::{Constraint, Rect};
@@ -32,6 +32,8 @@ pub struct View {
     pub topology: String,
     /// SI column headers.
     pub si: bool,
+    /// The mu column in kg (SI view of a beam with a density).
+    pub mass_si: bool,
     /// Per segment, per column: text (or editor), kind, being edited.
     pub cells: Vec<Vec<(String, CellKind, bool)>>,
     /// The selected segment.
@@ -76,6 +78,7 @@ impl View {
             focused: app.edit.focus == Panel::Matrix,
             topology: app.edit.matrix.topology(),
             si: app.edit.matrix_state.si,
+            mass_si: app.edit.matrix_state.si && app.edit.scene.beam.density.is_some(),
             cells,
             row: app.edit.matrix_state.row,
             col: app.edit.matrix_state.col,
@@ -89,10 +92,11 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View) {
     let pal = view.pal;
     let title = format!(" PRB matrix  {}  (! fixed) ", view.topology);
     let block = panel_block(title, view.focused, pal);
+    let mass = if view.mass_si { "kg" } else { "mu" };
     let header = if view.si {
-        Row::new(vec!["#", "length", "N m/rad", "N/m"])
+        Row::new(vec!["#", "length", "N m/rad", "N/m", mass])
     } else {
-        Row::new(vec!["#", "gamma", "k_theta", "k_ex"])
+        Row::new(vec!["#", "gamma", "k_theta", "k_ex", mass])
     }
     .style(Style::default().add_modifier(Modifier::BOLD));
     let rows: Vec<Row> = view
@@ -122,6 +126,7 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View) {
             Constraint::Length(11),
             Constraint::Length(10),
             Constraint::Length(10),
+            Constraint::Length(9),
         ],
     )
     .header(header)

@@ -1,7 +1,9 @@
 //! The one-line bars: the title (scene, fidelity, live refit), the status lines (J and the
 //! maximum errors against the targets with what the worker is doing, always shown; on a data
 //! scene the data file with its hash and the beam theory's own figures against the data (a
-//! mechanism's: the beam mechanism along the measured drives);
+//! mechanism's: the beam mechanism along the measured drives); with `[beam] density` the
+//! first natural frequencies of the beam and the model in Hz, with PASS/FAIL against
+//! `max_freq_err` on those the fit matches;
 //! under them the last message on a line of its own, so no message ever hides J or
 //! PASS/FAIL) and the key hints, read from the keymap.
 
@@ -14,7 +16,7 @@ use ratatui::widgets::Paragraph;
 use ratatui::Frame;
 
 use crate::fit::Fidelity;
-use crate::mech::figures::{Figures, UnfollowedPath};
+use crate::mech::figures::{Figures, Frequencies, UnfollowedPath};
 use crate::scene::{Accuracy, Mechanism};
 
 use crate::text::sanitize_terminal;
@@ -156,6 +158,8 @@ pub struct View<'a> {
     pub compare: Option<(&'a str, FigureLine)>,
     /// A data scene's file and the beam against it.
     pub data: Option<DataLine<'a>>,
+    /// The shown model's natural frequencies against the truth's (with `[beam] density`).
+    pub modes: Option<&'a Frequencies>,
     /// The scene's targets.
     pub accuracy: Accuracy,
     /// What the worker is doing.
@@ -194,6 +198,7 @@ impl<'a> View<'a> {
             figures: app.shown.model().map(model_line),
             compare: app.shown.shown_compare().map(|(n, v)| (n, model_line(v))),
             data,
+            modes: app.shown.model().and_then(|m| m.frequencies.as_ref()),
             accuracy: scene.accuracy,
             activity: &app.jobs.activity,
             pal: Palette { mono: app.mono },
@@ -202,9 +207,11 @@ impl<'a> View<'a> {
 }
 
 /// How many lines [`draw`] takes: the figures, the compared model's (when comparing), the
-/// data's (on a data scene), the message.
+/// data's (on a data scene), the frequencies (with a density), the message.
 pub fn height(view: &View) -> u16 {
-    2 + u16::from(view.compare.is_some()) + u16::from(view.data.is_some())
+    2 + u16::from(view.compare.is_some())
+        + u16::from(view.data.is_some())
+        + u16::from(view.modes.is_some())
 }
 
 /// `J | pos ..% PASS<.. | ang ..deg PASS<.. | ` for figures `f` against `acc`; a
@@ -242,6 +249,14 @@ fn figure_spans(f: FigureLine, acc: &Accuracy, pal: Palette) -> Vec<Span<'static
             format!("{}deg", trim_number(ang.to_degrees(), 3)),
             ang <= acc.max_ang_err,
             trim_number(acc.max_ang_err.to_degrees(), 3),
+        );
+    }
+    if let Some(e) = f.max_freq_err {
+        figure(
+            "freq",
+            format!("{}%", trim_number(e * 100.0, 3)),
+            e <= acc.max_freq_err,
+            trim_number(acc.max_freq_err * 100.0, 3),
         );
     }
     if let Some(p) = partial {
@@ -303,6 +318,9 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View) {
     if let Some(d) = &view.data {
         lines.push(data_line(d, &view.accuracy, view.activity, pal));
     }
+    if let Some(m) = view.modes {
+        lines.push(modes_line(m, &view.accuracy, pal));
+    }
     if let Some((m, tone)) = view.message {
         let style = match tone {
             Tone::Error => pal.fg(Color::Red),
@@ -336,6 +354,53 @@ fn data_line(d: &DataLine, acc: &Accuracy, activity: &Activity, pal: Palette) ->
         // The worker sends the beam with the job's first result: a job that failed has none.
         None if matches!(activity, Activity::Failed(_)) => spans.push(Span::raw(" no result")),
         None => spans.push(Span::raw(" solving...")),
+    }
+    Line::from(spans)
+}
+
+/// ` modes Hz beam 164.3 1030 2883 · model 164.3 1030 2884 · -0.005% -0.002% +0.006% PASS<1`:
+/// the first natural frequencies of the truth and the shown model about the unloaded
+/// equilibrium (DESIGN §10), each model frequency's error, and against `max_freq_err` the
+/// verdict on those the fit matches (`[fit] modes`; none judged: `not fitted`).
+fn modes_line(m: &Frequencies, acc: &Accuracy, pal: Palette) -> Line<'static> {
+    let hz = |v: &[f64]| {
+        v.iter()
+            .map(|x| trim_number(*x, 5))
+            .collect::<Vec<_>>()
+            .join(" ")
+    };
+    let label = if m.nominal {
+        " modes Hz (nominal beam: the data is not dynamic) beam "
+    } else {
+        " modes Hz beam "
+    };
+    let mut spans = vec![Span::raw(format!(
+        "{label}{} · model {} ·",
+        hz(&m.beam_hz),
+        hz(&m.model_hz)
+    ))];
+    for (i, e) in m.freq_err.iter().enumerate() {
+        let sign = if *e > 0.0 { "+" } else { "" };
+        let text = format!(" {sign}{}%", trim_number(e * 100.0, 3));
+        if i < m.judged {
+            spans.push(Span::styled(text, pal.pass(e.abs() <= acc.max_freq_err)));
+        } else {
+            spans.push(Span::styled(text, pal.fg(Color::DarkGray)));
+        }
+    }
+    if m.judged > 0 {
+        let ok = m.max_err() <= acc.max_freq_err;
+        spans.push(Span::raw(format!(" · first {} ", m.judged)));
+        spans.push(Span::styled(if ok { "PASS" } else { "FAIL" }, pal.pass(ok)));
+        spans.push(Span::raw(format!(
+            "<{}%",
+            trim_number(acc.max_freq_err * 100.0, 3)
+        )));
+    } else {
+        spans.push(Span::styled(
+            " · not fitted ([fit] modes = 0)",
+            pal.fg(Color::DarkGray),
+        ));
     }
     Line::from(spans)
 }

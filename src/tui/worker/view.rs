@@ -10,7 +10,7 @@
 //! ([`pose::chains`]). A data scene's truth is its measured cases, with the scene's beam
 //! (or beam mechanism) beside them ([`MeasuredView`], built in `worker/truth.rs`).
 
-use crate::mech::figures::{has_reactions, Figures, JudgedCase, UnfollowedPath};
+use crate::mech::figures::{has_reactions, Figures, Frequencies, JudgedCase, UnfollowedPath};
 use crate::mech::pose::{self, Pose};
 use crate::mech::MechCase;
 use crate::prb::PrbMatrix;
@@ -131,6 +131,9 @@ pub struct ModelView {
     /// The paths the model could not follow to their end (DESIGN §6): its cases there stop
     /// where it stopped, and the figures are over the cases it followed.
     pub unfollowed: Vec<UnfollowedPath>,
+    /// Its natural frequencies against the truth's (DESIGN §10), when the scene gives
+    /// `[beam] density`.
+    pub frequencies: Option<Frequencies>,
 }
 
 impl ModelView {
@@ -187,5 +190,6 @@ pub fn model_view(study: &Study, matrix: &PrbMatrix) -> Result<ModelView, String
         cases,
         poses,
         unfollowed: judged.unfollowed,
+        frequencies: judged.frequencies,
     })
 }

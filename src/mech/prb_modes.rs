@@ -1,0 +1,201 @@
+//! The PRB mechanism's natural frequencies (DESIGN §10): the closed chain — every flexure's
+//! PRB chain, the couplers and the stage — linearised about one of its equilibria, in flexure
+//! 1's units (`Omega = omega sqrt(rho A0 L^4 / (E I0))` of flexure 1).
+//!
+//! The mechanism solver's equations are the dynamics' too: each chain's joint rows
+//! `K q - J^T w` are the generalised forces the chain's inertia balances (`= -M q''`), the
+//! stage's balance rows are its loaded coordinates' (`= -M_stage s''`), and the tip
+//! compatibility rows are constraints whose multipliers are the tip wrenches. So the
+//! linearised free vibration is `A v = omega^2 B v` with `A` the solver's own Jacobian at the
+//! equilibrium (springs, constraints, and the geometric stiffness of the wrenches and of the
+//! stage's rotation) and `B` holding each chain's mass matrix ([`crate::prb::PrbSolver::mass_matrix`])
+//! and the stage's mass and inertia (its loaded coordinates only: a prescribed coordinate is
+//! held by its guide or actuator). Couplers are massless. Each chain's equations are in its
+//! own flexure's units, so its mass matrix is scaled by `(A_i L_i^4 / (E_i I_i)) / (A_1 L_1^4
+//! / (E_1 I_1))` (one density for every flexure) to share flexure 1's time scale.
+
+use crate::linalg::frequencies;
+use crate::prb::{ModesError, PrbMatrix, TipBody};
+use crate::scene::{Coordinate, Mechanism};
+
+use super::prb::solver;
+use super::SolvedState;
+
+/// The unloaded mechanism's state: the drive's prescribed coordinates held at 0 (the first
+/// drive's kinds; every coordinate loaded when the mechanism has no drive).
+pub fn unloaded_state(mechanism: &Mechanism, matrix: &PrbMatrix) -> SolvedState {
+    let at: [Coordinate; 3] = mechanism
+        .drives
+        .first()
+        .map_or([Coordinate::Loaded(0.0); 3], |d| {
+            std::array::from_fn(|c| {
+                if d.coordinates[c].is_prescribed() {
+                    Coordinate::Prescribed(0.0)
+                } else {
+                    Coordinate::Loaded(0.0)
+                }
+            })
+        });
+    SolvedState {
+        unknowns: solver(mechanism, matrix, 1e-10).start(&at),
+        at,
+    }
+}
+
+/// The PRB mechanism's natural frequencies `Omega` (flexure 1's units), lowest first, at
+/// `state` (a case's [`super::MechCase::state`] or [`unloaded_state`]), with `stage` the
+/// stage's mass and inertia about P in flexure 1's `rho A0 L` and `rho A0 L^3`.
+pub fn prb_modes(
+    mechanism: &Mechanism,
+    matrix: &PrbMatrix,
+    state: &SolvedState,
+    stage: TipBody,
+) -> Result<Vec<f64>, ModesError> {
+    let s = solver(mechanism, matrix, 1e-10);
+    let x = &state.unknowns;
+    let n = x.len();
+    if n != s.flexure_unknowns + state.at.iter().filter(|c| !c.is_prescribed()).count() {
+        return Err(ModesError::Coordinates {
+            expected: s.flexure_unknowns,
+            got: n,
+        });
+    }
+    let sys = s
+        .system(&state.at, x)
+        .map_err(|_| ModesError::Unstable(f64::NAN))?;
+    let a = s.jacobian(&state.at, x, &sys);
+    let mut b = vec![0.0; n * n];
+    let scale = |f: &crate::scene::Flexure| {
+        let beam = &f.beam;
+        beam.area() * beam.length.powi(4) / (beam.youngs_modulus * beam.second_moment())
+    };
+    let base = mechanism.flexures.first().map_or(1.0, scale);
+    for (i, (model, f)) in s.models.iter().zip(&mechanism.flexures).enumerate() {
+        let o = s.offsets[i] + 3;
+        let k = model.solver.dof_count();
+        let m = model.solver.mass_matrix(&x[o..o + k], TipBody::default());
+        let c = scale(f) / base;
+        for r in 0..k {
+            for col in 0..k {
+                b[(o + r) * n + o + col] = c * m[r * k + col];
+            }
+        }
+    }
+    let mut next = s.flexure_unknowns;
+    for (c, coordinate) in state.at.iter().enumerate() {
+        if !coordinate.is_prescribed() {
+            b[next * n + next] = if c < 2 { stage.mass } else { stage.inertia };
+            next += 1;
+        }
+    }
+    frequencies(&a, &b, n).map_err(ModesError::Unstable)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::{Drive, Scene};
+
+    fn parallel() -> Scene {
+        Scene::from_toml_str(
+            include_str!("../../assets/scenes/parallel-stage.toml"),
+            "parallel-stage.toml",
+        )
+        .unwrap()
+    }
+
+    /// A heavy stage on the parallel flexures rings at `sqrt(k / M)` with `k` the PRB
+    /// mechanism's own small-motion stiffness in y (found here by its statics, independently
+    /// of the modes), the flexures' own mass a correction of order `m_flexures / M`.
+    #[test]
+    fn heavy_stage_rings_at_its_static_stiffness() {
+        let scene = parallel();
+        let mut m = scene.mechanism.clone().unwrap();
+        let su = crate::prb::published::by_name("su-3r").unwrap().prb;
+        // Stiffness: a tiny Fy (alpha = 1e-4 of flexure 1) and the stage's dy.
+        m.drives = vec![Drive::proportional(
+            [
+                Coordinate::Loaded(0.0),
+                Coordinate::Loaded(1e-4 * m.scale().1 / m.scale().0.powi(2)),
+                Coordinate::Loaded(0.0),
+            ],
+            1,
+        )];
+        let cases = super::super::prb::solve(&m, &su, 1e-13).unwrap();
+        let k = 1e-4 / cases[0][0].stage[1];
+        let heavy = 1e4;
+        let state = unloaded_state(&m, &su);
+        let w = prb_modes(
+            &m,
+            &su,
+            &state,
+            TipBody {
+                mass: heavy,
+                inertia: heavy,
+            },
+        )
+        .unwrap();
+        let want = (k / heavy).sqrt();
+        // Two flexures of mass 1 each move with the stage: about 1e-4 of the heavy stage,
+        // half that in the frequency.
+        assert!((w[0] / want - 1.0).abs() < 2e-4, "{w:?} vs {want}");
+        // Near the beams' 24 (12 E I / L^3 per flexure): Su's 3R, fitted to the end-loaded
+        // cantilever, is 11 % soft in the S-shaped guided bend (21.3).
+        assert!((k / 24.0 - 1.0).abs() < 0.15, "{k}");
+        // A light stage (twice a flexure's mass): the flexures' own mass lowers the frequency
+        // below sqrt(k / M) but not below sqrt(k / (M + both flexures' mass)).
+        let light = prb_modes(
+            &m,
+            &su,
+            &state,
+            TipBody {
+                mass: 2.0,
+                inertia: 0.2,
+            },
+        )
+        .unwrap();
+        assert!(
+            light[0] < (k / 2.0).sqrt() && light[0] > (k / 4.0).sqrt(),
+            "{light:?}"
+        );
+        // The modes of the loaded case's state agree with the unloaded ones at a tiny load.
+        let loaded = cases[0][0].state.clone().unwrap();
+        let w2 = prb_modes(
+            &m,
+            &su,
+            &loaded,
+            TipBody {
+                mass: heavy,
+                inertia: heavy,
+            },
+        )
+        .unwrap();
+        assert!((w2[0] / w[0] - 1.0).abs() < 1e-5, "{w2:?}");
+    }
+
+    /// One clamped flexure with every coordinate loaded and a massless stage is the
+    /// cantilever: the mechanism's modes are the chain's own.
+    #[test]
+    fn one_flexure_mechanism_is_the_cantilever_chain() {
+        let scene = parallel();
+        let mut m = scene.mechanism.clone().unwrap();
+        m.flexures.truncate(1);
+        m.stage_point = m.flexures[0].tip();
+        m.drives.clear();
+        let su = crate::prb::published::by_name("su-3r").unwrap().prb;
+        let state = unloaded_state(&m, &su);
+        let body = TipBody {
+            mass: 0.3,
+            inertia: 0.01,
+        };
+        let w = prb_modes(&m, &su, &state, body).unwrap();
+        let chain = crate::prb::PrbSolver::new(&su, m.flexures[0].beam.model().axial_compliance());
+        let want = chain
+            .modes(crate::beam::Load::new(0.0, 0.0, 0.0), &[0.0; 3], body)
+            .unwrap();
+        assert_eq!(w.len(), 3, "{w:?}");
+        for (a, b) in w.iter().zip(&want) {
+            assert!((a / b - 1.0).abs() < 1e-9, "{w:?} vs {want:?}");
+        }
+    }
+}

@@ -1,0 +1,223 @@
+//! Known answers for the beam mechanism's modes (DESIGN §8, §10).
+//!
+//! The flexures have `L = 1 m` and `E I0 = 1 N m^2` (width 1 m, thickness 0.01 m,
+//! `E = 12e6 Pa`), the inextensible elastica, so the nondimensional `Omega` reads directly.
+#![allow(clippy::unwrap_used, clippy::expect_used)] // tests: a failure should panic
+
+use prbfit::beam::modes::ModeSettings;
+use prbfit::beam::{Effects, Resolution};
+use prbfit::mech::modes::{drive_modes, held_by, mech_modes, MechMass};
+use prbfit::scene::{Attach, BeamSpec, Coordinate, Drive, EffectsChoice, Flexure, Mechanism};
+
+fn beam() -> BeamSpec {
+    BeamSpec {
+        length: 1.0,
+        width: 1.0,
+        thickness: 0.01,
+        youngs_modulus: 12e6,
+        poisson_ratio: 0.3,
+        shear_coefficient: None,
+        density: None,
+        allowable_stress: None,
+        effects: EffectsChoice::Fixed(Effects::NONE),
+    }
+}
+
+/// The parallel-guiding stage: clamped flexures at `(0, +-0.3)` along +x, `P = (1, 0)`,
+/// a force `fy` on the stage.
+fn parallel_stage(fy: f64, steps: u32) -> Mechanism {
+    let flexure = |y: f64| Flexure {
+        root: [0.0, y],
+        angle: 0.0,
+        attach: Attach::Clamped,
+        beam: beam(),
+    };
+    Mechanism {
+        flexures: vec![flexure(0.3), flexure(-0.3)],
+        stage_point: [1.0, 0.0],
+        drives: vec![Drive::proportional(
+            [
+                Coordinate::Loaded(0.0),
+                Coordinate::Loaded(fy),
+                Coordinate::Loaded(0.0),
+            ],
+            steps,
+        )],
+    }
+}
+
+fn rel(a: f64, b: f64) -> f64 {
+    (a - b).abs() / b.abs()
+}
+
+#[test]
+fn a_heavy_stage_on_two_flexures_rings_at_the_massless_flexure_limit() {
+    let mech = parallel_stage(0.0, 1);
+    let settings = ModeSettings::frequencies(3);
+    // The stage 1e8 times a flexure's mass: the flexures' own inertia shifts omega^2 by
+    // 26/35 of it (Rayleigh), a relative 4e-9.
+    let heavy = 1e8;
+    let mass = MechMass::uniform(2, heavy, heavy * 0.1);
+    let modes = mech_modes(&mech, &mass, [false; 3], None, &settings).unwrap();
+    let limit = (24.0 / heavy).sqrt();
+    assert!(
+        rel(modes.omega[0], limit) < 1e-7,
+        "{} vs {limit}",
+        modes.omega[0]
+    );
+    // A lighter stage: Rayleigh's quotient with the static (fixed-guided) shape, each
+    // flexure adding 13/35 of its mass, bounds omega from above, and its error is second
+    // order in the flexures' share of the moving mass: about 3e-3 at a stage of the
+    // flexures' own mass, below 1e-4 at ten times it.
+    for (stage, close) in [(10.0, 2e-4), (1.0, 5e-3)] {
+        let mass = MechMass::uniform(2, stage, 0.1);
+        let modes = mech_modes(&mech, &mass, [false; 3], None, &settings).unwrap();
+        let rayleigh = (24.0 / (stage + 2.0 * 13.0 / 35.0)).sqrt();
+        assert!(modes.omega[0] <= rayleigh * (1.0 + 1e-12));
+        assert!(
+            rel(modes.omega[0], rayleigh) < close,
+            "{stage}: {} vs {rayleigh}",
+            modes.omega[0]
+        );
+    }
+}
+
+#[test]
+fn a_held_stage_leaves_two_clamped_clamped_flexures() {
+    // Every stage coordinate held: each flexure is clamped at both ends, whose first
+    // frequency is b^2 with cos b cosh b = 1, b = 4.730040744862704; two flexures, a pair.
+    let mech = parallel_stage(0.0, 1);
+    let mass = MechMass::uniform(2, 3.0, 0.5);
+    let modes = mech_modes(&mech, &mass, [true; 3], None, &ModeSettings::frequencies(3)).unwrap();
+    let b: f64 = 4.730040744862704;
+    for w in &modes.omega[..2] {
+        assert!(rel(*w, b * b) < 1e-6, "{w}");
+    }
+    // The next is the clamped-clamped second mode, b = 7.853204624095838.
+    let b2: f64 = 7.853204624095838;
+    assert!(rel(modes.omega[2], b2 * b2) < 1e-6, "{}", modes.omega[2]);
+}
+
+#[test]
+fn the_drive_holds_its_prescribed_coordinates() {
+    let mut mech = parallel_stage(0.0, 1);
+    mech.drives[0].coordinates[1] = Coordinate::Prescribed(0.0);
+    assert_eq!(held_by(&mech.drives[0]), [false, true, false]);
+}
+
+#[test]
+fn every_case_of_a_drive_has_its_modes() {
+    // A sideways force: the stage moves, the flexures carry tension and compression.
+    let mech = parallel_stage(3.0, 3);
+    let mass = MechMass::uniform(2, 2.0, 0.2);
+    let cases = drive_modes(
+        &mech,
+        &mass,
+        Resolution::with_tol(1e-10),
+        &ModeSettings::default(),
+    )
+    .unwrap();
+    assert_eq!(cases[0].len(), 3);
+    let unloaded = mech_modes(&mech, &mass, [false; 3], None, &ModeSettings::default()).unwrap();
+    for case in &cases[0] {
+        assert!(case.omega[0] > 0.0);
+        assert!(rel(case.omega[0], unloaded.omega[0]) < 0.2);
+        let shape = &case.shapes[0];
+        assert_eq!(shape.flexures.len(), 2);
+        let largest = shape
+            .flexures
+            .iter()
+            .flatten()
+            .fold(0.0f64, |a, p| a.max(p.dx.hypot(p.dy)));
+        assert!((largest - 1.0).abs() < 1e-12);
+    }
+}
+
+mod properties {
+    use super::*;
+    use proptest::prelude::*;
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(12))]
+
+        /// Omega (flexure 1's) depends on the mechanism's shape only: the whole mechanism
+        /// scaled by `k`, of another material, with the stage's mass scaled as `rho k^3`
+        /// and its inertia as `rho k^5`, rings at the same Omega.
+        #[test]
+        fn frequencies_are_invariant_to_the_si_scale(
+            log_k in -3.0..3.0f64, e_ratio in 0.01..100.0f64, rho_ratio in 0.1..10.0f64,
+            stage in 0.0..5.0f64, inertia in 0.0..0.5f64, gap in 0.1..0.8f64,
+        ) {
+            let k = 10f64.powf(log_k);
+            let build = |scale: f64, e: f64| {
+                let mut mech = parallel_stage(0.0, 1);
+                for f in &mut mech.flexures {
+                    f.root = [f.root[0] * scale, f.root[1].signum() * gap * scale];
+                    f.beam.length *= scale;
+                    f.beam.width *= scale;
+                    f.beam.thickness *= scale;
+                    f.beam.youngs_modulus = e;
+                }
+                mech.stage_point = [mech.stage_point[0] * scale, 0.0];
+                mech
+            };
+            let (a, b) = (build(1.0, 12e6), build(k, 12e6 * e_ratio));
+            let (rho_a, rho_b) = (1000.0, 1000.0 * rho_ratio);
+            // The flexure's mass rho w t L and the stage's in proportion to it.
+            let mass = |m: &Mechanism, rho: f64| {
+                let beam = m.flexures[0].beam;
+                let line = rho * beam.area() * beam.length;
+                MechMass::from_si(m, rho, stage * line, inertia * line * beam.length.powi(2))
+                    .unwrap()
+            };
+            let settings = ModeSettings::frequencies(3);
+            let wa = mech_modes(&a, &mass(&a, rho_a), [false; 3], None, &settings).unwrap();
+            let wb = mech_modes(&b, &mass(&b, rho_b), [false; 3], None, &settings).unwrap();
+            for (x, y) in wa.omega.iter().zip(&wb.omega) {
+                prop_assert!(rel(*x, *y) < 1e-8, "{x} vs {y}");
+            }
+        }
+    }
+}
+
+#[test]
+fn the_first_frequency_vanishes_where_the_mechanisms_statics_find_buckling() {
+    // The parallel stage pushed along its flexures: each a fixed-guided column, which sways
+    // at pi^2 E I / L^2 (effective length L), the pair at 2 pi^2. The statics (exact
+    // mechanism) stop at their critical point; the modes' first omega^2 crosses zero there.
+    let pushed = |fx: f64, steps: u32| {
+        let mut m = parallel_stage(0.0, steps);
+        m.drives[0].coordinates[0] = Coordinate::Loaded(fx);
+        m
+    };
+    let euler = 2.0 * std::f64::consts::PI.powi(2);
+    let end = -1.3 * euler;
+    let statics = match prbfit::mech::exact::solve(&pushed(end, 40), Resolution::with_tol(1e-10)) {
+        Err(prbfit::mech::MechError::Critical { fraction, .. }) => -end * fraction,
+        other => panic!("expected the statics to stop at buckling, got {other:?}"),
+    };
+    let mass = MechMass::uniform(2, 1.0, 0.1);
+    let settings = ModeSettings::frequencies(1);
+    // The first frequency about the pushed equilibrium (its last case).
+    let first = |p: f64| {
+        let mech = pushed(-p, 1);
+        let cases = prbfit::mech::exact::solve(&mech, Resolution::with_tol(1e-10)).unwrap();
+        mech_modes(&mech, &mass, [false; 3], cases[0].last(), &settings)
+            .unwrap()
+            .omega[0]
+    };
+    // Straight columns: the equilibrium under an axial push is the compressed straight one.
+    // Omega_1^2 falls smoothly to zero at buckling: its zero, extrapolated linearly from 99
+    // and 99.5 % of the load, is off by the curvature's share, (0.005)^2 relative at most.
+    assert!(first(0.5 * euler) > first(0.99 * euler));
+    let (a, b) = (first(0.99 * euler).powi(2), first(0.995 * euler).powi(2));
+    assert!(b > 0.0 && b < a);
+    let crossing = 0.99 * euler + (0.005 * euler) * a / (a - b);
+    assert!(rel(crossing, euler) < 2.5e-5, "{crossing} vs {euler}");
+    // The statics' critical point: the last accepted fraction, within a step (1/40 of the
+    // path) below it, or at it when their step control closes in.
+    assert!(
+        statics <= crossing * (1.0 + 1e-6) && crossing - statics <= -end / 40.0,
+        "statics {statics} vs modes {crossing}"
+    );
+}
