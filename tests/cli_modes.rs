@@ -67,6 +67,7 @@ fn the_uniform_cantilever_rings_at_the_classic_frequencies() {
     assert_eq!(v["kind"], "cantilever");
     assert_eq!(v["equilibrium"], "unloaded");
     assert_eq!(v["density"], 7850.0);
+    assert_eq!(v["body"]["mass"], 0.0);
     // No model given and none in the scene: the beam alone.
     assert_eq!(v["models"].as_array().unwrap().len(), 0);
     assert!(v.get("note").is_none());
@@ -181,6 +182,8 @@ fn a_heavy_stage_rings_at_the_massless_flexure_limit() {
     let scene = dir.write("p.toml", &text);
     let v = json(&prbfit(&["modes", "--scene", &scene, "--json"]));
     assert_eq!(v["kind"], "mechanism");
+    assert_eq!(v["body"]["mass"], 0.2);
+    assert_eq!(v["body"]["inertia"], 1e-4);
     let (e, l, w, t, rho) = (200e9f64, 0.05f64, 0.01, 0.0005f64, 7850.0);
     let ei = e * w * t.powi(3) / 12.0;
     let flexure = rho * w * t * l;

@@ -108,11 +108,14 @@ pub struct ModesReport {
     /// Hz per unit of `Omega` (flexure 1's).
     hz_per_omega: f64,
     max_freq_err: f64,
+    /// The body at the tip (a mechanism's stage), SI: `mass` kg, `inertia` kg m^2 about
+    /// the tip point (P).
+    body: crate::scene::Body,
     /// A data scene: its measured data are not dynamic.
     #[serde(skip_serializing_if = "Option::is_none")]
     note: Option<String>,
     #[serde(flatten)]
-    body: ModesBody,
+    found: ModesBody,
 }
 
 /// The models asked for, in order: `--model`s then `--prb`s; with none, the scene's
@@ -245,6 +248,7 @@ pub fn modes(scene: &Scene, args: &ModesArgs, ctl: &mut Control<'_>) -> Result<M
         density,
         hz_per_omega: scale.hz(1.0),
         max_freq_err,
+        body: scene.body,
         note: scene.truth.as_ref().map(|t| {
             format!(
                 "the truth is measured data ({}), which are not dynamic: these are the nominal \
@@ -257,7 +261,7 @@ pub fn modes(scene: &Scene, args: &ModesArgs, ctl: &mut Control<'_>) -> Result<M
                 }
             )
         }),
-        body,
+        found: body,
     })
 }
 
@@ -308,7 +312,7 @@ impl fmt::Display for CaseModes {
 
 impl fmt::Display for ModesReport {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let about = match (&self.body, self.equilibrium) {
+        let about = match (&self.found, self.equilibrium) {
             (ModesBody::One(c), "load") => format!(
                 "under the tip load {}",
                 Load::new(c.load[0], c.load[1], c.load[2])
@@ -333,17 +337,35 @@ impl fmt::Display for ModesReport {
             num(self.density),
             num(self.hz_per_omega)
         )?;
+        if !self.body.is_none() {
+            writeln!(
+                f,
+                "{} body: {} kg, {} kg m^2 about {}",
+                if self.kind == "mechanism" {
+                    "stage"
+                } else {
+                    "tip"
+                },
+                num(self.body.mass),
+                num(self.body.inertia),
+                if self.kind == "mechanism" {
+                    "P"
+                } else {
+                    "the tip point"
+                }
+            )?;
+        }
         if let Some(note) = &self.note {
             writeln!(f, "{}", safe(note))?;
         }
-        let width = match &self.body {
+        let width = match &self.found {
             ModesBody::One(c) => c.beam.omega.len(),
             ModesBody::Cases { cases } => cases.first().map_or(0, |c| c.beam.omega.len()),
         };
         let header: String = (1..=width)
             .map(|k| format!("{:>13}", format!("mode {k}")))
             .collect();
-        match &self.body {
+        match &self.found {
             ModesBody::One(c) => {
                 writeln!(f, "{:<19}{header}", "")?;
                 write!(f, "{c}")?;
