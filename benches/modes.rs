@@ -89,6 +89,7 @@ fn main() {
             poisson_ratio: 0.3,
             shear_coefficient: None,
             density: None,
+            allowable_stress: None,
             effects: EffectsChoice::Fixed(effects),
         };
         let flexure = |y: f64| Flexure {

@@ -18,6 +18,7 @@ fn beam() -> BeamSpec {
         poisson_ratio: 0.3,
         shear_coefficient: None,
         density: None,
+        allowable_stress: None,
         effects: EffectsChoice::Fixed(Effects::NONE),
     }
 }

@@ -558,6 +558,7 @@ mod properties {
                 poisson_ratio: 0.3,
                 shear_coefficient: None,
                 density: None,
+                allowable_stress: None,
                 effects: EffectsChoice::Fixed(effects),
             };
             let (a, b) = (spec(1.0, 70e9), spec(k, 70e9 * e_ratio));

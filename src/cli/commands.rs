@@ -133,6 +133,7 @@ pub fn fit(args: FitArgs) -> Result<()> {
 pub fn select(args: SelectArgs) -> Result<()> {
     let a = report::select::SelectArgs {
         fidelity: args.fidelity,
+        within_stroke: args.within_stroke,
     };
     run(&args.common, |scene, ctl| {
         report::select::select(scene, &a, ctl)

@@ -39,9 +39,17 @@ pub fn cancel_on_interrupt(cancel: &CancelToken) {
 #[error("cannot write the output: {0}")]
 pub struct OutputFailed(std::io::Error);
 
-/// JSON keys whose value may be `null` by design; any other `null` would be a non-finite
-/// number that serde_json wrote as `null`, and is refused.
-const NULLABLE: [&str; 2] = ["effects_decision", "chosen"];
+/// JSON keys whose value may be `null` by design (or, for a list, hold `null`s: a path
+/// without a stroke limit, a flexure without an allowable stress); any other `null` would be
+/// a non-finite number that serde_json wrote as `null`, and is refused.
+const NULLABLE: [&str; 6] = [
+    "effects_decision",
+    "chosen",
+    "max_stress",
+    "max_stress_at",
+    "allowable_stress",
+    "stroke_limits",
+];
 
 /// Prints `report` as JSON (`json`) or as text.
 pub fn emit<R: Serialize + Display>(report: &R, json: bool) -> anyhow::Result<()> {
@@ -75,9 +83,16 @@ fn finite(v: &serde_json::Value) -> bool {
     match v {
         serde_json::Value::Null => false,
         serde_json::Value::Array(a) => a.iter().all(finite),
-        serde_json::Value::Object(o) => o
-            .iter()
-            .all(|(k, v)| (v.is_null() && NULLABLE.contains(&k.as_str())) || finite(v)),
+        serde_json::Value::Object(o) => o.iter().all(|(k, v)| {
+            let nullable = NULLABLE.contains(&k.as_str());
+            match v {
+                serde_json::Value::Null => nullable,
+                serde_json::Value::Array(a) if nullable => {
+                    a.iter().all(|x| x.is_null() || finite(x))
+                }
+                _ => finite(v),
+            }
+        }),
         _ => true,
     }
 }

@@ -212,7 +212,7 @@ impl Study {
                 // The beam's own statics (their message past buckling), in the stage form.
                 let solver = BeamSolver::new(self.scene.beam.model(), self.resolution)?;
                 let sol = solver.solve(load)?;
-                let case = truth::tip_case(1.0, load, sol.tip, sol.iterations);
+                let case = truth::tip_case(1.0, load, sol.tip, sol.iterations, sol.stress);
                 // The same load as the only drive of the one-flexure mechanism, for the
                 // models' statics.
                 let mut mech = self.mechanism.clone();
