@@ -289,3 +289,43 @@ fn bad_input_is_refused_naming_the_key_or_flag() {
     let tail = |t: &str| t.split("the equilibrium path").nth(1).map(str::to_string);
     assert_eq!(tail(&m), tail(&s), "{m} vs {s}");
 }
+
+#[test]
+fn a_model_that_cannot_follow_has_its_reason_in_place_of_frequencies() {
+    // The fixed-guided flexure: Howell's 1R cannot keep its tip angle while its tip moves,
+    // so it reaches no case of the drive; the beam's modes are still reported.
+    let mut text = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/assets/scenes/fixed-guided.toml"
+    ))
+    .unwrap();
+    // The density as the [beam] table's first key (its header line has a comment).
+    let beam = text.find("\n[beam]").unwrap() + 1;
+    let line_end = beam + text[beam..].find('\n').unwrap() + 1;
+    text.insert_str(line_end, "density = 7850.0\n");
+    let dir = Scratch::new("modes-unfollowed");
+    let scene = dir.write("f.toml", &text);
+    let v = json(&prbfit(&[
+        "modes",
+        "--scene",
+        &scene,
+        "--cases",
+        "--model",
+        "howell-1r",
+        "--json",
+    ]));
+    let cases = v["cases"].as_array().unwrap();
+    assert!(!cases.is_empty());
+    for c in cases {
+        assert_eq!(floats(&c["beam"]["omega"]).len(), 3);
+        let m = &c["models"][0];
+        assert!(
+            m.get("omega").is_none() && m.get("freq_err").is_none(),
+            "{m}"
+        );
+        assert!(
+            m["failure"].as_str().unwrap().contains("does not reach"),
+            "{m}"
+        );
+    }
+}

@@ -299,20 +299,17 @@ fn case_modes(
     }
 }
 
-/// A model's frequencies at the end of `mechanism`'s only drive.
+/// A model's frequencies at the end of `mechanism`'s only drive (its last case; a model
+/// that stops short of it has none, and says why).
 fn last_case_modes(
     mechanism: &Mechanism,
     matrix: &PrbMatrix,
     stage: TipBody,
 ) -> Result<Vec<f64>, String> {
     let followed = prb::follow(mechanism, matrix, PRB_TOL);
-    let last = followed
+    let steps = mechanism
         .drives
         .first()
-        .and_then(|cases| cases.len().checked_sub(1));
-    let steps = mechanism.drives.first().map_or(0, |d| d.steps as usize);
-    match last {
-        Some(k) if k + 1 == steps => case_modes(mechanism, matrix, &followed, 0, k, stage),
-        _ => case_modes(mechanism, matrix, &followed, 0, steps, stage),
-    }
+        .map_or(1, |d| d.steps.max(1) as usize);
+    case_modes(mechanism, matrix, &followed, 0, steps - 1, stage)
 }
