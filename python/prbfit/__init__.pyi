@@ -135,7 +135,9 @@ class Scene:
     @property
     def kind(self) -> str: ...
     @property
-    def beam(self) -> Dict[str, Any]: ...
+    def beam(self) -> Dict[str, Any]:
+        """length, width, thickness, youngs_modulus, poisson_ratio, shear_coefficient,
+        effects, density, allowable_stress (SI), slenderness."""
     def set_beam(self, **values: Any) -> None: ...
     def with_beam(self, **values: Any) -> "Scene": ...
     @property
@@ -200,7 +202,7 @@ class Scene:
         cases: bool = False,
         tol: Optional[float] = None,
     ) -> Modes: ...
-    def select(self, fidelity: str = "normal") -> Selection: ...
+    def select(self, fidelity: str = "normal", *, within_stroke: bool = False) -> Selection: ...
     def calibrate(self, param: str = "youngs_modulus") -> Calibration: ...
     def export(
         self,
@@ -217,7 +219,7 @@ class Scene:
         output: _Path,
         *,
         mesh: int = 40,
-        section: str = "plane-stress",
+        section: Optional[str] = None,
         taper: float = 1.0,
         deck: Optional[_Path] = None,
         force: bool = False,

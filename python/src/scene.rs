@@ -114,6 +114,9 @@ impl Scene {
                     b.shear_coefficient = if v.is_none() { None } else { Some(number(&v)?) }
                 }
                 "density" => b.density = if v.is_none() { None } else { Some(number(&v)?) },
+                "allowable_stress" => {
+                    b.allowable_stress = if v.is_none() { None } else { Some(number(&v)?) }
+                }
                 "effects" => {
                     let text: String = extract(&arg, &v, "a string (auto, none, all or a list)")?;
                     b.effects = if text.trim() == "auto" {
@@ -128,7 +131,7 @@ impl Scene {
                     return Err(errors::input(
                         &arg,
                         "no such beam value (length, width, thickness, youngs_modulus, \
-                         poisson_ratio, shear_coefficient, effects, density)",
+                         poisson_ratio, shear_coefficient, effects, density, allowable_stress)",
                     ))
                 }
             }
@@ -202,7 +205,8 @@ impl Scene {
 
     /// The beam (SI): length, width, thickness, youngs_modulus, poisson_ratio,
     /// shear_coefficient (None: Cowper's), effects, density (kg/m^3; None: the scene gives
-    /// none, and `modes` asks for it); and its slenderness L/t0.
+    /// none, and `modes` asks for it), allowable_stress (Pa, or None); and its slenderness
+    /// L/t0.
     #[getter]
     fn beam<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let b = &self.inner.beam;
@@ -215,14 +219,15 @@ impl Scene {
         d.set_item("shear_coefficient", b.shear_coefficient)?;
         d.set_item("effects", b.effects.to_string())?;
         d.set_item("density", b.density)?;
+        d.set_item("allowable_stress", b.allowable_stress)?;
         d.set_item("slenderness", b.slenderness())?;
         Ok(d)
     }
 
     /// Sets beam values (`length`, `width`, `thickness`, `youngs_modulus`, `poisson_ratio`,
-    /// `shear_coefficient`, `effects`, `density`; None clears the last two), checked by the
-    /// scene's rules; a mechanism's flexures
-    /// and a data scene's rows follow the beam as in the UI.
+    /// `shear_coefficient`, `effects`, `density`, `allowable_stress`; None clears the
+    /// shear coefficient, density and allowable stress), checked by the scene's rules; a
+    /// mechanism's flexures and a data scene's rows follow the beam as in the UI.
     #[pyo3(signature = (**values))]
     fn set_beam(&mut self, values: Option<&Bound<'_, PyDict>>) -> PyResult<()> {
         *self = self.edited_beam(values)?;
@@ -527,11 +532,13 @@ impl Scene {
     }
 
     /// `prbfit select`: the topology ladder fitted, the simplest model that meets the
-    /// targets chosen.
-    #[pyo3(signature = (fidelity = "normal"))]
-    fn select(&self, py: Python<'_>, fidelity: &str) -> PyResult<Py<PyAny>> {
+    /// targets chosen; `within_stroke` judges only the cases up to each path's stroke limit
+    /// (where the stress first reaches the scene's allowable stress).
+    #[pyo3(signature = (fidelity = "normal", *, within_stroke = false))]
+    fn select(&self, py: Python<'_>, fidelity: &str, within_stroke: bool) -> PyResult<Py<PyAny>> {
         let args = report::select::SelectArgs {
             fidelity: self::fidelity(fidelity)?,
+            within_stroke,
         };
         let scene = &self.inner;
         let r = run(py, None, |ctl: &mut Control<'_>| {
@@ -598,15 +605,17 @@ impl Scene {
     /// `output` as measured-data CSV, the beam beside it; a mechanism scene's whole
     /// mechanism (every flexure, the stage a rigid body) along its drives, the beam mechanism
     /// beside it. A drive path CalculiX cannot finish raises `SolveError` (its solved cases
-    /// are in the CSV, marked), as the CLI exits 1.
-    #[pyo3(signature = (output, *, mesh = 40, section = "plane-stress", taper = 1.0, deck = None, force = false, timeout = 900))]
+    /// are in the CSV, marked), as the CLI exits 1. `section` (`plane-stress`,
+    /// `plane-strain`, `solid`): None takes the scene's (solid when its beam keeps plane
+    /// strain, else plane-stress).
+    #[pyo3(signature = (output, *, mesh = 40, section = None, taper = 1.0, deck = None, force = false, timeout = 900))]
     #[allow(clippy::too_many_arguments)]
     fn fea(
         &self,
         py: Python<'_>,
         output: PathBuf,
         mesh: u32,
-        section: &str,
+        section: Option<&str>,
         taper: f64,
         deck: Option<PathBuf>,
         force: bool,
@@ -614,7 +623,9 @@ impl Scene {
     ) -> PyResult<Py<PyAny>> {
         let mut args = report::fea::FeaArgs::new(output);
         args.mesh = mesh;
-        args.section = Section::from_str(section).map_err(|e| errors::input("section", e))?;
+        args.section = section
+            .map(|s| Section::from_str(s).map_err(|e| errors::input("section", e)))
+            .transpose()?;
         args.taper = Taper::from_str(&format!("{taper}")).map_err(|e| errors::input("taper", e))?;
         args.deck = deck;
         args.force = force;

@@ -144,7 +144,8 @@ def test_dynamics_edits_follow_the_rules():
     assert sc.beam["density"] is None
     assert sc.body == {"mass": 0.0, "inertia": 0.0}
     assert sc.fit_settings["modes"] == 0 and sc.accuracy["max_freq_err"] == 0.01
-    sc.set_beam(density=7850.0)
+    sc.set_beam(density=7850.0, allowable_stress=1.2e9)
+    assert sc.beam["allowable_stress"] == 1.2e9
     sc.set_body(mass=0.002, inertia=1e-8)
     sc.set_fit_settings(modes=2, frequency_weight=0.5)
     sc.set_accuracy(max_freq_err=0.02)
@@ -157,6 +158,7 @@ def test_dynamics_edits_follow_the_rules():
     for call, words in [
         (lambda: sc.set_beam(density=-1.0), ["beam.density"]),
         (lambda: sc.set_beam(density=float("nan")), ["beam.density", "finite"]),
+        (lambda: sc.set_beam(allowable_stress=0.0), ["beam.allowable_stress"]),
         (lambda: sc.set_body(mass=-0.1), ["tip.mass"]),
         (lambda: sc.set_body(inertia="x"), ["tip.inertia", "number"]),
         (lambda: sc.set_body(volume=1.0), ["tip.volume", "mass, inertia"]),
