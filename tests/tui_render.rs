@@ -719,3 +719,23 @@ fn frequencies_against_their_target_120x40() {
     let text = format!("{}", render(&fitted, 120, 40).backend());
     assert!(text.contains("first 3 PASS<1%"), "{text}");
 }
+
+/// Issue 25.6: `M` draws the first three mode shapes, the beam's lines and Su's 3R's through
+/// its joints (`o`) over each other, the tip's motion 1, with each mode's frequencies (beam /
+/// PRB) in the title; `M` again goes back to the deformed shapes.
+#[test]
+fn mode_shapes_120x40() {
+    let mut app = dynamic_app("0.10,inf,inf; 0.35,3.51,inf; 0.40,2.99,inf; 0.15,2.58,inf");
+    app.on_key(
+        ratatui::crossterm::event::KeyEvent::from(ratatui::crossterm::event::KeyCode::Char('M')),
+        std::time::Instant::now(),
+    );
+    assert!(app.show_modes);
+    let t = render(&app, 120, 40);
+    let text = format!("{}", t.backend());
+    assert!(
+        text.contains("Modes (tip 1): beam ─ PRB ─o  163.1/158.1 1021/1035 2858/3453 Hz"),
+        "{text}"
+    );
+    insta::assert_snapshot!("mode_shapes_120x40", t.backend());
+}

@@ -29,6 +29,10 @@ pub struct TipBody {
     pub inertia: f64,
 }
 
+/// One mode of the chain for drawing: its `Omega` and the transverse motion `(x, dy)` at the
+/// root, every joint and the tip ([`PrbSolver::unloaded_shapes`]).
+pub type ChainShape = (f64, Vec<[f64; 2]>);
+
 /// Why a chain has no natural frequencies at an equilibrium.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum ModesError {
@@ -129,6 +133,59 @@ impl PrbSolver {
         let mass = self.mass_matrix(q, tip);
         frequencies(&lin.stiffness, &mass, m).map_err(ModesError::Unstable)
     }
+
+    /// The unloaded straight chain's first `count` modes for drawing: per mode its `Omega`
+    /// and the transverse motion `(x, dy)` of the chain's root, every joint and the tip
+    /// (a revolute joint's rate turns everything beyond it; an extension moves along the
+    /// chain, not across), scaled so the tip moves by 1. Each shape is the null vector of
+    /// `K - Omega^2 M` (its smallest singular vector).
+    pub fn unloaded_shapes(
+        &self,
+        tip: TipBody,
+        count: usize,
+    ) -> Result<Vec<ChainShape>, ModesError> {
+        let m = self.dofs.len();
+        let q = vec![0.0; m];
+        let load = Load::new(0.0, 0.0, 0.0);
+        let omegas = self.modes(load, &q, tip)?;
+        let k = nalgebra::DMatrix::from_row_slice(m, m, &self.linearise(load, &q).stiffness);
+        let mass = nalgebra::DMatrix::from_row_slice(m, m, &self.mass_matrix(&q, tip));
+        // The joints' positions along the straight chain: segment i's root at `x[i]`.
+        let mut x = vec![0.0; self.gamma.len() + 1];
+        for (i, g) in self.gamma.iter().enumerate() {
+            x[i + 1] = x[i] + g;
+        }
+        let mut out = Vec::new();
+        for &w in omegas.iter().take(count) {
+            let svd = (&k - &mass * (w * w)).svd(false, true);
+            let Some(v_t) = svd.v_t else { continue };
+            let smallest = svd
+                .singular_values
+                .iter()
+                .enumerate()
+                .min_by(|a, b| a.1.total_cmp(b.1))
+                .map_or(0, |(i, _)| i);
+            let v = v_t.row(smallest);
+            let dy = |at: f64| -> f64 {
+                self.dofs
+                    .iter()
+                    .zip(v.iter())
+                    .map(|(d, r)| match *d {
+                        Dof::Theta(seg) if x[seg] <= at => r * (at - x[seg]),
+                        _ => 0.0,
+                    })
+                    .sum()
+            };
+            let tip_dy = dy(x[x.len() - 1]);
+            let scale = if tip_dy.abs() > 0.0 {
+                1.0 / tip_dy
+            } else {
+                1.0
+            };
+            out.push((w, x.iter().map(|&at| [at, scale * dy(at)]).collect()));
+        }
+        Ok(out)
+    }
 }
 
 #[cfg(test)]
@@ -138,6 +195,28 @@ mod tests {
 
     fn solver(text: &str) -> PrbSolver {
         PrbSolver::new(&PrbMatrix::parse(text).unwrap(), 1.0 / 1200.0)
+    }
+
+    /// A 1R's only mode is its link turning about the joint: the motion grows linearly from
+    /// the joint to 1 at the tip; a 3R's modes each move the tip by 1.
+    #[test]
+    fn shapes_are_the_null_vectors_scaled_to_the_tip() {
+        let s = solver("0.15,inf,inf; 0.85,2.2525,inf");
+        let shapes = s.unloaded_shapes(TipBody::default(), 3).unwrap();
+        assert_eq!(shapes.len(), 1);
+        let (w, pts) = &shapes[0];
+        assert!((w - (2.2525 / (0.85_f64.powi(3) / 3.0)).sqrt()).abs() < 1e-12);
+        assert_eq!(pts.len(), 3);
+        assert!(pts[0][1].abs() < 1e-15 && pts[1][1].abs() < 1e-15);
+        assert!((pts[2][0] - 1.0).abs() < 1e-15 && (pts[2][1] - 1.0).abs() < 1e-12);
+        let su = solver("0.1,inf,inf; 0.35,3.51,inf; 0.4,2.99,inf; 0.15,2.58,inf");
+        let shapes = su.unloaded_shapes(TipBody::default(), 3).unwrap();
+        assert_eq!(shapes.len(), 3);
+        for (_, pts) in &shapes {
+            assert!((pts[4][1] - 1.0).abs() < 1e-9, "{pts:?}");
+        }
+        // The second mode has a node: its joints move against the tip somewhere.
+        assert!(shapes[1].1.iter().any(|p| p[1] < 0.0), "{shapes:?}");
     }
 
     /// Howell's 1R, its mass spread over its link (mu = gamma = 0.85): a rod of mass 0.85

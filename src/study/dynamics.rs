@@ -44,6 +44,26 @@ pub struct TruthModes {
     pub body: TipBody,
     /// The truth is measured data, which has no dynamics: these are the nominal beam's.
     pub nominal: bool,
+    /// A cantilever's mode shapes for drawing: per mode, `(s, dy)` along the unloaded beam,
+    /// the tip's motion 1 (empty for a mechanism).
+    pub shapes: Vec<Vec<[f64; 2]>>,
+}
+
+/// Stations per drawn beam mode shape.
+const SHAPE_POINTS: usize = 41;
+
+/// One mode of a cantilever, the beam's and the PRB model's, for drawing over each other.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ModeShapePair {
+    /// The beam's frequency, Hz.
+    pub beam_hz: f64,
+    /// The model's, Hz.
+    pub model_hz: f64,
+    /// The beam's transverse motion `(s, dy)` along the unloaded beam (units of L), the
+    /// tip's 1.
+    pub beam: Vec<[f64; 2]>,
+    /// The PRB chain's at its root, joints and tip, the tip's 1.
+    pub model: Vec<[f64; 2]>,
 }
 
 impl TruthModes {
@@ -80,10 +100,25 @@ fn truth_modes(
         mass: b.mass,
         inertia: b.inertia,
     };
-    let settings = ModeSettings::frequencies(count);
+    let mut shapes = Vec::new();
     let omega = if scene.mechanism.is_none() {
-        unloaded_modes(&scene.beam.model(), b, &settings)?.omega
+        let settings = ModeSettings {
+            shape_points: SHAPE_POINTS,
+            ..ModeSettings::frequencies(count)
+        };
+        let modes = unloaded_modes(&scene.beam.model(), b, &settings)?;
+        shapes = modes
+            .shapes
+            .iter()
+            .map(|shape| {
+                let tip = shape.points.last().map_or(1.0, |p| p.dy);
+                let scale = if tip == 0.0 { 1.0 } else { 1.0 / tip };
+                shape.points.iter().map(|p| [p.s, scale * p.dy]).collect()
+            })
+            .collect();
+        modes.omega
     } else {
+        let settings = ModeSettings::frequencies(count);
         let mass = MechMass::from_si(mechanism, density, scene.body.mass, scene.body.inertia)?;
         let held = mechanism.drives.first().map_or([false; 3], held_by);
         mech_modes(mechanism, &mass, held, None, &settings)?.omega
@@ -93,6 +128,7 @@ fn truth_modes(
         scale,
         body,
         nominal: scene.truth.is_some(),
+        shapes,
     })
 }
 
@@ -143,5 +179,30 @@ impl Study {
             judged: self.scene().fit.modes as usize,
             nominal: truth.nominal,
         })
+    }
+
+    /// A cantilever's first mode shapes, the beam's and `matrix`'s over each other (as many
+    /// as both have, at most [`SHOWN_MODES`]); empty for a mechanism or without `[beam]
+    /// density`.
+    pub fn mode_shapes(&self, matrix: &PrbMatrix) -> Vec<ModeShapePair> {
+        let (Some(truth), Some(baseline)) = (self.modes.as_ref(), self.baseline()) else {
+            return Vec::new();
+        };
+        let chain = PrbSolver::new(matrix, baseline.model.axial_compliance());
+        let model = chain
+            .unloaded_shapes(truth.body, SHOWN_MODES)
+            .unwrap_or_default();
+        truth
+            .shapes
+            .iter()
+            .zip(&truth.omega)
+            .zip(model)
+            .map(|((beam, &w), (wm, shape))| ModeShapePair {
+                beam_hz: truth.scale.hz(w),
+                model_hz: truth.scale.hz(wm),
+                beam: beam.clone(),
+                model: shape,
+            })
+            .collect()
     }
 }

@@ -128,6 +128,10 @@ struct ModesTarget<'a> {
     scale: f64,
     /// `J` of frequency errors exactly at `max_freq_err`: `w_omega max_freq_err^2`.
     target_objective: f64,
+    /// The last statics residuals and the statics cells (gamma, k_theta, k_ex per row) they
+    /// are of: the polish's finite differences in a mu change only the frequencies, so they
+    /// reuse them instead of solving every load case again.
+    last_statics: std::cell::RefCell<(Vec<f64>, Vec<f64>)>,
 }
 
 impl<'a> ModesTarget<'a> {
@@ -147,6 +151,7 @@ impl<'a> ModesTarget<'a> {
             body: truth.body,
             scale: (w / n as f64).sqrt(),
             target_objective: w * study.scene().accuracy.max_freq_err.powi(2),
+            last_statics: std::cell::RefCell::new((Vec::new(), Vec::new())),
         })
     }
 }
@@ -169,7 +174,21 @@ impl Target for ModesTarget<'_> {
     }
 
     fn residuals(&self, matrix: &PrbMatrix, out: &mut Vec<f64>) {
-        self.statics.residuals(matrix, out);
+        let key: Vec<f64> = matrix
+            .rows()
+            .iter()
+            .flat_map(|r| [r.gamma, r.k_theta, r.k_ex])
+            .collect();
+        {
+            let mut last = self.last_statics.borrow_mut();
+            if last.0 == key {
+                out.clear();
+                out.extend_from_slice(&last.1);
+            } else {
+                self.statics.residuals(matrix, out);
+                *last = (key, out.clone());
+            }
+        }
         let model = self
             .study
             .prb_frequencies(matrix, self.body)

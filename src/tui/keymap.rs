@@ -74,6 +74,8 @@ pub enum Action {
     Cancel,
     /// Open the model selection.
     Selection,
+    /// Toggle the shape chart between the deformed shapes and the mode shapes.
+    ModeShapes,
     /// Selection view: load the selected row's model.
     SelectLoad,
     /// Selection view: stop the running selection.
@@ -399,7 +401,7 @@ pub const KEYMAP: &[Entry] = &[
     },
     Entry {
         keys: "u",
-        does: "matrix and loads in SI: lengths, N m/rad, N/m, N, N m (typed values too)",
+        does: "matrix and loads in SI: lengths, N m/rad, N/m, kg, N, N m (typed values too)",
         scope: ALL,
         bindings: &[ch('u', Action::ToggleSi)],
         hints: &[hint("u SI", Scope::MATRIX.or(Scope::LOADS))],
@@ -423,6 +425,13 @@ pub const KEYMAP: &[Entry] = &[
         does: "model selection: the topology ladder's table and the trade-off chart",
         scope: ALL,
         bindings: &[ch('S', Action::Selection)],
+        hints: &[],
+    },
+    Entry {
+        keys: "M",
+        does: "mode shapes of beam and PRB (a cantilever with [beam] density); again: back",
+        scope: ALL,
+        bindings: &[ch('M', Action::ModeShapes)],
         hints: &[],
     },
     Entry {

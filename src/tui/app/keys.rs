@@ -185,6 +185,14 @@ impl App {
                 let outcome = self.edit.add_or_delete_row(action == Action::AddRow);
                 self.edited(outcome, now);
             }
+            Action::ModeShapes => {
+                self.show_modes = !self.show_modes;
+                self.set_info(if self.show_modes {
+                    "mode shapes: beam and PRB, unloaded, the tip's motion 1 (M: back)"
+                } else {
+                    "deformed shapes"
+                });
+            }
             Action::ToggleSi => {
                 let si = !self.edit.matrix_state.si;
                 self.edit.matrix_state.si = si;

@@ -57,6 +57,8 @@ pub struct App {
     pub quit: bool,
     /// Monochrome (NO_COLOR).
     pub mono: bool,
+    /// The shape chart shows the mode shapes (`M`) instead of the deformed shapes.
+    pub show_modes: bool,
     /// The density the exported links get (kg/m^3).
     pub export_density: f64,
     /// The message shown is a worker's failure, cleared by the next good result.
@@ -80,6 +82,7 @@ impl App {
             message: None,
             quit: false,
             mono: false,
+            show_modes: false,
             export_density: DEFAULT_DENSITY,
             message_from_worker: false,
             export_path: None,

@@ -14,6 +14,9 @@
 //! most stressed flexure), with `past limit` when the case lies past its path's stroke limit,
 //! and a red `*` on that flexure's centre line where the stress peaks.
 //!
+//! With `M` it shows a cantilever's first mode shapes instead (DESIGN §10): the beam's and
+//! the PRB model's transverse motion about the unloaded beam over each other.
+//!
 //! On a data scene (DESIGN §9) the beam is the scene's beam (or beam mechanism) beside the
 //! data (none where it cannot follow them), and a legend on the bottom border names the
 //! three.
@@ -29,6 +32,7 @@ use ratatui::widgets::{Block, Borders, Paragraph, Wrap};
 use ratatui::Frame;
 
 use crate::mech::pose::Pose;
+use crate::study::dynamics::ModeShapePair;
 use crate::study::CaseForm;
 use crate::text::sanitize_terminal;
 
@@ -61,6 +65,8 @@ pub struct View<'a> {
     /// path's last, the outermost shape): `(flexure from 0, Pa, s / L)`, and whether the
     /// case is past its path's stroke limit. `None` on measured data (no stress).
     pub stress: Option<((usize, f64, f64), bool)>,
+    /// The mode shapes instead (`M`): the model's, empty when it has none.
+    pub modes: Option<&'a [ModeShapePair]>,
     /// Colours.
     pub pal: Palette,
 }
@@ -97,6 +103,9 @@ impl<'a> View<'a> {
                 Activity::Failed(m) => Some(m),
                 _ => None,
             },
+            modes: app
+                .show_modes
+                .then(|| app.shown.model().map_or(&[][..], |m| &m.mode_shapes[..])),
             pal: Palette { mono: app.mono },
         }
     }
@@ -213,8 +222,87 @@ fn block<'a>(view: &View, measured: Option<bool>) -> Block<'a> {
     block.title_bottom(Line::from(legend))
 }
 
-/// Draws the shape chart.
+/// The mode shapes' colours, first mode first.
+const MODE_COLORS: [Color; 3] = [Color::Yellow, Color::Cyan, Color::Magenta];
+
+/// Draws the mode shapes (`M`): per mode, the beam's transverse motion along the unloaded
+/// beam as a line and the PRB chain's through its joints (`o`), in the mode's colour
+/// (yellow, cyan, magenta), each scaled so the tip moves by 1; the title gives each mode's
+/// frequencies, beam/PRB in Hz.
+fn draw_modes(frame: &mut Frame, area: Rect, modes: &[ModeShapePair], pal: Palette) {
+    let mut title = " Modes (tip 1): beam ─ PRB ─o ".to_string();
+    for m in modes {
+        title.push_str(&format!(
+            " {}/{}",
+            crate::tui::units::trim_number(m.beam_hz, 4),
+            crate::tui::units::trim_number(m.model_hz, 4)
+        ));
+    }
+    if !modes.is_empty() {
+        title.push_str(" Hz ");
+    }
+    let block = Block::default().borders(Borders::ALL).title(title);
+    if modes.is_empty() {
+        frame.render_widget(
+            Paragraph::new(
+                "no mode shapes: they are drawn for a cantilever scene with [beam] density \
+                 (M: back to the deformed shapes)",
+            )
+            .wrap(Wrap { trim: true })
+            .block(block),
+            area,
+        );
+        return;
+    }
+    let (lo, hi) = modes
+        .iter()
+        .flat_map(|m| m.beam.iter().chain(&m.model))
+        .fold((0.0_f64, 0.0_f64), |(lo, hi), p| {
+            (lo.min(p[1]), hi.max(p[1]))
+        });
+    let pad = 0.08 * (hi - lo).max(1e-9);
+    let canvas = Canvas::default()
+        .block(block)
+        .marker(Marker::Braille)
+        .x_bounds([-0.02, 1.02])
+        .y_bounds([lo - pad, hi + pad])
+        .paint(|ctx| {
+            ctx.draw(&CanvasLine::new(
+                0.0,
+                0.0,
+                1.0,
+                0.0,
+                pal.color(Color::DarkGray),
+            ));
+            for (m, color) in modes.iter().zip(MODE_COLORS) {
+                let color = pal.color(color);
+                for w in m.beam.windows(2) {
+                    ctx.draw(&CanvasLine::new(w[0][0], w[0][1], w[1][0], w[1][1], color));
+                }
+            }
+            ctx.layer();
+            for (m, color) in modes.iter().zip(MODE_COLORS) {
+                let color = pal.color(color);
+                for w in m.model.windows(2) {
+                    ctx.draw(&CanvasLine::new(w[0][0], w[0][1], w[1][0], w[1][1], color));
+                }
+            }
+            ctx.layer();
+            for (m, color) in modes.iter().zip(MODE_COLORS) {
+                for p in m.model.iter().skip(1) {
+                    ctx.print(p[0], p[1], Span::styled("o", pal.fg(color)));
+                }
+            }
+        });
+    frame.render_widget(canvas, area);
+}
+
+/// Draws the shape chart (the mode shapes when `M` asks).
 pub fn draw(frame: &mut Frame, area: Rect, view: &View) {
+    if let Some(modes) = view.modes {
+        draw_modes(frame, area, modes, view.pal);
+        return;
+    }
     let measured = view.truth.and_then(|t| t.measured.as_ref());
     let block = block(view, measured.map(|m| m.beam.is_ok()));
     let single = view.form == CaseForm::Stage;

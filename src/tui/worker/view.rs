@@ -15,6 +15,7 @@ use crate::mech::pose::{self, Pose};
 use crate::mech::MechCase;
 use crate::prb::PrbMatrix;
 use crate::scene::Mechanism;
+use crate::study::dynamics::ModeShapePair;
 use crate::study::stroke::StrokeLimit;
 use crate::study::{CaseForm, EffectsDecision, Study};
 
@@ -134,6 +135,8 @@ pub struct ModelView {
     /// Its natural frequencies against the truth's (DESIGN §10), when the scene gives
     /// `[beam] density`.
     pub frequencies: Option<Frequencies>,
+    /// A cantilever's first mode shapes, the beam's and the model's (with a density).
+    pub mode_shapes: Vec<ModeShapePair>,
 }
 
 impl ModelView {
@@ -191,5 +194,6 @@ pub fn model_view(study: &Study, matrix: &PrbMatrix) -> Result<ModelView, String
         poses,
         unfollowed: judged.unfollowed,
         frequencies: judged.frequencies,
+        mode_shapes: study.mode_shapes(matrix),
     })
 }
