@@ -7,8 +7,12 @@
 //! asymptote where one is known; and the slowest single solve among a set of hard loads,
 //! which the effort budget bounds.
 //!
+//! Then the cost of the largest fibre stress (DESIGN §11) that every case carries: the time
+//! of recomputing it on each case of a path, over the time of the path's solve.
+//!
 //! Run: `cargo bench --bench beam` (release build). Prints tables; asserts nothing.
-//! `HUGE_ONLY=1` skips the first table, `SKIP_HUGE=1` the others.
+//! `HUGE_ONLY=1` skips the first table, `SKIP_HUGE=1` the others, `STRESS_ONLY=1` runs only
+//! the stress table.
 
 // A bench whose solve fails has nothing to measure: it stops loudly at the failing case
 // rather than print a table with holes.
@@ -26,6 +30,10 @@ fn median(mut v: Vec<f64>) -> f64 {
 }
 
 fn main() {
+    stress_cost();
+    if std::env::var("STRESS_ONLY").is_ok() {
+        return;
+    }
     if std::env::var("HUGE_ONLY").is_err() {
         resolution_table();
     }
@@ -324,4 +332,47 @@ fn cancel_latency() {
          after its token is cancelled.\n",
         median(latencies)
     );
+}
+
+/// The stress's share of a solve: each path solved (stress included, as every solve does),
+/// then the stress of each of its cases computed again on its own; the ratio is the stress's
+/// share of the solve.
+fn stress_cost() {
+    let paths: Vec<(&str, Load)> = vec![
+        ("alpha_y=3", Load::new(0.0, 3.0, 0.0)),
+        ("alpha_y=10", Load::new(0.0, 10.0, 0.0)),
+        ("beta=2pi", Load::new(0.0, 0.0, 2.0 * PI)),
+        ("combined", Load::new(1.0, 4.0, -2.0)),
+        ("interior peak", Load::new(-1.5, -2.0, 1.5)),
+        ("alpha_y=100", Load::new(0.0, 100.0, 0.0)),
+    ];
+    let steps = 20;
+    println!("Stress: its cost per {steps}-case path (median of 9), tol 1e-9, 41 shape points,");
+    println!("all effects, L/t0 = 20, nu = 0.3.\n");
+    println!(
+        "{:>14} {:>12} {:>12} {:>8}",
+        "path", "solve us", "stress us", "share"
+    );
+    let model = BeamModel::new(20.0, 0.3, None, Effects::ALL).unwrap();
+    let solver = BeamSolver::new(model, Resolution::with_tol(1e-9)).unwrap();
+    for (name, end) in paths {
+        let mut solve = Vec::new();
+        let mut stress = Vec::new();
+        for _ in 0..9 {
+            let t = Instant::now();
+            let cases = black_box(solver.solve_path(end, steps).unwrap());
+            solve.push(t.elapsed().as_secs_f64() * 1e6);
+            let t = Instant::now();
+            for c in &cases {
+                black_box(solver.max_stress(c.load, c.tip, &c.shape));
+            }
+            stress.push(t.elapsed().as_secs_f64() * 1e6);
+        }
+        let (solve, stress) = (median(solve), median(stress));
+        println!(
+            "{name:>14} {solve:>12.0} {stress:>12.1} {:>7.2}%",
+            100.0 * stress / solve
+        );
+    }
+    println!();
 }

@@ -37,6 +37,7 @@ fn flexure(root: [f64; 2], attach: Attach) -> Flexure {
             shear_coefficient: None,
             density: None,
             effects: EffectsChoice::Fixed(Effects::NONE),
+            allowable_stress: None,
         },
     }
 }

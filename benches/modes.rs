@@ -90,6 +90,7 @@ fn main() {
             shear_coefficient: None,
             effects: EffectsChoice::Fixed(effects),
             density: None,
+            allowable_stress: None,
         };
         let flexure = |y: f64| Flexure {
             root: [0.0, y],

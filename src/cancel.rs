@@ -27,6 +27,12 @@ impl CancelToken {
     pub fn is_cancelled(&self) -> bool {
         self.0.load(Ordering::Relaxed)
     }
+
+    /// The shared flag itself, for what can only set a flag (a signal handler: the CLI
+    /// cancels its command on Ctrl-C by registering this flag for SIGINT).
+    pub fn flag(&self) -> Arc<AtomicBool> {
+        Arc::clone(&self.0)
+    }
 }
 
 #[cfg(test)]

@@ -130,6 +130,7 @@ impl Baseline {
                     last_update: 0.0,
                     stability: 1.0,
                 },
+                stress: None,
             })
             .collect();
         let paths = truth

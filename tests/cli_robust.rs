@@ -301,3 +301,83 @@ fn help_to_a_closed_pipe_is_quiet_too() {
     assert!(!err.contains("panicked"), "{err}");
     assert_eq!(status.code(), Some(0));
 }
+
+/// Sends SIGINT (Ctrl-C) to `child` once `wait` has passed, and returns its output.
+fn interrupt_after(mut child: std::process::Child, wait: Duration) -> std::process::Output {
+    std::thread::sleep(wait);
+    let pid = child.id().to_string();
+    assert!(
+        child.try_wait().unwrap().is_none(),
+        "the run ended before it could be interrupted; give it more work"
+    );
+    let sent = Command::new("kill").args(["-INT", &pid]).status().unwrap();
+    assert!(sent.success());
+    child.wait_with_output().unwrap()
+}
+
+/// Ctrl-C stops a long fit at its next check (issue 24: long fits can be cancelled): the best
+/// matrix so far is printed with its own figures, marked cancelled, saved where `-o` says, and
+/// the status is the shell's 130 for SIGINT.
+#[test]
+fn ctrl_c_stops_a_long_fit_with_its_best_so_far() {
+    let dir = Scratch::new("ctrl-c-fit");
+    let model = dir.file("best.toml");
+    // Eight RP segments at precise fidelity: minutes of fitting; the truth (20 cases) takes
+    // milliseconds, so a second in, the fit is running.
+    let child = bin()
+        .args([
+            "fit",
+            "--topology",
+            "L-RP-RP-RP-RP-RP-RP-RP-RP",
+            "--fidelity",
+            "precise",
+            "-o",
+            &model,
+        ])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let out = interrupt_after(child, Duration::from_secs(2));
+    let (stdout, stderr) = (
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr),
+    );
+    assert_eq!(out.status.code(), Some(130), "{stdout}\n{stderr}");
+    assert!(stdout.contains("cancelled"), "{stdout}");
+    assert!(stdout.contains("fitted L-RP-RP"), "{stdout}");
+    assert_eq!(
+        stderr.trim(),
+        "prbfit: interrupted (Ctrl-C): the best so far is above"
+    );
+    // The saved model is whole: eval reads it back and judges it.
+    succeeded(&prbfit(&["eval", "--model", &model]));
+}
+
+/// Ctrl-C stops a long solve too; a solve cut short prints nothing but says so.
+#[test]
+fn ctrl_c_stops_a_long_solve_and_prints_nothing_half_done() {
+    let dir = Scratch::new("ctrl-c-solve");
+    let scene = std::fs::read_to_string(format!(
+        "{}/assets/scenes/default.toml",
+        env!("CARGO_MANIFEST_DIR")
+    ))
+    .unwrap()
+    .replace("steps = 5", "steps = 10000");
+    let path = dir.write("big.toml", &scene);
+    let child = bin()
+        .args(["solve", "--scene", &path])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let out = interrupt_after(child, Duration::from_millis(300));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(130), "{stderr}");
+    assert!(
+        out.stdout.is_empty(),
+        "{}",
+        String::from_utf8_lossy(&out.stdout)
+    );
+    assert_eq!(stderr.trim(), "prbfit: interrupted (Ctrl-C)");
+}

@@ -839,3 +839,66 @@ fn wide_strip_plane_strain_closes_the_gap() {
     );
     assert!((fine - (1.0 - nu * nu)).abs() <= error);
 }
+
+/// Like with like (issue 26 item 5): on a scene whose beam keeps plane strain (`auto` on the
+/// built-in steel flexure, w0/t0 = 20), the default section is solid and the beam beside it
+/// the scene's; `--section plane-stress` compares with the narrow beam instead. Either way
+/// the output says which, and the two agree within the coarse mesh's error (10 elements:
+/// ~7e-3 L measured; the mismatched pair, plane-stress FEA against the plane-strain beam,
+/// is 1.5e-2 L apart).
+#[test]
+fn fea_compares_like_with_like() {
+    let Some(_) = ccx() else { return };
+    let dir = Scratch::new("fea-like");
+    let scene = scene_file(
+        &dir,
+        "name = \"like\"\n[beam]\nlength = 0.05\nwidth = 0.01\nthickness = 0.0005\n\
+         youngs_modulus = 200e9\npoisson_ratio = 0.3\neffects = \"auto\"\n\
+         [[loads]]\nalpha_y = 2.0\nsteps = 1\n",
+    );
+    let out = dir.file("data.csv");
+    let solid = json(&prbfit(&[
+        "fea", "--scene", &scene, "-o", &out, "--mesh", "10", "--json",
+    ]));
+    assert_eq!(solid["section"], "solid");
+    assert_eq!(solid["section_from"], "scene");
+    assert!(solid["beam_effects"]
+        .as_array()
+        .unwrap()
+        .contains(&"plane_strain".into()));
+    assert!(solid["like_with_like"]
+        .as_str()
+        .unwrap()
+        .contains("keeps plane strain"));
+    let narrow = json(&prbfit(&[
+        "fea",
+        "--scene",
+        &scene,
+        "-o",
+        &out,
+        "--mesh",
+        "10",
+        "--section",
+        "plane-stress",
+        "--force",
+        "--json",
+    ]));
+    assert_eq!(narrow["section_from"], "flag");
+    assert!(!narrow["beam_effects"]
+        .as_array()
+        .unwrap()
+        .contains(&"plane_strain".into()));
+    assert!(narrow["like_with_like"]
+        .as_str()
+        .unwrap()
+        .contains("plane strain off, to match"));
+    for r in [&solid, &narrow] {
+        let d = r["max_pos_diff"].as_f64().unwrap();
+        println!("{}: {d:.3e} L", r["section"]);
+        assert!(d < 1e-2, "{}: {d}", r["section"]);
+    }
+    // The two FEA sections differ by the plate stiffening the beams model: their tips are
+    // further apart than either is from its beam.
+    let b = |r: &serde_json::Value| r["cases"][0]["fea"]["b"].as_f64().unwrap();
+    assert!((b(&solid) - b(&narrow)).abs() > 1e-2);
+}

@@ -31,6 +31,7 @@ fn beam() -> BeamSpec {
         shear_coefficient: None,
         density: None,
         effects: EffectsChoice::Fixed(Effects::NONE),
+        allowable_stress: None,
     }
 }
 

@@ -19,6 +19,7 @@ fn beam() -> BeamSpec {
         shear_coefficient: None,
         effects: EffectsChoice::Fixed(Effects::NONE),
         density: None,
+        allowable_stress: None,
     }
 }
 

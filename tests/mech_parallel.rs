@@ -29,6 +29,7 @@ fn beam(slenderness: f64, effects: Effects) -> BeamSpec {
         shear_coefficient: None,
         effects: EffectsChoice::Fixed(effects),
         density: None,
+        allowable_stress: None,
     }
 }
 

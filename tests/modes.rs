@@ -553,6 +553,7 @@ mod properties {
                 shear_coefficient: None,
                 effects: EffectsChoice::Fixed(effects),
                 density: None,
+                allowable_stress: None,
             };
             let (a, b) = (spec(1.0, 70e9), spec(k, 70e9 * e_ratio));
             let (rho_a, rho_b) = (2700.0, 2700.0 * rho_ratio);

@@ -873,3 +873,157 @@ fn mechanism_data_are_drawn_as_markers_on_the_force_stroke_chart() {
     assert!(!svg_texts(&doc).iter().any(|t| t == "beam (exact)"));
     assert_eq!(lines_of(&doc, MEASURED_RGB), 2 * (10 * panels + 1));
 }
+
+/// The built-in scene with an allowable stress of 1.3 GPa (every path reaches it).
+fn builtin_with_allowable(dir: &Scratch) -> String {
+    let text = std::fs::read_to_string(example("default")).unwrap();
+    dir.write(
+        "allowable.toml",
+        &text.replacen("[beam]", "[beam]\nallowable_stress = 1.3e9", 1),
+    )
+}
+
+/// `--kind stress` on a cantilever: one beam curve (grey) and one curve per model per load
+/// path, plus a legend sample each; the allowable stress and the stroke limits in red with
+/// their legends; as PNG, the canvas's size.
+#[test]
+fn stress_chart_has_the_beam_each_model_the_allowable_and_the_limits() {
+    let dir = Scratch::new("plot-stress");
+    let scene = builtin_with_allowable(&dir);
+    let (paths, _) = builtin_counts();
+    let svg = dir.file("stress.svg");
+    let report = json(&prbfit(&[
+        "plot",
+        "--scene",
+        &scene,
+        "--model",
+        "su-3r",
+        "--model",
+        "howell-1r",
+        "--kind",
+        "stress",
+        "-o",
+        &svg,
+        "--json",
+    ]));
+    assert_eq!(report["kind"], "stress");
+    assert!(report.get("path").is_none());
+    let text = std::fs::read_to_string(&svg).unwrap();
+    let doc = roxmltree::Document::parse(&text).unwrap();
+    let (w, h) = canvas_size(ChartKind::Stress);
+    assert_eq!(
+        doc.root_element().attribute("width"),
+        Some(w.to_string().as_str())
+    );
+    assert_eq!(
+        doc.root_element().attribute("height"),
+        Some(h.to_string().as_str())
+    );
+    let lines = polylines_by_colour(&doc);
+    let count = |rgb| lines.get(&hex(rgb)).copied().unwrap_or(0);
+    assert_eq!(count(BEAM_RGB), paths + 1);
+    assert_eq!(count(MODEL_RGB[0]), paths + 1);
+    assert_eq!(count(MODEL_RGB[1]), paths + 1);
+    assert_eq!(count(MODEL_RGB[2]), 0);
+    assert!(count(TARGET_RGB) > 0);
+    let texts = svg_texts(&doc);
+    for needle in [
+        "beam",
+        "su-3r",
+        "howell-1r",
+        "allowable stress",
+        "stroke limit",
+    ] {
+        assert!(texts.iter().any(|t| t == needle), "`{needle}`: {texts:?}");
+    }
+    let png = dir.file("stress.png");
+    succeeded(&prbfit(&[
+        "plot", "--scene", &scene, "--model", "su-3r", "--kind", "stress", "-o", &png,
+    ]));
+    assert_eq!(png_size(&std::fs::read(&png).unwrap()), (w, h));
+    // Without an allowable: the curves, no allowable line or limits.
+    let bare = dir.file("bare.svg");
+    succeeded(&prbfit(&[
+        "plot", "--model", "su-3r", "--kind", "stress", "-o", &bare,
+    ]));
+    let text = std::fs::read_to_string(&bare).unwrap();
+    let doc = roxmltree::Document::parse(&text).unwrap();
+    assert!(!svg_texts(&doc).iter().any(|t| t == "allowable stress"));
+}
+
+/// The chart's data are the study's: the truth's curve is each case's stress in MPa, each
+/// model's its judged cases' own estimate (eval's numbers), the limits the study's; on a
+/// mechanism one curve per drive and flexure.
+#[test]
+fn the_stress_chart_data_are_the_cases_stresses() {
+    use prbfit::plot::{PlotModel, StressChart};
+    use prbfit::prb::published;
+    use prbfit::study::{Sampling, Study};
+    let dir = Scratch::new("plot-stress-data");
+    let scene = Scene::from_file(std::path::Path::new(&builtin_with_allowable(&dir))).unwrap();
+    let study = Study::new(&scene, Sampling::Every(Default::default())).unwrap();
+    let su = published::by_name("su-3r").unwrap().prb;
+    let models = [PlotModel {
+        name: "su-3r".into(),
+        matrix: su.clone(),
+    }];
+    let chart = StressChart::build(&study, &models).unwrap();
+    let e = scene.beam.youngs_modulus;
+    assert_eq!(chart.truth.len(), study.truth().len());
+    for (curve, cases) in chart.truth.iter().zip(study.truth()) {
+        assert_eq!(curve.points[0], (0.0, 0.0));
+        for (p, c) in curve.points[1..].iter().zip(cases) {
+            assert_eq!(
+                *p,
+                (c.fraction, c.flexures[0].stress.unwrap().max * e / 1e6)
+            );
+        }
+    }
+    let judged = study.judge_followed(&su).unwrap();
+    let model_points: Vec<(f64, f64)> = chart.models[0]
+        .1
+        .iter()
+        .flat_map(|c| c.points[1..].to_vec())
+        .collect();
+    assert_eq!(model_points.len(), judged.cases.len());
+    for (p, c) in model_points.iter().zip(&judged.cases) {
+        assert_eq!(p.1, c.model.flexures[0].stress.unwrap().max * e / 1e6);
+    }
+    let limits: Vec<Option<f64>> = study
+        .stroke_limits()
+        .unwrap()
+        .iter()
+        .map(|l| l.fraction)
+        .collect();
+    assert_eq!(chart.limits, limits);
+    assert_eq!(chart.allowable, vec![1300.0]);
+
+    let stage = Scene::from_file(std::path::Path::new(&example("parallel-stage"))).unwrap();
+    let study = Study::new(&stage, Sampling::Every(Default::default())).unwrap();
+    let chart = StressChart::build(&study, &models).unwrap();
+    assert_eq!(chart.truth.len(), 2 * 2);
+    assert_eq!(chart.models[0].1.len(), 2 * 2);
+    assert!(chart.mechanism);
+}
+
+/// Measured data has no stress: `--kind stress` on a data scene is refused, naming why.
+#[test]
+fn a_stress_chart_of_measured_data_exits_2() {
+    let dir = Scratch::new("plot-stress-data-scene");
+    let fresh = dir.file("fresh.svg");
+    assert_input_error(
+        &prbfit(&[
+            "plot",
+            "--scene",
+            &example("slider-crank-rig"),
+            "--model",
+            "su-3r",
+            "--kind",
+            "stress",
+            "-o",
+            &fresh,
+        ]),
+        &["--kind stress", "measured data has no stress"],
+    );
+    assert!(!std::path::Path::new(&fresh).exists());
+}

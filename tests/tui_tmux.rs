@@ -396,6 +396,9 @@ fn unsaved_means_the_user_changed_something() {
     keys(&session, &["q"]);
     wait_exit(&session, "q on a fresh start");
 
+    // A second UI in a session (and tmux server) of its own: the first's server may still be
+    // shutting down, and a new-session connecting to it then fails.
+    let session = format!("prbfit-dirty2-{}", std::process::id());
     start_ui(&session, &[]);
     wait_for(&session, "the first fit", |s| s.contains("converged"));
     // k_theta of segment 2 (the matrix panel has the focus): typing replaces the value.

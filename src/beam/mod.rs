@@ -59,6 +59,7 @@
 //!   needs) and the Morse-index stability;
 //! - `shoot.rs`, `band.rs`: the integrator and the banded linear solve;
 //! - `model.rs`, [`plate`]: the beam's constitutive law and the plate correction;
+//! - `stress.rs`: the largest fibre stress along the beam ([`Stress`], DESIGN §11);
 //! - [`root`]: the shot from the clamp with the root moment given (for mechanisms).
 
 mod band;
@@ -73,8 +74,10 @@ mod shoot;
 mod solution;
 mod solve;
 mod solver;
+mod stress;
 
 pub use load::{Load, ShapePoint, TipPose};
 pub use model::{cowper_kappa, BeamModel, Effects, ModelError, MAX_SLENDERNESS};
 pub use solution::{BeamSolution, Convergence, SolveError};
 pub use solver::{BeamSolver, EffortBudget, Resolution};
+pub use stress::Stress;

@@ -383,6 +383,7 @@ impl PathProblem for BeamPath<'_> {
                     continuation_steps: tally.accepted,
                     rk_steps: again.rk_steps,
                     convergence: again.convergence,
+                    stress: None,
                 }
             }
             None => BeamSolution {
@@ -394,7 +395,12 @@ impl PathProblem for BeamPath<'_> {
                 continuation_steps: tally.accepted,
                 rk_steps: point.rk_steps,
                 convergence: point.convergence,
+                stress: None,
             },
+        };
+        let solution = BeamSolution {
+            stress: self.solver.max_stress(load, solution.tip, &solution.shape),
+            ..solution
         };
         self.cases.push(solution);
     }

@@ -109,7 +109,7 @@ pub(crate) struct TipForce {
 }
 
 #[inline]
-fn rhs<const N: usize>(
+pub(crate) fn rhs<const N: usize>(
     model: &BeamModel,
     f: TipForce,
     u: &State<N>,

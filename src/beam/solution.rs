@@ -5,7 +5,7 @@ use std::fmt;
 
 use serde::Serialize;
 
-use super::{Load, ShapePoint, TipPose};
+use super::{Load, ShapePoint, Stress, TipPose};
 
 /// How a solve ended. A solve that did not converge is an `Err`, so this records how well
 /// the accepted equilibrium is pinned down.
@@ -40,6 +40,9 @@ pub struct BeamSolution {
     pub rk_steps: u32,
     /// How well the equilibrium is pinned down, and how stable it is.
     pub convergence: Convergence,
+    /// The largest fibre stress along the beam and where it is (DESIGN §11); `None` where
+    /// there is no shape to read it from (a measured tip).
+    pub stress: Option<Stress>,
 }
 
 /// Why the beam could not be solved.

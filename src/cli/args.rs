@@ -148,6 +148,10 @@ pub struct SelectArgs {
     /// draft, normal or precise.
     #[arg(long, value_name = "LEVEL", default_value = "normal", value_parser = Fidelity::from_str)]
     pub fidelity: Fidelity,
+    /// Judge only the cases up to each path's stroke limit, where the stress first reaches
+    /// the scene's allowable_stress (a model need not fit what the part cannot survive).
+    #[arg(long)]
+    pub within_stroke: bool,
 }
 
 /// `prbfit calibrate`.
@@ -223,7 +227,9 @@ pub struct PlotArgs {
     /// Cantilever scenes: shapes (deformed shapes of one load path), errors (tip errors of
     /// every load path) or all (both, side by side). Mechanism scenes: force (each prescribed
     /// stage coordinate's reaction against the stroke), motion (each loaded coordinate's
-    /// stage motion against the load) or all (both).
+    /// stage motion against the load) or all (both). Either: stress (each flexure's largest
+    /// fibre stress against the load, every path, the models' estimates beside the truth's,
+    /// with the allowable stress and the stroke limits).
     #[arg(long, value_name = "KIND", default_value = "all", value_parser = ChartKind::from_str)]
     pub kind: ChartKind,
     /// Fidelity of the baseline beam (and its load sampling).
@@ -248,9 +254,11 @@ pub struct FeaArgs {
     #[arg(long, value_name = "N", default_value_t = 40)]
     pub mesh: u32,
     /// plane-stress (the beam of DESIGN §2), plane-strain (a very wide section) or solid
-    /// (the 3D strip).
-    #[arg(long, value_name = "MODEL", default_value = "plane-stress", value_parser = Section::from_str)]
-    pub section: Section,
+    /// (the 3D strip); default: the scene's, solid when its beam keeps plane strain (after
+    /// `auto` is decided), else plane-stress. A section given here is compared with the beam
+    /// of the same section.
+    #[arg(long, value_name = "MODEL", value_parser = Section::from_str)]
+    pub section: Option<Section>,
     /// Tip thickness over root thickness: the thickness tapers linearly from the scene's
     /// [beam] thickness at the clamp to R times it at the tip, the width constant (0.05 to
     /// 20; 1 is the uniform beam). The beam printed beside the FEA stays the uniform one.

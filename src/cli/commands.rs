@@ -19,26 +19,51 @@ fn run<R: serde::Serialize + std::fmt::Display>(
     common: &Common,
     report: impl FnOnce(&Scene, &mut Control<'_>) -> report::Result<R>,
 ) -> Result<()> {
-    run_on(&load_scene(common)?, common, report)
+    run_on(&load_scene(common)?, common, Interrupt::Discard, report)
 }
 
-/// [`run`] on a scene already loaded.
+/// What a command does with its result when Ctrl-C stopped it.
+#[derive(Clone, Copy, PartialEq)]
+enum Interrupt {
+    /// The result is cut short (cases missing, a selection half made): say only that the
+    /// run was interrupted.
+    Discard,
+    /// The result is whole as far as it goes and says that it was stopped (a fit's best
+    /// matrix so far, its figures its own, `stop: cancelled`): print it, then say so.
+    Keep,
+}
+
+/// [`run`] on a scene already loaded. Ctrl-C cancels the run (see
+/// [`output::cancel_on_interrupt`]); the command then exits with status 130.
 fn run_on<R: serde::Serialize + std::fmt::Display>(
     scene: &Scene,
     common: &Common,
+    interrupt: Interrupt,
     report: impl FnOnce(&Scene, &mut Control<'_>) -> report::Result<R>,
 ) -> Result<()> {
+    let cancel = CancelToken::new();
+    output::cancel_on_interrupt(&cancel);
     let mut line = output::ProgressLine::default();
     let out = {
         let mut progress = |p: &Progress<'_>| line.show(p);
         let mut ctl = Control {
-            cancel: CancelToken::new(),
+            cancel: cancel.clone(),
             progress: &mut progress,
         };
         report(scene, &mut ctl)
     };
     // The progress line is erased before anything is printed.
     drop(line);
+    if cancel.is_cancelled() {
+        return Err(match (interrupt, out) {
+            (Interrupt::Keep, Ok(out)) => {
+                emit(&out, common.json)?;
+                output::Interrupted(": the best so far is above")
+            }
+            _ => output::Interrupted(""),
+        }
+        .into());
+    }
     emit(&out?, common.json)
 }
 
@@ -81,13 +106,19 @@ pub fn fit(args: FitArgs) -> Result<()> {
         output: args.output,
         force: args.force,
     };
-    run(&args.common, |scene, ctl| report::fit::fit(scene, &a, ctl))
+    run_on(
+        &load_scene(&args.common)?,
+        &args.common,
+        Interrupt::Keep,
+        |scene, ctl| report::fit::fit(scene, &a, ctl),
+    )
 }
 
 /// Runs `prbfit select`.
 pub fn select(args: SelectArgs) -> Result<()> {
     let a = report::select::SelectArgs {
         fidelity: args.fidelity,
+        within_stroke: args.within_stroke,
     };
     run(&args.common, |scene, ctl| {
         report::select::select(scene, &a, ctl)
@@ -136,14 +167,14 @@ pub fn fea(args: FeaArgs) -> Result<()> {
     };
     let scene = load_scene(&args.common)?;
     if scene.mechanism.is_none() {
-        return run_on(&scene, &args.common, |scene, ctl| {
+        return run_on(&scene, &args.common, Interrupt::Discard, |scene, ctl| {
             report::fea::fea(scene, &a, ctl)
         });
     }
     // A mechanism: the report is printed even when a drive path stopped early (its cases
     // are in the CSV, marked), and the exit status then says it failed.
     let mut incomplete = None;
-    run_on(&scene, &args.common, |scene, ctl| {
+    run_on(&scene, &args.common, Interrupt::Discard, |scene, ctl| {
         let r = report::fea_mech::fea_mechanism(scene, &a, ctl)?;
         incomplete = r.incomplete();
         Ok(r)

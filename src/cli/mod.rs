@@ -72,6 +72,13 @@ pub fn run() -> ExitCode {
     match outcome {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) if e.downcast_ref::<output::StdoutClosed>().is_some() => ExitCode::SUCCESS,
+        Err(e) if e.downcast_ref::<output::Interrupted>().is_some() => {
+            let _ = std::io::Write::write_all(
+                &mut std::io::stderr(),
+                format!("prbfit: {e}\n").as_bytes(),
+            );
+            ExitCode::from(130)
+        }
         Err(e) => {
             let input = e
                 .downcast_ref::<ReportError>()

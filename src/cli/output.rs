@@ -5,6 +5,7 @@
 //! (`prbfit solve | head -1`) ends the program quietly, any other failed write (`> /dev/full`)
 //! is one line on stderr and exit status 1 — never a panic.
 
+use prbfit::cancel::CancelToken;
 use std::fmt::Display;
 use std::io::Write;
 
@@ -15,14 +16,40 @@ use serde::Serialize;
 #[error("stdout was closed")]
 pub struct StdoutClosed;
 
+/// The command was interrupted (Ctrl-C): exit status 130, the shell's for SIGINT.
+#[derive(Debug, thiserror::Error)]
+#[error("interrupted (Ctrl-C){0}")]
+pub struct Interrupted(pub &'static str);
+
+/// Makes Ctrl-C (SIGINT) cancel `cancel` instead of killing the process, so a long run stops
+/// at its next check and says what it has; a second Ctrl-C ends the process at once (status
+/// 130). Should the handler not install, Ctrl-C keeps its default, which also ends the run.
+pub fn cancel_on_interrupt(cancel: &CancelToken) {
+    use signal_hook::consts::SIGINT;
+    use signal_hook::flag;
+    // The first registered action runs first: with the flag already set (a second Ctrl-C)
+    // the process ends; otherwise the flag is set.
+    if flag::register_conditional_shutdown(SIGINT, 130, cancel.flag()).is_ok() {
+        let _ = flag::register(SIGINT, cancel.flag());
+    }
+}
+
 /// Stdout could not be written (a full disk, `/dev/full`).
 #[derive(Debug, thiserror::Error)]
 #[error("cannot write the output: {0}")]
 pub struct OutputFailed(std::io::Error);
 
-/// JSON keys whose value may be `null` by design; any other `null` would be a non-finite
-/// number that serde_json wrote as `null`, and is refused.
-const NULLABLE: [&str; 2] = ["effects_decision", "chosen"];
+/// JSON keys whose value may be `null` by design (or, for a list, hold `null`s: a path
+/// without a stroke limit, a flexure without an allowable stress); any other `null` would be
+/// a non-finite number that serde_json wrote as `null`, and is refused.
+const NULLABLE: [&str; 6] = [
+    "effects_decision",
+    "chosen",
+    "max_stress",
+    "max_stress_at",
+    "allowable_stress",
+    "stroke_limits",
+];
 
 /// Prints `report` as JSON (`json`) or as text.
 pub fn emit<R: Serialize + Display>(report: &R, json: bool) -> anyhow::Result<()> {
@@ -56,9 +83,16 @@ fn finite(v: &serde_json::Value) -> bool {
     match v {
         serde_json::Value::Null => false,
         serde_json::Value::Array(a) => a.iter().all(finite),
-        serde_json::Value::Object(o) => o
-            .iter()
-            .all(|(k, v)| (v.is_null() && NULLABLE.contains(&k.as_str())) || finite(v)),
+        serde_json::Value::Object(o) => o.iter().all(|(k, v)| {
+            let nullable = NULLABLE.contains(&k.as_str());
+            match v {
+                serde_json::Value::Null => nullable,
+                serde_json::Value::Array(a) if nullable => {
+                    a.iter().all(|x| x.is_null() || finite(x))
+                }
+                _ => finite(v),
+            }
+        }),
         _ => true,
     }
 }

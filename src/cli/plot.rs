@@ -83,6 +83,9 @@ impl fmt::Display for PlotOutput {
                     list.join(", ")
                 )
             }
+            (None, ChartKind::Stress) => {
+                "largest fibre stress against the load, every path".to_string()
+            }
             (None, ChartKind::Shapes) => format!("deformed shapes of load path {path}"),
             (None, ChartKind::Errors) => "tip errors of every load path".to_string(),
             (None, _) => {
@@ -204,6 +207,7 @@ pub fn run(args: PlotArgs, matches: Option<&ArgMatches>) -> Result<()> {
     check_target(&args.output, args.force)?;
     let scene = load_scene(&args.common)?;
     let kind_fits = match scene.mechanism {
+        _ if args.kind == ChartKind::Stress => true,
         Some(_) => args.kind.has_force() || args.kind.has_motion(),
         None => args.kind.has_shapes() || args.kind.has_errors(),
     };
@@ -211,6 +215,12 @@ pub fn run(args: PlotArgs, matches: Option<&ArgMatches>) -> Result<()> {
         return Err(bad(PlotError::KindNotForScene {
             kind: args.kind,
             mechanism: scene.mechanism.is_some(),
+        }
+        .to_string()));
+    }
+    if args.kind == ChartKind::Stress && scene.truth.is_some() {
+        return Err(bad(PlotError::NoStress {
+            scene: scene.name.clone(),
         }
         .to_string()));
     }
@@ -229,6 +239,15 @@ pub fn run(args: PlotArgs, matches: Option<&ArgMatches>) -> Result<()> {
     };
     let study = study(&scene, sampling)?;
     let scene = study.scene();
+    if args.kind == ChartKind::Stress {
+        let models = models(&args, matches, scene)?;
+        let figure = Figure::stress(&study, &models).map_err(|e| match e {
+            PlotError::TooManyModels { .. } => bad(format!("--model/--prb: {e}")),
+            PlotError::NoStress { .. } => bad(e.to_string()),
+            other => anyhow::Error::new(other),
+        })?;
+        return write_figure(&args, format, figure, &models, None);
+    }
     if study.case_form() == CaseForm::Stage {
         return run_mechanism(&args, matches, &study, format);
     }

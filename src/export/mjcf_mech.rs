@@ -311,6 +311,7 @@ mod tests {
             shear_coefficient: None,
             density: None,
             effects: EffectsChoice::Auto,
+            allowable_stress: None,
         };
         let flexure = |root: [f64; 2], deg: f64, attach, b| Flexure {
             root,

@@ -16,7 +16,7 @@
 //! digits; the continuation then stops with [`MechError::NoEquilibrium`] rather than report
 //! them.
 
-use crate::beam::{BeamSolver, Resolution};
+use crate::beam::{BeamSolver, Load, Resolution, Stress};
 use crate::scene::Mechanism;
 
 use super::geometry::Geometry;
@@ -48,6 +48,13 @@ impl FlexureModel for BeamFlexure {
     fn load_stable(&self, eval: &FlexEval, _w: [f64; 3], _z: &[f64]) -> bool {
         // dM(L)/dM(0), the single beam's own test (see `beam::root::RootShot::stability`).
         eval.jacobian[3 * 3 + 2] > 0.0
+    }
+
+    fn stress(&self, eval: &FlexEval, w: [f64; 3], _z: &[f64]) -> Option<Stress> {
+        // One more shot from the clamp samples the shape the root wrench gives.
+        let shape = self.solver.root_shape(w[0], w[1], w[2]).ok()?;
+        let load = Load::new(w[0], w[1], eval.tip_moment);
+        self.solver.max_stress(load, eval.tip, &shape)
     }
 }
 

@@ -550,6 +550,7 @@ mod tests {
                         beta: 0.0,
                     },
                     load_stable: true,
+                    stress: None,
                 })
                 .collect();
             c

@@ -73,7 +73,7 @@ mod system;
 
 use serde::Serialize;
 
-use crate::beam::{Load, SolveError, TipPose};
+use crate::beam::{Load, SolveError, Stress, TipPose};
 use crate::prb::PrbError;
 
 /// One flexure in one case of a mechanism.
@@ -91,6 +91,10 @@ pub struct FlexureCase {
     /// the load from zero, finds one of those or none. Past that buckling load even a stable
     /// flexure may sit on a branch that loading from rest does not reach.
     pub load_stable: bool,
+    /// Its largest fibre stress and where it is (DESIGN §11): the beam's along its shape, a
+    /// PRB model's from its largest joint or root moment; `None` where unknown (a measured
+    /// tip has no shape).
+    pub stress: Option<Stress>,
 }
 
 /// One case of a drive path.

@@ -262,6 +262,7 @@ impl<M: FlexureModel> MechSolver<M> {
                     tip: e.tip,
                     wrench: Load::new(w[0], w[1], e.tip_moment),
                     load_stable: self.models[i].load_stable(e, w, z),
+                    stress: self.models[i].stress(e, w, z),
                 }
             })
             .collect();

@@ -12,7 +12,7 @@
 //! keep its angle while it moves, as in a fixed-guided flexure) makes the mechanism's
 //! Jacobian singular in the unloaded pose, reported as [`MechError::Immobile`].
 
-use crate::beam::Load;
+use crate::beam::{BeamModel, Load, Stress};
 use crate::linalg::lu_solve;
 use std::cell::RefCell;
 
@@ -30,13 +30,27 @@ pub struct ChainFlexure {
     pub solver: PrbSolver,
     /// Storage reused by every linearisation.
     scratch: RefCell<Linearised>,
+    /// The beam whose section the chain stands for, for its stress estimate (DESIGN §11;
+    /// none: no estimate, as in a fit's trials).
+    section: Option<BeamModel>,
 }
 
 impl ChainFlexure {
     /// The chain of `solver`.
     pub fn new(solver: PrbSolver) -> ChainFlexure {
         let scratch = RefCell::new(solver.linearised());
-        ChainFlexure { solver, scratch }
+        ChainFlexure {
+            solver,
+            scratch,
+            section: None,
+        }
+    }
+
+    /// The chain that also estimates its stress with `section`'s cross-section
+    /// ([`PrbSolver::max_stress`]).
+    pub fn with_section(mut self, section: BeamModel) -> ChainFlexure {
+        self.section = Some(section);
+        self
     }
 }
 
@@ -86,26 +100,48 @@ impl FlexureModel for ChainFlexure {
         let mut rhs = vec![0.0; m];
         m == 0 || lu_solve(&mut k, &mut rhs, m).is_some_and(|lu| lu.det_sign > 0.0)
     }
+
+    fn stress(&self, eval: &FlexEval, w: [f64; 3], z: &[f64]) -> Option<Stress> {
+        let section = self.section.as_ref()?;
+        self.solver
+            .max_stress(section, Load::new(w[0], w[1], eval.tip_moment), z)
+    }
 }
 
 /// The PRB mechanism solver: `matrix` in place of every flexure of `mechanism`, Newton at
-/// `tol`.
+/// `tol`; each chain estimates its flexure's stress ([`PrbSolver::max_stress`]).
 pub fn solver(mechanism: &Mechanism, matrix: &PrbMatrix, tol: f64) -> MechSolver<ChainFlexure> {
     let models = mechanism
         .flexures
         .iter()
-        .map(|f| ChainFlexure::new(PrbSolver::new(matrix, f.model().axial_compliance())))
+        .map(|f| {
+            let model = f.model();
+            ChainFlexure::new(PrbSolver::new(matrix, model.axial_compliance())).with_section(model)
+        })
         .collect();
     MechSolver::new(Geometry::new(mechanism), models, tol)
 }
 
-/// Every drive path of `mechanism` with `matrix` for every flexure.
+impl MechSolver<ChainFlexure> {
+    /// The solver without the chains' stress estimates (a fit's trials need none).
+    pub fn without_stress(mut self) -> MechSolver<ChainFlexure> {
+        for m in &mut self.models {
+            m.section = None;
+        }
+        self
+    }
+}
+
+/// Every drive path of `mechanism` with `matrix` for every flexure, without the chains'
+/// stress estimates (judging a whole model's motion and its cost; [`follow`] gives them).
 pub fn solve(
     mechanism: &Mechanism,
     matrix: &PrbMatrix,
     tol: f64,
 ) -> Result<Vec<Vec<MechCase>>, MechError> {
-    solver(mechanism, matrix, tol).solve_all(mechanism)
+    solver(mechanism, matrix, tol)
+        .without_stress()
+        .solve_all(mechanism)
 }
 
 /// One model along every drive: the cases it reached per drive, and why it stopped where it
@@ -118,7 +154,7 @@ pub struct Followed {
 }
 
 /// `matrix` in every flexure of `mechanism`, along each drive (through a measured drive's
-/// rows); where it stops at a critical point (or finds no equilibrium) after `k` cases, the
+/// rows), each chain's stress estimated ([`PrbSolver::max_stress`]); where it stops at a critical point (or finds no equilibrium) after `k` cases, the
 /// drive's first `k` cases are solved again as a drive of their own (the same cases).
 pub fn follow(mechanism: &Mechanism, matrix: &PrbMatrix, tol: f64) -> Followed {
     let solver = solver(mechanism, matrix, tol);

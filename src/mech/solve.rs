@@ -4,7 +4,7 @@
 //! ([`MechSolver::solve_path`]: Newton, continuation, critical-point tests) and the cases it
 //! reports are in `path.rs`.
 
-use crate::beam::TipPose;
+use crate::beam::{Stress, TipPose};
 
 use super::geometry::Geometry;
 use super::TipFailure;
@@ -21,6 +21,12 @@ pub trait FlexureModel {
     fn eval(&self, w: [f64; 3], z: &[f64]) -> Result<FlexEval, TipFailure>;
     /// Whether the flexure is stable under its tip wrench as a *given* (dead) load.
     fn load_stable(&self, eval: &FlexEval, w: [f64; 3], z: &[f64]) -> bool;
+    /// Its largest fibre stress in the state `eval` at `(w, z)` (DESIGN §11), `None` where
+    /// the model cannot tell.
+    fn stress(&self, eval: &FlexEval, w: [f64; 3], z: &[f64]) -> Option<Stress> {
+        let _ = (eval, w, z);
+        None
+    }
 }
 
 /// A flexure model evaluated at its unknowns.

@@ -413,6 +413,7 @@ mod tests {
                 poisson: true,
                 plane_strain: false,
             }),
+            allowable_stress: None,
         };
         let flexure = |root: [f64; 2], deg: f64, attach, b| Flexure {
             root,

@@ -156,6 +156,7 @@ impl Figure {
             shapes,
             errors,
             force_stroke: None,
+            stress: None,
             unfollowed,
         })
     }

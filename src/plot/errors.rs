@@ -200,7 +200,7 @@ fn panel<DB: DrawingBackend>(
 const MARKERS: usize = 4;
 
 /// Path `path`'s marker at each point: circle, triangle, square, cross, then round again.
-fn draw_markers<DB: DrawingBackend>(
+pub(super) fn draw_markers<DB: DrawingBackend>(
     ctx: &mut ChartContext<'_, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>,
     path: usize,
     points: &[(f64, f64)],

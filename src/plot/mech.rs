@@ -231,6 +231,7 @@ pub fn figure_from(
             panels,
             measured: scene.truth.is_some(),
         }),
+        stress: None,
         unfollowed,
     })
 }

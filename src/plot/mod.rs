@@ -22,6 +22,7 @@ pub mod data;
 pub mod errors;
 pub mod mech;
 pub mod shapes;
+pub mod stress;
 pub mod strokes;
 
 use std::fmt;
@@ -37,10 +38,12 @@ use crate::prb::PrbMatrix;
 
 pub use errors::{ErrorCurve, ErrorPoint, ErrorsChart, ModelErrors};
 pub use shapes::{equal_aspect_bounds, Linkage, ModelShapes, ShapesChart};
+pub use stress::{StressChart, StressCurve};
 pub use strokes::{ForceStrokeChart, Output, StrokePanel};
 
 /// Which charts a figure holds. `shapes` and `errors` are a cantilever scene's, `force` and
-/// `motion` a mechanism scene's; `all` is every chart the scene has.
+/// `motion` a mechanism scene's, `stress` both's (not measured data's); `all` is every chart
+/// the scene has but the stress chart.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum ChartKind {
@@ -52,6 +55,8 @@ pub enum ChartKind {
     Force,
     /// A mechanism's stage motion (loaded stage coordinates) against the load.
     Motion,
+    /// The largest fibre stress against the load, every path (DESIGN §11).
+    Stress,
     /// Every chart of the scene: shapes and errors side by side for a cantilever, reactions
     /// and motions for a mechanism.
     #[default]
@@ -60,11 +65,12 @@ pub enum ChartKind {
 
 impl ChartKind {
     /// Every kind, in the order `--help` lists them.
-    pub const ALL: [ChartKind; 5] = [
+    pub const ALL: [ChartKind; 6] = [
         ChartKind::Shapes,
         ChartKind::Errors,
         ChartKind::Force,
         ChartKind::Motion,
+        ChartKind::Stress,
         ChartKind::All,
     ];
 
@@ -96,6 +102,7 @@ impl fmt::Display for ChartKind {
             ChartKind::Errors => "errors",
             ChartKind::Force => "force",
             ChartKind::Motion => "motion",
+            ChartKind::Stress => "stress",
             ChartKind::All => "all",
         })
     }
@@ -109,9 +116,11 @@ impl FromStr for ChartKind {
             "errors" => Ok(ChartKind::Errors),
             "force" => Ok(ChartKind::Force),
             "motion" => Ok(ChartKind::Motion),
+            "stress" => Ok(ChartKind::Stress),
             "all" => Ok(ChartKind::All),
             other => Err(format!(
-                "unknown chart kind `{other}` (expected shapes, errors, force, motion or all)"
+                "unknown chart kind `{other}` (expected shapes, errors, force, motion, stress or \
+                 all)"
             )),
         }
     }
@@ -193,6 +202,15 @@ pub enum PlotError {
     NothingToDraw {
         /// The kind asked for.
         kind: ChartKind,
+        /// The scene's name.
+        scene: String,
+    },
+    /// A stress chart of measured data, which has no stress.
+    #[error(
+        "--kind stress: \"{scene}\" is a data scene, and measured data has no stress (plot \
+         the scene of the beam itself)"
+    )]
+    NoStress {
         /// The scene's name.
         scene: String,
     },
@@ -286,6 +304,8 @@ pub struct Figure {
     pub errors: Option<ErrorsChart>,
     /// A mechanism's reactions against the stroke and motions against the load.
     pub force_stroke: Option<ForceStrokeChart>,
+    /// The stress against the load (`--kind stress`).
+    pub stress: Option<StressChart>,
     /// Load paths some model could not follow to the end.
     pub unfollowed: Vec<Unfollowed>,
 }
@@ -296,6 +316,7 @@ pub fn canvas_size(kind: ChartKind) -> (u32, u32) {
     match kind {
         ChartKind::Shapes => (900, 650),
         ChartKind::Errors => (900, 800),
+        ChartKind::Stress => (900, 650),
         ChartKind::All => (1600, 800),
         ChartKind::Force | ChartKind::Motion => strokes::canvas_size(1),
     }
@@ -304,9 +325,9 @@ pub fn canvas_size(kind: ChartKind) -> (u32, u32) {
 impl Figure {
     /// The canvas's pixel size: (width, height).
     pub fn size(&self) -> (u32, u32) {
-        match &self.force_stroke {
-            Some(chart) => strokes::canvas_size(chart.panels.len()),
-            None => canvas_size(self.kind),
+        match (&self.force_stroke, &self.stress) {
+            (Some(chart), None) => strokes::canvas_size(chart.panels.len()),
+            _ => canvas_size(self.kind),
         }
     }
 }
@@ -343,6 +364,10 @@ fn draw_figure<DB: DrawingBackend>(
     let root = root
         .titled(&figure.title, (FONT, 22).into_font().style(FontStyle::Bold))
         .map_err(drawing)?;
+    if let Some(chart) = &figure.stress {
+        stress::draw(&root, chart)?;
+        return root.present().map_err(drawing);
+    }
     if let Some(chart) = &figure.force_stroke {
         strokes::draw(&root, chart)?;
         return root.present().map_err(drawing);

@@ -8,6 +8,7 @@ mod notation;
 mod path;
 pub mod published;
 mod statics;
+mod stress;
 
 pub use chain::{Linearised, PrbSolver, SolverLimits};
 pub use matrix::{

@@ -7,7 +7,7 @@ use std::time::{Duration, Instant};
 
 use serde::Serialize;
 
-use crate::beam::{Load, Resolution, TipPose};
+use crate::beam::{BeamModel, Load, Resolution, TipPose};
 use crate::eval::Baseline;
 use crate::fea::{self, Ccx, CcxError, FeaCase, FeaError, Mesh, Section, Taper};
 use crate::io::files::{check_target, write_atomic};
@@ -23,8 +23,9 @@ pub struct FeaArgs {
     pub output: PathBuf,
     /// Elements along the beam (`--mesh`).
     pub mesh: u32,
-    /// The section model (`--section`).
-    pub section: Section,
+    /// The section model (`--section`); `None`: the scene's (solid when its beam keeps plane
+    /// strain once `auto` is decided, else plane stress).
+    pub section: Option<Section>,
     /// Tip thickness over root thickness (`--taper`).
     pub taper: Taper,
     /// Where to write the CalculiX deck; default: beside the output, extension .inp.
@@ -41,7 +42,7 @@ impl FeaArgs {
         FeaArgs {
             output,
             mesh: 40,
-            section: Section::PlaneStress,
+            section: None,
             taper: Taper::default(),
             deck: None,
             force: false,
@@ -72,6 +73,11 @@ pub struct FeaReport {
     output: String,
     decks: Vec<String>,
     section: Section,
+    /// Where the section came from: `"scene"` (it follows the scene's beam) or `"flag"`
+    /// (`--section`, the beam beside it then made of the same section).
+    section_from: &'static str,
+    /// How the beam beside the FEA matches the section, in words.
+    like_with_like: String,
     mesh: Mesh,
     /// The tip thickness over the root thickness of the FEA model (1: uniform). The beam
     /// beside it is always the scene's uniform beam, of the root thickness.
@@ -112,6 +118,7 @@ impl fmt::Display for FeaReport {
             self.beam_effects.join(",")
         )?;
         write!(f, "{}", DecisionLine(&self.effects_decision))?;
+        writeln!(f, "like with like: {}", self.like_with_like)?;
         writeln!(
             f,
             "{:>4} {:>8} {:>8} {:>8} | {:>10} {:>10} {:>10} | {:>10} {:>10}",
@@ -189,7 +196,17 @@ pub fn fea(scene: &Scene, args: &FeaArgs, ctl: &mut Control<'_>) -> Result<FeaRe
     if args.timeout == 0 {
         return Err(ReportError::input("--timeout: must be at least 1 second"));
     }
-    let mesh = Mesh::for_tapered_beam(args.mesh, &scene.beam, args.section, args.taper)
+    // The section follows the scene's beam (its effects decided), or the beam beside the
+    // FEA follows the section given: like is compared with like (issue 26 item 5).
+    let (resolved, decision) = resolve_scene(scene, &ctl.cancel)?;
+    let keeps_plane_strain = resolved.beam.effects.resolve().plane_strain;
+    let (section, section_from) = match args.section {
+        Some(s) => (s, "flag"),
+        None if keeps_plane_strain => (Section::Solid, "scene"),
+        None => (Section::PlaneStress, "scene"),
+    };
+    let (beam_model, like_with_like) = beside(&resolved, section, args.section.is_some());
+    let mesh = Mesh::for_tapered_beam(args.mesh, &scene.beam, section, args.taper)
         .map_err(|e| ReportError::input(format!("--mesh {}: {e}", args.mesh)))?;
     let deck_base = args
         .deck
@@ -208,8 +225,8 @@ pub fn fea(scene: &Scene, args: &FeaArgs, ctl: &mut Control<'_>) -> Result<FeaRe
         }
         check_target(d, args.force)?;
     }
-    let decks = fea::scene_decks(scene, &mesh, args.section, args.taper)
-        .map_err(|e| ReportError::failed(&e))?;
+    let decks =
+        fea::scene_decks(scene, &mesh, section, args.taper).map_err(|e| ReportError::failed(&e))?;
     for (file, text) in deck_files.iter().zip(&decks) {
         write_atomic(file, text.as_bytes(), args.force)?;
     }
@@ -229,7 +246,7 @@ pub fn fea(scene: &Scene, args: &FeaArgs, ctl: &mut Control<'_>) -> Result<FeaRe
     let fea_cases = fea::solve_scene(
         scene,
         &mesh,
-        args.section,
+        section,
         args.taper,
         &ccx,
         Duration::from_secs(args.timeout),
@@ -247,16 +264,23 @@ pub fn fea(scene: &Scene, args: &FeaArgs, ctl: &mut Control<'_>) -> Result<FeaRe
         args.force,
     )?;
 
-    let (resolved, decision) = resolve_scene(scene, &ctl.cancel)?;
-    let baseline = Baseline::compute(&resolved, Resolution::default())
-        .map_err(|e| ReportError::failed_in("the beam beside the FEA", &e))?;
+    let baseline = Baseline::solve(
+        beam_model,
+        &resolved.loads,
+        Resolution::default(),
+        &ctl.cancel,
+        &mut |_, _| {},
+    )
+    .map_err(|e| ReportError::failed_in("the beam beside the FEA", &e))?;
     let cases = compare(&fea_cases, &baseline, scene.beam.length);
     let max = |f: fn(&Case) -> f64| cases.iter().map(f).fold(0.0, f64::max);
     let report = FeaReport {
         scene: scene.name.clone(),
         output: args.output.display().to_string(),
         decks: deck_names,
-        section: args.section,
+        section,
+        section_from,
+        like_with_like,
         mesh,
         taper: args.taper,
         beam_effects: baseline.model.effects.names(),
@@ -268,6 +292,42 @@ pub fn fea(scene: &Scene, args: &FeaArgs, ctl: &mut Control<'_>) -> Result<FeaRe
         seconds: t0.elapsed().as_secs_f64(),
     };
     Ok(report)
+}
+
+/// The beam to print beside an FEA of `section` on the scene `resolved` (effects decided),
+/// and how it matches, in words: the scene's own when the section followed it (`given`
+/// false); else the scene's with plane strain set as the section has it (plane stress: off;
+/// solid: on, the plate fraction from the width; plane strain: on, the unboundedly wide
+/// section's plate modulus).
+fn beside(resolved: &Scene, section: Section, given: bool) -> (BeamModel, String) {
+    let model = resolved.beam.model();
+    let keeps = model.effects.plane_strain;
+    if !given {
+        let why = if keeps {
+            "the solid section, as the scene's beam keeps plane strain"
+        } else {
+            "the plane-stress section, as the scene's beam is narrow (no plane strain)"
+        };
+        return (model, format!("{why}; the beam beside it is the scene's"));
+    }
+    let (wants, how) = match section {
+        Section::PlaneStress => (false, "plane strain off"),
+        Section::Solid => (true, "plane strain on, the plate fraction from the width"),
+        Section::PlaneStrain => (true, "plane strain on, the plate modulus E/(1-nu^2)"),
+    };
+    let effects = model.effects.with_plane_strain(wants);
+    let matched = BeamModel::new(model.slenderness, model.nu, Some(model.kappa), effects)
+        .map(|m| match section {
+            Section::PlaneStrain => m,
+            _ => m.with_width_ratio(resolved.beam.width / resolved.beam.thickness),
+        })
+        .unwrap_or(model);
+    let note = if wants == keeps && section != Section::PlaneStrain {
+        format!("--section {section}; the beam beside it is the scene's ({how})")
+    } else {
+        format!("--section {section}; the beam beside it is the scene's with {how}, to match")
+    };
+    (matched, note)
 }
 
 /// Pairs each FEA case with the beam's solution of the same case.

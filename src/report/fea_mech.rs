@@ -14,7 +14,7 @@ use crate::fea::{Ccx, CcxError, Mesh, Section, Taper};
 use crate::io::files::{check_target, write_atomic};
 use crate::mech::figures::reaction_scales;
 use crate::mech::{exact, MechCase};
-use crate::scene::{Coordinate, Mechanism, Scene};
+use crate::scene::{Coordinate, EffectsChoice, Mechanism, Scene};
 use crate::study::EffectsDecision;
 
 use super::fea::{deck_path, FeaArgs};
@@ -54,6 +54,11 @@ pub struct MechFeaReport {
     output: String,
     decks: Vec<String>,
     section: Section,
+    /// Where the section came from: `"scene"` (it follows the scene's flexures) or `"flag"`
+    /// (`--section`, the beam mechanism beside it then made of the same section).
+    section_from: &'static str,
+    /// How the beam mechanism beside the FEA matches the section, in words.
+    like_with_like: String,
     /// Per flexure.
     meshes: Vec<Mesh>,
     taper: Taper,
@@ -101,6 +106,7 @@ impl fmt::Display for MechFeaReport {
             meshes.join(", "),
             self.beam_effects.join(",")
         )?;
+        writeln!(f, "like with like: {}", self.like_with_like)?;
         write!(f, "{}", DecisionLine(&self.effects_decision))?;
         // Reactions are starred: the load columns of the prescribed coordinates.
         let star = |c: usize, load: bool| {
@@ -224,7 +230,17 @@ pub fn fea_mechanism(
         return Err(ReportError::input("--timeout: must be at least 1 second"));
     }
     mech::check_drives(mechanism).map_err(|e| ReportError::input(e.to_string()))?;
-    let meshes = mech::flexure_meshes(mechanism, args.mesh, args.section, args.taper)
+    // Like with like (issue 26 item 5), as the cantilever's FEA: the section follows the
+    // scene's flexures (their effects decided), or the beam mechanism beside the FEA follows
+    // the section given.
+    let (resolved, decision) = resolve_scene(scene, &ctl.cancel)?;
+    let resolved_mechanism = resolved
+        .mechanism
+        .clone()
+        .unwrap_or_else(|| mechanism.clone());
+    let (section, section_from, beam_mechanism, like_with_like) =
+        like_with_like(resolved_mechanism, args.section);
+    let meshes = mech::flexure_meshes(mechanism, args.mesh, section, args.taper)
         .map_err(|e| ReportError::input(format!("--mesh {}: {e}", args.mesh)))?;
     let deck_base = args
         .deck
@@ -242,7 +258,7 @@ pub fn fea_mechanism(
         }
         check_target(d, args.force)?;
     }
-    let decks = mech::mechanism_decks(mechanism, &meshes, args.section, args.taper);
+    let decks = mech::mechanism_decks(mechanism, &meshes, section, args.taper);
     for (file, text) in deck_files.iter().zip(&decks) {
         write_atomic(file, text.as_bytes(), args.force)?;
     }
@@ -261,7 +277,7 @@ pub fn fea_mechanism(
     let run = mech::solve_mechanism(
         mechanism,
         &meshes,
-        args.section,
+        section,
         args.taper,
         &ccx,
         Duration::from_secs(args.timeout),
@@ -273,11 +289,6 @@ pub fn fea_mechanism(
         args.force,
     )?;
 
-    let (resolved, decision) = resolve_scene(scene, &ctl.cancel)?;
-    let beam_mechanism = resolved
-        .mechanism
-        .clone()
-        .unwrap_or_else(|| mechanism.clone());
     let beam = exact::solve(&beam_mechanism, Resolution::default());
     let beam_effects = beam_mechanism
         .flexures
@@ -300,7 +311,9 @@ pub fn fea_mechanism(
         scene: scene.name.clone(),
         output: args.output.display().to_string(),
         decks: deck_names,
-        section: args.section,
+        section,
+        section_from,
+        like_with_like,
         meshes,
         taper: args.taper,
         prescribed: mechanism
@@ -360,4 +373,64 @@ fn compare(
             }
         })
         .collect()
+}
+
+/// The section of a mechanism's FEA and the beam mechanism beside it (`resolved`: the
+/// scene's, effects decided), with where the section came from and how they match, in
+/// words. Without `--section` the section follows the flexures: `solid` when one keeps plane
+/// strain, else `plane-stress`, and the beam mechanism is the scene's. With it, every
+/// flexure's plane strain is set as the section has it (plane stress: off; solid and plane
+/// strain: on, each flexure's plate fraction from its width and ends, as the beam mechanism
+/// models a wide flexure).
+fn like_with_like(
+    mut resolved: Mechanism,
+    given: Option<Section>,
+) -> (Section, &'static str, Mechanism, String) {
+    let keeps = resolved
+        .flexures
+        .iter()
+        .any(|f| f.beam.effects.resolve().plane_strain);
+    let Some(section) = given else {
+        let (section, why) = if keeps {
+            (
+                Section::Solid,
+                "the solid section, as the scene's flexures keep plane strain",
+            )
+        } else {
+            (
+                Section::PlaneStress,
+                "the plane-stress section, as the scene's flexures are narrow (no plane strain)",
+            )
+        };
+        return (
+            section,
+            "scene",
+            resolved,
+            format!("{why}; the beam mechanism beside it is the scene's"),
+        );
+    };
+    let (wants, how) = match section {
+        Section::PlaneStress => (false, "plane strain off"),
+        Section::Solid => (true, "plane strain on, each plate fraction from the width"),
+        Section::PlaneStrain => (
+            true,
+            "plane strain on, each plate fraction from the width (not the unbounded plate's)",
+        ),
+    };
+    let all_match = resolved
+        .flexures
+        .iter()
+        .all(|f| f.beam.effects.resolve().plane_strain == wants);
+    for f in &mut resolved.flexures {
+        let e = f.beam.effects.resolve().with_plane_strain(wants);
+        f.beam.effects = EffectsChoice::Fixed(e);
+    }
+    let note = if all_match && section != Section::PlaneStrain {
+        format!("--section {section}; the beam mechanism beside it is the scene's ({how})")
+    } else {
+        format!(
+            "--section {section}; the beam mechanism beside it is the scene's with {how}, to match"
+        )
+    };
+    (section, "flag", resolved, note)
 }

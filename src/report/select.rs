@@ -22,12 +22,15 @@ use super::{
 pub struct SelectArgs {
     /// The fits' preset and the baseline's sampling.
     pub fidelity: Fidelity,
+    /// Judge only the cases up to each path's stroke limit (`--within-stroke`, DESIGN §11).
+    pub within_stroke: bool,
 }
 
 impl Default for SelectArgs {
     fn default() -> SelectArgs {
         SelectArgs {
             fidelity: Fidelity::Normal,
+            within_stroke: false,
         }
     }
 }
@@ -91,6 +94,10 @@ pub struct SelectOutput {
     /// A data scene's truth, and the beam's own error against it.
     #[serde(skip_serializing_if = "Option::is_none")]
     truth: Option<TruthInfo>,
+    /// With `--within-stroke`: each path's stroke limit (null: none within it), the cases
+    /// judged being those up to it.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    within_stroke: Option<Vec<Option<f64>>>,
     seconds: f64,
     #[serde(skip)]
     cases: usize,
@@ -120,6 +127,7 @@ impl SelectOutput {
             targets: scene.accuracy,
             effects_decision,
             truth,
+            within_stroke: None,
             seconds,
             cases,
             form,
@@ -140,6 +148,17 @@ impl fmt::Display for SelectOutput {
             },
             self.fidelity
         )?;
+        if let Some(limits) = &self.within_stroke {
+            let parts: Vec<String> = limits
+                .iter()
+                .enumerate()
+                .map(|(i, l)| match l {
+                    Some(x) => format!("path {} to {x:.6}", i + 1),
+                    None => format!("path {} whole", i + 1),
+                })
+                .collect();
+            writeln!(f, "judged within the stroke limits: {}", parts.join(", "))?;
+        }
         write!(f, "{}", DecisionLine(&self.effects_decision))?;
         write!(f, "{}", TruthLine(&self.truth))?;
         writeln!(f, "{}", targets(&self.targets, self.form))?;
@@ -197,6 +216,21 @@ impl fmt::Display for SelectOutput {
 pub fn select(scene: &Scene, args: &SelectArgs, ctl: &mut Control<'_>) -> Result<SelectOutput> {
     let t0 = Instant::now();
     let study = study(scene, Sampling::Fidelity(args.fidelity), ctl)?;
+    let (study, limits) = if args.within_stroke {
+        let within = study
+            .within_stroke(&ctl.cancel)
+            .map_err(|e| ReportError::failed_in("the study within the stroke limits", &e))?;
+        let (within, limits) = within.ok_or_else(|| {
+            ReportError::input(format!(
+                "--within-stroke: \"{}\" gives no allowable_stress ([beam] or a flexure's), \
+                 so its paths have no stroke limit",
+                safe(&scene.name)
+            ))
+        })?;
+        (within, Some(limits.iter().map(|l| l.fraction).collect()))
+    } else {
+        (study, None)
+    };
     let progress = &mut *ctl.progress;
     let mut done = 0;
     let selection = study
@@ -208,7 +242,7 @@ pub fn select(scene: &Scene, args: &SelectArgs, ctl: &mut Control<'_>) -> Result
             });
         })
         .map_err(|e| ReportError::failed(&e))?;
-    let out = SelectOutput::new(
+    let mut out = SelectOutput::new(
         selection,
         study.scene(),
         study.case_form(),
@@ -219,5 +253,6 @@ pub fn select(scene: &Scene, args: &SelectArgs, ctl: &mut Control<'_>) -> Result
             t0.elapsed().as_secs_f64(),
         ),
     );
+    out.within_stroke = limits;
     Ok(out)
 }

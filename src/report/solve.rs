@@ -20,6 +20,7 @@ use crate::beam::{ShapePoint, TipPose};
 use crate::mech::MechCase;
 use crate::scene::{Mechanism, Scene};
 use crate::si::MechUnits;
+use crate::study::stroke::{self, StrokeLimit};
 use crate::study::{EffectsDecision, Sampling};
 
 use super::stage::{
@@ -133,8 +134,23 @@ pub struct OneLoad {
     effects_decision: Option<EffectsDecision>,
     tol: f64,
     seconds: f64,
+    /// The largest fibre stress along the beam, Pa (DESIGN §11).
+    max_stress: Option<f64>,
+    /// Where it is, s/L.
+    max_stress_at: Option<f64>,
+    /// The scene's `allowable_stress`, Pa.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    allowable_stress: Option<f64>,
     #[serde(skip_serializing_if = "Option::is_none")]
     shape: Option<Vec<ShapePoint>>,
+}
+
+/// A stress in Pa as text: MPa, with its place along the flexure.
+fn stress_text(pa: Option<f64>, at: Option<f64>) -> String {
+    match (pa, at) {
+        (Some(pa), Some(at)) => format!("{:.4} MPa at s/L = {at:.4}", pa / 1e6),
+        _ => "unknown".to_string(),
+    }
 }
 
 impl fmt::Display for OneLoad {
@@ -149,6 +165,21 @@ impl fmt::Display for OneLoad {
             self.phi,
             self.phi.to_degrees()
         )?;
+        write!(
+            f,
+            "max stress {}",
+            stress_text(self.max_stress, self.max_stress_at)
+        )?;
+        match (self.allowable_stress, self.max_stress) {
+            (Some(a), Some(s)) => writeln!(
+                f,
+                " ({:.1} % of the allowable {:.4} MPa{})",
+                100.0 * s / a,
+                a / 1e6,
+                if s >= a { ": PAST IT" } else { "" }
+            )?,
+            _ => writeln!(f)?,
+        }
         writeln!(
             f,
             "root moment {:.6} E I0/L; {} Newton shots over {} continuation steps; {:.3} ms",
@@ -167,6 +198,13 @@ pub struct Case {
     #[serde(flatten)]
     tip: TipPose,
     iterations: u32,
+    /// The largest fibre stress along the beam, Pa.
+    max_stress: Option<f64>,
+    /// Where it is, s/L.
+    max_stress_at: Option<f64>,
+    /// Past its path's stroke limit (present when the scene has an allowable stress).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    past_stroke_limit: Option<bool>,
     #[serde(skip_serializing_if = "Option::is_none")]
     shape: Option<Vec<ShapePoint>>,
 }
@@ -178,6 +216,13 @@ pub struct SceneCases {
     beam: BeamInfo,
     effects_decision: Option<EffectsDecision>,
     tol: f64,
+    /// The scene's `allowable_stress`, Pa.
+    allowable_stress: Option<f64>,
+    /// Per load path in order, the fraction of its end load where the stress first reaches
+    /// the allowable (null: not within the path); null without an allowable stress.
+    stroke_limits: Option<Vec<Option<f64>>>,
+    #[serde(skip)]
+    limits: Vec<StrokeLimit>,
     cases: Vec<Case>,
     seconds: f64,
 }
@@ -188,22 +233,35 @@ impl fmt::Display for SceneCases {
         write!(f, "{}{}", DecisionLine(&self.effects_decision), self.beam)?;
         writeln!(
             f,
-            "{:>9} {:>9} {:>9} | {:>12} {:>12} {:>12} | {:>5}",
-            "alpha_x", "alpha_y", "beta", "a", "b", "phi", "shots"
+            "{:>9} {:>9} {:>9} | {:>12} {:>12} {:>12} | {:>10} {:>6} | {:>5}",
+            "alpha_x", "alpha_y", "beta", "a", "b", "phi", "stress MPa", "at s/L", "shots"
         )?;
         for c in &self.cases {
             writeln!(
                 f,
-                "{:>9.4} {:>9.4} {:>9.4} | {:>12.8} {:>12.8} {:>12.8} | {:>5}",
+                "{:>9.4} {:>9.4} {:>9.4} | {:>12.8} {:>12.8} {:>12.8} | {:>10} {:>6} | {:>5}{}",
                 c.load.alpha_x,
                 c.load.alpha_y,
                 c.load.beta,
                 c.tip.a,
                 c.tip.b,
                 c.tip.phi,
-                c.iterations
+                c.max_stress
+                    .map_or("-".into(), |s| format!("{:.3}", s / 1e6)),
+                c.max_stress_at.map_or("-".into(), |s| format!("{s:.3}")),
+                c.iterations,
+                if c.past_stroke_limit == Some(true) {
+                    "  past the stroke limit"
+                } else {
+                    ""
+                }
             )?;
         }
+        write!(
+            f,
+            "{}",
+            LimitsLine(self.allowable_stress, &self.limits, "load path")
+        )?;
         writeln!(
             f,
             "{} cases in {:.3} ms",
@@ -222,6 +280,10 @@ pub struct FlexureRow {
     wrench: [f64; 3],
     /// Stable under its wrench as a dead load.
     load_stable: bool,
+    /// Its largest fibre stress, Pa.
+    max_stress: Option<f64>,
+    /// Where it is, s/L along it.
+    max_stress_at: Option<f64>,
 }
 
 /// One case of `solve` on a mechanism.
@@ -234,10 +296,13 @@ pub struct StageCase {
     stage_load: [f64; 3],
     flexures: Vec<FlexureRow>,
     iterations: u32,
+    /// Past its drive's stroke limit (present when a flexure has an allowable stress).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    past_stroke_limit: Option<bool>,
 }
 
 impl StageCase {
-    fn new(drive: usize, c: &MechCase) -> StageCase {
+    fn new(drive: usize, c: &MechCase, youngs: &[f64], limit: Option<&StrokeLimit>) -> StageCase {
         StageCase {
             drive,
             fraction: c.fraction,
@@ -246,13 +311,17 @@ impl StageCase {
             flexures: c
                 .flexures
                 .iter()
-                .map(|f| FlexureRow {
+                .enumerate()
+                .map(|(i, f)| FlexureRow {
                     tip: [f.tip.a, f.tip.b, f.tip.phi],
                     wrench: [f.wrench.alpha_x, f.wrench.alpha_y, f.wrench.beta],
                     load_stable: f.load_stable,
+                    max_stress: f.stress.zip(youngs.get(i)).map(|(s, e)| s.max * e),
+                    max_stress_at: f.stress.map(|s| s.at),
                 })
                 .collect(),
             iterations: c.iterations,
+            past_stroke_limit: limit.map(|l| l.passed_by(c.fraction)),
         }
     }
 }
@@ -264,6 +333,13 @@ pub struct StageCases {
     flexure_count: usize,
     drives: Vec<DriveInfo>,
     tol: f64,
+    /// Per flexure, its `allowable_stress` (Pa), null where none.
+    allowable_stress: Vec<Option<f64>>,
+    /// Per drive in order, the fraction of its end values where a flexure's stress first
+    /// reaches its allowable (null: not within the drive); null without any allowable.
+    stroke_limits: Option<Vec<Option<f64>>>,
+    #[serde(skip)]
+    limits: Vec<StrokeLimit>,
     cases: Vec<StageCase>,
     seconds: f64,
     effects_decision: Option<EffectsDecision>,
@@ -290,7 +366,7 @@ impl fmt::Display for StageCases {
             let star = |c: usize| if info.prescribed[c] { "*" } else { " " };
             writeln!(
                 f,
-                "{:>6} | {:>9} {:>9} {:>9} | {:>9} {:>9} | {:>9} {:>9} {:>9} | {:>11} {:>11} {:>11}",
+                "{:>6} | {:>9} {:>9} {:>9} | {:>9} {:>9} | {:>9} {:>9} {:>9} | {:>11} {:>11} {:>11} | {:>10}",
                 "frac",
                 "dx/L",
                 "dy/L",
@@ -303,12 +379,13 @@ impl fmt::Display for StageCases {
                 format!("{}{}", LOAD_NAMES[0], star(0)),
                 format!("{}{}", LOAD_NAMES[1], star(1)),
                 format!("{}{}", LOAD_NAMES[2], star(2)),
+                "stress MPa",
             )?;
             for c in self.cases.iter().filter(|c| c.drive == info.drive) {
                 let (s, l) = (c.stage, c.stage_load);
                 writeln!(
                     f,
-                    "{:>6.3} | {:>9.5} {:>9.5} {:>9.4} | {:>9.4} {:>9.4} | {:>9.4} {:>9.4} {:>9.4} | {:>11.5} {:>11.5} {:>11.6}",
+                    "{:>6.3} | {:>9.5} {:>9.5} {:>9.4} | {:>9.4} {:>9.4} | {:>9.4} {:>9.4} {:>9.4} | {:>11.5} {:>11.5} {:>11.6} | {:>10}{}",
                     c.fraction,
                     s[0],
                     s[1],
@@ -321,14 +398,63 @@ impl fmt::Display for StageCases {
                     tidy(l[0] * units.load(0), 5),
                     tidy(l[1] * units.load(1), 5),
                     tidy(l[2] * units.load(2), 6),
+                    worst_stress(c),
+                    if c.past_stroke_limit == Some(true) { "  past the stroke limit" } else { "" }
                 )?;
             }
         }
+        let allowable = self
+            .allowable_stress
+            .iter()
+            .flatten()
+            .copied()
+            .reduce(f64::min);
+        write!(f, "{}", LimitsLine(allowable, &self.limits, "drive"))?;
         writeln!(
             f,
             "{} cases in {:.3} ms",
             self.cases.len(),
             self.seconds * 1e3
+        )
+    }
+}
+
+/// A mechanism case's largest flexure stress in MPa, with the flexure when there are several.
+fn worst_stress(c: &StageCase) -> String {
+    let worst = c
+        .flexures
+        .iter()
+        .enumerate()
+        .filter_map(|(i, f)| f.max_stress.map(|s| (i, s)))
+        .max_by(|a, b| a.1.total_cmp(&b.1));
+    match worst {
+        Some((i, s)) if c.flexures.len() > 1 => format!("{:.3} ({})", s / 1e6, i + 1),
+        Some((_, s)) => format!("{:.3}", s / 1e6),
+        None => "-".into(),
+    }
+}
+
+/// The stroke limits as one line (none without an allowable stress).
+struct LimitsLine<'a>(Option<f64>, &'a [StrokeLimit], &'static str);
+
+impl fmt::Display for LimitsLine<'_> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let LimitsLine(allowable, limits, what) = *self;
+        let Some(allowable) = allowable else {
+            return Ok(());
+        };
+        let parts: Vec<String> = limits
+            .iter()
+            .map(|l| match l.fraction {
+                Some(x) => format!("{what} {} at {x:.6}", l.path),
+                None => format!("{what} {} none", l.path),
+            })
+            .collect();
+        writeln!(
+            f,
+            "stroke limits (allowable stress {:.4} MPa): {}",
+            allowable / 1e6,
+            parts.join(", ")
         )
     }
 }
@@ -363,11 +489,22 @@ fn solve_stage(scene: &Scene, args: &SolveArgs, ctl: &mut Control<'_>) -> Result
     let t0 = Instant::now();
     let study = super::study(scene, Sampling::Every(resolution), ctl)?;
     let mechanism = study.mechanism();
+    let youngs: Vec<f64> = mechanism
+        .flexures
+        .iter()
+        .map(|f| f.beam.youngs_modulus)
+        .collect();
+    let limits = study.stroke_limits();
     let cases = study
         .truth()
         .iter()
         .enumerate()
-        .flat_map(|(i, path)| path.iter().map(move |c| StageCase::new(i + 1, c)))
+        .flat_map(|(i, path)| {
+            let limit = limits.as_ref().and_then(|l| l.get(i));
+            let youngs = &youngs;
+            path.iter()
+                .map(move |c| StageCase::new(i + 1, c, youngs, limit))
+        })
         .collect();
     let report = StageCases {
         effects_decision: study.decision().cloned(),
@@ -375,6 +512,11 @@ fn solve_stage(scene: &Scene, args: &SolveArgs, ctl: &mut Control<'_>) -> Result
         flexure_count: mechanism.flexures.len(),
         drives: DriveInfo::all(mechanism),
         tol: args.tol,
+        allowable_stress: study.allowable_stresses(),
+        stroke_limits: limits
+            .as_ref()
+            .map(|l| l.iter().map(|l| l.fraction).collect()),
+        limits: limits.unwrap_or_default(),
         cases,
         seconds: t0.elapsed().as_secs_f64(),
         mechanism: mechanism.clone(),
@@ -431,6 +573,13 @@ pub fn solve(scene: &Scene, args: &SolveArgs, ctl: &mut Control<'_>) -> Result<S
     let solver = BeamSolver::new(model, Resolution::with_tol(args.tol))
         .map_err(|e| ReportError::input(format!("--tol {}: {e}", num(args.tol))))?;
     let shape = |s: &BeamSolution| args.shape.then(|| s.shape.clone());
+    let youngs = scene.beam.youngs_modulus;
+    let allowable = scene.beam.allowable_stress;
+    // A solution's stress ratio: the cantilever is its flexure 1 (from 0).
+    let ratio = |s: &BeamSolution| {
+        let a = allowable?;
+        s.stress.map(|st| (st.max * youngs / a, 0))
+    };
     if let Some(load) = args.load {
         let t0 = Instant::now();
         let sol = solver
@@ -449,12 +598,16 @@ pub fn solve(scene: &Scene, args: &SolveArgs, ctl: &mut Control<'_>) -> Result<S
             effects_decision: decision,
             tol: args.tol,
             seconds: t0.elapsed().as_secs_f64(),
+            max_stress: sol.stress.map(|s| s.max * youngs),
+            max_stress_at: sol.stress.map(|s| s.at),
+            allowable_stress: scene.beam.allowable_stress,
             shape: shape(&sol),
         };
         return Ok(SolveReport::One(report));
     }
     let t0 = Instant::now();
     let mut cases = Vec::new();
+    let mut limits = Vec::new();
     let n_paths = scene.loads.len();
     for (i, path) in scene.loads.iter().enumerate() {
         (ctl.progress)(&Progress::Solving {
@@ -465,18 +618,43 @@ pub fn solve(scene: &Scene, args: &SolveArgs, ctl: &mut Control<'_>) -> Result<S
         let sols = solver
             .solve_path(path.end, path.steps)
             .map_err(|e| ReportError::failed_in(format!("load path {} of the scene", i + 1), &e))?;
-        cases.extend(sols.iter().map(|s| Case {
+        let n = sols.len().max(1) as f64;
+        let fraction = |k: usize| (k + 1) as f64 / n;
+        let limit = allowable.map(|_| {
+            stroke::path_limit(
+                i + 1,
+                sols.iter()
+                    .enumerate()
+                    .map(|(k, s)| (fraction(k), ratio(s))),
+                &|l| {
+                    solver
+                        .solve(path.end.scaled(l))
+                        .ok()
+                        .as_ref()
+                        .and_then(ratio)
+                        .map(|r| r.0)
+                },
+            )
+        });
+        cases.extend(sols.iter().enumerate().map(|(k, s)| Case {
             load: s.load,
             tip: s.tip,
             iterations: s.iterations,
+            max_stress: s.stress.map(|st| st.max * youngs),
+            max_stress_at: s.stress.map(|st| st.at),
+            past_stroke_limit: limit.map(|l| l.passed_by(fraction(k))),
             shape: shape(s),
         }));
+        limits.extend(limit);
     }
     let report = SceneCases {
         scene: scene.name,
         beam: BeamInfo::from(&model),
         effects_decision: decision,
         tol: args.tol,
+        allowable_stress: allowable,
+        stroke_limits: allowable.map(|_| limits.iter().map(|l: &StrokeLimit| l.fraction).collect()),
+        limits,
         cases,
         seconds: t0.elapsed().as_secs_f64(),
     };

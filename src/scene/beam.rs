@@ -64,6 +64,10 @@ pub struct BeamSpec {
     /// `None` when the scene gives none (`modes` then asks for it, exports prompt).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub density: Option<f64>,
+    /// Pa: the largest fibre stress the designer allows (yield or fatigue limit over a safety
+    /// factor), which sets each path's stroke limit (DESIGN §11); `None`: no limit.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub allowable_stress: Option<f64>,
 }
 
 impl BeamSpec {
@@ -106,7 +110,7 @@ impl BeamSpec {
         .with_width_ratio(self.width / self.thickness)
     }
 
-    /// Checks the beam's rules: sizes and modulus finite and `> 0`, `1 <= L/t0 <=`
+    /// Checks the beam's rules: sizes, modulus and an allowable stress finite and `> 0`, `1 <= L/t0 <=`
     /// [`MAX_SLENDERNESS`](crate::beam::MAX_SLENDERNESS) (named by `thickness`), `nu` in
     /// `[0, 0.5)`, a given shear coefficient and density `> 0`, effects that go together. Keys are the
     /// beam's own (`thickness`); a scene puts them under `beam`, a flexure under its table.
@@ -123,6 +127,9 @@ impl BeamSpec {
         }
         if let Some(rho) = self.density {
             check("density", rules::positive(rho))?;
+        }
+        if let Some(s) = self.allowable_stress {
+            check("allowable_stress", rules::positive(s))?;
         }
         if let EffectsChoice::Fixed(e) = self.effects {
             e.validate()

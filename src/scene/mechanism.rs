@@ -262,6 +262,9 @@ impl Mechanism {
             }
             b.shear_coefficient = new.shear_coefficient;
             b.effects = new.effects;
+            if b.allowable_stress == old.allowable_stress {
+                b.allowable_stress = new.allowable_stress;
+            }
         }
         match (tip_before, out.flexures.first().map(Flexure::tip)) {
             (Some(before), Some(after)) if before == self.stage_point && before != after => {

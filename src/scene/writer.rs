@@ -21,6 +21,9 @@ impl Scene {
         if let Some(k) = b.shear_coefficient {
             out.push_str(&format!("shear_coefficient = {k:?}\n"));
         }
+        if let Some(s) = b.allowable_stress {
+            out.push_str(&format!("allowable_stress = {s:e}\n"));
+        }
         match b.effects {
             EffectsChoice::Auto => out.push_str("effects = \"auto\"\n"),
             EffectsChoice::Fixed(e) => {
@@ -139,6 +142,12 @@ fn mechanism_tables(
             if mine != scene {
                 let _ = writeln!(out, "{name} = {mine:?}");
             }
+        }
+        if let (Some(s), true) = (
+            b.allowable_stress,
+            b.allowable_stress != scene_beam.allowable_stress,
+        ) {
+            let _ = writeln!(out, "allowable_stress = {s:e}");
         }
     }
     let _ = write!(

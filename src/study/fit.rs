@@ -263,7 +263,9 @@ impl Target for MechanismTarget<'_> {
 
     fn residuals(&self, matrix: &PrbMatrix, out: &mut Vec<f64>) {
         out.clear();
-        let solver = prb::solver(self.mechanism, matrix, PRB_TOL).for_trials();
+        let solver = prb::solver(self.mechanism, matrix, PRB_TOL)
+            .without_stress()
+            .for_trials();
         for (i, (drive, exact)) in self.mechanism.drives.iter().zip(self.exact).enumerate() {
             match solver.solve_path(&self.mechanism.drive_path(drive), i + 1) {
                 Ok(cases) if cases.len() == exact.len() => {
@@ -306,6 +308,7 @@ mod tests {
             shear_coefficient: None,
             density: None,
             effects: EffectsChoice::Fixed(Effects::NONE),
+            allowable_stress: None,
         };
         let flexure = |y: f64| Flexure {
             root: [0.0, y],

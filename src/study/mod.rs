@@ -12,7 +12,7 @@
 //! ([`Study::judge`], one [`Figures`] type whose reaction figures are absent when nothing is
 //! prescribed), fit ([`Study::fit`]), select ([`Study::select`]), calibrate
 //! ([`calibrate::calibrate`]), decide effects ([`effects::resolve_effects`]) and export
-//! ([`Study::export`]). The layers above never ask which kind of scene they hold; the one
+//! ([`Study::export`]), and find each path's stroke limit ([`Study::stroke_limits`]). The layers above never ask which kind of scene they hold; the one
 //! place that does is here, where a cantilever keeps its fast paths: the beam's shooting
 //! along a load path for the truth, and the chain's own statics for a PRB model (the
 //! figures of DESIGN §8's one-flexure mechanism are the cantilever's, which
@@ -29,6 +29,7 @@ pub mod effects;
 pub mod export;
 mod fit;
 pub mod select;
+pub mod stroke;
 pub mod tradeoff;
 pub mod truth;
 
@@ -47,6 +48,7 @@ use crate::scene::{Drive, Mechanism, Scene};
 pub use crate::mech::figures::{CompareError, Figures, JudgedCase, Judgement, UnfollowedPath};
 pub use effects::{resolve_effects, EffectsDecision, EffectsError};
 pub use fit::FitError;
+pub use stroke::StrokeLimit;
 
 /// The PRB mechanism's Newton tolerance in every judgement and fit (a cantilever's chain has
 /// its own); the truth's own is the study's resolution. 1e-8 is far below any model error.
@@ -366,7 +368,8 @@ impl Study {
     /// Judges `matrix` over the cases it can follow (DESIGN §6, `eval`): a path it cannot
     /// follow to its end is listed in [`Judgement::unfollowed`] with how far it got and why,
     /// and the figures are over the cases it followed. An error only when it follows no case
-    /// at all.
+    /// at all. Its model cases carry the PRB model's own stress estimate (DESIGN §11,
+    /// [`crate::prb::PrbSolver::max_stress`]), which [`Study::judge`] leaves out.
     pub fn judge_followed(&self, matrix: &PrbMatrix) -> Result<Judgement, JudgeError> {
         self.judge_with(matrix, self.scene.fit.angle_weight, true)
     }
@@ -396,8 +399,17 @@ impl Study {
                         }
                         let e = CaseError::new(prb.load, b.tip, prb.tip);
                         let truth = self.truth[path][k].clone();
-                        let mut model =
-                            truth::tip_case(truth.fraction, prb.load, prb.tip, prb.iterations);
+                        // The model's own stress estimate, for eval (DESIGN §11).
+                        let stress = partial
+                            .then(|| solver.max_stress(&baseline.model, prb.load, prb.q))
+                            .flatten();
+                        let mut model = truth::tip_case(
+                            truth.fraction,
+                            prb.load,
+                            prb.tip,
+                            prb.iterations,
+                            stress,
+                        );
                         model.joints = vec![prb.q.to_vec()];
                         cases.borrow_mut().push(JudgedCase {
                             path: path + 1,

@@ -11,7 +11,7 @@
 //! its PRB models still by the chain's own statics; [`tip_case`] puts their answers in the
 //! stage form.
 
-use crate::beam::{BeamSolution, Load, TipPose};
+use crate::beam::{BeamSolution, Load, Stress, TipPose};
 use crate::eval::Baseline;
 use crate::mech::{FlexureCase, MechCase};
 use crate::scene::{Attach, Coordinate, Drive, Flexure, Mechanism, Scene};
@@ -56,8 +56,14 @@ pub fn one_flexure(scene: &Scene) -> Mechanism {
 }
 
 /// A cantilever's case in the stage form: the tip `tip` under `load`, at `fraction` of its
-/// path.
-pub fn tip_case(fraction: f64, load: Load, tip: TipPose, iterations: u32) -> MechCase {
+/// path, with its largest fibre stress when known.
+pub fn tip_case(
+    fraction: f64,
+    load: Load,
+    tip: TipPose,
+    iterations: u32,
+    stress: Option<Stress>,
+) -> MechCase {
     MechCase {
         fraction,
         stage: [tip.a - 1.0, tip.b, tip.phi],
@@ -66,6 +72,7 @@ pub fn tip_case(fraction: f64, load: Load, tip: TipPose, iterations: u32) -> Mec
             tip,
             wrench: load,
             load_stable: true,
+            stress,
         }],
         iterations,
         joints: Vec::new(),
@@ -87,7 +94,7 @@ pub fn baseline_cases(baseline: &Baseline) -> Vec<Vec<MechCase>> {
             solutions
                 .iter()
                 .enumerate()
-                .map(|(k, s)| tip_case((k + 1) as f64 / n, s.load, s.tip, s.iterations))
+                .map(|(k, s)| tip_case((k + 1) as f64 / n, s.load, s.tip, s.iterations, s.stress))
                 .collect(),
         );
     }

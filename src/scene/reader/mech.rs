@@ -29,6 +29,7 @@ pub(super) struct RawFlexure {
     thickness: Option<Spanned<f64>>,
     youngs_modulus: Option<Spanned<f64>>,
     poisson_ratio: Option<Spanned<f64>>,
+    allowable_stress: Option<Spanned<f64>>,
 }
 
 #[derive(Deserialize)]
@@ -131,6 +132,9 @@ fn flexure(
         if let Some(v) = value {
             *slot = spans.take(key(field), v);
         }
+    }
+    if let Some(s) = &raw.allowable_stress {
+        b.allowable_stress = Some(spans.take(key("allowable_stress"), s));
     }
     // The slenderness rule names the thickness: without an override of it, the length's line.
     if let Some(l) = &raw.length {

@@ -101,6 +101,7 @@ struct RawBeam {
     youngs_modulus: Spanned<f64>,
     poisson_ratio: Spanned<f64>,
     shear_coefficient: Option<Spanned<f64>>,
+    allowable_stress: Option<Spanned<f64>>,
     /// Any TOML value: checked by hand, so a wrong type gets a message that says what is
     /// expected (serde's untagged enums only say "did not match any variant").
     effects: Option<Spanned<toml::Value>>,
@@ -351,6 +352,10 @@ fn beam(spans: &mut Spans<'_>, raw: &Spanned<RawBeam>) -> Result<BeamSpec, Scene
             .map(|k| spans.take("beam.shear_coefficient", k)),
         effects,
         density: raw.density.as_ref().map(|d| spans.take("beam.density", d)),
+        allowable_stress: raw
+            .allowable_stress
+            .as_ref()
+            .map(|s| spans.take("beam.allowable_stress", s)),
     })
 }
 

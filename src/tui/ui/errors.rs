@@ -4,6 +4,9 @@
 //! a red line (both signs for the signed angle error); the model compared against (`C`) as
 //! grey dots under them.
 //!
+//! Each path's stroke limit (DESIGN §11), when the scene has an allowable stress, is a dotted
+//! vertical line in the path's colour.
+//!
 //! A cantilever has two: its tip's position (%L) and angle (deg) errors. A mechanism has
 //! its main one: the reaction error (% of each prescribed coordinate's largest reaction)
 //! when a drive prescribes a stage coordinate, else the stage position error (% of flexure
@@ -156,6 +159,13 @@ fn dots<'a>(pal: Palette, color: Color, pts: &'a [(f64, f64)]) -> Dataset<'a> {
         .data(pts)
 }
 
+/// Points down a vertical line at `x` across `yb`, for a dotted line.
+pub fn vertical(x: f64, yb: [f64; 2]) -> Vec<(f64, f64)> {
+    (0..=24)
+        .map(|k| (x, yb[0] + (yb[1] - yb[0]) * f64::from(k) / 24.0))
+        .collect()
+}
+
 /// Draws one error chart.
 pub fn draw(frame: &mut Frame, area: Rect, view: &View) {
     let pal = view.pal;
@@ -211,6 +221,18 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View) {
                 .map(|(i, pts)| dots(pal, color(i), &pts[1.min(pts.len())..])),
         );
     }
+    // Each path's stroke limit (DESIGN §11): a dotted vertical line in the path's colour.
+    let limits: Vec<(usize, Vec<(f64, f64)>)> = view
+        .truth
+        .and_then(|t| t.stroke_limits.as_ref())
+        .map(|ls| {
+            ls.iter()
+                .enumerate()
+                .filter_map(|(i, l)| Some((i, vertical(l.fraction?, yb))))
+                .collect()
+        })
+        .unwrap_or_default();
+    datasets.extend(limits.iter().map(|(i, pts)| dots(pal, color(*i), pts)));
     // The scene's target, where it falls inside the plotted range.
     if target <= yb[1] {
         datasets.push(line(pal, Color::Red, &target_line));

@@ -1,6 +1,7 @@
 //! The load-path panel: a table of the paths' end loads and step counts (nondimensional, or
 //! in SI with `u`), what a beam edit holds in the title, and the selected path in the other
-//! units on the bottom border.
+//! units on the bottom border; with an allowable stress, each path's stroke limit (DESIGN
+//! §11) in a `limit` column.
 
 use ratatui::layout::{Constraint, Rect};
 use ratatui::style::{Color, Modifier, Style};
@@ -12,6 +13,7 @@ use super::super::app::{App, EditTarget, Panel};
 use super::super::state::loads::{
     alpha_text, load_text, si_text, Hold, LOAD_COLUMNS, LOAD_COLUMNS_SI,
 };
+use super::super::units::trim_number;
 use super::parts::{field_text, panel_block, Palette, PATH_COLORS};
 
 /// What the load panel draws.
@@ -31,6 +33,8 @@ pub struct View {
     pub hold: Hold,
     /// The selected path in the units the table is not in.
     pub other_units: String,
+    /// Each path's stroke limit (DESIGN §11), when the truth shown has them (a column).
+    pub limits: Option<Vec<Option<f64>>>,
     /// Colours.
     pub pal: Palette,
 }
@@ -72,6 +76,11 @@ impl View {
                     false => si_text(p, &app.edit.scene.beam),
                 })
                 .unwrap_or_default(),
+            limits: app
+                .shown
+                .truth()
+                .and_then(|t| t.stroke_limits.as_ref())
+                .map(|l| l.iter().map(|l| l.fraction).collect()),
             pal: Palette { mono: app.mono },
         }
     }
@@ -85,6 +94,7 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View) {
         format!(" {} ", view.other_units),
         pal.fg(Color::DarkGray),
     ));
+
     let columns = if view.si {
         LOAD_COLUMNS_SI
     } else {
@@ -93,6 +103,7 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View) {
     let header = Row::new(
         std::iter::once(Cell::from("#"))
             .chain(columns.iter().map(|c| Cell::from(*c)))
+            .chain(view.limits.as_ref().map(|_| Cell::from("limit")))
             .collect::<Vec<_>>(),
     )
     .style(Style::default().add_modifier(Modifier::BOLD));
@@ -113,26 +124,36 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View) {
                 };
                 cells.push(Cell::from(Span::styled(text.clone(), style)));
             }
+            // The stroke limit (DESIGN §11): the fraction of the path where the stress
+            // reaches the allowable, `-` where it does not.
+            if let Some(limits) = &view.limits {
+                let text = match limits.get(r).copied().flatten() {
+                    Some(l) => trim_number(l, 4),
+                    None => "-".to_string(),
+                };
+                cells.push(Cell::from(Span::styled(text, pal.fg(Color::Red))));
+            }
             Row::new(cells)
         })
         .collect();
-    let table = Table::new(
-        rows,
-        [
-            Constraint::Length(2),
-            Constraint::Length(9),
-            Constraint::Length(9),
-            Constraint::Length(8),
-            Constraint::Length(5),
-        ],
-    )
-    .header(header)
-    .block(block)
-    .row_highlight_style(if view.focused {
-        Style::default()
-    } else {
-        Style::default().add_modifier(Modifier::BOLD)
-    });
+    let mut widths = vec![
+        Constraint::Length(2),
+        Constraint::Length(9),
+        Constraint::Length(9),
+        Constraint::Length(8),
+        Constraint::Length(5),
+    ];
+    if view.limits.is_some() {
+        widths.push(Constraint::Length(6));
+    }
+    let table = Table::new(rows, widths)
+        .header(header)
+        .block(block)
+        .row_highlight_style(if view.focused {
+            Style::default()
+        } else {
+            Style::default().add_modifier(Modifier::BOLD)
+        });
     let mut state = TableState::default().with_selected(Some(view.row));
     frame.render_stateful_widget(table, area, &mut state);
 }

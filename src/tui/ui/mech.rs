@@ -1,6 +1,7 @@
 //! The mechanism panel: a mechanism scene's flexures, stage point and drives, one value per
 //! row, in place of the load paths (DESIGN §8). A mechanism data scene's drives are its
 //! file's measured paths (each drive's end row and its rows as steps), read-only.
+//! With an allowable stress, each drive's stroke limit (DESIGN §11) follows its steps.
 
 use ratatui::layout::{Constraint, Rect};
 use ratatui::style::{Color, Style};
@@ -9,7 +10,8 @@ use ratatui::widgets::{Cell, Row, Table, TableState};
 use ratatui::Frame;
 
 use super::super::app::{App, EditTarget, Panel};
-use super::super::state::mech::fields;
+use super::super::state::mech::{fields, MechField};
+use super::super::units::trim_number;
 use super::parts::{field_text, panel_block, Palette};
 
 /// What the mechanism panel draws.
@@ -62,7 +64,16 @@ impl View {
                     group.clone()
                 };
                 last_group = group;
-                rows.push((head, f.label(), text, editing));
+                // A drive's stroke limit (DESIGN §11) beside its steps.
+                let limit = match f {
+                    MechField::Steps(d) if !editing => app
+                        .shown
+                        .truth()
+                        .and_then(|t| t.stroke_limit(d))
+                        .map(|l| format!("  limit {}", trim_number(l, 4))),
+                    _ => None,
+                };
+                rows.push((head, f.label(), text + &limit.unwrap_or_default(), editing));
             }
         }
         View {
@@ -86,6 +97,7 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View) {
     };
     let block = panel_block(view.title.as_str(), view.focused, pal)
         .title_bottom(Span::styled(bottom, pal.fg(Color::DarkGray)));
+
     let rows: Vec<Row> = view
         .rows
         .iter()

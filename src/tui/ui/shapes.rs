@@ -11,6 +11,10 @@
 //!
 //! With `M` it shows a cantilever's first mode shapes instead (DESIGN §10): the beam's and
 //! the PRB model's transverse motion about the unloaded beam over each other.
+//! The shown case's largest fibre stress (DESIGN §11) is on the bottom border (a
+//! cantilever's shown case is its path's end, the outermost shape; a mechanism's names its
+//! most stressed flexure), with `past limit` when the case lies past its path's stroke limit,
+//! and a red `*` on that flexure's centre line where the stress peaks.
 //!
 //! On a data scene (DESIGN §9) the beam is the scene's beam (or beam mechanism) beside the
 //! data (none where it cannot follow them), and a legend on the bottom border names the
@@ -32,6 +36,7 @@ use crate::study::CaseForm;
 use crate::text::sanitize_terminal;
 
 use super::super::app::{Activity, App};
+use super::super::units::trim_number;
 use super::super::worker::{ModelView, TruthView};
 use super::parts::{equal_aspect_bounds, Palette, MEASURED_COLOR, MEASURED_MARKER};
 
@@ -57,6 +62,10 @@ pub struct View<'a> {
     pub failure: Option<&'a str>,
     /// The mode shapes instead (`M`): the model's, empty when it has none.
     pub modes: Option<&'a [ModeShapePair]>,
+    /// The shown case's largest fibre stress (DESIGN §11; a cantilever's shown case is its
+    /// path's last, the outermost shape): `(flexure from 0, Pa, s / L)`, and whether the
+    /// case is past its path's stroke limit. `None` on measured data (no stress).
+    pub stress: Option<((usize, f64, f64), bool)>,
     /// Colours.
     pub pal: Palette,
 }
@@ -73,9 +82,17 @@ impl<'a> View<'a> {
                 None => 0..0,
             },
         };
+        let path = app.edit.shown_path();
+        let stress = app.shown.truth().and_then(|t| {
+            let case = cases.end.checked_sub(1)?;
+            let s = t.case_stress(path, case)?;
+            let fraction = t.cases.get(path)?.get(case)?.fraction;
+            Some((s, t.stroke_limit(path).is_some_and(|l| fraction > l)))
+        });
         View {
             form,
-            path: app.edit.shown_path(),
+            path,
+            stress,
             paths: app.edit.path_count(),
             cases,
             path_cases,
@@ -163,7 +180,27 @@ fn block<'a>(view: &View, measured: Option<bool>) -> Block<'a> {
     };
     let block = Block::default().borders(Borders::ALL).title(title);
     let Some(beam) = measured else {
-        return block;
+        let Some(((flexure, pa, at), past)) = view.stress else {
+            return block;
+        };
+        // A cantilever's shown case is its path's end; a mechanism's names its flexure.
+        let which = match view.form {
+            CaseForm::Tip => " (end)".to_string(),
+            CaseForm::Stage => format!(", flexure {}", flexure + 1),
+        };
+        let mut text = vec![
+            Span::raw(format!(
+                " σmax {} MPa{which} at s/L {} ",
+                trim_number(pa / 1e6, 4),
+                trim_number(at, 3)
+            )),
+            Span::styled("*", view.pal.fg(Color::Red)),
+        ];
+        if past {
+            text.push(Span::styled(" past limit", view.pal.fg(Color::Red)));
+        }
+        text.push(Span::raw(" "));
+        return block.title_bottom(Line::from(text));
     };
     let pal = view.pal;
     let what = match view.form {
@@ -309,6 +346,14 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View) {
     let prb_color = pal.color(Color::Yellow);
     let point_color = pal.color(Color::Cyan);
     let data_color = pal.color(MEASURED_COLOR);
+    let peak_color = pal.color(Color::Red);
+    // The shown case's peak on its flexure's centre line (points at uniform s).
+    let peak = view.stress.and_then(|((flexure, _, at), _)| {
+        let line = beams.last()?.flexures.get(flexure)?;
+        let last = line.len().checked_sub(1)?;
+        let k = ((at * last as f64).round() as usize).min(last);
+        line.get(k).copied()
+    });
     // The clamps: a bar across each flexure's root, a mechanism's short, a cantilever's a
     // wall.
     let clamps: Vec<[f64; 4]> = if single {
@@ -370,6 +415,14 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View) {
                         Span::styled("P", Style::default().fg(point_color)),
                     );
                 }
+            }
+            // Where the shown case's stress peaks: a red `*` on its beam.
+            if let Some(p) = peak {
+                ctx.print(
+                    p[0],
+                    p[1],
+                    Span::styled("*", Style::default().fg(peak_color)),
+                );
             }
             // The measured points last: over everything, the PRB's `o` included.
             for &(x, y) in &data {

@@ -2,7 +2,8 @@
 //! ([`stroke_panels`]): for the shown drive, one panel at a time — the reaction of a
 //! prescribed stage coordinate against the drive's stroke, or (for a loaded coordinate) the
 //! stage's motion against the load; the beam in grey, the model in yellow, the compared
-//! model as grey dots, the shown case marked. On a mechanism data scene (DESIGN §9) the
+//! model as grey dots, the shown case marked, and the drive's stroke limit (DESIGN §11) a
+//! red dotted line. On a mechanism data scene (DESIGN §9) the
 //! truth is the measured cases, drawn as markers ([`MEASURED_MARKER`], as `plot` draws them
 //! as crosses), with the beam mechanism along the measured drives in grey beside them and a
 //! legend naming the three.
@@ -37,6 +38,8 @@ pub struct View {
     pub shown: usize,
     /// The shown case of the drive (from 0).
     pub case: Option<usize>,
+    /// The shown drive's stroke limit (DESIGN §11), a fraction of the drive.
+    pub limit: Option<f64>,
     /// A compared model is drawn (the panels' second model curve).
     pub comparing: bool,
     /// The truth is measured data: drawn as markers, not a curve.
@@ -78,6 +81,7 @@ impl View {
             panels,
             shown: app.edit.mech_state.chart,
             case: app.edit.mech_state.shown_case(app.shown_cases()),
+            limit: truth.and_then(|t| t.stroke_limit(drive)),
             comparing: compare.is_some(),
             measured: measured.is_some(),
             beside,
@@ -223,6 +227,20 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View) {
             .style(pal.fg(Color::Yellow))
             .data(&model),
     ];
+    // The stroke limit: a red dotted line where the drive's input reaches that fraction of
+    // its end (the input is proportional along a drive from rest).
+    let limit: Vec<(f64, f64)> = view
+        .limit
+        .zip(beam.last())
+        .map(|(l, end)| super::errors::vertical(l * end.0, yb))
+        .unwrap_or_default();
+    datasets.push(
+        Dataset::default()
+            .marker(Marker::Dot)
+            .graph_type(GraphType::Scatter)
+            .style(pal.fg(Color::Red))
+            .data(&limit),
+    );
     datasets.push(
         Dataset::default()
             .marker(Marker::Dot)

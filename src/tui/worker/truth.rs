@@ -67,6 +67,13 @@ pub fn truth_view(study: &Study, cancel: &CancelToken) -> Result<TruthView, Stri
         cases,
         poses,
         measured,
+        // Measured data has no stress, so no limit (and no solves spent looking).
+        stroke_limits: study
+            .scene()
+            .truth
+            .is_none()
+            .then(|| study.stroke_limits())
+            .flatten(),
         seconds: study.seconds() + t0.elapsed().as_secs_f64(),
     })
 }
@@ -167,7 +174,13 @@ fn beam_at_rows(
             };
             // The data in the truth slot, the beam in the model's.
             let e = CaseError::new(row.load, row.tip, solved.tip);
-            let model: MechCase = tip_case(t.fraction, row.load, solved.tip, solved.iterations);
+            let model: MechCase = tip_case(
+                t.fraction,
+                row.load,
+                solved.tip,
+                solved.iterations,
+                solved.stress,
+            );
             judged.push(JudgedCase {
                 path: i + 1,
                 fraction: t.fraction,

@@ -16,6 +16,7 @@ use crate::mech::MechCase;
 use crate::prb::PrbMatrix;
 use crate::scene::Mechanism;
 use crate::study::dynamics::ModeShapePair;
+use crate::study::stroke::StrokeLimit;
 use crate::study::{CaseForm, EffectsDecision, Study};
 
 /// The truth over a job's paths, as the charts draw it.
@@ -38,6 +39,9 @@ pub struct TruthView {
     pub unloaded: Pose,
     /// A data scene's file and the beam beside the data; `None` when the truth is the beam.
     pub measured: Option<MeasuredView>,
+    /// Each path's stroke limit (DESIGN §11), when a flexure has an allowable stress (none
+    /// on measured data, which has no stress).
+    pub stroke_limits: Option<Vec<StrokeLimit>>,
     /// How long the truth's solves took.
     pub seconds: f64,
 }
@@ -46,6 +50,26 @@ impl TruthView {
     /// Cases over every path.
     pub fn case_count(&self) -> usize {
         self.cases.iter().map(Vec::len).sum()
+    }
+
+    /// Path `path`'s (from 0) stroke limit, a fraction of the path, if it has one.
+    pub fn stroke_limit(&self, path: usize) -> Option<f64> {
+        self.stroke_limits.as_ref()?.get(path)?.fraction
+    }
+
+    /// The largest fibre stress of case `case` of path `path` (both from 0) over its
+    /// flexures, where a solved truth gives it: `(flexure from 0, Pa, s / L)`.
+    pub fn case_stress(&self, path: usize, case: usize) -> Option<(usize, f64, f64)> {
+        let c = self.cases.get(path)?.get(case)?;
+        c.flexures
+            .iter()
+            .zip(&self.mechanism.flexures)
+            .enumerate()
+            .filter_map(|(i, (f, m))| f.stress.map(|s| (i, s.max * m.beam.youngs_modulus, s.at)))
+            .fold(None, |best: Option<(usize, f64, f64)>, x| match best {
+                Some(b) if b.1 >= x.1 => Some(b),
+                _ => Some(x),
+            })
     }
 
     /// Whether some path prescribes a stage coordinate (its figures then have reaction

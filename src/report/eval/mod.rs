@@ -14,18 +14,24 @@ use std::time::Instant;
 
 use serde::Serialize;
 
-use crate::beam::{BeamSolver, Load, Resolution, TipPose};
-use crate::eval::CaseError;
+use crate::beam::{Load, Resolution, TipPose};
 use crate::io::ModelFile;
 use crate::mech::figures::{Figures, JudgedCase, UnfollowedPath};
-use crate::prb::{PrbMatrix, PrbSolver};
+use crate::prb::PrbMatrix;
 use crate::scene::{Accuracy, Mechanism, Scene, COORDINATE_KEYS};
 use crate::si::MechUnits;
 use crate::study::{CaseForm, EffectsDecision, Sampling};
 
-use super::stage::{
-    count, drive_line, refuse_flag, tidy, units_line, DriveInfo, LOADS_ARE_DRIVES, LOAD_NAMES,
-};
+mod at_load;
+mod stress;
+
+use at_load::at_load;
+pub use at_load::{AtLoad, AtLoadReport};
+
+pub use stress::StressFigures;
+use stress::StressLines;
+
+use super::stage::{count, drive_line, tidy, units_line, DriveInfo, LOAD_NAMES};
 use super::{
     met, num, parse_matrix, safe, scene_model, study, Control, DecisionLine, ReportError, Result,
     TruthInfo, TruthLine,
@@ -61,7 +67,7 @@ impl Default for EvalArgs {
 #[serde(untagged)]
 pub enum EvalOutput {
     /// `--load`.
-    AtLoad(AtLoadReport),
+    AtLoad(Box<AtLoadReport>),
     /// Over the scene's cases.
     Scene(Box<EvalReport>),
 }
@@ -106,58 +112,6 @@ impl<T> OneOrMany<T> {
     }
 }
 
-/// A model at one load.
-#[derive(Debug, Serialize)]
-pub struct AtLoad {
-    model: String,
-    prb: String,
-    load: Load,
-    #[serde(flatten)]
-    tip: TipPose,
-    pos_err: f64,
-    ang_err: f64,
-    beam: TipPose,
-}
-
-/// `eval --load`.
-#[derive(Debug, Serialize)]
-#[serde(transparent)]
-pub struct AtLoadReport(OneOrMany<AtLoad>);
-
-impl fmt::Display for AtLoadReport {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let rows = self.0.rows();
-        let Some(first) = rows.first() else {
-            return Ok(());
-        };
-        writeln!(f, "load: {}", first.load)?;
-        writeln!(
-            f,
-            "{:<12} {:>11} {:>11} {:>11} | {:>10} {:>10}",
-            "model", "a", "b", "phi", "pos_err", "ang_err"
-        )?;
-        let beam = first.beam;
-        writeln!(
-            f,
-            "{:<12} {:>11.7} {:>11.7} {:>11.7} |",
-            "beam", beam.a, beam.b, beam.phi
-        )?;
-        for r in rows {
-            writeln!(
-                f,
-                "{:<12} {:>11.7} {:>11.7} {:>11.7} | {:>10.3e} {:>10.3e}",
-                safe(&r.model),
-                r.tip.a,
-                r.tip.b,
-                r.tip.phi,
-                r.pos_err,
-                r.ang_err
-            )?;
-        }
-        Ok(())
-    }
-}
-
 /// One case of a cantilever's evaluation: the PRB tip, the beam tip, the errors.
 #[derive(Debug, Serialize)]
 pub struct TipRow {
@@ -167,6 +121,12 @@ pub struct TipRow {
     beam: TipPose,
     pos_err: f64,
     ang_err: f64,
+    /// The PRB model's stress estimate, Pa (DESIGN §11).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    max_stress: Option<f64>,
+    /// The beam's largest fibre stress, Pa (none on measured data).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    beam_max_stress: Option<f64>,
 }
 
 /// A mechanism case's stage as judged: pose and load, as §8 writes them.
@@ -174,6 +134,8 @@ pub struct TipRow {
 pub struct StageOnly {
     stage: [f64; 3],
     stage_load: [f64; 3],
+    /// Per flexure, the largest fibre stress, Pa (null on measured data).
+    max_stress: Vec<Option<f64>>,
 }
 
 /// One case of a mechanism's evaluation: the PRB stage, the truth's stage, the errors.
@@ -193,6 +155,8 @@ pub struct StageRow {
     force_err: f64,
     /// The largest flexure tip position error, units of that flexure's `L`.
     tip_err: f64,
+    /// Per flexure, the PRB model's stress estimate, Pa (DESIGN §11).
+    max_stress: Vec<Option<f64>>,
 }
 
 /// One case, in the form of the scene's cases.
@@ -206,7 +170,16 @@ pub enum CaseRow {
 }
 
 impl CaseRow {
-    fn new(c: &JudgedCase, form: CaseForm) -> CaseRow {
+    /// The case `c` as `form` reads it; `youngs`: each flexure's Young's modulus (its
+    /// stress unit).
+    fn new(c: &JudgedCase, form: CaseForm, youngs: &[f64]) -> CaseRow {
+        let pa = |case: &crate::mech::MechCase| -> Vec<Option<f64>> {
+            case.flexures
+                .iter()
+                .zip(youngs)
+                .map(|(f, e)| f.stress.map(|s| s.max * e))
+                .collect()
+        };
         match (form, c.model.flexures.first(), c.truth.flexures.first()) {
             (CaseForm::Tip, Some(prb), Some(beam)) => CaseRow::Tip(TipRow {
                 load: prb.wrench,
@@ -214,6 +187,8 @@ impl CaseRow {
                 beam: beam.tip,
                 pos_err: c.pos_err,
                 ang_err: c.ang_err,
+                max_stress: pa(&c.model).first().copied().flatten(),
+                beam_max_stress: pa(&c.truth).first().copied().flatten(),
             }),
             _ => CaseRow::Stage(StageRow {
                 drive: c.path,
@@ -223,11 +198,13 @@ impl CaseRow {
                 beam: StageOnly {
                     stage: c.truth.stage,
                     stage_load: c.truth.stage_load,
+                    max_stress: pa(&c.truth),
                 },
                 pos_err: c.pos_err,
                 ang_err: c.ang_err,
                 force_err: c.force_err,
                 tip_err: c.tip_err,
+                max_stress: pa(&c.model),
             }),
         }
     }
@@ -257,11 +234,24 @@ pub struct ModelRow {
     /// followed.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     unfollowed: Vec<UnfollowedPath>,
+    /// Per flexure, the PRB model's stress estimate beside the truth's (DESIGN §11); absent
+    /// on measured data, which has no stress.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    stress: Option<Vec<StressFigures>>,
     seconds: f64,
     cases: Vec<CaseRow>,
 }
 
 impl ModelRow {
+    /// Its stress lines (one per flexure, named on a mechanism).
+    fn stress_lines(&self, mechanism: bool) -> StressLines<'_> {
+        StressLines {
+            model: &self.model,
+            figures: self.stress.as_deref(),
+            mechanism,
+        }
+    }
+
     /// One line per path the model could not follow to its end.
     fn unfollowed_lines(&self, f: &mut fmt::Formatter<'_>, path: &str) -> fmt::Result {
         for u in &self.unfollowed {
@@ -366,7 +356,23 @@ impl EvalReport {
         for r in self.models.rows() {
             r.unfollowed_lines(f, "load path")?;
         }
+        self.stress_lines(f, false)?;
         writeln!(f, "baseline: {:.3} ms", self.baseline_seconds * 1e3)
+    }
+
+    /// Every model's stress lines, or why there are none (measured data has no stress).
+    fn stress_lines(&self, f: &mut fmt::Formatter<'_>, mechanism: bool) -> fmt::Result {
+        if self.truth.is_some() {
+            return writeln!(
+                f,
+                "stress: not judged (the data has no stress; the PRB models' estimates are in \
+                 the JSON cases)"
+            );
+        }
+        for r in self.models.rows() {
+            write!(f, "{}", r.stress_lines(mechanism))?;
+        }
+        Ok(())
     }
 
     /// Per drive, the table of what the drive produces: the loaded coordinates' motion and
@@ -533,6 +539,7 @@ impl EvalReport {
         for r in self.models.rows() {
             r.unfollowed_lines(f, "drive")?;
         }
+        self.stress_lines(f, true)?;
         if self.truth.is_some() {
             // A rig measures the stage, not the flexures' tips.
             writeln!(
@@ -570,7 +577,7 @@ pub(super) fn named_models(args: &EvalArgs, scene: &Scene) -> Result<Vec<(String
 /// `prbfit eval` on `scene`.
 pub fn eval(scene: &Scene, args: &EvalArgs, ctl: &mut Control<'_>) -> Result<EvalOutput> {
     if let Some(load) = args.load {
-        return at_load(args, scene, load, ctl).map(EvalOutput::AtLoad);
+        return at_load(args, scene, load, ctl).map(|r| EvalOutput::AtLoad(Box::new(r)));
     }
     let resolution = super::resolution(scene, args.tol)?;
     let models = named_models(args, scene)?;
@@ -578,6 +585,12 @@ pub fn eval(scene: &Scene, args: &EvalArgs, ctl: &mut Control<'_>) -> Result<Eva
     let form = study.case_form();
     let scene = study.scene();
     let accuracy = scene.accuracy;
+    let youngs: Vec<f64> = study
+        .mechanism()
+        .flexures
+        .iter()
+        .map(|f| f.beam.youngs_modulus)
+        .collect();
     let mut rows = Vec::new();
     let mut scale = None;
     for (name, matrix) in models {
@@ -590,6 +603,7 @@ pub fn eval(scene: &Scene, args: &EvalArgs, ctl: &mut Control<'_>) -> Result<Eva
             meets_targets: false,
             failure: None,
             unfollowed: Vec::new(),
+            stress: None,
             seconds: 0.0,
             cases: Vec::new(),
         };
@@ -601,7 +615,12 @@ pub fn eval(scene: &Scene, args: &EvalArgs, ctl: &mut Control<'_>) -> Result<Eva
                 row.meets_targets = e.figures.meets(&accuracy) && e.unfollowed.is_empty();
                 row.unfollowed = e.unfollowed;
                 row.figures = Some(e.figures);
-                row.cases = e.cases.iter().map(|c| CaseRow::new(c, form)).collect();
+                row.stress = stress::figures(&e.cases, &youngs);
+                row.cases = e
+                    .cases
+                    .iter()
+                    .map(|c| CaseRow::new(c, form, &youngs))
+                    .collect();
             }
             Err(e) => row.failure = Some(e.to_string()),
         }
@@ -644,49 +663,4 @@ pub fn eval(scene: &Scene, args: &EvalArgs, ctl: &mut Control<'_>) -> Result<Eva
         mechanism: study.mechanism().clone(),
     };
     Ok(EvalOutput::Scene(Box::new(report)))
-}
-
-/// `eval --load`: the models against the cantilever's beam at one load.
-fn at_load(
-    args: &EvalArgs,
-    scene: &Scene,
-    load: Load,
-    ctl: &mut Control<'_>,
-) -> Result<AtLoadReport> {
-    if scene.mechanism.is_some() {
-        return Err(refuse_flag("--load", scene, LOADS_ARE_DRIVES));
-    }
-    if let Some(truth) = &scene.truth {
-        return Err(ReportError::input(format!(
-            "--load: \"{}\" is a data scene: its load cases are the rows of {} (judge the \
-             model over them without --load)",
-            safe(&scene.name),
-            safe(&truth.file)
-        )));
-    }
-    let (scene, _) = super::resolve_scene(scene, &ctl.cancel)?;
-    let models = named_models(args, &scene)?;
-    let beam = scene.beam.model();
-    let solver = BeamSolver::new(beam, Resolution::with_tol(args.tol))
-        .map_err(|e| ReportError::input(format!("--tol {}: {e}", num(args.tol))))?;
-    let sol = solver
-        .solve(load)
-        .map_err(|e| ReportError::failed_in("baseline beam", &e))?;
-    let mut rows = Vec::new();
-    for (name, m) in models {
-        let prb = PrbSolver::new(&m, beam.axial_compliance())
-            .solve(load)
-            .map_err(|e| ReportError::failed_in(format!("model {name}"), &e))?;
-        let case = CaseError::new(load, sol.tip, prb.tip);
-        rows.push(AtLoad {
-            model: name,
-            prb: m.to_text(),
-            load,
-            tip: case.prb,
-            pos_err: case.pos_err,
-            ang_err: case.ang_err,
-            beam: case.beam,
-        });
-    }
-    Ok(AtLoadReport(OneOrMany::new(rows)))
 }
