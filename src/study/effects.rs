@@ -148,7 +148,7 @@ pub fn decide_effects(
 }
 
 /// The most cases per load path on which each effect of a beam is judged (see
-/// [`decide_beam_effects`]).
+/// `decide_beam_effects`).
 pub const DECIDE_STEPS: u32 = 8;
 
 /// The effects of a beam under the given loads and targets.
