@@ -88,9 +88,9 @@ fn main() {
             youngs_modulus: 70e9,
             poisson_ratio: 0.3,
             shear_coefficient: None,
-            effects: EffectsChoice::Fixed(effects),
             density: None,
             allowable_stress: None,
+            effects: EffectsChoice::Fixed(effects),
         };
         let flexure = |y: f64| Flexure {
             root: [0.0, y],

@@ -324,6 +324,42 @@ fn fea_of_a_mechanism_is_a_data_scene_truth() {
     ]));
     assert_eq!(report["meshes"][0]["along"], 20);
     assert!(report["failures"].as_array().unwrap().is_empty());
+    // Like with like: the section follows the scene's flexures (solid when the beam
+    // mechanism beside it keeps plane strain), and says so.
+    let keeps = report["beam_effects"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .any(|e| e == "plane_strain");
+    assert_eq!(report["section_from"], "scene");
+    assert_eq!(
+        report["section"],
+        if keeps { "solid" } else { "plane-stress" },
+        "{report}"
+    );
+    // A section given: the beam mechanism beside it takes that section's plane strain.
+    let given = json(&prbfit(&[
+        "fea",
+        "--scene",
+        &asset("fixed-guided.toml"),
+        "-o",
+        &dir.file("given.csv"),
+        "--mesh",
+        "8",
+        "--section",
+        "plane-stress",
+        "--json",
+    ]));
+    assert_eq!(given["section_from"], "flag");
+    assert!(!given["beam_effects"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .any(|e| e == "plane_strain"));
+    assert!(given["like_with_like"]
+        .as_str()
+        .unwrap()
+        .starts_with("--section plane-stress"));
     let csv = std::fs::read_to_string(&out).unwrap();
     let lines: Vec<&str> = csv.lines().collect();
     assert_eq!(

@@ -17,9 +17,9 @@ fn beam() -> BeamSpec {
         youngs_modulus: 12e6,
         poisson_ratio: 0.3,
         shear_coefficient: None,
-        effects: EffectsChoice::Fixed(Effects::NONE),
         density: None,
         allowable_stress: None,
+        effects: EffectsChoice::Fixed(Effects::NONE),
     }
 }
 
@@ -178,4 +178,46 @@ mod properties {
             }
         }
     }
+}
+
+#[test]
+fn the_first_frequency_vanishes_where_the_mechanisms_statics_find_buckling() {
+    // The parallel stage pushed along its flexures: each a fixed-guided column, which sways
+    // at pi^2 E I / L^2 (effective length L), the pair at 2 pi^2. The statics (exact
+    // mechanism) stop at their critical point; the modes' first omega^2 crosses zero there.
+    let pushed = |fx: f64, steps: u32| {
+        let mut m = parallel_stage(0.0, steps);
+        m.drives[0].coordinates[0] = Coordinate::Loaded(fx);
+        m
+    };
+    let euler = 2.0 * std::f64::consts::PI.powi(2);
+    let end = -1.3 * euler;
+    let statics = match prbfit::mech::exact::solve(&pushed(end, 40), Resolution::with_tol(1e-10)) {
+        Err(prbfit::mech::MechError::Critical { fraction, .. }) => -end * fraction,
+        other => panic!("expected the statics to stop at buckling, got {other:?}"),
+    };
+    let mass = MechMass::uniform(2, 1.0, 0.1);
+    let settings = ModeSettings::frequencies(1);
+    // The first frequency about the pushed equilibrium (its last case).
+    let first = |p: f64| {
+        let mech = pushed(-p, 1);
+        let cases = prbfit::mech::exact::solve(&mech, Resolution::with_tol(1e-10)).unwrap();
+        mech_modes(&mech, &mass, [false; 3], cases[0].last(), &settings)
+            .unwrap()
+            .omega[0]
+    };
+    // Straight columns: the equilibrium under an axial push is the compressed straight one.
+    // Omega_1^2 falls smoothly to zero at buckling: its zero, extrapolated linearly from 99
+    // and 99.5 % of the load, is off by the curvature's share, (0.005)^2 relative at most.
+    assert!(first(0.5 * euler) > first(0.99 * euler));
+    let (a, b) = (first(0.99 * euler).powi(2), first(0.995 * euler).powi(2));
+    assert!(b > 0.0 && b < a);
+    let crossing = 0.99 * euler + (0.005 * euler) * a / (a - b);
+    assert!(rel(crossing, euler) < 2.5e-5, "{crossing} vs {euler}");
+    // The statics' critical point: the last accepted fraction, within a step (1/40 of the
+    // path) below it, or at it when their step control closes in.
+    assert!(
+        statics <= crossing * (1.0 + 1e-6) && crossing - statics <= -end / 40.0,
+        "statics {statics} vs modes {crossing}"
+    );
 }

@@ -371,6 +371,12 @@ fn frequencies_do_not_depend_on_the_beams_si_scale() {
 fn mode_shapes_are_normalised_and_the_first_is_the_cantilevers() {
     let modes = unloaded_modes(&elastica(), TipBody::NONE, &ModeSettings::default()).unwrap();
     assert_eq!(modes.shapes.len(), 3);
+    // The frequencies alone (no shapes: no eigenvectors computed) are the same numbers.
+    let alone = unloaded_modes(&elastica(), TipBody::NONE, &settings()).unwrap();
+    assert!(alone.shapes.is_empty());
+    for (a, b) in alone.omega.iter().zip(&modes.omega) {
+        assert!(rel(*a, *b) < 1e-13, "{a} vs {b}");
+    }
     // The first mode of the clamped-free beam: (cosh - cos) - s (sinh - sin), s the ratio
     // (cosh b + cos b) / (sinh b + sin b), normalised at the tip.
     let b = modes.omega[0].sqrt();
@@ -551,9 +557,9 @@ mod properties {
                 youngs_modulus: e,
                 poisson_ratio: 0.3,
                 shear_coefficient: None,
-                effects: EffectsChoice::Fixed(effects),
                 density: None,
                 allowable_stress: None,
+                effects: EffectsChoice::Fixed(effects),
             };
             let (a, b) = (spec(1.0, 70e9), spec(k, 70e9 * e_ratio));
             let (rho_a, rho_b) = (2700.0, 2700.0 * rho_ratio);
@@ -581,5 +587,67 @@ mod properties {
 
     fn solution_modes_of(model: &BeamModel, tip: TipBody, load: Load, m0: f64) -> Vec<f64> {
         beam_modes(model, tip, load, m0, &settings()).unwrap().omega
+    }
+}
+
+/// The scene's modes (`Study::modes`, what `prbfit modes` prints) take a cantilever as the
+/// one-flexure mechanism, its tip body the stage's mass and inertia about the tip: the
+/// same frequencies as the beam's own modes with the tip body, and for a PRB model the
+/// chain's own (`PrbSolver::modes`), at rest and under a load.
+#[test]
+fn the_scenes_modes_are_the_beams_and_the_chains() {
+    use prbfit::prb::{PrbSolver, TipBody as PrbTip};
+    use prbfit::scene::Scene;
+    use prbfit::study::modes::Equilibria;
+    use prbfit::study::{Sampling, Study};
+    let scene = Scene::from_toml_str(
+        "name = \"c\"\n[beam]\nlength = 0.05\nwidth = 0.01\nthickness = 0.0005\n\
+         youngs_modulus = 200e9\npoisson_ratio = 0.3\ndensity = 7850.0\n\
+         effects = [\"shear\", \"extension\", \"poisson\"]\n\
+         [tip]\nmass = 0.002\ninertia = 1e-8\n[[loads]]\nalpha_y = 2.0\nsteps = 2\n",
+        "test",
+    )
+    .unwrap();
+    let study = Study::new(&scene, Sampling::Every(Default::default())).unwrap();
+    let su = prbfit::prb::published::by_name("su-3r").unwrap().prb;
+    let model = scene.beam.model();
+    let tip = TipBody::from_si(0.002, 1e-8, 7850.0, 0.01, 0.0005, 0.05).unwrap();
+    let chain = PrbSolver::new(&su, model.axial_compliance());
+    let prb_tip = PrbTip {
+        mass: tip.mass,
+        inertia: tip.inertia,
+    };
+    for (at, load) in [
+        (Equilibria::Unloaded, Load::new(0.0, 0.0, 0.0)),
+        (
+            Equilibria::Load(Load::new(-1.0, 0.5, 0.2)),
+            Load::new(-1.0, 0.5, 0.2),
+        ),
+    ] {
+        let found = study.modes(std::slice::from_ref(&su), at, 3).unwrap();
+        assert_eq!(found.len(), 1);
+        let solver = BeamSolver::new(model, Default::default()).unwrap();
+        let m0 = solver.solve(load).unwrap().root_moment;
+        let beam = beam_modes(&model, tip, load, m0, &settings()).unwrap();
+        for (a, b) in found[0].beam.omega.iter().zip(&beam.omega) {
+            // Two discretisations of one problem, each good to 1e-9 (the mechanism adds
+            // the stage's coordinates and eliminates them exactly).
+            assert!(rel(*a, *b) < 1e-8, "{at:?}: {a} vs {b}");
+        }
+        let q = chain.solve(load).unwrap().q;
+        let own = chain.modes(load, &q, prb_tip).unwrap();
+        let via = found[0].models[0].as_ref().unwrap();
+        for (a, b) in via.omega.iter().zip(&own) {
+            // The PRB statics' Newton tolerance (1e-8 and 1e-10) on the equilibrium.
+            assert!(rel(*a, *b) < 1e-7, "{at:?}: {a} vs {b}");
+        }
+        for ((e, p), b) in via
+            .freq_err
+            .iter()
+            .zip(&via.omega)
+            .zip(&found[0].beam.omega)
+        {
+            assert!((e - (p / b - 1.0)).abs() < 1e-12);
+        }
     }
 }

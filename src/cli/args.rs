@@ -47,6 +47,9 @@ pub enum Command {
     /// FEA of the scene's beam or mechanism with CalculiX (ccx) along its load or drive
     /// paths, written as measured-data CSV (DESIGN §9, §13), the beam beside it.
     Fea(FeaArgs),
+    /// Natural frequencies of the scene's beam (or beam mechanism) and of PRB models about
+    /// the same equilibria: unloaded, one tip load, or every case (DESIGN §10).
+    Modes(ModesArgs),
     /// Open the terminal UI (the default with no command) on a scene file or the built-in one.
     Tui {
         /// Scene file (TOML); default: the built-in scene.
@@ -109,6 +112,38 @@ pub struct EvalArgs {
     /// Judge one tip load instead of the scene's cases.
     #[arg(long, value_name = "AX,AY,BETA", value_parser = Load::parse, allow_hyphen_values = true)]
     pub load: Option<Load>,
+    /// Baseline integrator tolerance.
+    #[arg(long, value_name = "TOL", allow_negative_numbers = true, default_value_t = Resolution::default().tol)]
+    pub tol: f64,
+}
+
+/// `prbfit modes`.
+#[derive(Args)]
+pub struct ModesArgs {
+    #[command(flatten)]
+    pub common: Common,
+    /// A PRB matrix in text form (repeatable).
+    #[arg(long, value_name = "MATRIX", allow_hyphen_values = true)]
+    pub prb: Vec<String>,
+    /// A published model (howell-1r, su-3r, chen-3r) or a model file (repeatable). Without
+    /// any model: the scene's [prb] matrix if it has one, else the beam alone.
+    #[arg(long, value_name = "NAME_OR_FILE")]
+    pub model: Vec<String>,
+    /// How many of the lowest frequencies.
+    #[arg(
+        long,
+        value_name = "N",
+        default_value_t = 3,
+        allow_negative_numbers = true
+    )]
+    pub count: usize,
+    /// About the equilibrium under one tip load (cantilever scenes) instead of the unloaded
+    /// one.
+    #[arg(long, value_name = "AX,AY,BETA", value_parser = Load::parse, allow_hyphen_values = true, conflicts_with = "cases")]
+    pub load: Option<Load>,
+    /// About every case of the scene's load paths or drives.
+    #[arg(long)]
+    pub cases: bool,
     /// Baseline integrator tolerance.
     #[arg(long, value_name = "TOL", allow_negative_numbers = true, default_value_t = Resolution::default().tol)]
     pub tol: f64,

@@ -9,7 +9,7 @@ use prbfit::report::{self, Control, Progress};
 use prbfit::scene::Scene;
 
 use super::args::{
-    CalibrateArgs, Common, EvalArgs, ExportArgs, FeaArgs, FitArgs, SelectArgs, SolveArgs,
+    CalibrateArgs, Common, EvalArgs, ExportArgs, FeaArgs, FitArgs, ModesArgs, SelectArgs, SolveArgs,
 };
 use super::load_scene;
 use super::output::{self, emit};
@@ -93,6 +93,21 @@ pub fn eval(args: EvalArgs) -> Result<()> {
     };
     run(&args.common, |scene, ctl| {
         report::eval::eval(scene, &a, ctl)
+    })
+}
+
+/// Runs `prbfit modes`.
+pub fn modes(args: ModesArgs) -> Result<()> {
+    let a = report::modes::ModesArgs {
+        prb: args.prb,
+        model: args.model,
+        count: args.count,
+        load: args.load,
+        cases: args.cases,
+        tol: args.tol,
+    };
+    run(&args.common, |scene, ctl| {
+        report::modes::modes(scene, &a, ctl)
     })
 }
 

@@ -66,6 +66,7 @@ pub fn run() -> ExitCode {
         Some(Command::Plot(args)) => plot::run(args, matches.subcommand_matches("plot")),
         Some(Command::Calibrate(args)) => commands::calibrate(args),
         Some(Command::Fea(args)) => commands::fea(args),
+        Some(Command::Modes(args)) => commands::modes(args),
         Some(Command::Tui { scene }) => tui(scene),
         None => tui(None),
     };

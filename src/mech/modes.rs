@@ -22,9 +22,11 @@
 //! their null space), and the reduced symmetric-definite problem is solved as the beam's
 //! ([`generalized_lowest`]).
 //!
-//! Frequencies are flexure 1's `Omega = omega sqrt(rho A1 L1^4 / (E I1))`. Known answer
-//! (`tests/modes.rs`): the parallel stage with a heavy stage rings at
-//! `sqrt(24 E I / (L^3 M))`, the massless flexures' limit.
+//! Frequencies are flexure 1's `Omega = omega sqrt(rho A1 L1^4 / (E I1))`. Known answers
+//! (`tests/mech_modes.rs`): the parallel stage with a heavy stage rings at
+//! `sqrt(24 E I / (L^3 M))`, the massless flexures' limit; with the stage held, each
+//! flexure is a clamped-clamped beam; pushed along its flexures, its first frequency
+//! vanishes at their sway buckling load `2 pi^2 E I / L^2`, where the statics stop.
 //!
 //! # API
 //! - [`MechMass`]: per-flexure mass per length, stage mass and inertia (nondimensional;

@@ -16,6 +16,7 @@ pub mod export;
 pub mod fea;
 pub mod fea_mech;
 pub mod fit;
+pub mod modes;
 pub mod select;
 pub mod solve;
 mod stage;

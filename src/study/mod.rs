@@ -28,6 +28,7 @@ pub mod dynamics;
 pub mod effects;
 pub mod export;
 mod fit;
+pub mod modes;
 pub mod select;
 pub mod stroke;
 pub mod tradeoff;

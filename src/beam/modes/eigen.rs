@@ -84,6 +84,39 @@ pub(crate) fn lowest(
     Ok(Lowest { omega_sq, vectors })
 }
 
+/// As [`lowest`], the frequencies alone (no vectors: empty): at a stable equilibrium of up
+/// to 64 unknowns the reduced problem's eigenvalues without its eigenvectors, which is most
+/// of the dense solve's cost; otherwise [`lowest`]'s.
+pub(crate) fn lowest_values(
+    k: &DMatrix<f64>,
+    m: &DMatrix<f64>,
+    count: usize,
+) -> Result<Lowest, ModesError> {
+    let count = count.min(k.nrows());
+    if k.nrows() > 64 {
+        return lowest(k, m, count);
+    }
+    let Some(chol) = Cholesky::new(k.clone()) else {
+        return lowest(k, m, count);
+    };
+    let c = reduced_matrix(&chol.l(), m)?;
+    let mut mu: Vec<f64> = c.symmetric_eigenvalues().iter().copied().collect();
+    mu.sort_by(|a, b| b.total_cmp(a));
+    let mut omega_sq = Vec::with_capacity(count);
+    for &v in mu.iter().take(count) {
+        if v.is_nan() || v <= 0.0 {
+            return Err(ModesError::Singular(
+                "the mass matrix is not positive definite",
+            ));
+        }
+        omega_sq.push(1.0 / v);
+    }
+    Ok(Lowest {
+        omega_sq,
+        vectors: Vec::new(),
+    })
+}
+
 /// Subspace iteration for the lowest `count` modes: the block `X` of `count + 4` vectors
 /// goes to `K^-1 M X` and is replaced by the Ritz vectors of the pencil on it, until the
 /// wanted Ritz values agree with the last to 1e-14. The block's share of each unwanted
@@ -163,6 +196,11 @@ fn reduced(
     l: &DMatrix<f64>,
     a: &DMatrix<f64>,
 ) -> Result<SymmetricEigen<f64, nalgebra::Dyn>, ModesError> {
+    Ok(SymmetricEigen::new(reduced_matrix(l, a)?))
+}
+
+/// `L^-1 A L^-T`, exactly symmetric.
+fn reduced_matrix(l: &DMatrix<f64>, a: &DMatrix<f64>) -> Result<DMatrix<f64>, ModesError> {
     let x = l
         .solve_lower_triangular(a)
         .ok_or(ModesError::Singular("a triangular factor"))?;
@@ -181,5 +219,5 @@ fn reduced(
     if c.iter().any(|v| !v.is_finite()) {
         return Err(ModesError::NotFinite("the reduced eigenproblem"));
     }
-    Ok(SymmetricEigen::new(c))
+    Ok(c)
 }
