@@ -28,8 +28,8 @@ fn beam(slenderness: f64, effects: Effects) -> BeamSpec {
         poisson_ratio: NU,
         shear_coefficient: None,
         effects: EffectsChoice::Fixed(effects),
-        allowable_stress: None,
         density: None,
+        allowable_stress: None,
     }
 }
 

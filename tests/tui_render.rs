@@ -640,40 +640,6 @@ fn data_line_before_and_after_a_failure() {
     );
 }
 
-/// A scene with an allowable stress (DESIGN §11): the built-in scene at 1.3 GPa, every path
-/// passing it. The shape chart's bottom border gives the shown case's largest stress (the
-/// path's end: past the limit) with a red `*` where it peaks; the load panel the shown path's
-/// stroke limit; the error charts a dotted line at each path's limit.
-#[test]
-fn stress_and_stroke_limits_120x40() {
-    let text = std::fs::read_to_string(common::tui::scene_path("default")).unwrap();
-    let text = text.replacen("[beam]", "[beam]\nallowable_stress = 1.3e9", 1);
-    let scene = Scene::from_toml_str(&text, "default-allowable.toml").unwrap();
-    let mut app = common::tui::judged_as_given(scene, None);
-    app.jobs.activity = Activity::Done {
-        seconds: 0.0123,
-        stop: Some(StopReason::Converged),
-        iterations: 42,
-        evaluations: 900,
-    };
-    let limits = app.shown.truth().unwrap().stroke_limits.clone().unwrap();
-    assert!((limits[2].fraction.unwrap() - 0.65).abs() < 1e-9);
-    insta::assert_snapshot!("stress_120x40", render(&app, 120, 40).backend());
-}
-
-/// The parallel stage at 400 MPa: the shown case's stress names its flexure, the mechanism
-/// panel gives the shown drive's limit, and the force-stroke chart has it as a dotted line.
-#[test]
-fn mechanism_stress_and_stroke_limits_120x40() {
-    let text = std::fs::read_to_string(common::tui::scene_path("parallel-stage")).unwrap();
-    let text = text.replacen("[beam]", "[beam]\nallowable_stress = 4e8", 1);
-    let dir = common::Scratch::new("tui-stress");
-    let path = dir.write("stage.toml", &text);
-    let app = common::tui::judged_mechanism(std::path::Path::new(&path), "su-3r", 0.0012);
-    assert!(app.shown.truth().unwrap().stroke_limit(0).is_some());
-    insta::assert_snapshot!("mech_stress_120x40", render(&app, 120, 40).backend());
-}
-
 /// The built-in scene with steel's density and `[fit] modes = 3` (issue 25.6).
 fn dynamic_app(matrix: &str) -> App {
     let text = prbfit::scene::DEFAULT_SCENE_TOML
@@ -738,4 +704,38 @@ fn mode_shapes_120x40() {
         "{text}"
     );
     insta::assert_snapshot!("mode_shapes_120x40", t.backend());
+}
+
+/// A scene with an allowable stress (DESIGN §11): the built-in scene at 1.3 GPa, every path
+/// passing it. The shape chart's bottom border gives the shown case's largest stress (the
+/// path's end: past the limit) with a red `*` where it peaks; the load panel the shown path's
+/// stroke limit; the error charts a dotted line at each path's limit.
+#[test]
+fn stress_and_stroke_limits_120x40() {
+    let text = std::fs::read_to_string(common::tui::scene_path("default")).unwrap();
+    let text = text.replacen("[beam]", "[beam]\nallowable_stress = 1.3e9", 1);
+    let scene = Scene::from_toml_str(&text, "default-allowable.toml").unwrap();
+    let mut app = common::tui::judged_as_given(scene, None);
+    app.jobs.activity = Activity::Done {
+        seconds: 0.0123,
+        stop: Some(StopReason::Converged),
+        iterations: 42,
+        evaluations: 900,
+    };
+    let limits = app.shown.truth().unwrap().stroke_limits.clone().unwrap();
+    assert!((limits[2].fraction.unwrap() - 0.65).abs() < 1e-9);
+    insta::assert_snapshot!("stress_120x40", render(&app, 120, 40).backend());
+}
+
+/// The parallel stage at 400 MPa: the shown case's stress names its flexure, the mechanism
+/// panel gives the shown drive's limit, and the force-stroke chart has it as a dotted line.
+#[test]
+fn mechanism_stress_and_stroke_limits_120x40() {
+    let text = std::fs::read_to_string(common::tui::scene_path("parallel-stage")).unwrap();
+    let text = text.replacen("[beam]", "[beam]\nallowable_stress = 4e8", 1);
+    let dir = common::Scratch::new("tui-stress");
+    let path = dir.write("stage.toml", &text);
+    let app = common::tui::judged_mechanism(std::path::Path::new(&path), "su-3r", 0.0012);
+    assert!(app.shown.truth().unwrap().stroke_limit(0).is_some());
+    insta::assert_snapshot!("mech_stress_120x40", render(&app, 120, 40).backend());
 }

@@ -60,14 +60,14 @@ pub struct BeamSpec {
     pub shear_coefficient: Option<f64>,
     /// Which effects of DESIGN §2 the beam models.
     pub effects: EffectsChoice,
-    /// Pa: the largest fibre stress the designer allows (yield or fatigue limit over a safety
-    /// factor), which sets each path's stroke limit (DESIGN §11); `None`: no limit.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub allowable_stress: Option<f64>,
     /// kg/m^3: the beam's mass for its natural frequencies and the exports (DESIGN §10);
     /// `None` when the scene gives none (`modes` then asks for it, exports prompt).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub density: Option<f64>,
+    /// Pa: the largest fibre stress the designer allows (yield or fatigue limit over a safety
+    /// factor), which sets each path's stroke limit (DESIGN §11); `None`: no limit.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub allowable_stress: Option<f64>,
 }
 
 impl BeamSpec {
@@ -125,11 +125,11 @@ impl BeamSpec {
         if let Some(k) = self.shear_coefficient {
             check("shear_coefficient", rules::positive(k))?;
         }
-        if let Some(s) = self.allowable_stress {
-            check("allowable_stress", rules::positive(s))?;
-        }
         if let Some(rho) = self.density {
             check("density", rules::positive(rho))?;
+        }
+        if let Some(s) = self.allowable_stress {
+            check("allowable_stress", rules::positive(s))?;
         }
         if let EffectsChoice::Fixed(e) = self.effects {
             e.validate()

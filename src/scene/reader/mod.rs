@@ -351,11 +351,11 @@ fn beam(spans: &mut Spans<'_>, raw: &Spanned<RawBeam>) -> Result<BeamSpec, Scene
             .as_ref()
             .map(|k| spans.take("beam.shear_coefficient", k)),
         effects,
+        density: raw.density.as_ref().map(|d| spans.take("beam.density", d)),
         allowable_stress: raw
             .allowable_stress
             .as_ref()
             .map(|s| spans.take("beam.allowable_stress", s)),
-        density: raw.density.as_ref().map(|d| spans.take("beam.density", d)),
     })
 }
 

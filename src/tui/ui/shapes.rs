@@ -9,13 +9,12 @@
 //! - a mechanism: one case of the shown drive (`<` `>`), over the unloaded mechanism in
 //!   grey, with a bar across each flexure's clamp and its stage point `P` marked.
 //!
+//! With `M` it shows a cantilever's first mode shapes instead (DESIGN §10): the beam's and
+//! the PRB model's transverse motion about the unloaded beam over each other.
 //! The shown case's largest fibre stress (DESIGN §11) is on the bottom border (a
 //! cantilever's shown case is its path's end, the outermost shape; a mechanism's names its
 //! most stressed flexure), with `past limit` when the case lies past its path's stroke limit,
 //! and a red `*` on that flexure's centre line where the stress peaks.
-//!
-//! With `M` it shows a cantilever's first mode shapes instead (DESIGN §10): the beam's and
-//! the PRB model's transverse motion about the unloaded beam over each other.
 //!
 //! On a data scene (DESIGN §9) the beam is the scene's beam (or beam mechanism) beside the
 //! data (none where it cannot follow them), and a legend on the bottom border names the
@@ -61,12 +60,12 @@ pub struct View<'a> {
     pub model: Option<&'a ModelView>,
     /// Why there is no result, when the job failed.
     pub failure: Option<&'a str>,
+    /// The mode shapes instead (`M`): the model's, empty when it has none.
+    pub modes: Option<&'a [ModeShapePair]>,
     /// The shown case's largest fibre stress (DESIGN §11; a cantilever's shown case is its
     /// path's last, the outermost shape): `(flexure from 0, Pa, s / L)`, and whether the
     /// case is past its path's stroke limit. `None` on measured data (no stress).
     pub stress: Option<((usize, f64, f64), bool)>,
-    /// The mode shapes instead (`M`): the model's, empty when it has none.
-    pub modes: Option<&'a [ModeShapePair]>,
     /// Colours.
     pub pal: Palette,
 }
