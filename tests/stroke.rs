@@ -305,4 +305,27 @@ fn select_within_stroke_judges_up_to_the_limits() {
         &prbfit(&["select", "--fidelity", "draft", "--within-stroke"]),
         &["--within-stroke", "no allowable_stress"],
     );
+    // A path that never reaches the allowable is judged whole: `null` in the JSON's list
+    // (it was refused as a non-finite number once).
+    let p = format!(
+        "{}/assets/scenes/steel-flexure.toml",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let text = std::fs::read_to_string(p).unwrap();
+    let scene = dir.write(
+        "steel.toml",
+        &text.replacen("[beam]", "[beam]\nallowable_stress = 1e9", 1),
+    );
+    let v = common::json(&prbfit(&[
+        "select",
+        "--scene",
+        &scene,
+        "--fidelity",
+        "draft",
+        "--within-stroke",
+        "--json",
+    ]));
+    let limits = v["within_stroke"].as_array().unwrap();
+    assert!(limits.iter().any(|l| l.is_null()), "{limits:?}");
+    assert!(limits.iter().any(|l| l.is_f64()), "{limits:?}");
 }

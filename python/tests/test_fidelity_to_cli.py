@@ -161,12 +161,6 @@ def test_select_within_stroke_without_an_allowable_stress(cli):
     )
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="the CLI's --json refuses the report (exit 1, 'a result is not a finite number'): "
-    "select's within_stroke list holds null for a path without a stroke limit, and "
-    "src/cli/output.rs NULLABLE does not name it",
-)
 def test_select_within_stroke_of_a_scene_given_its_allowable_stress_in_python(cli, tmp_path):
     sc = prbfit.Scene.load(scene_path("steel-flexure"))
     sc.set_beam(allowable_stress=1.0e9)

@@ -42,13 +42,14 @@ pub struct OutputFailed(std::io::Error);
 /// JSON keys whose value may be `null` by design (or, for a list, hold `null`s: a path
 /// without a stroke limit, a flexure without an allowable stress); any other `null` would be
 /// a non-finite number that serde_json wrote as `null`, and is refused.
-const NULLABLE: [&str; 6] = [
+const NULLABLE: [&str; 7] = [
     "effects_decision",
     "chosen",
     "max_stress",
     "max_stress_at",
     "allowable_stress",
     "stroke_limits",
+    "within_stroke",
 ];
 
 /// Prints `report` as JSON (`json`) or as text.
