@@ -166,6 +166,28 @@ impl fmt::Display for FeaReport {
     }
 }
 
+/// The deck files of `n` paths (or drives), one per path, beside the output unless `--deck`
+/// names them; every file refused before any work: an existing output or deck without
+/// `--force`, or a deck that would overwrite the CSV.
+pub(super) fn deck_targets(args: &FeaArgs, n: usize) -> Result<Vec<PathBuf>> {
+    let deck_base = args
+        .deck
+        .clone()
+        .unwrap_or_else(|| args.output.with_extension("inp"));
+    let deck_files: Vec<PathBuf> = (1..=n).map(|k| deck_path(&deck_base, k, n)).collect();
+    check_target(&args.output, args.force)?;
+    for d in &deck_files {
+        if d == &args.output {
+            return Err(ReportError::input(format!(
+                "--deck {}: the deck would overwrite the CSV output",
+                d.display()
+            )));
+        }
+        check_target(d, args.force)?;
+    }
+    Ok(deck_files)
+}
+
 /// Where path `k` (1-based) of `n` goes: `deck` itself for one path, else `deck` with
 /// `-path{k}` before its extension.
 pub(super) fn deck_path(deck: &Path, k: usize, n: usize) -> PathBuf {
@@ -208,23 +230,8 @@ pub fn fea(scene: &Scene, args: &FeaArgs, ctl: &mut Control<'_>) -> Result<FeaRe
     let (beam_model, like_with_like) = beside(&resolved, section, args.section.is_some());
     let mesh = Mesh::for_tapered_beam(args.mesh, &scene.beam, section, args.taper)
         .map_err(|e| ReportError::input(format!("--mesh {}: {e}", args.mesh)))?;
-    let deck_base = args
-        .deck
-        .clone()
-        .unwrap_or_else(|| args.output.with_extension("inp"));
     let n = scene.loads.len();
-    let deck_files: Vec<PathBuf> = (1..=n).map(|k| deck_path(&deck_base, k, n)).collect();
-    // Refuse every file before any work: an existing output or deck without --force.
-    check_target(&args.output, args.force)?;
-    for d in &deck_files {
-        if d == &args.output {
-            return Err(ReportError::input(format!(
-                "--deck {}: the deck would overwrite the CSV output",
-                d.display()
-            )));
-        }
-        check_target(d, args.force)?;
-    }
+    let deck_files = deck_targets(args, n)?;
     let decks =
         fea::scene_decks(scene, &mesh, section, args.taper).map_err(|e| ReportError::failed(&e))?;
     for (file, text) in deck_files.iter().zip(&decks) {

@@ -3,7 +3,6 @@
 //! decks beside it), with the beam mechanism of §8 alongside for comparison.
 
 use std::fmt;
-use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
 use serde::Serialize;
@@ -11,13 +10,13 @@ use serde::Serialize;
 use crate::beam::Resolution;
 use crate::fea::mech::{self, MechFeaCase, MechFeaFailure};
 use crate::fea::{Ccx, CcxError, Mesh, Section, Taper};
-use crate::io::files::{check_target, write_atomic};
+use crate::io::files::write_atomic;
 use crate::mech::figures::reaction_scales;
 use crate::mech::{exact, MechCase};
 use crate::scene::{Coordinate, EffectsChoice, Mechanism, Scene};
 use crate::study::EffectsDecision;
 
-use super::fea::{deck_path, FeaArgs};
+use super::fea::{deck_targets, FeaArgs};
 use super::{resolve_scene, safe, Control, DecisionLine, Progress, ReportError, Result};
 
 /// One case: the FEA's stage and load (nondimensional, flexure 1's `L` and `E I0`) and the
@@ -242,22 +241,8 @@ pub fn fea_mechanism(
         like_with_like(resolved_mechanism, args.section);
     let meshes = mech::flexure_meshes(mechanism, args.mesh, section, args.taper)
         .map_err(|e| ReportError::input(format!("--mesh {}: {e}", args.mesh)))?;
-    let deck_base = args
-        .deck
-        .clone()
-        .unwrap_or_else(|| args.output.with_extension("inp"));
     let n = mechanism.drives.len();
-    let deck_files: Vec<PathBuf> = (1..=n).map(|k| deck_path(&deck_base, k, n)).collect();
-    check_target(&args.output, args.force)?;
-    for d in &deck_files {
-        if d == &args.output {
-            return Err(ReportError::input(format!(
-                "--deck {}: the deck would overwrite the CSV output",
-                d.display()
-            )));
-        }
-        check_target(d, args.force)?;
-    }
+    let deck_files = deck_targets(args, n)?;
     let decks = mech::mechanism_decks(mechanism, &meshes, section, args.taper);
     for (file, text) in deck_files.iter().zip(&decks) {
         write_atomic(file, text.as_bytes(), args.force)?;
