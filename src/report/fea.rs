@@ -166,6 +166,30 @@ impl fmt::Display for FeaReport {
     }
 }
 
+/// Writes each deck to its file (atomically) and finds CalculiX; without it, the error says
+/// where the decks were written (they can be run by hand). Returns the decks' names and ccx.
+pub(super) fn write_decks(
+    args: &FeaArgs,
+    deck_files: &[PathBuf],
+    decks: &[String],
+) -> Result<(Vec<String>, Ccx)> {
+    for (file, text) in deck_files.iter().zip(decks) {
+        write_atomic(file, text.as_bytes(), args.force)?;
+    }
+    let deck_names: Vec<String> = deck_files.iter().map(|d| d.display().to_string()).collect();
+    let ccx = match Ccx::find() {
+        Ok(c) => c,
+        Err(e @ CcxError::NotInstalled) => {
+            return Err(ReportError::solve(format!(
+                "{e}; the deck was written to {}",
+                deck_names.join(", ")
+            )))
+        }
+        Err(e) => return Err(ReportError::failed(&e)),
+    };
+    Ok((deck_names, ccx))
+}
+
 /// The deck files of `n` paths (or drives), one per path, beside the output unless `--deck`
 /// names them; every file refused before any work: an existing output or deck without
 /// `--force`, or a deck that would overwrite the CSV.
@@ -234,20 +258,7 @@ pub fn fea(scene: &Scene, args: &FeaArgs, ctl: &mut Control<'_>) -> Result<FeaRe
     let deck_files = deck_targets(args, n)?;
     let decks =
         fea::scene_decks(scene, &mesh, section, args.taper).map_err(|e| ReportError::failed(&e))?;
-    for (file, text) in deck_files.iter().zip(&decks) {
-        write_atomic(file, text.as_bytes(), args.force)?;
-    }
-    let deck_names: Vec<String> = deck_files.iter().map(|d| d.display().to_string()).collect();
-    let ccx = match Ccx::find() {
-        Ok(c) => c,
-        Err(e @ CcxError::NotInstalled) => {
-            return Err(ReportError::solve(format!(
-                "{e}; the deck was written to {}",
-                deck_names.join(", ")
-            )))
-        }
-        Err(e) => return Err(ReportError::failed(&e)),
-    };
+    let (deck_names, ccx) = write_decks(args, &deck_files, &decks)?;
     let mut ccx_seconds = 0.0;
     let progress = &mut *ctl.progress;
     let fea_cases = fea::solve_scene(

@@ -9,14 +9,14 @@ use serde::Serialize;
 
 use crate::beam::Resolution;
 use crate::fea::mech::{self, MechFeaCase, MechFeaFailure};
-use crate::fea::{Ccx, CcxError, Mesh, Section, Taper};
+use crate::fea::{Mesh, Section, Taper};
 use crate::io::files::write_atomic;
 use crate::mech::figures::reaction_scales;
 use crate::mech::{exact, MechCase};
 use crate::scene::{Coordinate, EffectsChoice, Mechanism, Scene};
 use crate::study::EffectsDecision;
 
-use super::fea::{deck_targets, FeaArgs};
+use super::fea::{deck_targets, write_decks, FeaArgs};
 use super::{resolve_scene, safe, Control, DecisionLine, Progress, ReportError, Result};
 
 /// One case: the FEA's stage and load (nondimensional, flexure 1's `L` and `E I0`) and the
@@ -244,20 +244,7 @@ pub fn fea_mechanism(
     let n = mechanism.drives.len();
     let deck_files = deck_targets(args, n)?;
     let decks = mech::mechanism_decks(mechanism, &meshes, section, args.taper);
-    for (file, text) in deck_files.iter().zip(&decks) {
-        write_atomic(file, text.as_bytes(), args.force)?;
-    }
-    let deck_names: Vec<String> = deck_files.iter().map(|d| d.display().to_string()).collect();
-    let ccx = match Ccx::find() {
-        Ok(c) => c,
-        Err(e @ CcxError::NotInstalled) => {
-            return Err(ReportError::solve(format!(
-                "{e}; the deck was written to {}",
-                deck_names.join(", ")
-            )))
-        }
-        Err(e) => return Err(ReportError::failed(&e)),
-    };
+    let (deck_names, ccx) = write_decks(args, &deck_files, &decks)?;
     let progress = &mut *ctl.progress;
     let run = mech::solve_mechanism(
         mechanism,
