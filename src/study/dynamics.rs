@@ -79,6 +79,17 @@ impl TruthModes {
     }
 }
 
+/// Flexure 1's frequency scale (rad/s per unit `Omega`) at `density`: the scale of every
+/// `Omega` of the scene, the truth's and the models'.
+pub(super) fn frequency_scale(
+    scene: &Scene,
+    mechanism: &crate::scene::Mechanism,
+    density: f64,
+) -> Result<FrequencyScale, ModesError> {
+    let first = mechanism.flexures.first().map_or(scene.beam, |f| f.beam);
+    FrequencyScale::rectangle(first.youngs_modulus, density, first.length, first.thickness)
+}
+
 fn truth_modes(
     scene: &Scene,
     mechanism: &crate::scene::Mechanism,
@@ -86,8 +97,7 @@ fn truth_modes(
     count: usize,
 ) -> Result<TruthModes, ModesError> {
     let first = mechanism.flexures.first().map_or(scene.beam, |f| f.beam);
-    let scale =
-        FrequencyScale::rectangle(first.youngs_modulus, density, first.length, first.thickness)?;
+    let scale = frequency_scale(scene, mechanism, density)?;
     let b = BeamTip::from_si(
         scene.body.mass,
         scene.body.inertia,

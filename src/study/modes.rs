@@ -23,12 +23,13 @@ use serde::Serialize;
 use crate::beam::modes::{FrequencyScale, ModeSettings, ModesError};
 use crate::beam::{BeamSolver, Load};
 use crate::mech::modes::{held_by, mech_modes, MechMass};
-use crate::mech::prb_modes::{prb_modes, unloaded_state};
+use crate::mech::prb_modes::prb_modes;
 use crate::mech::{exact, prb, MechCase, MechError};
 use crate::prb::{PrbMatrix, TipBody};
 use crate::scene::{Coordinate, Drive, Mechanism};
 use crate::si::load_si;
 
+use super::dynamics::frequency_scale;
 use super::{truth, Study, PRB_TOL};
 
 /// About which equilibria the modes are found.
@@ -134,17 +135,10 @@ impl Study {
 
     /// Flexure 1's frequency scale (rad/s per unit `Omega`) at the scene's density.
     pub fn frequency_scale(&self) -> Result<FrequencyScale, StudyModesError> {
-        let density = self.density()?;
-        let beam = self
-            .mechanism
-            .flexures
-            .first()
-            .map_or(self.scene.beam, |f| f.beam);
-        Ok(FrequencyScale::rectangle(
-            beam.youngs_modulus,
-            density,
-            beam.length,
-            beam.thickness,
+        Ok(frequency_scale(
+            &self.scene,
+            &self.mechanism,
+            self.density()?,
         )?)
     }
 
@@ -186,14 +180,19 @@ impl Study {
         };
         match at {
             Equilibria::Unloaded => {
-                let held = self.mechanism.drives.first().map_or([false; 3], held_by);
-                let beam = mech_modes(&self.mechanism, &mass, held, None, &settings)?.omega;
+                // The study's own unloaded frequencies (those judge and fit use) when it has
+                // as many as asked; the same solve for more.
+                let beam = match self.truth_modes() {
+                    Some(t) if t.omega.len() >= count => t.omega[..count].to_vec(),
+                    _ => {
+                        let held = self.mechanism.drives.first().map_or([false; 3], held_by);
+                        mech_modes(&self.mechanism, &mass, held, None, &settings)?.omega
+                    }
+                };
                 let models = models
                     .iter()
                     .map(|m| {
-                        let state = unloaded_state(&self.mechanism, m);
-                        let w =
-                            prb_modes(&self.mechanism, m, &state, stage).map_err(|e| e.to_string());
+                        let w = self.prb_frequencies(m, stage).map_err(|e| e.to_string());
                         compare(&beam, w)
                     })
                     .collect();
