@@ -11,6 +11,11 @@ use crate::continuation::Effort;
 
 /// Newton gives up when its residual has not halved in this many shots.
 const STAGNATION_SHOTS: u32 = 8;
+/// The first shot's update is accepted (applied linearly) when the error it leaves, estimated
+/// from the contraction constant measured on earlier cases of the path, is below a tenth of
+/// the tolerance even with this constant taken this many times larger: the constant varies
+/// slowly along a path, and a wrong acceptance would go unnoticed.
+const PRIOR_CONTRACTION_SAFETY: f64 = 10.0;
 /// Shooting segments are short enough that perturbations grow by at most about
 /// `exp(SEGMENT_GROWTH)` across one (they grow like `exp(sqrt(|alpha|) s)`).
 const SEGMENT_GROWTH: f64 = 3.0;
@@ -28,6 +33,10 @@ pub(super) struct NewtonResult {
     pub convergence: Convergence,
     /// The stability of the shape (see [`chain_stability`]).
     pub chain: Chain,
+    /// Newton's contraction constant `C` (the error left by an update of size `d` is about
+    /// `C d^2`), measured on this solve's last two updates when both were in the asymptotic
+    /// regime; `None` when it could not be measured (one shot, or damped updates).
+    pub contraction: Option<f64>,
 }
 
 /// Why Newton at a fixed load failed.
@@ -47,10 +56,16 @@ impl BeamSolver {
     /// sensitivity near `exp(SEGMENT_GROWTH)` where a single shot's would be
     /// `exp(sqrt(alpha))` and Newton's basin would shrink to nothing. An update that makes
     /// the (scaled) residual grow is halved.
+    ///
+    /// The last update is applied linearly to the tip and to the shape sampled on the last
+    /// shot (from the sensitivities the shot carries), which removes its Newton error; with
+    /// `prior`, the contraction constant measured on an earlier case of the path, a first
+    /// shot whose update leaves an error well below the tolerance is accepted at once.
     pub(super) fn newton(
         &self,
         load: Load,
         mut nodes: Vec<[f64; 2]>,
+        prior: Option<f64>,
         meter: &mut Meter<'_>,
         effort: &mut Effort,
     ) -> Result<NewtonResult, NewtonFailure> {
@@ -68,6 +83,9 @@ impl BeamSolver {
         let unknowns = 2 * segments - 1;
         let samples = self.resolution.shape_points;
         let mut shape = Vec::with_capacity(samples);
+        let mut sensitivities: Vec<[f64; 6]> = Vec::with_capacity(samples);
+        // Where each segment's samples start in `shape`.
+        let mut first_sample = vec![0usize; segments + 1];
         let mut ends: Vec<[f64; 12]> = vec![[0.0; 12]; segments];
         // Row 2k (psi continuity) reaches from column 2k - 1 to 2k + 1, row 2k + 1 (moment
         // continuity) from 2k - 1 to 2k + 2: two subdiagonals and one superdiagonal.
@@ -86,9 +104,11 @@ impl BeamSolver {
             // Shoot every segment; the shape is sampled on every iteration, which is far
             // cheaper than one more pass at the end.
             shape.clear();
+            sensitivities.clear();
             let mut origin = (0.0, 0.0);
             let mut rk_steps = 0;
             for (k, node) in nodes.iter().enumerate() {
+                first_sample[k] = shape.len();
                 let segment = Segment {
                     s_start: k as f64 / segments as f64,
                     s_end: (k + 1) as f64 / segments as f64,
@@ -99,6 +119,7 @@ impl BeamSolver {
                 let sampling = Samples {
                     points: &mut shape,
                     count: samples,
+                    sensitivities: Some(&mut sensitivities),
                 };
                 // The first segment starts at the clamp, where psi = 0 is no unknown.
                 let shot = if k == 0 {
@@ -111,6 +132,7 @@ impl BeamSolver {
                 ends[k] = end;
                 rk_steps += steps;
             }
+            first_sample[segments] = shape.len();
             let last = &ends[segments - 1];
 
             // Residual and Jacobian. Column of psi_k is 2k - 1 (k >= 1), of M_k is 2k.
@@ -205,13 +227,17 @@ impl BeamSolver {
             // The contraction is only trusted once both updates are small (the asymptotic
             // regime), and never below 1: after a long damped step it would be estimated far
             // too small and accept an update that is not yet converged.
+            // On the first shot, the contraction measured earlier on the path stands in.
             let contracting = measure < 0.5 * last_measure;
-            let contraction = (measure / (last_measure * last_measure)).max(1.0);
-            let left_after = measure * measure * contraction;
-            let quadratic = contracting
-                && last_measure <= 1e-2
-                && measure <= 1e-3
-                && left_after <= 0.1 * tip_tol;
+            let measured = (last_measure <= 1e-2 && contracting)
+                .then(|| (measure / (last_measure * last_measure)).max(1.0));
+            let contraction = match (measured, prior) {
+                (Some(c), _) => Some(c),
+                (None, Some(c)) if shot_no == 1 => Some(PRIOR_CONTRACTION_SAFETY * c.max(1.0)),
+                _ => None,
+            };
+            let quadratic = contraction
+                .is_some_and(|c| measure <= 1e-3 && measure * measure * c <= 0.1 * tip_tol);
             let stalled = !contracting && measure <= 100.0 * self.resolution.tol;
             if measure <= tip_tol || quadratic || stalled {
                 // Apply the last update linearly: free, and it removes the Newton error.
@@ -221,6 +247,7 @@ impl BeamSolver {
                     phi: last[0] + delta.phi,
                 };
                 let chain = chain_stability(&ends);
+                carry_to_shape(&mut shape, &sensitivities, &first_sample, &ends, &update);
                 return Ok(NewtonResult {
                     nodes: apply(&nodes, &update),
                     shape,
@@ -233,6 +260,7 @@ impl BeamSolver {
                         stability: chain.slope,
                     },
                     chain,
+                    contraction: measured,
                 });
             }
             // Damp wild updates: angles beyond a radian or moments beyond what the load can
@@ -334,6 +362,34 @@ pub(super) fn chain_stability(ends: &[[f64; 12]]) -> Chain {
         slope,
         direction,
         focal_point,
+    }
+}
+
+/// The shape sampled on the last shot moved linearly by Newton's last update (laid out as
+/// the unknowns): each segment's samples by the update of its start and the move of its
+/// origin, the sum of the earlier segments' end moves.
+fn carry_to_shape(
+    shape: &mut [ShapePoint],
+    sensitivities: &[[f64; 6]],
+    first_sample: &[usize],
+    ends: &[[f64; 12]],
+    update: &[f64],
+) {
+    if sensitivities.len() != shape.len() {
+        return;
+    }
+    let mut origin = (0.0, 0.0);
+    for (k, e) in ends.iter().enumerate() {
+        let d_psi = if k > 0 { update[2 * k - 1] } else { 0.0 };
+        let d_m = update[2 * k];
+        let range = first_sample[k]..first_sample[k + 1];
+        for (point, d) in shape[range.clone()].iter_mut().zip(&sensitivities[range]) {
+            point.psi += d[0] * d_m + d[3] * d_psi;
+            point.x += origin.0 + d[1] * d_m + d[4] * d_psi;
+            point.y += origin.1 + d[2] * d_m + d[5] * d_psi;
+        }
+        origin.0 += e[6] * d_m + e[10] * d_psi;
+        origin.1 += e[7] * d_m + e[11] * d_psi;
     }
 }
 

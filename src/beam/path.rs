@@ -4,12 +4,12 @@
 //! stability slope `dM(L)/dM(0)` (see the parent module for the method and its accuracy).
 
 use super::model::BeamModel;
-use super::newton::{segment_count, Chain, NewtonFailure, NewtonResult};
+use super::newton::{segment_count, Chain, NewtonFailure};
 use super::shoot::{Meter, ShotFailure};
 use super::{BeamSolution, BeamSolver, Convergence, Load, ShapePoint, SolveError, TipPose};
 use crate::continuation::{
-    Corrected, Crossing, Effort, Growth, Halving, History, Limits, PathProblem, Stop, Tally,
-    TestOrder,
+    Corrected, Crossing, Effort, Growth, Halving, History, Limits, PathProblem, Predictor, Stop,
+    Tally, TestOrder,
 };
 
 /// Continuation never takes a step that turns the tip by more than this (radians) ...
@@ -49,6 +49,9 @@ pub(super) struct PathPoint {
     convergence: Convergence,
     /// The shape's stability (`chain.slope` is `convergence.stability`).
     chain: Chain,
+    /// Newton's contraction constant, as last measured on this path (see
+    /// [`NewtonResult::contraction`]).
+    contraction: Option<f64>,
 }
 
 impl PathPoint {
@@ -71,6 +74,7 @@ impl PathPoint {
                 direction: std::f64::consts::FRAC_1_SQRT_2,
                 focal_point: false,
             },
+            contraction: None,
         }
     }
 }
@@ -129,6 +133,9 @@ impl BeamSolver {
             // critical point.
             order: TestOrder::IndicatorFirst,
             crossing: Crossing::Bisect,
+            // The parabola through the last three points: on a finely sampled path its
+            // prediction is close enough for Newton to stop after one shot.
+            predictor: Predictor::Quadratic,
             newton_iterations: MAX_NEWTON,
             attempts_per_case: Some(self.budget.continuation_steps),
             rejections_per_case: None,
@@ -232,6 +239,53 @@ impl PathProblem for BeamPath<'_> {
         };
     }
 
+    /// The parabola, unless it bends away from the secant by more than a quarter of the
+    /// secant's own step: the path turns sharply there (toward a fold, whose state goes like
+    /// `sqrt(lambda_c - lambda)`), and the parabola would overshoot where the secant has
+    /// always bisected safely.
+    fn extrapolate(
+        &self,
+        points: [&PathPoint; 3],
+        weights: [f64; 3],
+        secant_t: f64,
+        trial: &mut PathPoint,
+    ) -> bool {
+        let [p0, p1, p2] = points;
+        let [w0, w1, w2] = weights;
+        if p0.nodes.len() != p1.nodes.len() || p1.nodes.len() != p2.nodes.len() {
+            return false;
+        }
+        let mix = |f: fn(&TipPose) -> f64| w0 * f(&p0.tip) + w1 * f(&p1.tip) + w2 * f(&p2.tip);
+        let tip = TipPose {
+            a: mix(|t| t.a),
+            b: mix(|t| t.b),
+            phi: mix(|t| t.phi),
+        };
+        let secant = TipPose {
+            a: p0.tip.a + secant_t * (p0.tip.a - p1.tip.a),
+            b: p0.tip.b + secant_t * (p0.tip.b - p1.tip.b),
+            phi: p0.tip.phi + secant_t * (p0.tip.phi - p1.tip.phi),
+        };
+        if tip.max_diff(&secant) > 0.25 * secant.max_diff(&p0.tip) {
+            return false;
+        }
+        trial.nodes.clear();
+        trial.nodes.extend(
+            p0.nodes
+                .iter()
+                .zip(&p1.nodes)
+                .zip(&p2.nodes)
+                .map(|((a, b), c)| {
+                    [
+                        w0 * a[0] + w1 * b[0] + w2 * c[0],
+                        w0 * a[1] + w1 * b[1] + w2 * c[1],
+                    ]
+                }),
+        );
+        trial.tip = tip;
+        true
+    }
+
     fn correct(
         &mut self,
         lambda: f64,
@@ -240,6 +294,7 @@ impl PathProblem for BeamPath<'_> {
         effort: &mut Effort,
     ) -> Corrected<SolveError, SolveError> {
         let (end, fraction) = (self.end, history.last().lambda);
+        let prior = history.last().point.contraction;
         trial.predicted = trial.tip;
         let guess = std::mem::take(&mut trial.nodes);
         let failure = |reason: String| {
@@ -249,11 +304,15 @@ impl PathProblem for BeamPath<'_> {
                 reason,
             })
         };
-        match self
-            .solver_at(lambda)
-            .newton(end.scaled(lambda), guess, &mut self.meter, effort)
-        {
+        match self.solver_at(lambda).newton(
+            end.scaled(lambda),
+            guess,
+            prior,
+            &mut self.meter,
+            effort,
+        ) {
             Ok(result) => {
+                trial.contraction = result.contraction.or(prior);
                 trial.nodes = result.nodes;
                 trial.tip = result.tip;
                 trial.shape = result.shape;
@@ -358,49 +417,20 @@ impl PathProblem for BeamPath<'_> {
         self.peak_direction = self.peak_direction.max(point.chain.direction);
     }
 
-    /// Newton's last update reached the tip linearly but not the shape sampled on its last
-    /// shot: one more shot from the updated nodes samples the shape of the solution returned.
-    fn report(&mut self, lambda: f64, point: &PathPoint, tally: Tally, effort: &mut Effort) {
+    /// Newton's last update reached the tip and the shape linearly (see
+    /// [`BeamSolver::newton`]), so the point is the case's solution as it stands.
+    fn report(&mut self, lambda: f64, point: &PathPoint, tally: Tally, _effort: &mut Effort) {
         let load = self.end.scaled(lambda);
-        let tip_tol = self.solver.resolution.tol * load.magnitude().min(1.0);
-        let mut shots = tally.iterations;
-        let again: Option<NewtonResult> = if point.convergence.last_update > tip_tol {
-            self.solver_at(lambda)
-                .newton(load, point.nodes.clone(), &mut self.meter, effort)
-                .ok()
-        } else {
-            None
-        };
-        let solution = match again {
-            Some(again) => {
-                shots += again.shots;
-                BeamSolution {
-                    load,
-                    tip: again.tip,
-                    root_moment: again.nodes[0][1],
-                    shape: again.shape,
-                    iterations: shots,
-                    continuation_steps: tally.accepted,
-                    rk_steps: again.rk_steps,
-                    convergence: again.convergence,
-                    stress: None,
-                }
-            }
-            None => BeamSolution {
-                load,
-                tip: point.tip,
-                root_moment: point.nodes[0][1],
-                shape: point.shape.clone(),
-                iterations: shots,
-                continuation_steps: tally.accepted,
-                rk_steps: point.rk_steps,
-                convergence: point.convergence,
-                stress: None,
-            },
-        };
         let solution = BeamSolution {
-            stress: self.solver.max_stress(load, solution.tip, &solution.shape),
-            ..solution
+            load,
+            tip: point.tip,
+            root_moment: point.nodes[0][1],
+            shape: point.shape.clone(),
+            iterations: tally.iterations,
+            continuation_steps: tally.accepted,
+            rk_steps: point.rk_steps,
+            convergence: point.convergence,
+            stress: self.solver.max_stress(load, point.tip, &point.shape),
         };
         self.cases.push(solution);
     }

@@ -96,6 +96,7 @@ impl BeamSolver {
         let samples = Samples {
             points: &mut points,
             count: self.resolution.shape_points,
+            sensitivities: None,
         };
         let force = TipForce { alpha_x, alpha_y };
         shoot::<8>(

@@ -114,7 +114,7 @@ pub(crate) fn rhs<const N: usize>(
     f: TipForce,
     u: &State<N>,
 ) -> Result<State<N>, MaterialLimit> {
-    let (sn, cs) = u[PSI].sin_cos();
+    let (sn, cs) = super::trig::sin_cos(u[PSI]);
     let m = u[MOM];
     let n = f.alpha_x * cs + f.alpha_y * sn;
     let q = -f.alpha_x * sn + f.alpha_y * cs;
@@ -259,6 +259,11 @@ pub(crate) struct Segment {
 pub(crate) struct Samples<'a> {
     pub points: &'a mut Vec<ShapePoint>,
     pub count: usize,
+    /// With each sample, if asked, its sensitivities: `(psi, x, y)` (`x, y` relative to the
+    /// segment's start) differentiated with respect to the segment's starting `M` and then
+    /// its starting `psi` (zero for the clamped first segment), so that Newton can carry its
+    /// last update to the shape linearly.
+    pub sensitivities: Option<&'a mut Vec<[f64; 6]>>,
 }
 
 /// Integrates one segment. Position states start at zero (they are increments), the
@@ -337,6 +342,10 @@ fn integrate<const N: usize>(
                 y: oy,
                 psi: segment.psi,
             });
+            if let Some(sens) = samples.sensitivities.as_mut() {
+                // The clamp does not move.
+                sens.push([0.0; 6]);
+            }
             next_sample = 1;
         }
     }
@@ -401,6 +410,9 @@ fn integrate<const N: usize>(
                     point.x += ox;
                     point.y += oy;
                     samples.points.push(point);
+                    if let Some(sens) = samples.sensitivities.as_mut() {
+                        sens.push(sensitivities_at(s, h, &u, &k1, &u_new, &k7, sj));
+                    }
                     next_sample += 1;
                 }
                 g0 = g1;
@@ -437,6 +449,43 @@ fn second_derivatives<const N: usize>(
     probe[5] = f[MOM];
     let d = rhs(model, force, &probe).map_err(ShotFailure::Material)?;
     Ok([d[4], d[5], d[6], d[7]])
+}
+
+/// Cubic Hermite interpolation of the sensitivities of `psi, x, y` inside one accepted step
+/// (the layout of [`Samples::sensitivities`]). They only carry Newton's last update, which is
+/// already small, so the interpolation's O(h^4) error is negligible in the shape.
+fn sensitivities_at<const N: usize>(
+    s0: f64,
+    h: f64,
+    u0: &State<N>,
+    f0: &State<N>,
+    u1: &State<N>,
+    f1: &State<N>,
+    s: f64,
+) -> [f64; 6] {
+    let t = ((s - s0) / h).clamp(0.0, 1.0);
+    let t2 = t * t;
+    let t3 = t2 * t;
+    let h00 = 2.0 * t3 - 3.0 * t2 + 1.0;
+    let h10 = t3 - 2.0 * t2 + t;
+    let h01 = 3.0 * t2 - 2.0 * t3;
+    let h11 = t3 - t2;
+    let interp = |i: usize| {
+        if i < N {
+            h00 * u0[i] + h10 * h * f0[i] + h01 * u1[i] + h11 * h * f1[i]
+        } else {
+            0.0
+        }
+    };
+    // Slots 4, 6, 7: d(psi, x, y)/dM; 8, 10, 11: d(psi, x, y)/dpsi (N = 12 only).
+    [
+        interp(4),
+        interp(6),
+        interp(7),
+        if N == 12 { interp(8) } else { 0.0 },
+        if N == 12 { interp(10) } else { 0.0 },
+        if N == 12 { interp(11) } else { 0.0 },
+    ]
 }
 
 /// Quintic Hermite interpolation of `psi, x, y` inside one accepted step, from values, first

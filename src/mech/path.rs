@@ -6,8 +6,8 @@
 
 use crate::beam::Load;
 use crate::continuation::{
-    self, Corrected, Crossing, Effort, Growth, Halving, History, Limits, PathProblem, Stop, Tally,
-    TestOrder,
+    self, Corrected, Crossing, Effort, Growth, Halving, History, Limits, PathProblem, Predictor,
+    Stop, Tally, TestOrder,
 };
 use crate::linalg::lu_solve;
 use crate::scene::{Coordinate, DrivePath, Mechanism};
@@ -154,6 +154,7 @@ impl<M: FlexureModel> MechSolver<M> {
             // the path at once (Newton converges on both sides of a fold).
             order: TestOrder::BranchFirst,
             crossing: Crossing::Stop,
+            predictor: Predictor::Secant,
             newton_iterations: self.max_newton,
             attempts_per_case: None,
             rejections_per_case: Some(REJECTIONS_PER_CASE),
