@@ -94,8 +94,7 @@ def run(binary, repeats=3, scipy_repeats=None):
     scene = common.write_scene(
         common.elastica_scene(common.DEFAULT_PATHS, STEPS, "built-in beam, elastica, 1000 cases"),
         "beam-1000.toml")
-    wall, out = common.run_prbfit(binary, ["solve", "--scene", scene, "--json"], repeats)
-    own = out["seconds"]
+    wall, own, out = common.run_prbfit(binary, ["solve", "--scene", scene, "--json"], repeats)
     cases = out["cases"]
     if len(cases) != n:
         raise RuntimeError(f"prbfit solved {len(cases)} cases, expected {n}")
@@ -104,14 +103,11 @@ def run(binary, repeats=3, scipy_repeats=None):
         if max(abs(load["alpha_x"] - loads_case[0]), abs(load["alpha_y"] - loads_case[1]),
                abs(load["beta"] - loads_case[2])) > 1e-12:
             raise RuntimeError(f"case order differs: prbfit {load}, scipy {loads_case}")
-    # prbfit's own figure varies run to run; take the best over a few more runs.
-    for _ in range(repeats - 1):
-        own = min(own, common.run_prbfit(binary, ["solve", "--scene", scene, "--json"], 1)[1]
-                  ["seconds"])
     scipy_time, tips = common.best_of(scipy_repeats or repeats, lambda: solve_all(paths))
     diff = max_tip_difference(tips, cases)
     # Each side's own error, against prbfit at tol 1e-12 (tip good to about 1e-11).
-    _, ref = common.run_prbfit(binary, ["solve", "--scene", scene, "--json", "--tol", "1e-12"], 1)
+    _, _, ref = common.run_prbfit(binary, ["solve", "--scene", scene, "--json", "--tol", "1e-12"],
+                                  1)
     err_scipy = max_tip_difference(tips, ref["cases"])
     err_prbfit = max_tip_difference([(c["a"], c["b"], c["phi"]) for c in cases], ref["cases"])
     return {

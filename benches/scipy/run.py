@@ -58,7 +58,8 @@ def main(argv=None):
     print("|---|---|---|---|---|---|---|")
     for r in results:
         if r["agree"]:
-            ratios = (f"{r['scipy'] / r['prbfit_wall']:.0f}x", f"{r['scipy'] / r['prbfit_own']:.0f}x")
+            ratios = (f"{r['scipy'] / r['prbfit_wall']:.0f}x",
+                      f"{r['scipy'] / r['prbfit_own']:.0f}x")
         else:
             ratios = ("n/a: answers differ", "n/a")
         print(f"| {r['job']} | {common.fmt_seconds(r['prbfit_wall'])} | "
