@@ -87,14 +87,17 @@ def max_tip_difference(tips, cases):
     return worst
 
 
-def run(binary, repeats=3, scipy_repeats=None):
-    """Times both sides; returns a dict for run.py's table."""
+def run(binary, repeats=3, prbfit_repeats=None):
+    """Times both sides (best of `repeats`; prbfit of `prbfit_repeats`, default the same).
+
+    Returns a dict for run.py's table."""
     paths = common.cases_along(common.DEFAULT_PATHS, STEPS)
     n = sum(len(p) for p in paths)
     scene = common.write_scene(
         common.elastica_scene(common.DEFAULT_PATHS, STEPS, "built-in beam, elastica, 1000 cases"),
         "beam-1000.toml")
-    wall, own, out = common.run_prbfit(binary, ["solve", "--scene", scene, "--json"], repeats)
+    wall, own, out = common.run_prbfit(binary, ["solve", "--scene", scene, "--json"],
+                                       prbfit_repeats or repeats)
     cases = out["cases"]
     if len(cases) != n:
         raise RuntimeError(f"prbfit solved {len(cases)} cases, expected {n}")
@@ -103,7 +106,7 @@ def run(binary, repeats=3, scipy_repeats=None):
         if max(abs(load["alpha_x"] - loads_case[0]), abs(load["alpha_y"] - loads_case[1]),
                abs(load["beta"] - loads_case[2])) > 1e-12:
             raise RuntimeError(f"case order differs: prbfit {load}, scipy {loads_case}")
-    scipy_time, tips = common.best_of(scipy_repeats or repeats, lambda: solve_all(paths))
+    scipy_time, tips = common.best_of(repeats, lambda: solve_all(paths))
     diff = max_tip_difference(tips, cases)
     # Each side's own error, against prbfit at tol 1e-12 (tip good to about 1e-11).
     _, _, ref = common.run_prbfit(binary, ["solve", "--scene", scene, "--json", "--tol", "1e-12"],

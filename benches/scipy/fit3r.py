@@ -201,8 +201,10 @@ def scipy_job(paths):
     return matrix, j, t1 - t0, t2 - t1, result, tips, chain
 
 
-def run(binary, repeats=3):
-    """Times both sides; returns a dict for run.py's table."""
+def run(binary, repeats=3, prbfit_repeats=None):
+    """Times both sides (best of `repeats`; prbfit of `prbfit_repeats`, default the same).
+
+    Returns a dict for run.py's table."""
     paths = common.cases_along(common.DEFAULT_PATHS, STEPS)
     scene = common.write_scene(
         common.elastica_scene(common.DEFAULT_PATHS, STEPS, "built-in beam, elastica, 20 cases"),
@@ -223,7 +225,7 @@ def run(binary, repeats=3):
         if fidelity == "precise" and any(t["reached"] for t in tried):
             break
         walls, owns, fits = [], [], []
-        for _ in range(repeats):
+        for _ in range(prbfit_repeats or repeats):
             wall, own, out = common.run_prbfit(
                 binary, ["fit", "--scene", scene, "--topology", "L-R-R-R", "--fidelity",
                          fidelity, "--json"], 1)

@@ -186,13 +186,15 @@ def scene_text(steps):
     return text.replace("steps = 8", f"steps = {steps}")
 
 
-def run(binary, repeats=3):
-    """Times both sides; returns a dict for run.py's table."""
+def run(binary, repeats=3, prbfit_repeats=None):
+    """Times both sides (best of `repeats`; prbfit of `prbfit_repeats`, default the same).
+
+    Returns a dict for run.py's table."""
     text = scene_text(STEPS)
     stage = Stage(tomllib.loads(text))
     scene = common.write_scene(text, "parallel-stage-1000.toml")
     args = ["solve", "--scene", scene, "--json"]
-    wall, own, out = common.run_prbfit(binary, args, repeats)
+    wall, own, out = common.run_prbfit(binary, args, prbfit_repeats or repeats)
     cases = out["cases"]
     n = len(stage.drives) * STEPS
     if len(cases) != n:

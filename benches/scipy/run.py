@@ -1,6 +1,7 @@
 """Runs the three scipy comparison jobs against one prbfit binary and prints one Markdown table.
 
-Usage: python run.py PRBFIT_BINARY [--repeats N] [--jobs beam,fit3r,parallelogram]
+Usage: python run.py PRBFIT_BINARY [--repeats N] [--prbfit-repeats N]
+                     [--jobs beam,fit3r,parallelogram]
 
 Every time is the best of N runs (default 3) in this one process, on this machine, in this
 run: that is how issue 24 measures its ratios. prbfit is timed twice: the whole process
@@ -31,6 +32,10 @@ def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("binary", help="the prbfit binary (e.g. target/release/prbfit)")
     parser.add_argument("--repeats", type=int, default=3, help="best of N runs (default 3)")
+    parser.add_argument("--prbfit-repeats", type=int, default=None,
+                        help="best of N runs for prbfit's side (default: --repeats); prbfit's "
+                        "runs take milliseconds, so more of them steady its figure on a busy "
+                        "machine")
     parser.add_argument("--jobs", default=",".join(JOBS),
                         help="comma-separated subset of " + ", ".join(JOBS))
     args = parser.parse_args(argv)
@@ -45,12 +50,13 @@ def main(argv=None):
     built = datetime.datetime.fromtimestamp(binary.stat().st_mtime, datetime.timezone.utc)
     print(f"prbfit: {binary} (modified {built:%Y-%m-%d %H:%M} UTC)")
     print(f"python {platform.python_version()}, numpy {numpy.__version__}, "
-          f"scipy {scipy.__version__}; best of {args.repeats}")
+          f"scipy {scipy.__version__}; best of {args.repeats} "
+          f"(prbfit: of {args.prbfit_repeats or args.repeats})")
     print(f"load average at start: {common.load_average()}")
     results = []
     for name in names:
         print(f"running {name} ...", file=sys.stderr, flush=True)
-        results.append(JOBS[name].run(binary, args.repeats))
+        results.append(JOBS[name].run(binary, args.repeats, args.prbfit_repeats))
     print(f"load average at end:   {common.load_average()}")
     print()
     print("| job | prbfit (process) | prbfit (own `seconds`) | scipy | ratio (process) "
