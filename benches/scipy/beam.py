@@ -122,6 +122,7 @@ def run(binary, repeats=3, prbfit_repeats=None):
         "agreement": (f"max tip diff {diff:.1e} L/rad (error vs tol 1e-12: scipy "
                       f"{err_scipy:.1e}, prbfit {err_prbfit:.1e})"),
         "agree": diff < 1e-6,
+        "goal": 1000,
         "prbfit_cmd": f"solve --scene {scene} --json",
     }
 

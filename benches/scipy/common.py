@@ -103,5 +103,7 @@ def load_average():
 
 
 def fmt_seconds(s):
-    """Seconds as ms below 1 s, else s."""
+    """Seconds as us below 1 ms, ms below 1 s, else s."""
+    if s < 1e-3:
+        return f"{s * 1e6:.0f} us"
     return f"{s * 1e3:.1f} ms" if s < 1.0 else f"{s:.2f} s"

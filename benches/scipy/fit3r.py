@@ -259,6 +259,7 @@ def run(binary, repeats=3, prbfit_repeats=None):
         "agreement": (f"J scipy {j_scipy:.4e}, prbfit {chosen['fidelity']} {chosen['J']:.4e} "
                       f"({100 * (chosen['J'] / j_scipy - 1):+.1f} %; scipy's J of it "
                       f"{chosen['J_scipy_of_it']:.4e}); truth tip diff {truth_diff:.1e}"),
+        "goal": 1000,
         "agree": abs(chosen["J_scipy_of_it"] / chosen["J"] - 1) < 1e-3 and truth_diff < 1e-6,
         "prbfit_cmd": (f"fit --scene {scene} --topology L-R-R-R --fidelity {chosen['fidelity']} "
                        "--json"),

@@ -223,6 +223,7 @@ def run(binary, repeats=3, prbfit_repeats=None):
         "agreement": (f"max stage diff {diff:.1e} L/rad (error vs tol 1e-12: scipy "
                       f"{err_scipy:.1e}, prbfit {err_prbfit:.1e})"),
         "agree": diff < 1e-6,
+        "goal": 3000,
         "prbfit_cmd": f"solve --scene {scene} --json",
     }
 
