@@ -1,0 +1,141 @@
+"""Job 1: the beam, 1000 cases. scipy's solve_bvp (tol 1e-8) against `prbfit solve --scene`.
+
+The beam is DESIGN §2 with every effect off: the inextensible Euler-Bernoulli elastica, a
+cantilever under a tip load fixed in direction. The cases are the built-in scene's four load
+paths (transverse force, a force pushing back at 135 degrees, a pure moment, force and moment
+together), 250 steps each: 1000 cases, each reached by continuation from the previous one.
+
+The scipy program is the one a competent engineer writes for this BVP:
+- the state is (x, y, psi, M) with the bending moment M as a state (dM/ds = alpha_x sin psi -
+  alpha_y cos psi), so the boundary conditions are local: x = y = psi = 0 at the root and
+  M = beta at the tip (no unknown tip position inside the right-hand side);
+- the right-hand side is vectorised over the mesh, and both Jacobians (of the right-hand side
+  and of the boundary conditions) are given analytically;
+- each case starts from the previous case's converged mesh and solution along its load path
+  (the first case of a path from the straight beam), so solve_bvp does little more than one
+  Newton solve per case.
+
+Usage: python beam.py PRBFIT_BINARY [--repeats N]
+"""
+
+import argparse
+import sys
+
+import numpy as np
+from scipy.integrate import solve_bvp
+
+import common
+
+STEPS = 250  # per path: 4 paths x 250 = 1000 cases
+TOL = 1e-8   # solve_bvp's tolerance, as issue 24 measures it
+
+
+def solve_path(loads, tol=TOL):
+    """Solves the elastica along one load path by continuation; returns [(a, b, phi)] per case."""
+    s = np.linspace(0.0, 1.0, 11)
+    guess = np.vstack([s, np.zeros_like(s), np.zeros_like(s), np.zeros_like(s)])
+    tips = []
+    for (ax, ay, beta) in loads:
+        def rhs(_s, y, ax=ax, ay=ay):
+            psi = y[2]
+            c, sn = np.cos(psi), np.sin(psi)
+            return np.vstack([c, sn, y[3], ax * sn - ay * c])
+
+        def rhs_jac(_s, y, ax=ax, ay=ay):
+            psi = y[2]
+            c, sn = np.cos(psi), np.sin(psi)
+            jac = np.zeros((4, 4, psi.size))
+            jac[0, 2] = -sn
+            jac[1, 2] = c
+            jac[2, 3] = 1.0
+            jac[3, 2] = ax * c + ay * sn
+            return jac
+
+        def bc(ya, yb, beta=beta):
+            return np.array([ya[0], ya[1], ya[2], yb[3] - beta])
+
+        sol = solve_bvp(rhs, bc, s, guess, fun_jac=rhs_jac, bc_jac=BC_JAC, tol=tol,
+                        max_nodes=100000)
+        if sol.status != 0:
+            raise RuntimeError(f"solve_bvp failed at load {(ax, ay, beta)}: {sol.message}")
+        s, guess = sol.x, sol.y
+        tips.append((sol.y[0, -1], sol.y[1, -1], sol.y[2, -1]))
+    return tips
+
+
+def _bc_jac(_ya, _yb):
+    dya = np.zeros((4, 4))
+    dya[0, 0] = dya[1, 1] = dya[2, 2] = 1.0
+    dyb = np.zeros((4, 4))
+    dyb[3, 3] = 1.0
+    return dya, dyb
+
+
+BC_JAC = _bc_jac
+
+
+def solve_all(paths):
+    """Every case of every path, in scene order."""
+    return [tip for loads in paths for tip in solve_path(loads)]
+
+
+def max_tip_difference(tips, cases):
+    """Largest |difference| in a, b or phi between scipy's tips and prbfit's `solve` cases."""
+    worst = 0.0
+    for (a, b, phi), case in zip(tips, cases):
+        worst = max(worst, abs(a - case["a"]), abs(b - case["b"]), abs(phi - case["phi"]))
+    return worst
+
+
+def run(binary, repeats=3, prbfit_repeats=None):
+    """Times both sides (best of `repeats`; prbfit of `prbfit_repeats`, default the same).
+
+    Returns a dict for run.py's table."""
+    paths = common.cases_along(common.DEFAULT_PATHS, STEPS)
+    n = sum(len(p) for p in paths)
+    scene = common.write_scene(
+        common.elastica_scene(common.DEFAULT_PATHS, STEPS, "built-in beam, elastica, 1000 cases"),
+        "beam-1000.toml")
+    wall, own, out = common.run_prbfit(binary, ["solve", "--scene", scene, "--json"],
+                                       prbfit_repeats or repeats)
+    cases = out["cases"]
+    if len(cases) != n:
+        raise RuntimeError(f"prbfit solved {len(cases)} cases, expected {n}")
+    for loads_case, case in zip([c for p in paths for c in p], cases):
+        load = case["load"]
+        if max(abs(load["alpha_x"] - loads_case[0]), abs(load["alpha_y"] - loads_case[1]),
+               abs(load["beta"] - loads_case[2])) > 1e-12:
+            raise RuntimeError(f"case order differs: prbfit {load}, scipy {loads_case}")
+    scipy_time, tips = common.best_of(repeats, lambda: solve_all(paths))
+    diff = max_tip_difference(tips, cases)
+    # Each side's own error, against prbfit at tol 1e-12 (tip good to about 1e-11).
+    _, _, ref = common.run_prbfit(binary, ["solve", "--scene", scene, "--json", "--tol", "1e-12"],
+                                  1)
+    err_scipy = max_tip_difference(tips, ref["cases"])
+    err_prbfit = max_tip_difference([(c["a"], c["b"], c["phi"]) for c in cases], ref["cases"])
+    return {
+        "job": f"beam, {n} cases (elastica, 4 paths x {STEPS})",
+        "prbfit_wall": wall,
+        "prbfit_own": own,
+        "scipy": scipy_time,
+        "scipy_note": f"solve_bvp tol {TOL:g}, warm-started",
+        "agreement": (f"max tip diff {diff:.1e} L/rad (error vs tol 1e-12: scipy "
+                      f"{err_scipy:.1e}, prbfit {err_prbfit:.1e})"),
+        "agree": diff < 1e-6,
+        "goal": 1000,
+        "prbfit_cmd": f"solve --scene {scene} --json",
+    }
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("binary")
+    parser.add_argument("--repeats", type=int, default=3)
+    args = parser.parse_args(argv)
+    r = run(args.binary, args.repeats)
+    for k, v in r.items():
+        print(f"{k}: {v}")
+
+
+if __name__ == "__main__":
+    sys.exit(main())
