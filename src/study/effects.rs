@@ -12,7 +12,7 @@ use crate::beam::{BeamSolution, Effects, Resolution};
 use crate::cancel::CancelToken;
 use crate::eval::{Baseline, BaselineError};
 use crate::mech::{exact, MechCase, MechError};
-use crate::scene::{Accuracy, BeamSpec, EffectsChoice, LoadPath, Mechanism, Scene};
+use crate::scene::{Accuracy, BeamSpec, Drive, EffectsChoice, LoadPath, Mechanism, Scene};
 
 use crate::mech::figures::{compare, has_reactions, CompareError};
 
@@ -192,25 +192,55 @@ fn decide_beam_effects(
         .iter()
         .map(|p| LoadPath {
             end: p.end,
-            steps: (1..=p.steps.min(DECIDE_STEPS))
-                .rev()
-                .find(|d| p.steps % d == 0)
-                .unwrap_or(p.steps),
+            steps: sample_steps(p.steps),
         })
         .collect();
-    if sample.as_slice() != loads {
-        let mut sampled = Solved::new(beam, &sample, resolution, cancel);
-        let mut decision = decide(accuracy, full, |e| sampled.change(full, e))?;
-        let together = every.change(full, decision.effects)?.fraction(accuracy);
+    let mut sampled =
+        (sample.as_slice() != loads).then(|| Solved::new(beam, &sample, resolution, cancel));
+    let mut decision = decide_on_sample(
+        accuracy,
+        full,
+        sampled
+            .as_mut()
+            .map(|s| move |e: Effects| s.change(full, e)),
+        |e| every.change(full, e),
+    )?;
+    decision.plate = Some(plate);
+    Ok(decision)
+}
+
+/// A path's steps on the sample that decides the effects: the largest divisor of `steps` not
+/// above [`DECIDE_STEPS`], so the sample's cases are the path's own, its end among them.
+fn sample_steps(steps: u32) -> u32 {
+    (1..=steps.min(DECIDE_STEPS))
+        .rev()
+        .find(|d| steps % d == 0)
+        .unwrap_or(steps)
+}
+
+/// [`decide`] on the sample's changes `sample` (when the scene has more cases than its
+/// sample), checked on every case (`every`): the decided model must stay within
+/// [`AUTO_FRACTION`] of the full one there, which is the figure reported; else (and without a
+/// sample) the decision is made on every case.
+fn decide_on_sample<E, S, A>(
+    accuracy: &Accuracy,
+    full: Effects,
+    sample: Option<S>,
+    mut every: A,
+) -> Result<EffectsDecision, E>
+where
+    S: FnMut(Effects) -> Result<Change, E>,
+    A: FnMut(Effects) -> Result<Change, E>,
+{
+    if let Some(sample) = sample {
+        let mut decision = decide(accuracy, full, sample)?;
+        let together = every(decision.effects)?.fraction(accuracy);
         if together <= AUTO_FRACTION {
             decision.dropped_together_fraction = together;
-            decision.plate = Some(plate);
             return Ok(decision);
         }
     }
-    let mut decision = decide(accuracy, full, |e| every.change(full, e))?;
-    decision.plate = Some(plate);
-    Ok(decision)
+    decide(accuracy, full, every)
 }
 
 /// A beam's cases solved with several sets of effects, each set solved once however often
@@ -360,55 +390,93 @@ fn decide<E>(
 /// Decides the effects of a mechanism's flexures from the mechanism itself: as
 /// [`decide_beam_effects`], with the exact mechanism (DESIGN §8) as the truth, every flexure whose
 /// effects are `auto` modelled alike, and the change judged where the designer looks: the
-/// stage's motion in its loaded coordinates and the reactions of its prescribed ones.
+/// stage's motion in its loaded coordinates and the reactions of its prescribed ones. The
+/// same sample decides: each proportional drive's cases at the fractions `k / d`, `d` the
+/// largest divisor of its steps not above [`DECIDE_STEPS`] (a measured drive's rows are all
+/// kept: they are the data's own cases), the decision checked on every case.
 fn decide_mechanism_effects(
     mechanism: &Mechanism,
     accuracy: &Accuracy,
     resolution: Resolution,
 ) -> Result<EffectsDecision, EffectsError> {
-    let with = |e: Effects| {
-        let mut m = mechanism.clone();
-        for f in &mut m.flexures {
-            if f.beam.effects == EffectsChoice::Auto {
-                f.beam.effects = EffectsChoice::Fixed(e);
-            }
-        }
-        m
-    };
-    let mut solved: Vec<(Effects, Vec<Vec<MechCase>>)> = Vec::new();
     // A flexure's plate stiffening in a mechanism is its ends' (`Flexure::model`: the guided
     // flexure's when its tip is clamped to the stage, the cantilever's when pinned or
     // coupled): the anticlastic part is load dependent, and the mechanism solver does not
     // follow each flexure's own load path case by case.
     let full = Effects::ALL.with_plane_strain(true);
-    decide(
+    let sample: Vec<Drive> = mechanism
+        .drives
+        .iter()
+        .map(|d| Drive {
+            steps: if d.rows.is_empty() {
+                sample_steps(d.steps)
+            } else {
+                d.steps
+            },
+            ..d.clone()
+        })
+        .collect();
+    let mut every = MechSolved::new(mechanism, mechanism.drives.clone(), resolution);
+    let mut sampled =
+        (sample != mechanism.drives).then(|| MechSolved::new(mechanism, sample, resolution));
+    decide_on_sample(
         accuracy,
         full,
-        |effects: Effects| -> Result<Change, EffectsError> {
-            let mut solve = |e: Effects| -> Result<usize, EffectsError> {
-                if let Some(i) = solved.iter().position(|(k, _)| *k == e) {
-                    return Ok(i);
-                }
-                let cases = exact::solve(&with(e), resolution)
-                    .map_err(|source| EffectsError::Mechanism { effects: e, source })?;
-                solved.push((e, cases));
-                Ok(solved.len() - 1)
-            };
-            let all = solve(full)?;
-            let this = solve(effects)?;
-            let change =
-                compare(&mechanism.drives, &solved[this].1, &solved[all].1, 1.0, 1.0)?.figures;
-            debug_assert_eq!(
-                change.max_force_err.is_some(),
-                has_reactions(&mechanism.drives)
-            );
-            Ok(Change {
-                pos: change.max_pos_err,
-                ang: change.max_ang_err,
-                force: change.max_force_err,
-            })
-        },
+        sampled
+            .as_mut()
+            .map(|s| move |e: Effects| s.change(full, e)),
+        |e| every.change(full, e),
     )
+}
+
+/// A mechanism's drives solved with several sets of effects (for every flexure whose effects
+/// are `auto`), each set solved once however often it is asked for.
+struct MechSolved<'a> {
+    mechanism: &'a Mechanism,
+    drives: Vec<Drive>,
+    resolution: Resolution,
+    solved: Vec<(Effects, Vec<Vec<MechCase>>)>,
+}
+
+impl<'a> MechSolved<'a> {
+    fn new(mechanism: &'a Mechanism, drives: Vec<Drive>, resolution: Resolution) -> Self {
+        MechSolved {
+            mechanism,
+            drives,
+            resolution,
+            solved: Vec::new(),
+        }
+    }
+
+    /// The index in `solved` of the cases solved with `e`.
+    fn get(&mut self, e: Effects) -> Result<usize, EffectsError> {
+        if let Some(i) = self.solved.iter().position(|(k, _)| *k == e) {
+            return Ok(i);
+        }
+        let mut m = self.mechanism.clone();
+        m.drives.clone_from(&self.drives);
+        for f in &mut m.flexures {
+            if f.beam.effects == EffectsChoice::Auto {
+                f.beam.effects = EffectsChoice::Fixed(e);
+            }
+        }
+        let cases = exact::solve(&m, self.resolution)
+            .map_err(|source| EffectsError::Mechanism { effects: e, source })?;
+        self.solved.push((e, cases));
+        Ok(self.solved.len() - 1)
+    }
+
+    /// What modelling with `effects` instead of `reference` changes on the drives.
+    fn change(&mut self, reference: Effects, effects: Effects) -> Result<Change, EffectsError> {
+        let (r, e) = (self.get(reference)?, self.get(effects)?);
+        let change = compare(&self.drives, &self.solved[e].1, &self.solved[r].1, 1.0, 1.0)?.figures;
+        debug_assert_eq!(change.max_force_err.is_some(), has_reactions(&self.drives));
+        Ok(Change {
+            pos: change.max_pos_err,
+            ang: change.max_ang_err,
+            force: change.max_force_err,
+        })
+    }
 }
 
 /// Why the effects could not be decided.
