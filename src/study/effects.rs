@@ -214,7 +214,7 @@ fn decide_beam_effects(
 fn sample_steps(steps: u32) -> u32 {
     (1..=steps.min(DECIDE_STEPS))
         .rev()
-        .find(|d| steps % d == 0)
+        .find(|d| steps.is_multiple_of(*d))
         .unwrap_or(steps)
 }
 
