@@ -314,7 +314,8 @@ fn a_mechanism_decided_on_a_sample_of_its_drives_is_decided_on_every_case() {
         b.poisson_ratio = 0.49;
     };
     let keep = |_: &mut BeamSpec| {};
-    let cases: [(&str, &str, &dyn Fn(&mut BeamSpec)); 3] = [
+    type Edit<'a> = &'a dyn Fn(&mut BeamSpec);
+    let cases: [(&str, &str, Edit); 3] = [
         ("slider-crank", "slider-crank", &keep),
         ("slider-crank", "stubby rubber slider-crank", &stubby),
         ("parallel-stage", "parallel-stage", &keep),
