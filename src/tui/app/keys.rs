@@ -187,10 +187,16 @@ impl App {
             }
             Action::ModeShapes => {
                 self.show_modes = !self.show_modes;
-                self.set_info(if self.show_modes {
-                    "mode shapes: beam and PRB, unloaded, the tip's motion 1 (M: back)"
-                } else {
-                    "deformed shapes"
+                let mechanism = self.edit.case_form() == crate::study::CaseForm::Stage;
+                self.set_info(match (self.show_modes, mechanism) {
+                    (true, false) => {
+                        "mode shapes: beam and PRB, unloaded, the tip's motion 1 (M: back)"
+                    }
+                    (true, true) => {
+                        "mode shapes: beam and PRB displaced about the unloaded mechanism, \
+                         the largest motion 0.15 of its size (M: back)"
+                    }
+                    (false, _) => "deformed shapes",
                 });
             }
             Action::ToggleSi => {
