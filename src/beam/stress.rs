@@ -67,7 +67,7 @@ impl BeamModel {
 
 /// `sigma` and `d sigma / ds` at a section of angle `psi` carrying the moment `m`.
 fn stress_and_slope(model: &BeamModel, force: TipForce, psi: f64, m: f64) -> Option<(f64, f64)> {
-    let (sn, cs) = psi.sin_cos();
+    let (sn, cs) = super::trig::sin_cos(psi);
     let n = force.alpha_x * cs + force.alpha_y * sn;
     let q = -force.alpha_x * sn + force.alpha_y * cs;
     let (_, de_dn, p) = model.axial_strain(n).ok()?;
@@ -147,7 +147,7 @@ impl BeamSolver {
         let mut values = Vec::with_capacity(shape.len());
         let mut forces = Vec::with_capacity(shape.len());
         for p in shape {
-            let (sn, cs) = p.psi.sin_cos();
+            let (sn, cs) = super::trig::sin_cos(p.psi);
             let n = force.alpha_x * cs + force.alpha_y * sn;
             values.push(c_e * n.abs() + bend * moment(p).abs());
             forces.push(n);

@@ -199,6 +199,44 @@ pub fn search(
     progress: &mut dyn FnMut(&FitProgress),
     cancel: &CancelToken,
 ) -> Result<Found, SearchError> {
+    search_in(target, start, options, progress, cancel, true)
+}
+
+/// The fidelity's polish alone from `start` (no other starts, no swarm): [`search`]'s local
+/// phase, for a start already near the optimum (a staged fit's last stage).
+pub fn polish(
+    target: &dyn Target,
+    start: &PrbMatrix,
+    options: &FitOptions,
+    progress: &mut dyn FnMut(&FitProgress),
+    cancel: &CancelToken,
+) -> Result<Found, SearchError> {
+    search_in(target, start, options, progress, cancel, false)
+}
+
+/// `J` of `matrix` on `target` with the cells `template` frees (and the mus when the target
+/// fits them); `None` if the matrix cannot be parameterised or `J` is not finite.
+pub fn objective_of(target: &dyn Target, template: &PrbMatrix, matrix: &PrbMatrix) -> Option<f64> {
+    let param = if target.masses() {
+        Parameterisation::with_masses(template).ok()?
+    } else {
+        Parameterisation::new(template).ok()?
+    };
+    let cancel = CancelToken::new();
+    Objective::new(target, &param, &cancel)
+        .matrix_value(matrix)
+        .filter(|j| j.is_finite())
+}
+
+/// [`search`] (`global`) or [`polish`].
+fn search_in(
+    target: &dyn Target,
+    start: &PrbMatrix,
+    options: &FitOptions,
+    progress: &mut dyn FnMut(&FitProgress),
+    cancel: &CancelToken,
+    global: bool,
+) -> Result<Found, SearchError> {
     let t0 = Instant::now();
     options.validate()?;
     let param = if target.masses() {
@@ -242,8 +280,12 @@ pub fn search(
     let mut iterations = 0u32;
 
     // Global phase: a particle swarm seeded with the starts.
-    let mut candidates = starts.points.clone();
-    if let Some(size) = fidelity.swarm() {
+    let mut candidates = if global {
+        starts.points.clone()
+    } else {
+        vec![p_start.clone()]
+    };
+    if let (true, Some(size)) = (global, fidelity.swarm()) {
         let (best, swarm_iterations) =
             swarm::run(&objective, &mut tracker, &mut starts, size, options.seed);
         if let Some(best) = best {
