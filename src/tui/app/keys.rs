@@ -191,12 +191,14 @@ impl App {
                 self.set_info(match (self.show_modes, mechanism) {
                     (true, false) => {
                         "mode shapes: beam and PRB, unloaded, the tip's motion 1 (M: back)"
+                            .to_string()
                     }
-                    (true, true) => {
+                    (true, true) => format!(
                         "mode shapes: beam and PRB displaced about the unloaded mechanism, \
-                         the largest motion 0.15 of its size (M: back)"
-                    }
-                    (false, _) => "deformed shapes",
+                         the largest motion {} of its size (M: back)",
+                        crate::tui::ui::shapes::MODE_SCALE
+                    ),
+                    (false, _) => "deformed shapes".to_string(),
                 });
             }
             Action::ToggleSi => {
