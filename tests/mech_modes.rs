@@ -358,3 +358,40 @@ fn a_cantilevers_mode_shapes_are_its_one_flexure_mechanisms() {
         );
     }
 }
+
+/// A data scene's mode shapes are its nominal beam's (the data are not dynamic), through
+/// the same path: the wide strip's 3D FEA (a cantilever data scene).
+#[test]
+fn a_data_scenes_mode_shapes_are_the_nominal_beams() {
+    use prbfit::study::modes::Equilibria;
+    use prbfit::study::{Sampling, Study};
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes");
+    let text = std::fs::read_to_string(path.join("wide-strip-fea.toml"))
+        .unwrap()
+        .replacen(
+            "poisson_ratio = 0.3",
+            "poisson_ratio = 0.3\ndensity = 7850.0",
+            1,
+        )
+        .replacen(
+            "data = \"wide-strip-fea.csv\"",
+            &format!("data = {:?}", path.join("wide-strip-fea.csv")),
+            1,
+        );
+    let scene = prbfit::scene::Scene::from_toml_str(&text, "strip.toml").unwrap();
+    let study = Study::new(&scene, Sampling::Every(Resolution::with_tol(1e-8))).unwrap();
+    let su = prbfit::prb::published::by_name("su-3r").unwrap().prb;
+    let pairs = study.mode_shapes(&su);
+    assert_eq!(pairs.len(), 3);
+    let reported = study
+        .modes(std::slice::from_ref(&su), Equilibria::Unloaded, 3)
+        .unwrap();
+    let model = reported[0].models[0].as_ref().unwrap();
+    for (k, pair) in pairs.iter().enumerate() {
+        assert!(pair.nominal);
+        assert!(rel(pair.beam_hz, reported[0].beam.hz[k]) < 1e-9, "{k}");
+        assert!(rel(pair.model_hz, model.hz[k]) < 1e-9, "{k}");
+        assert_eq!(pair.beam.flexures.len(), 1);
+        assert_eq!(pair.model.flexures.len(), 1);
+    }
+}
