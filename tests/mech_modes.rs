@@ -395,3 +395,44 @@ fn a_data_scenes_mode_shapes_are_the_nominal_beams() {
         assert_eq!(pair.model.flexures.len(), 1);
     }
 }
+
+/// A coupler and a held stage: the slider-crank's drive prescribes all three of the slider's
+/// coordinates, so it rings with the slider held, the flexure's tip kept on a circle about
+/// the coupler's far end. The shapes pair with the reported frequencies, the stage does not
+/// move, and the drawn coupler runs from the flexure's moved tip to its fixed stage end.
+#[test]
+fn a_coupled_flexure_rings_with_its_slider_held() {
+    use prbfit::study::modes::Equilibria;
+    use prbfit::study::{Sampling, Study};
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes");
+    let text = std::fs::read_to_string(path.join("slider-crank.toml"))
+        .unwrap()
+        .replacen(
+            "poisson_ratio = 0.3",
+            "poisson_ratio = 0.3\ndensity = 7850.0",
+            1,
+        );
+    let scene = prbfit::scene::Scene::from_toml_str(&text, "crank.toml").unwrap();
+    let study = Study::new(&scene, Sampling::Every(Resolution::with_tol(1e-8))).unwrap();
+    let su = prbfit::prb::published::by_name("su-3r").unwrap().prb;
+    let pairs = study.mode_shapes(&su);
+    // Su's 3R has three joints, the coupler takes one: two modes to pair with the beam's.
+    assert_eq!(pairs.len(), 2);
+    let reported = study
+        .modes(std::slice::from_ref(&su), Equilibria::Unloaded, 3)
+        .unwrap();
+    let model = reported[0].models[0].as_ref().unwrap();
+    for (k, pair) in pairs.iter().enumerate() {
+        assert!(rel(pair.beam_hz, reported[0].beam.hz[k]) < 1e-9, "{k}");
+        assert!(rel(pair.model_hz, model.hz[k]) < 1e-9, "{k}");
+        assert_eq!(pair.beam.stage, [0.0; 3]);
+        assert_eq!(pair.model.stage, [0.0; 3]);
+        for shape in [&pair.beam, &pair.model] {
+            let pose = prbfit::mech::pose::mode(study.mechanism(), [0.0; 3], shape, 0.1);
+            let rest = prbfit::mech::pose::mode(study.mechanism(), [0.0; 3], shape, 0.0);
+            let tip = *pose.flexures[0].last().unwrap();
+            assert_eq!(pose.couplers[0][0], tip);
+            assert_eq!(pose.couplers[0][1], rest.couplers[0][1]);
+        }
+    }
+}
