@@ -436,3 +436,64 @@ fn a_coupled_flexure_rings_with_its_slider_held() {
         }
     }
 }
+
+/// A mechanism's data are not dynamic either: the slider-crank rig's modes are its nominal
+/// beam mechanism's, with the slider held as the data's drive holds it (its `dx, dy, dphi`
+/// input columns), not free (which would leave the slider's rigid motions at zero
+/// frequency); the PRB model's too, and the shapes pair with the reported frequencies.
+#[test]
+fn a_mechanisms_data_hold_what_their_drive_prescribes() {
+    use prbfit::study::modes::Equilibria;
+    use prbfit::study::{Sampling, Study};
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes");
+    let text = std::fs::read_to_string(path.join("slider-crank-rig.toml"))
+        .unwrap()
+        .replacen(
+            "poisson_ratio = 0.3",
+            "poisson_ratio = 0.3\ndensity = 7850.0",
+            1,
+        )
+        .replacen(
+            "data = \"slider-crank-rig.csv\"",
+            &format!("data = {:?}", path.join("slider-crank-rig.csv")),
+            1,
+        );
+    // Read from a file, as `prbfit` reads a scene: that loads the data.
+    let file = std::env::temp_dir().join(format!("prbfit-rig-{}.toml", std::process::id()));
+    std::fs::write(&file, text).unwrap();
+    let rig = prbfit::scene::Scene::from_file(&file).unwrap();
+    std::fs::remove_file(&file).unwrap();
+    let rig = Study::new(&rig, Sampling::Every(Resolution::with_tol(1e-8))).unwrap();
+    assert_eq!(rig.unloaded_held(), [true; 3]);
+    // The same mechanism driven by its own [[drives]] (slider-crank.toml).
+    let text = std::fs::read_to_string(path.join("slider-crank.toml"))
+        .unwrap()
+        .replacen(
+            "poisson_ratio = 0.3",
+            "poisson_ratio = 0.3\ndensity = 7850.0",
+            1,
+        );
+    let driven = prbfit::scene::Scene::from_toml_str(&text, "crank.toml").unwrap();
+    let driven = Study::new(&driven, Sampling::Every(Resolution::with_tol(1e-8))).unwrap();
+    let su = prbfit::prb::published::by_name("su-3r").unwrap().prb;
+    let at = Equilibria::Unloaded;
+    let a = &rig.modes(std::slice::from_ref(&su), at, 3).unwrap()[0];
+    let b = &driven.modes(std::slice::from_ref(&su), at, 3).unwrap()[0];
+    for (x, y) in a.beam.omega.iter().zip(&b.beam.omega) {
+        assert!(
+            rel(*x, *y) < 1e-12,
+            "{:?} vs {:?}",
+            a.beam.omega,
+            b.beam.omega
+        );
+    }
+    let (ma, mb) = (a.models[0].as_ref().unwrap(), b.models[0].as_ref().unwrap());
+    assert_eq!(ma.omega, mb.omega);
+    let pairs = rig.mode_shapes(&su);
+    assert_eq!(pairs.len(), 2);
+    for (k, pair) in pairs.iter().enumerate() {
+        assert!(pair.nominal);
+        assert!(rel(pair.beam_hz, a.beam.hz[k]) < 1e-9, "{k}");
+        assert!(rel(pair.model_hz, ma.hz[k]) < 1e-9, "{k}");
+    }
+}

@@ -33,18 +33,28 @@ use super::SolvedState;
 /// The unloaded mechanism's state: the drive's prescribed coordinates held at 0 (the first
 /// drive's kinds; every coordinate loaded when the mechanism has no drive).
 pub fn unloaded_state(mechanism: &Mechanism, matrix: &PrbMatrix) -> SolvedState {
-    let at: [Coordinate; 3] = mechanism
+    let held = mechanism
         .drives
         .first()
-        .map_or([Coordinate::Loaded(0.0); 3], |d| {
-            std::array::from_fn(|c| {
-                if d.coordinates[c].is_prescribed() {
-                    Coordinate::Prescribed(0.0)
-                } else {
-                    Coordinate::Loaded(0.0)
-                }
-            })
-        });
+        .map_or([false; 3], super::modes::held_by);
+    unloaded_state_held(mechanism, matrix, held)
+}
+
+/// The unloaded mechanism's state with the stage coordinates `held` (`[x, y, phi]`)
+/// prescribed at 0 and the others loaded by nothing (a measured drive's kinds, which the
+/// mechanism's own drives do not carry).
+pub fn unloaded_state_held(
+    mechanism: &Mechanism,
+    matrix: &PrbMatrix,
+    held: [bool; 3],
+) -> SolvedState {
+    let at: [Coordinate; 3] = std::array::from_fn(|c| {
+        if held[c] {
+            Coordinate::Prescribed(0.0)
+        } else {
+            Coordinate::Loaded(0.0)
+        }
+    });
     SolvedState {
         unknowns: solver(mechanism, matrix, 1e-10).start(&at),
         at,

@@ -6,8 +6,10 @@
 //! ([`crate::beam::modes::unloaded_modes`]), a mechanism's beam mechanism with its `[stage]`
 //! mass and inertia and the first drive's prescribed coordinates held
 //! ([`crate::mech::modes::mech_modes`]). A measured-data scene has no dynamics of its own: its
-//! frequencies are the nominal beam's (or beam mechanism's), and [`TruthModes::nominal`] says
-//! so. A PRB model's frequencies ([`Study::prb_frequencies`]) come from its chain's
+//! frequencies are the nominal beam's (or beam mechanism's, with the coordinates the data's
+//! drive prescribes held: [`Study::unloaded_held`]), and [`TruthModes::nominal`] says so.
+//! The first mode shapes ([`Study::mode_shapes`]) pair the truth's and a PRB model's, every
+//! kind of scene in the beam mechanism's form. A PRB model's frequencies ([`Study::prb_frequencies`]) come from its chain's
 //! `K q = omega^2 M q` with the tip body (a cantilever) or from the whole PRB mechanism
 //! ([`crate::mech::prb_modes`]), both about the unloaded equilibrium, in flexure 1's
 //! `Omega = omega sqrt(rho A0 L^4 / (E I0))`.
@@ -23,7 +25,7 @@ use crate::beam::modes::{
 use crate::beam::Load;
 use crate::mech::figures::Frequencies;
 use crate::mech::modes::{held_by, mech_modes, MechMass, MechModeShape};
-use crate::mech::prb_modes::{prb_mode_shapes, prb_modes, unloaded_state};
+use crate::mech::prb_modes::{prb_mode_shapes, prb_modes, unloaded_state_held};
 use crate::prb::{PrbMatrix, PrbSolver, TipBody};
 use crate::scene::Scene;
 
@@ -144,7 +146,7 @@ fn truth_modes(
             ..ModeSettings::frequencies(count)
         };
         let mass = MechMass::from_si(mechanism, density, scene.body.mass, scene.body.inertia)?;
-        let held = mechanism.drives.first().map_or([false; 3], held_by);
+        let held = unloaded_held(scene, mechanism);
         let modes = mech_modes(mechanism, &mass, held, None, &settings)?;
         let shapes = modes.shapes.into_iter().take(SHOWN_MODES).collect();
         (modes.omega, shapes)
@@ -158,7 +160,27 @@ fn truth_modes(
     })
 }
 
+/// The stage coordinates held while the unloaded mechanism rings: its first drive's
+/// prescribed ones, or on measured data (whose drives are the file's, not the mechanism's)
+/// the data's prescribed columns; none for a cantilever.
+fn unloaded_held(scene: &Scene, mechanism: &crate::scene::Mechanism) -> [bool; 3] {
+    match mechanism.drives.first() {
+        Some(drive) => held_by(drive),
+        None => scene
+            .truth
+            .as_ref()
+            .and_then(|t| t.stage.as_ref())
+            .map_or([false; 3], |s| s.prescribed),
+    }
+}
+
 impl Study {
+    /// The stage coordinates held while the unloaded scene rings (`[x, y, phi]`): the first
+    /// drive's prescribed ones, or a mechanism's measured data's.
+    pub fn unloaded_held(&self) -> [bool; 3] {
+        unloaded_held(self.scene(), self.mechanism())
+    }
+
     /// The truth's natural frequencies, when the scene gives `[beam] density`.
     pub fn truth_modes(&self) -> Option<&TruthModes> {
         self.modes.as_ref()
@@ -179,7 +201,7 @@ impl Study {
                 chain.modes(Load::new(0.0, 0.0, 0.0), &q, body)
             }
             None => {
-                let state = unloaded_state(self.mechanism(), matrix);
+                let state = unloaded_state_held(self.mechanism(), matrix, self.unloaded_held());
                 prb_modes(self.mechanism(), matrix, &state, body)
             }
         }
@@ -217,7 +239,7 @@ impl Study {
             return Vec::new();
         };
         let mechanism = self.mechanism();
-        let state = unloaded_state(mechanism, matrix);
+        let state = unloaded_state_held(mechanism, matrix, self.unloaded_held());
         let model =
             prb_mode_shapes(mechanism, matrix, &state, truth.body, SHOWN_MODES).unwrap_or_default();
         truth
