@@ -608,3 +608,18 @@ fn mech_mode_shapes_120x40() {
     );
     insta::assert_snapshot!("mech_mode_shapes_120x40", screen);
 }
+
+/// `M` on a mechanism without `[beam] density` says what the mode shapes need instead of
+/// drawing nothing.
+#[test]
+fn mech_mode_shapes_need_a_density() {
+    let mut app = judged("parallel-stage", "su-3r");
+    app.on_key(key(KeyCode::Char('M')), Instant::now());
+    assert!(app.show_modes);
+    assert!(app.shown.model().unwrap().mode_shapes.is_empty());
+    let screen = common::tui::render(&app, 120, 40);
+    assert!(
+        screen.contains("no mode shapes: they need [beam]"),
+        "{screen}"
+    );
+}

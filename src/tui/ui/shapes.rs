@@ -154,6 +154,21 @@ fn lines(ctx: &mut Context, pose: &Pose, color: Color) {
     }
 }
 
+/// A short bar across each flexure's clamp of the unloaded `rest`, scaled to the chart's
+/// bounds.
+fn clamp_bars(rest: &Pose, xb: [f64; 2], yb: [f64; 2]) -> Vec<[f64; 4]> {
+    let bar = 0.04 * (xb[1] - xb[0]).max(yb[1] - yb[0]);
+    rest.flexures
+        .iter()
+        .filter_map(|line| {
+            let (r, t) = (line.first()?, line.last()?);
+            let len = (t[0] - r[0]).hypot(t[1] - r[1]).max(1e-12);
+            let (nx, ny) = (-(t[1] - r[1]) / len * bar, (t[0] - r[0]) / len * bar);
+            Some([r[0] - nx, r[1] - ny, r[0] + nx, r[1] + ny])
+        })
+        .collect()
+}
+
 /// The chart's frame: its title, and on measured data the legend on the bottom border (so
 /// that a narrow chart keeps it whole).
 fn block<'a>(view: &View, measured: Option<bool>) -> Block<'a> {
@@ -266,7 +281,7 @@ fn draw_modes(frame: &mut Frame, area: Rect, view: &View, modes: &[ModeShapePair
         frame.render_widget(
             Paragraph::new(
                 "no mode shapes: they need [beam] density in the scene and a judged PRB model \
-                 (M: back to the deformed shapes)",
+                 that rings about the unloaded equilibrium (M: back to the deformed shapes)",
             )
             .wrap(Wrap { trim: true })
             .block(block),
@@ -385,6 +400,7 @@ fn draw_mech_modes(
         points(pose, &mut all);
     }
     let (xb, yb) = equal_aspect_bounds(&all, area);
+    let clamps = clamp_bars(&rest, xb, yb);
     let canvas = Canvas::default()
         .block(block)
         .marker(Marker::Braille)
@@ -392,6 +408,10 @@ fn draw_mech_modes(
         .y_bounds(yb)
         .paint(|ctx| {
             lines(ctx, &rest, pal.color(Color::DarkGray));
+            for c in &clamps {
+                let color = pal.color(Color::Gray);
+                ctx.draw(&CanvasLine::new(c[0], c[1], c[2], c[3], color));
+            }
             ctx.layer();
             for side in 0..2 {
                 for (pair, color) in poses.iter().zip(MODE_COLORS) {
@@ -471,18 +491,7 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View) {
     // The clamps: a bar across each flexure's root, a mechanism's short, a cantilever's a
     // wall.
     let clamps: Vec<[f64; 4]> = if single {
-        let bar = 0.04 * (xb[1] - xb[0]).max(yb[1] - yb[0]);
-        truth
-            .unloaded
-            .flexures
-            .iter()
-            .filter_map(|line| {
-                let (r, t) = (line.first()?, line.last()?);
-                let len = (t[0] - r[0]).hypot(t[1] - r[1]).max(1e-12);
-                let (nx, ny) = (-(t[1] - r[1]) / len * bar, (t[0] - r[0]) / len * bar);
-                Some([r[0] - nx, r[1] - ny, r[0] + nx, r[1] + ny])
-            })
-            .collect()
+        clamp_bars(&truth.unloaded, xb, yb)
     } else {
         vec![[0.0, yb[0] * 0.3, 0.0, yb[1] * 0.3]]
     };
