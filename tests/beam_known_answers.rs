@@ -265,3 +265,53 @@ fn plane_strain_is_the_plate_modulus() {
     );
     assert!((model.plate_factor() - 1.0 / plate).abs() < 1e-15);
 }
+
+/// A finely sampled path takes one Newton shot a case (the quadratic predictor, the first
+/// shot accepted by the contraction measured on the path) and carries Newton's last update
+/// to the shape linearly: every case's tip and every shape point must still be as accurate
+/// as the resolution claims, against the same path solved at tol 1e-12 (whose own error is
+/// a thousandth of that claim). Circle arcs (a pure moment) and transverse and pushing forces,
+/// with every effect on for one of them.
+#[test]
+fn one_shot_cases_of_a_fine_path_are_as_accurate_as_claimed() {
+    let tol = 1e-9;
+    let models = [
+        (BeamModel::elastica(), Load::new(0.0, 5.0, 0.0)),
+        (BeamModel::elastica(), Load::new(0.0, 0.0, 2.0 * PI)),
+        (BeamModel::elastica(), Load::new(-2.1213, 2.1213, 0.0)),
+        (
+            BeamModel::new(10.0, 0.45, None, Effects::ALL).unwrap(),
+            Load::new(-1.0, 3.0, 1.0),
+        ),
+    ];
+    for (model, end) in models {
+        let fast = BeamSolver::new(model, Resolution::with_tol(tol)).unwrap();
+        let reference = BeamSolver::new(model, Resolution::with_tol(1e-12)).unwrap();
+        let claim = fast.resolution.claimed_tip_error();
+        let cases = fast.solve_path(end, 400).unwrap();
+        let exact = reference.solve_path(end, 400).unwrap();
+        let shots: u32 = cases.iter().map(|c| c.iterations).sum();
+        // Most cases take one shot (the first few, before a contraction is measured, two).
+        assert!(shots < 440, "{end}: {shots} shots for 400 cases");
+        for (c, e) in cases.iter().zip(&exact) {
+            assert!(
+                c.tip.max_diff(&e.tip) <= claim,
+                "{end}: tip {:?} vs {:?}",
+                c.tip,
+                e.tip
+            );
+            assert_eq!(c.shape.len(), e.shape.len());
+            for (p, q) in c.shape.iter().zip(&e.shape) {
+                let gap = (p.x - q.x)
+                    .abs()
+                    .max((p.y - q.y).abs())
+                    .max((p.psi - q.psi).abs());
+                assert!(gap <= claim, "{end}: shape at s {} off by {gap:e}", p.s);
+            }
+            // The shape ends at the tip.
+            let last = c.shape.last().unwrap();
+            let gap = (last.x - c.tip.a).abs().max((last.y - c.tip.b).abs());
+            assert!(gap <= claim, "{end}: shape's end {gap:e} from the tip");
+        }
+    }
+}

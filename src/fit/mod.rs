@@ -199,19 +199,21 @@ pub fn search(
     progress: &mut dyn FnMut(&FitProgress),
     cancel: &CancelToken,
 ) -> Result<Found, SearchError> {
-    search_in(target, start, options, progress, cancel, true)
+    search_in(target, start, options, progress, cancel, None)
 }
 
-/// The fidelity's polish alone from `start` (no other starts, no swarm): [`search`]'s local
-/// phase, for a start already near the optimum (a staged fit's last stage).
+/// A polish alone from `start` (no other starts, no swarm) with the Levenberg-Marquardt
+/// settings `lm` (its floor set from the target): [`search`]'s local phase, for a start
+/// already near the optimum (a staged fit's last stage).
 pub fn polish(
     target: &dyn Target,
     start: &PrbMatrix,
     options: &FitOptions,
+    lm: lm::LmOptions,
     progress: &mut dyn FnMut(&FitProgress),
     cancel: &CancelToken,
 ) -> Result<Found, SearchError> {
-    search_in(target, start, options, progress, cancel, false)
+    search_in(target, start, options, progress, cancel, Some(lm))
 }
 
 /// `J` of `matrix` on `target` with the cells `template` frees (and the mus when the target
@@ -228,15 +230,16 @@ pub fn objective_of(target: &dyn Target, template: &PrbMatrix, matrix: &PrbMatri
         .filter(|j| j.is_finite())
 }
 
-/// [`search`] (`global`) or [`polish`].
+/// [`search`] (`local: None`) or [`polish`] (`local`: its settings).
 fn search_in(
     target: &dyn Target,
     start: &PrbMatrix,
     options: &FitOptions,
     progress: &mut dyn FnMut(&FitProgress),
     cancel: &CancelToken,
-    global: bool,
+    local: Option<lm::LmOptions>,
 ) -> Result<Found, SearchError> {
+    let global = local.is_none();
     let t0 = Instant::now();
     options.validate()?;
     let param = if target.masses() {
@@ -298,7 +301,7 @@ fn search_in(
     // from the best few only, so hopeless candidates cost little. Once a polish reaches the
     // target's floor (errors a negligible part of the targets) the search is done.
     let mut best: Option<lm::LmResult> = None;
-    let mut polish = fidelity.lm();
+    let mut polish = local.unwrap_or_else(|| fidelity.lm());
     polish.floor = target.objective_floor(fidelity.floor_fraction());
     let mut scout = polish;
     scout.max_iterations = SCOUT_ITERATIONS;

@@ -121,10 +121,9 @@ impl Study {
 /// 2. the mus alone against the dynamic target, the statics cells pinned (their residuals are
 ///    cached, so each trial costs one frequency computation, microseconds);
 /// 3. a polish from there with every cell the start frees, which trades a little statics
-///    for the frequencies where the two meet, at one fidelity below the fit's (its start is
-///    already both stages' optimum: on the built-in scene's 3R it ends at the joint search's
-///    figures to the digits `tests/dynamic_fit.rs` prints, in half the full polish's
-///    evaluations).
+///    for the frequencies where the two meet, to draft's tolerances (its start is already
+///    both stages' optimum: on the built-in scene's 3R it ends at the joint search's figures
+///    to the digits `tests/dynamic_fit.rs` prints, in half the full polish's evaluations).
 ///
 /// The report counts all three stages' iterations and evaluations, and `J` of the start on
 /// the dynamic target.
@@ -159,16 +158,11 @@ fn staged(
         if second.stop == StopReason::Cancelled {
             (joint, StopReason::Cancelled)
         } else {
-            // One fidelity below the fit's: the polish starts where the statics are optimal
-            // and the frequencies matched, and only balances the two.
-            let short = FitOptions {
-                fidelity: match options.fidelity {
-                    Fidelity::Precise => Fidelity::Normal,
-                    Fidelity::Normal | Fidelity::Draft => Fidelity::Draft,
-                },
-                ..*options
-            };
-            let third = polish(target, &joint, &short, progress, cancel)?;
+            // Draft's tolerances with the fit's own iteration limit: the polish starts where
+            // the statics are optimal and the frequencies matched, and only balances the two.
+            let mut short = Fidelity::Draft.lm();
+            short.max_iterations = options.fidelity.lm().max_iterations;
+            let third = polish(target, &joint, options, short, progress, cancel)?;
             spent = (spent.0 + third.iterations, spent.1 + third.evaluations);
             // Not improving on stage 2's point means stage 2's point is the optimum.
             let stop = match third.stop {
