@@ -221,3 +221,279 @@ fn the_first_frequency_vanishes_where_the_mechanisms_statics_find_buckling() {
         "statics {statics} vs modes {crossing}"
     );
 }
+
+/// The parallel stage (assets/scenes/parallel-stage.toml) with `[beam] density` and a stage
+/// of `stage_kg` (about 100 times a flexure's 1.96 g when heavy).
+fn dense_parallel_stage(stage_kg: f64) -> prbfit::scene::Scene {
+    let text = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/parallel-stage.toml"),
+    )
+    .unwrap()
+    .replacen(
+        "poisson_ratio = 0.3",
+        "poisson_ratio = 0.3\ndensity = 7850.0",
+        1,
+    )
+    .replacen(
+        "point = [0.05, 0.0]",
+        &format!("point = [0.05, 0.0]\nmass = {stage_kg}\ninertia = 1e-5"),
+        1,
+    );
+    prbfit::scene::Scene::from_toml_str(&text, "dense-parallel-stage.toml").unwrap()
+}
+
+/// Issue 25.6: a mechanism's mode shapes, the beam mechanism's and the PRB mechanism's,
+/// paired lowest first with the frequencies `prbfit modes` reports (the same
+/// `Study::modes` at the unloaded equilibrium), and overlaying: the heavy stage's first
+/// mode translates it sideways in both, the flexures S-bent between.
+#[test]
+fn a_mechanisms_mode_shapes_pair_the_beams_and_the_prb_models() {
+    use prbfit::study::modes::Equilibria;
+    use prbfit::study::{Sampling, Study};
+    let study = Study::new(
+        &dense_parallel_stage(0.2),
+        Sampling::Every(Resolution::with_tol(1e-8)),
+    )
+    .unwrap();
+    let su = prbfit::prb::published::by_name("su-3r").unwrap().prb;
+    let pairs = study.mode_shapes(&su);
+    assert_eq!(pairs.len(), 3, "{pairs:?}");
+    let reported = study
+        .modes(std::slice::from_ref(&su), Equilibria::Unloaded, 3)
+        .unwrap();
+    let model = reported[0].models[0].as_ref().unwrap();
+    for (k, pair) in pairs.iter().enumerate() {
+        // The same numbers: the shapes' solve is the frequencies' (with eigenvectors), so
+        // they agree to round-off.
+        assert!(
+            rel(pair.beam_hz, reported[0].beam.hz[k]) < 1e-9,
+            "{k}: {pair:?}"
+        );
+        assert!(rel(pair.model_hz, model.hz[k]) < 1e-9, "{k}: {pair:?}");
+        assert!(!pair.nominal);
+        assert_eq!(pair.beam.flexures.len(), 2);
+        assert_eq!(pair.model.flexures.len(), 2);
+        // Su's 3R: its root, 3 joints and tip per flexure.
+        assert_eq!(pair.model.flexures[0].len(), 5);
+    }
+    // The first mode: the stage (100 flexures' mass) moves sideways, not along, each
+    // flexure's largest motion at its tip on the stage, so P moves by the normalised 1 in
+    // both. The beam's stage turns a little with it (5.5e-4 rad per L: its flexures,
+    // extensible here, stretch and shorten under the tips' moments, which Su's axially
+    // rigid 3R does not), so the turn is bounded, not zero.
+    let (beam, prb) = (&pairs[0].beam, &pairs[0].model);
+    for shape in [beam, prb] {
+        assert!((shape.stage[1] - 1.0).abs() < 1e-6, "{:?}", shape.stage);
+        assert!(shape.stage[0].abs() < 1e-9, "{:?}", shape.stage);
+        assert!(shape.stage[2].abs() < 1e-3, "{:?}", shape.stage);
+    }
+    // The PRB chains' joints lie on the beam's S-shaped motion at the same arc length:
+    // within 0.07 of the tip's motion (measured 0.061 at s = 0.85, where the 3R's rigid last
+    // segment, kept parallel by the stage, carries the tip's whole motion to its last
+    // joint; 0.028 at s = 0.1, its rigid root segment's end).
+    for (line, joints) in beam.flexures.iter().zip(&prb.flexures) {
+        for p in joints {
+            let k = ((p.s * 40.0).round() as usize).min(40);
+            let q = line[k];
+            assert!((q.s - p.s).abs() < 1e-12, "{} vs {}", q.s, p.s);
+            assert!(
+                (p.dy - q.dy).abs() < 0.07,
+                "s {}: PRB {} beam {}",
+                p.s,
+                p.dy,
+                q.dy
+            );
+            assert!(
+                (p.dx - q.dx).abs() < 1e-3,
+                "s {}: PRB {} beam {}",
+                p.s,
+                p.dx,
+                q.dx
+            );
+        }
+    }
+}
+
+/// A cantilever's mode shapes come through the same path (its one-flexure mechanism): the
+/// PRB model's frequencies are its chain's (`Study::frequencies`), and a shape drawn by
+/// `pose::mode` moves the stage point (the tip) by the scale times its motion.
+#[test]
+fn a_cantilevers_mode_shapes_are_its_one_flexure_mechanisms() {
+    use prbfit::study::{Sampling, Study};
+    let text = prbfit::scene::DEFAULT_SCENE_TOML.replacen(
+        "poisson_ratio = 0.3",
+        "poisson_ratio = 0.3\ndensity = 7850.0",
+        1,
+    );
+    let scene = prbfit::scene::Scene::from_toml_str(&text, "dense.toml").unwrap();
+    let study = Study::new(&scene, Sampling::Every(Resolution::with_tol(1e-8))).unwrap();
+    let su = prbfit::prb::published::by_name("su-3r").unwrap().prb;
+    let pairs = study.mode_shapes(&su);
+    let chain = study.frequencies(&su).unwrap();
+    assert_eq!(pairs.len(), 3);
+    for (k, pair) in pairs.iter().enumerate() {
+        // The mechanism's pencil and the chain's K q = omega^2 M q: the same eigenvalues,
+        // through two eigensolvers (round-off).
+        assert!(
+            rel(pair.model_hz, chain.model_hz[k]) < 1e-9,
+            "{k}: {pair:?}"
+        );
+        assert!(rel(pair.beam_hz, chain.beam_hz[k]) < 1e-12, "{k}");
+        // The tip (the stage) moves across in every mode, the model's with the beam's
+        // sign.
+        assert!(
+            pair.beam.stage[1] * pair.model.stage[1] > 0.0,
+            "{k}: {pair:?}"
+        );
+        let mechanism = study.mechanism();
+        let rest = prbfit::mech::pose::mode(mechanism, [0.0; 3], &pair.model, 0.0);
+        let moved = prbfit::mech::pose::mode(mechanism, [0.0; 3], &pair.model, 0.1);
+        assert_eq!(rest.stage_point, [1.0, 0.0]);
+        let dy = moved.stage_point[1] - rest.stage_point[1];
+        assert!((dy - 0.1 * pair.model.stage[1]).abs() < 1e-15, "{k}");
+        let tip = *moved.flexures[0].last().unwrap();
+        assert!(
+            (tip[1] - moved.stage_point[1]).abs() < 1e-12,
+            "{k}: {tip:?}"
+        );
+    }
+}
+
+/// A data scene's mode shapes are its nominal beam's (the data are not dynamic), through
+/// the same path: the wide strip's 3D FEA (a cantilever data scene).
+#[test]
+fn a_data_scenes_mode_shapes_are_the_nominal_beams() {
+    use prbfit::study::modes::Equilibria;
+    use prbfit::study::{Sampling, Study};
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes");
+    let text = std::fs::read_to_string(path.join("wide-strip-fea.toml"))
+        .unwrap()
+        .replacen(
+            "poisson_ratio = 0.3",
+            "poisson_ratio = 0.3\ndensity = 7850.0",
+            1,
+        )
+        .replacen(
+            "data = \"wide-strip-fea.csv\"",
+            &format!("data = {:?}", path.join("wide-strip-fea.csv")),
+            1,
+        );
+    let scene = prbfit::scene::Scene::from_toml_str(&text, "strip.toml").unwrap();
+    let study = Study::new(&scene, Sampling::Every(Resolution::with_tol(1e-8))).unwrap();
+    let su = prbfit::prb::published::by_name("su-3r").unwrap().prb;
+    let pairs = study.mode_shapes(&su);
+    assert_eq!(pairs.len(), 3);
+    let reported = study
+        .modes(std::slice::from_ref(&su), Equilibria::Unloaded, 3)
+        .unwrap();
+    let model = reported[0].models[0].as_ref().unwrap();
+    for (k, pair) in pairs.iter().enumerate() {
+        assert!(pair.nominal);
+        assert!(rel(pair.beam_hz, reported[0].beam.hz[k]) < 1e-9, "{k}");
+        assert!(rel(pair.model_hz, model.hz[k]) < 1e-9, "{k}");
+        assert_eq!(pair.beam.flexures.len(), 1);
+        assert_eq!(pair.model.flexures.len(), 1);
+    }
+}
+
+/// A coupler and a held stage: the slider-crank's drive prescribes all three of the slider's
+/// coordinates, so it rings with the slider held, the flexure's tip kept on a circle about
+/// the coupler's far end. The shapes pair with the reported frequencies, the stage does not
+/// move, and the drawn coupler runs from the flexure's moved tip to its fixed stage end.
+#[test]
+fn a_coupled_flexure_rings_with_its_slider_held() {
+    use prbfit::study::modes::Equilibria;
+    use prbfit::study::{Sampling, Study};
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes");
+    let text = std::fs::read_to_string(path.join("slider-crank.toml"))
+        .unwrap()
+        .replacen(
+            "poisson_ratio = 0.3",
+            "poisson_ratio = 0.3\ndensity = 7850.0",
+            1,
+        );
+    let scene = prbfit::scene::Scene::from_toml_str(&text, "crank.toml").unwrap();
+    let study = Study::new(&scene, Sampling::Every(Resolution::with_tol(1e-8))).unwrap();
+    let su = prbfit::prb::published::by_name("su-3r").unwrap().prb;
+    let pairs = study.mode_shapes(&su);
+    // Su's 3R has three joints, the coupler takes one: two modes to pair with the beam's.
+    assert_eq!(pairs.len(), 2);
+    let reported = study
+        .modes(std::slice::from_ref(&su), Equilibria::Unloaded, 3)
+        .unwrap();
+    let model = reported[0].models[0].as_ref().unwrap();
+    for (k, pair) in pairs.iter().enumerate() {
+        assert!(rel(pair.beam_hz, reported[0].beam.hz[k]) < 1e-9, "{k}");
+        assert!(rel(pair.model_hz, model.hz[k]) < 1e-9, "{k}");
+        assert_eq!(pair.beam.stage, [0.0; 3]);
+        assert_eq!(pair.model.stage, [0.0; 3]);
+        for shape in [&pair.beam, &pair.model] {
+            let pose = prbfit::mech::pose::mode(study.mechanism(), [0.0; 3], shape, 0.1);
+            let rest = prbfit::mech::pose::mode(study.mechanism(), [0.0; 3], shape, 0.0);
+            let tip = *pose.flexures[0].last().unwrap();
+            assert_eq!(pose.couplers[0][0], tip);
+            assert_eq!(pose.couplers[0][1], rest.couplers[0][1]);
+        }
+    }
+}
+
+/// A mechanism's data are not dynamic either: the slider-crank rig's modes are its nominal
+/// beam mechanism's, with the slider held as the data's drive holds it (its `dx, dy, dphi`
+/// input columns), not free (which would leave the slider's rigid motions at zero
+/// frequency); the PRB model's too, and the shapes pair with the reported frequencies.
+#[test]
+fn a_mechanisms_data_hold_what_their_drive_prescribes() {
+    use prbfit::study::modes::Equilibria;
+    use prbfit::study::{Sampling, Study};
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes");
+    let text = std::fs::read_to_string(path.join("slider-crank-rig.toml"))
+        .unwrap()
+        .replacen(
+            "poisson_ratio = 0.3",
+            "poisson_ratio = 0.3\ndensity = 7850.0",
+            1,
+        )
+        .replacen(
+            "data = \"slider-crank-rig.csv\"",
+            &format!("data = {:?}", path.join("slider-crank-rig.csv")),
+            1,
+        );
+    // Read from a file, as `prbfit` reads a scene: that loads the data.
+    let file = std::env::temp_dir().join(format!("prbfit-rig-{}.toml", std::process::id()));
+    std::fs::write(&file, text).unwrap();
+    let rig = prbfit::scene::Scene::from_file(&file).unwrap();
+    std::fs::remove_file(&file).unwrap();
+    let rig = Study::new(&rig, Sampling::Every(Resolution::with_tol(1e-8))).unwrap();
+    assert_eq!(rig.unloaded_held(), [true; 3]);
+    // The same mechanism driven by its own [[drives]] (slider-crank.toml).
+    let text = std::fs::read_to_string(path.join("slider-crank.toml"))
+        .unwrap()
+        .replacen(
+            "poisson_ratio = 0.3",
+            "poisson_ratio = 0.3\ndensity = 7850.0",
+            1,
+        );
+    let driven = prbfit::scene::Scene::from_toml_str(&text, "crank.toml").unwrap();
+    let driven = Study::new(&driven, Sampling::Every(Resolution::with_tol(1e-8))).unwrap();
+    let su = prbfit::prb::published::by_name("su-3r").unwrap().prb;
+    let at = Equilibria::Unloaded;
+    let a = &rig.modes(std::slice::from_ref(&su), at, 3).unwrap()[0];
+    let b = &driven.modes(std::slice::from_ref(&su), at, 3).unwrap()[0];
+    for (x, y) in a.beam.omega.iter().zip(&b.beam.omega) {
+        assert!(
+            rel(*x, *y) < 1e-12,
+            "{:?} vs {:?}",
+            a.beam.omega,
+            b.beam.omega
+        );
+    }
+    let (ma, mb) = (a.models[0].as_ref().unwrap(), b.models[0].as_ref().unwrap());
+    assert_eq!(ma.omega, mb.omega);
+    let pairs = rig.mode_shapes(&su);
+    assert_eq!(pairs.len(), 2);
+    for (k, pair) in pairs.iter().enumerate() {
+        assert!(pair.nominal);
+        assert!(rel(pair.beam_hz, a.beam.hz[k]) < 1e-9, "{k}");
+        assert!(rel(pair.model_hz, ma.hz[k]) < 1e-9, "{k}");
+    }
+}

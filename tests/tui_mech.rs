@@ -561,3 +561,65 @@ mod no_panics {
         }
     }
 }
+
+/// Issue 25.6: `M` on a mechanism with `[beam] density` draws its first three mode shapes
+/// about the unloaded mechanism (grey): the beam mechanism's lines and Su's 3R PRB
+/// mechanism's through its joints (`o`), each mode in its colour, displaced by the same
+/// scale, with each mode's frequencies (beam / PRB, Hz) in the title.
+#[test]
+fn mech_mode_shapes_120x40() {
+    let text = std::fs::read_to_string(scene_path("parallel-stage"))
+        .unwrap()
+        .replacen(
+            "poisson_ratio = 0.3",
+            "poisson_ratio = 0.3\ndensity = 7850.0",
+            1,
+        )
+        .replacen(
+            "point = [0.05, 0.0]",
+            "point = [0.05, 0.0]\nmass = 0.02\ninertia = 2e-6",
+            1,
+        );
+    let mut scene = Scene::from_toml_str(&text, "dense-parallel-stage.toml").unwrap();
+    scene.prb = Some(ModelFile::load("su-3r").unwrap().prb);
+    let mut app = common::tui::judged_as_given(scene, None);
+    app.jobs.activity = Activity::Done {
+        seconds: 0.01,
+        stop: None,
+        iterations: 0,
+        evaluations: 0,
+    };
+    app.on_key(key(KeyCode::Char('M')), Instant::now());
+    assert!(app.show_modes);
+    let model = app.shown.model().unwrap();
+    assert_eq!(model.mode_shapes.len(), 3, "{:?}", model.mode_shapes);
+    let screen = common::tui::render(&app, 120, 40);
+    assert!(screen.contains(" Mode shapes: beam ─ PRB ─o "), "{screen}");
+    let m = &model.mode_shapes[0];
+    let first = format!(
+        "{}/{}",
+        prbfit::tui::units::trim_number(m.beam_hz, 4),
+        prbfit::tui::units::trim_number(m.model_hz, 4)
+    );
+    assert!(screen.contains(&first), "{first} in {screen}");
+    assert!(
+        screen.contains("displaced about the unloaded mechanism"),
+        "{screen}"
+    );
+    insta::assert_snapshot!("mech_mode_shapes_120x40", screen);
+}
+
+/// `M` on a mechanism without `[beam] density` says what the mode shapes need instead of
+/// drawing nothing.
+#[test]
+fn mech_mode_shapes_need_a_density() {
+    let mut app = judged("parallel-stage", "su-3r");
+    app.on_key(key(KeyCode::Char('M')), Instant::now());
+    assert!(app.show_modes);
+    assert!(app.shown.model().unwrap().mode_shapes.is_empty());
+    let screen = common::tui::render(&app, 120, 40);
+    assert!(
+        screen.contains("no mode shapes: they need [beam]"),
+        "{screen}"
+    );
+}

@@ -44,7 +44,7 @@ use crate::beam::modes::{generalized_lowest, FlexureModel, ModePoint, ModeSettin
 use crate::beam::{Load, Resolution, TipPose};
 use crate::scene::{Drive, Mechanism};
 
-use super::geometry::{rotate, Geometry, Joint};
+use super::geometry::{rotate, Frame, Geometry, Joint};
 use super::{exact, MechCase, MechError};
 
 /// The masses of a mechanism in flexure 1's units.
@@ -329,27 +329,43 @@ fn draw(
         let points = flex
             .stations(coords, settings.shape_points)
             .into_iter()
-            .map(|p| {
-                let at = frame.to_global([p.x, p.y]);
-                let d = rotate([p.dx, p.dy], frame.angle);
-                ModePoint {
-                    s: p.s,
-                    x: at[0],
-                    y: at[1],
-                    dx: frame.length * d[0],
-                    dy: frame.length * d[1],
-                    dpsi: p.dpsi,
-                }
-            })
+            .map(|p| station_to_global(frame, p))
             .collect::<Vec<_>>();
         lines.push(points);
     }
     let mut stage_motion = [full[stage], full[stage + 1], full[stage + 2]];
-    let mut size = stage_motion[0].hypot(stage_motion[1]);
-    let mut largest = if stage_motion[0].abs() > stage_motion[1].abs() {
-        stage_motion[0]
+    normalise(&mut stage_motion, &mut lines);
+    MechModeShape {
+        omega,
+        stage: stage_motion,
+        flexures: lines,
+    }
+}
+
+/// A station of a flexure's mode (its own frame and units) in the global frame, flexure 1's
+/// units.
+pub(super) fn station_to_global(frame: &Frame, p: ModePoint) -> ModePoint {
+    let at = frame.to_global([p.x, p.y]);
+    let d = rotate([p.dx, p.dy], frame.angle);
+    ModePoint {
+        s: p.s,
+        x: at[0],
+        y: at[1],
+        dx: frame.length * d[0],
+        dy: frame.length * d[1],
+        dpsi: p.dpsi,
+    }
+}
+
+/// Scales a mode's motion (the stage's `[dx, dy, dphi]` of `P` and every station's) so that
+/// the largest motion of `P` or of any station is 1 and the largest of their components is
+/// positive (the beam's and the PRB mechanism's shapes alike).
+pub(super) fn normalise(stage: &mut [f64; 3], lines: &mut [Vec<ModePoint>]) {
+    let mut size = stage[0].hypot(stage[1]);
+    let mut largest = if stage[0].abs() > stage[1].abs() {
+        stage[0]
     } else {
-        stage_motion[1]
+        stage[1]
     };
     for p in lines.iter().flatten() {
         size = size.max(p.dx.hypot(p.dy));
@@ -366,14 +382,9 @@ fn draw(
             p.dy *= scale;
             p.dpsi *= scale;
         }
-        for v in &mut stage_motion {
+        for v in stage.iter_mut() {
             *v *= scale;
         }
-    }
-    MechModeShape {
-        omega,
-        stage: stage_motion,
-        flexures: lines,
     }
 }
 

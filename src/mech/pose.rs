@@ -10,12 +10,15 @@
 //!   mechanism solver found ([`MechCase::joints`]).
 //! - A coupler runs from its flexure's tip to its stage end moved with the stage; the stage is
 //!   drawn as its reference point `P` joined to every point where a flexure meets it.
+//! - A mode shape ([`mode`], the beam mechanism's or the PRB mechanism's alike) is its
+//!   equilibrium moved by a drawing scale times the mode's motion.
 
 use crate::beam::{BeamSolver, Resolution, SolveError};
 use crate::prb::{PrbMatrix, PrbSolver};
 use crate::scene::Mechanism;
 
 use super::geometry::{Frame, Geometry, Joint};
+use super::modes::MechModeShape;
 use super::MechCase;
 
 /// One case of a mechanism as drawn, global frame, units of flexure 1's `L`.
@@ -148,6 +151,26 @@ pub fn chains(
                 .collect()
         })
         .collect()
+}
+
+/// A mode of the mechanism as drawn about the equilibrium its shape was found at, the stage
+/// there at `at` (`[dx, dy, dphi]`; zero for the unloaded one): every flexure's stations
+/// moved by `scale` times their motion, the stage by `scale` times its own (turned by
+/// `scale dphi`), each coupler from its flexure's moved tip to its stage end moved with the
+/// stage. `scale = 0` draws the equilibrium.
+pub fn mode(mechanism: &Mechanism, at: [f64; 3], shape: &MechModeShape, scale: f64) -> Pose {
+    let geometry = Geometry::new(mechanism);
+    let lines = shape
+        .flexures
+        .iter()
+        .map(|line| {
+            line.iter()
+                .map(|p| [p.x + scale * p.dx, p.y + scale * p.dy])
+                .collect()
+        })
+        .collect();
+    let stage = std::array::from_fn(|c| at[c] + scale * shape.stage[c]);
+    assemble(&geometry, stage, lines)
 }
 
 #[cfg(test)]

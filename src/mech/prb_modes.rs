@@ -13,29 +13,48 @@
 //! held by its guide or actuator). Couplers are massless. Each chain's equations are in its
 //! own flexure's units, so its mass matrix is scaled by `(A_i L_i^4 / (E_i I_i)) / (A_1 L_1^4
 //! / (E_1 I_1))` (one density for every flexure) to share flexure 1's time scale.
+//!
+//! The modes' shapes ([`prb_mode_shapes`], for drawing over the beam mechanism's) are the
+//! null vectors of `A - omega^2 B`: each chain's joint rates moved into its joints' motion
+//! ([`crate::prb::PrbSolver::joint_motion`]) and the stage's loaded coordinates' rates, in
+//! the beam mechanism's form ([`super::modes::MechModeShape`]).
 
 use crate::linalg::frequencies;
 use crate::prb::{ModesError, PrbMatrix, TipBody};
 use crate::scene::{Coordinate, Mechanism};
 
-use super::prb::solver;
+use nalgebra::DMatrix;
+
+use super::modes::{normalise, station_to_global, MechModeShape};
+use super::prb::{solver, ChainFlexure};
+use super::solve::MechSolver;
 use super::SolvedState;
 
 /// The unloaded mechanism's state: the drive's prescribed coordinates held at 0 (the first
 /// drive's kinds; every coordinate loaded when the mechanism has no drive).
 pub fn unloaded_state(mechanism: &Mechanism, matrix: &PrbMatrix) -> SolvedState {
-    let at: [Coordinate; 3] = mechanism
+    let held = mechanism
         .drives
         .first()
-        .map_or([Coordinate::Loaded(0.0); 3], |d| {
-            std::array::from_fn(|c| {
-                if d.coordinates[c].is_prescribed() {
-                    Coordinate::Prescribed(0.0)
-                } else {
-                    Coordinate::Loaded(0.0)
-                }
-            })
-        });
+        .map_or([false; 3], super::modes::held_by);
+    unloaded_state_held(mechanism, matrix, held)
+}
+
+/// The unloaded mechanism's state with the stage coordinates `held` (`[x, y, phi]`)
+/// prescribed at 0 and the others loaded by nothing (a measured drive's kinds, which the
+/// mechanism's own drives do not carry).
+pub fn unloaded_state_held(
+    mechanism: &Mechanism,
+    matrix: &PrbMatrix,
+    held: [bool; 3],
+) -> SolvedState {
+    let at: [Coordinate; 3] = std::array::from_fn(|c| {
+        if held[c] {
+            Coordinate::Prescribed(0.0)
+        } else {
+            Coordinate::Loaded(0.0)
+        }
+    });
     SolvedState {
         unknowns: solver(mechanism, matrix, 1e-10).start(&at),
         at,
@@ -51,44 +70,126 @@ pub fn prb_modes(
     state: &SolvedState,
     stage: TipBody,
 ) -> Result<Vec<f64>, ModesError> {
-    let s = solver(mechanism, matrix, 1e-10);
+    let pencil = Pencil::new(mechanism, matrix, state, stage)?;
+    frequencies(&pencil.a, &pencil.b, pencil.n).map_err(ModesError::Unstable)
+}
+
+/// The PRB mechanism's first `count` modes at `state` for drawing, as the beam mechanism's
+/// ([`super::modes::mech_modes`]): per mode its `Omega`, the stage's motion of `P` and, per
+/// flexure, its chain's root, joints and tip ([`crate::prb::PrbSolver::joint_motion`]) with
+/// their motion, in the global frame and flexure 1's units, the largest motion 1. Each mode
+/// is the null vector of `A - Omega^2 B` (its smallest singular vector).
+pub fn prb_mode_shapes(
+    mechanism: &Mechanism,
+    matrix: &PrbMatrix,
+    state: &SolvedState,
+    stage: TipBody,
+    count: usize,
+) -> Result<Vec<MechModeShape>, ModesError> {
+    let pencil = Pencil::new(mechanism, matrix, state, stage)?;
+    let omegas = frequencies(&pencil.a, &pencil.b, pencil.n).map_err(ModesError::Unstable)?;
+    let n = pencil.n;
+    let a = DMatrix::from_row_slice(n, n, &pencil.a);
+    let b = DMatrix::from_row_slice(n, n, &pencil.b);
+    let s = &pencil.solver;
     let x = &state.unknowns;
-    let n = x.len();
-    if n != s.flexure_unknowns + state.at.iter().filter(|c| !c.is_prescribed()).count() {
-        return Err(ModesError::Coordinates {
-            expected: s.flexure_unknowns,
-            got: n,
-        });
-    }
-    let sys = s
-        .system(&state.at, x)
-        .map_err(|_| ModesError::Unstable(f64::NAN))?;
-    let a = s.jacobian(&state.at, x, &sys);
-    let mut b = vec![0.0; n * n];
-    let scale = |f: &crate::scene::Flexure| {
-        let beam = &f.beam;
-        beam.area() * beam.length.powi(4) / (beam.youngs_modulus * beam.second_moment())
-    };
-    let base = mechanism.flexures.first().map_or(1.0, scale);
-    for (i, (model, f)) in s.models.iter().zip(&mechanism.flexures).enumerate() {
-        let o = s.offsets[i] + 3;
-        let k = model.solver.dof_count();
-        let m = model.solver.mass_matrix(&x[o..o + k], TipBody::default());
-        let c = scale(f) / base;
-        for r in 0..k {
-            for col in 0..k {
-                b[(o + r) * n + o + col] = c * m[r * k + col];
+    let mut out = Vec::new();
+    for &w in omegas.iter().take(count) {
+        let svd = (&a - &b * (w * w)).svd(false, true);
+        let Some(v_t) = svd.v_t else { continue };
+        let smallest = svd
+            .singular_values
+            .iter()
+            .enumerate()
+            .min_by(|p, q| p.1.total_cmp(q.1))
+            .map_or(0, |(i, _)| i);
+        let v: Vec<f64> = v_t.row(smallest).iter().copied().collect();
+        let mut lines = Vec::with_capacity(s.models.len());
+        for (i, (model, frame)) in s.models.iter().zip(&s.geometry.frames).enumerate() {
+            let o = s.offsets[i] + 3;
+            let k = model.solver.dof_count();
+            let points = model
+                .solver
+                .joint_motion(&x[o..o + k], &v[o..o + k])
+                .into_iter()
+                .map(|p| station_to_global(frame, p))
+                .collect();
+            lines.push(points);
+        }
+        // The stage's loaded coordinates follow the flexures' unknowns; a prescribed one is
+        // held.
+        let mut motion = [0.0; 3];
+        let mut next = s.flexure_unknowns;
+        for (c, coordinate) in state.at.iter().enumerate() {
+            if !coordinate.is_prescribed() {
+                motion[c] = v[next];
+                next += 1;
             }
         }
+        normalise(&mut motion, &mut lines);
+        out.push(MechModeShape {
+            omega: w,
+            stage: motion,
+            flexures: lines,
+        });
     }
-    let mut next = s.flexure_unknowns;
-    for (c, coordinate) in state.at.iter().enumerate() {
-        if !coordinate.is_prescribed() {
-            b[next * n + next] = if c < 2 { stage.mass } else { stage.inertia };
-            next += 1;
+    Ok(out)
+}
+
+/// The linearised free vibration `A v = Omega^2 B v` at one state (module docs), row-major.
+struct Pencil {
+    solver: MechSolver<ChainFlexure>,
+    a: Vec<f64>,
+    b: Vec<f64>,
+    n: usize,
+}
+
+impl Pencil {
+    fn new(
+        mechanism: &Mechanism,
+        matrix: &PrbMatrix,
+        state: &SolvedState,
+        stage: TipBody,
+    ) -> Result<Pencil, ModesError> {
+        let s = solver(mechanism, matrix, 1e-10);
+        let x = &state.unknowns;
+        let n = x.len();
+        if n != s.flexure_unknowns + state.at.iter().filter(|c| !c.is_prescribed()).count() {
+            return Err(ModesError::Coordinates {
+                expected: s.flexure_unknowns,
+                got: n,
+            });
         }
+        let sys = s
+            .system(&state.at, x)
+            .map_err(|_| ModesError::Unstable(f64::NAN))?;
+        let a = s.jacobian(&state.at, x, &sys);
+        let mut b = vec![0.0; n * n];
+        let scale = |f: &crate::scene::Flexure| {
+            let beam = &f.beam;
+            beam.area() * beam.length.powi(4) / (beam.youngs_modulus * beam.second_moment())
+        };
+        let base = mechanism.flexures.first().map_or(1.0, scale);
+        for (i, (model, f)) in s.models.iter().zip(&mechanism.flexures).enumerate() {
+            let o = s.offsets[i] + 3;
+            let k = model.solver.dof_count();
+            let m = model.solver.mass_matrix(&x[o..o + k], TipBody::default());
+            let c = scale(f) / base;
+            for r in 0..k {
+                for col in 0..k {
+                    b[(o + r) * n + o + col] = c * m[r * k + col];
+                }
+            }
+        }
+        let mut next = s.flexure_unknowns;
+        for (c, coordinate) in state.at.iter().enumerate() {
+            if !coordinate.is_prescribed() {
+                b[next * n + next] = if c < 2 { stage.mass } else { stage.inertia };
+                next += 1;
+            }
+        }
+        Ok(Pencil { solver: s, a, b, n })
     }
-    frequencies(&a, &b, n).map_err(ModesError::Unstable)
 }
 
 #[cfg(test)]

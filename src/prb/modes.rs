@@ -14,6 +14,7 @@
 //! The eigenvalues come from [`crate::linalg::frequencies`], which also takes a joint that
 //! carries no mass (a massless tip segment): its frequency is infinite and left out.
 
+use crate::beam::modes::ModePoint;
 use crate::beam::Load;
 use crate::linalg::frequencies;
 
@@ -28,10 +29,6 @@ pub struct TipBody {
     /// Inertia / (`rho A0 L^3`).
     pub inertia: f64,
 }
-
-/// One mode of the chain for drawing: its `Omega` and the transverse motion `(x, dy)` at the
-/// root, every joint and the tip ([`PrbSolver::unloaded_shapes`]).
-pub type ChainShape = (f64, Vec<[f64; 2]>);
 
 /// Why a chain has no natural frequencies at an equilibrium.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -134,57 +131,54 @@ impl PrbSolver {
         frequencies(&lin.stiffness, &mass, m).map_err(ModesError::Unstable)
     }
 
-    /// The unloaded straight chain's first `count` modes for drawing: per mode its `Omega`
-    /// and the transverse motion `(x, dy)` of the chain's root, every joint and the tip
-    /// (a revolute joint's rate turns everything beyond it; an extension moves along the
-    /// chain, not across), scaled so the tip moves by 1. Each shape is the null vector of
-    /// `K - Omega^2 M` (its smallest singular vector).
-    pub fn unloaded_shapes(
-        &self,
-        tip: TipBody,
-        count: usize,
-    ) -> Result<Vec<ChainShape>, ModesError> {
-        let m = self.dofs.len();
-        let q = vec![0.0; m];
-        let load = Load::new(0.0, 0.0, 0.0);
-        let omegas = self.modes(load, &q, tip)?;
-        let k = nalgebra::DMatrix::from_row_slice(m, m, &self.linearise(load, &q).stiffness);
-        let mass = nalgebra::DMatrix::from_row_slice(m, m, &self.mass_matrix(&q, tip));
-        // The joints' positions along the straight chain: segment i's root at `x[i]`.
-        let mut x = vec![0.0; self.gamma.len() + 1];
-        for (i, g) in self.gamma.iter().enumerate() {
-            x[i + 1] = x[i] + g;
+    /// The chain's root, every joint and its tip at configuration `q` (the chain's own frame
+    /// and units: root at the origin, unloaded along +x) and their motion for the rate `dq`
+    /// of the joint coordinates, for drawing a mode: per point its arc length along the
+    /// unloaded chain (`s`, the sum of the gammas before it), position (`x`, `y`), motion
+    /// (`dx`, `dy`: a revolute joint's rate turns everything beyond it about the joint, an
+    /// extension moves it along its segment) and the rotation of the segment that ends there
+    /// (`dpsi`, 0 at the root).
+    pub fn joint_motion(&self, q: &[f64], dq: &[f64]) -> Vec<ModePoint> {
+        let n = self.gamma.len();
+        let mut theta = vec![0.0; n];
+        let mut length = vec![0.0; n];
+        self.segments(q, &mut theta, &mut length);
+        let mut root = vec![[0.0; 2]; n + 1];
+        let mut s = vec![0.0; n + 1];
+        for i in 0..n {
+            let (sn, c) = theta[i].sin_cos();
+            root[i + 1] = [root[i][0] + length[i] * c, root[i][1] + length[i] * sn];
+            s[i + 1] = s[i] + self.gamma[i];
         }
-        let mut out = Vec::new();
-        for &w in omegas.iter().take(count) {
-            let svd = (&k - &mass * (w * w)).svd(false, true);
-            let Some(v_t) = svd.v_t else { continue };
-            let smallest = svd
-                .singular_values
-                .iter()
-                .enumerate()
-                .min_by(|a, b| a.1.total_cmp(b.1))
-                .map_or(0, |(i, _)| i);
-            let v = v_t.row(smallest);
-            let dy = |at: f64| -> f64 {
-                self.dofs
-                    .iter()
-                    .zip(v.iter())
-                    .map(|(d, r)| match *d {
-                        Dof::Theta(seg) if x[seg] <= at => r * (at - x[seg]),
-                        _ => 0.0,
-                    })
-                    .sum()
-            };
-            let tip_dy = dy(x[x.len() - 1]);
-            let scale = if tip_dy.abs() > 0.0 {
-                1.0 / tip_dy
-            } else {
-                1.0
-            };
-            out.push((w, x.iter().map(|&at| [at, scale * dy(at)]).collect()));
-        }
-        Ok(out)
+        (0..=n)
+            .map(|j| {
+                let p = root[j];
+                let (mut dx, mut dy, mut dpsi) = (0.0, 0.0, 0.0);
+                for (dof, &rate) in self.dofs.iter().zip(dq) {
+                    match *dof {
+                        Dof::Theta(k) if k < j => {
+                            dx -= rate * (p[1] - root[k][1]);
+                            dy += rate * (p[0] - root[k][0]);
+                            dpsi += rate;
+                        }
+                        Dof::Delta(k) if k < j => {
+                            let (sn, c) = theta[k].sin_cos();
+                            dx += rate * c;
+                            dy += rate * sn;
+                        }
+                        _ => {}
+                    }
+                }
+                ModePoint {
+                    s: s[j],
+                    x: p[0],
+                    y: p[1],
+                    dx,
+                    dy,
+                    dpsi,
+                }
+            })
+            .collect()
     }
 }
 
@@ -197,26 +191,25 @@ mod tests {
         PrbSolver::new(&PrbMatrix::parse(text).unwrap(), 1.0 / 1200.0)
     }
 
-    /// A 1R's only mode is its link turning about the joint: the motion grows linearly from
-    /// the joint to 1 at the tip; a 3R's modes each move the tip by 1.
+    /// A 1R's joint rate turns its link about the joint: the root and the joint stay, the tip
+    /// moves across the link by its length, straight or turned a quarter.
     #[test]
-    fn shapes_are_the_null_vectors_scaled_to_the_tip() {
+    fn joint_motion_turns_the_link_about_its_joint() {
         let s = solver("0.15,inf,inf; 0.85,2.2525,inf");
-        let shapes = s.unloaded_shapes(TipBody::default(), 3).unwrap();
-        assert_eq!(shapes.len(), 1);
-        let (w, pts) = &shapes[0];
-        assert!((w - (2.2525 / (0.85_f64.powi(3) / 3.0)).sqrt()).abs() < 1e-12);
+        let pts = s.joint_motion(&[0.0], &[1.0]);
         assert_eq!(pts.len(), 3);
-        assert!(pts[0][1].abs() < 1e-15 && pts[1][1].abs() < 1e-15);
-        assert!((pts[2][0] - 1.0).abs() < 1e-15 && (pts[2][1] - 1.0).abs() < 1e-12);
-        let su = solver("0.1,inf,inf; 0.35,3.51,inf; 0.4,2.99,inf; 0.15,2.58,inf");
-        let shapes = su.unloaded_shapes(TipBody::default(), 3).unwrap();
-        assert_eq!(shapes.len(), 3);
-        for (_, pts) in &shapes {
-            assert!((pts[4][1] - 1.0).abs() < 1e-9, "{pts:?}");
+        let close = |a: f64, b: f64| (a - b).abs() < 1e-15;
+        assert!(close(pts[1].s, 0.15) && close(pts[2].s, 1.0));
+        for p in &pts[..2] {
+            assert!(p.dx == 0.0 && p.dy == 0.0 && p.dpsi == 0.0, "{p:?}");
         }
-        // The second mode has a node: its joints move against the tip somewhere.
-        assert!(shapes[1].1.iter().any(|p| p[1] < 0.0), "{shapes:?}");
+        let tip = pts[2];
+        assert!(close(tip.x, 1.0) && close(tip.dx, 0.0) && close(tip.dy, 0.85));
+        assert!(close(tip.dpsi, 1.0));
+        let turned = s.joint_motion(&[std::f64::consts::FRAC_PI_2], &[2.0]);
+        let tip = turned[2];
+        assert!(close(tip.x, 0.15) && close(tip.y, 0.85), "{tip:?}");
+        assert!(close(tip.dx, -1.7) && tip.dy.abs() < 1e-15, "{tip:?}");
     }
 
     /// Howell's 1R, its mass spread over its link (mu = gamma = 0.85): a rod of mass 0.85

@@ -6,8 +6,10 @@
 //! ([`crate::beam::modes::unloaded_modes`]), a mechanism's beam mechanism with its `[stage]`
 //! mass and inertia and the first drive's prescribed coordinates held
 //! ([`crate::mech::modes::mech_modes`]). A measured-data scene has no dynamics of its own: its
-//! frequencies are the nominal beam's (or beam mechanism's), and [`TruthModes::nominal`] says
-//! so. A PRB model's frequencies ([`Study::prb_frequencies`]) come from its chain's
+//! frequencies are the nominal beam's (or beam mechanism's, with the coordinates the data's
+//! drive prescribes held: [`Study::unloaded_held`]), and [`TruthModes::nominal`] says so.
+//! The first mode shapes ([`Study::mode_shapes`]) pair the truth's and a PRB model's, every
+//! kind of scene in the beam mechanism's form. A PRB model's frequencies ([`Study::prb_frequencies`]) come from its chain's
 //! `K q = omega^2 M q` with the tip body (a cantilever) or from the whole PRB mechanism
 //! ([`crate::mech::prb_modes`]), both about the unloaded equilibrium, in flexure 1's
 //! `Omega = omega sqrt(rho A0 L^4 / (E I0))`.
@@ -18,12 +20,12 @@
 use serde::Serialize;
 
 use crate::beam::modes::{
-    unloaded_modes, FrequencyScale, ModeSettings, ModesError, TipBody as BeamTip,
+    unloaded_modes, FrequencyScale, ModePoint, ModeSettings, ModesError, TipBody as BeamTip,
 };
 use crate::beam::Load;
 use crate::mech::figures::Frequencies;
-use crate::mech::modes::{held_by, mech_modes, MechMass};
-use crate::mech::prb_modes::{prb_modes, unloaded_state};
+use crate::mech::modes::{held_by, mech_modes, MechMass, MechModeShape};
+use crate::mech::prb_modes::{prb_mode_shapes, prb_modes, unloaded_state_held};
 use crate::prb::{PrbMatrix, PrbSolver, TipBody};
 use crate::scene::Scene;
 
@@ -44,26 +46,32 @@ pub struct TruthModes {
     pub body: TipBody,
     /// The truth is measured data, which has no dynamics: these are the nominal beam's.
     pub nominal: bool,
-    /// A cantilever's mode shapes for drawing: per mode, `(s, dy)` along the unloaded beam,
-    /// the tip's motion 1 (empty for a mechanism).
-    pub shapes: Vec<Vec<[f64; 2]>>,
+    /// The first [`SHOWN_MODES`] mode shapes for drawing, every kind of scene in the
+    /// mechanism's form (a cantilever is its one-flexure mechanism, its tip the stage):
+    /// global frame, flexure 1's units, the largest motion 1.
+    pub shapes: Vec<MechModeShape>,
 }
 
-/// Stations per drawn beam mode shape.
+/// Stations per flexure of a drawn beam mode shape.
 const SHAPE_POINTS: usize = 41;
 
-/// One mode of a cantilever, the beam's and the PRB model's, for drawing over each other.
+/// One mode, the truth's and the PRB model's about the unloaded equilibrium, for drawing
+/// over each other: a cantilever's (its one-flexure mechanism, the tip its stage) or a
+/// mechanism's, in one form.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct ModeShapePair {
-    /// The beam's frequency, Hz.
+    /// The beam's (beam mechanism's) frequency, Hz.
     pub beam_hz: f64,
     /// The model's, Hz.
     pub model_hz: f64,
-    /// The beam's transverse motion `(s, dy)` along the unloaded beam (units of L), the
-    /// tip's 1.
-    pub beam: Vec<[f64; 2]>,
-    /// The PRB chain's at its root, joints and tip, the tip's 1.
-    pub model: Vec<[f64; 2]>,
+    /// The beam's shape: its flexures' centre lines at 41 stations each and their motion,
+    /// the stage's motion of `P` (global frame, flexure 1's units), the largest motion 1.
+    pub beam: MechModeShape,
+    /// The PRB model's: each chain's root, joints and tip and their motion, the stage's,
+    /// the largest motion 1, its sign the one that correlates positively with the beam's.
+    pub model: MechModeShape,
+    /// The truth is measured data, which have no dynamics: the beam is the nominal one.
+    pub nominal: bool,
 }
 
 impl TruthModes {
@@ -110,28 +118,38 @@ fn truth_modes(
         mass: b.mass,
         inertia: b.inertia,
     };
-    let mut shapes = Vec::new();
-    let omega = if scene.mechanism.is_none() {
+    let (omega, shapes) = if scene.mechanism.is_none() {
         let settings = ModeSettings {
             shape_points: SHAPE_POINTS,
             ..ModeSettings::frequencies(count)
         };
         let modes = unloaded_modes(&scene.beam.model(), b, &settings)?;
-        shapes = modes
+        // The beam along +x from the origin is its one-flexure mechanism's flexure in the
+        // global frame; the tip is the stage point.
+        let shapes = modes
             .shapes
-            .iter()
-            .map(|shape| {
-                let tip = shape.points.last().map_or(1.0, |p| p.dy);
-                let scale = if tip == 0.0 { 1.0 } else { 1.0 / tip };
-                shape.points.iter().map(|p| [p.s, scale * p.dy]).collect()
+            .into_iter()
+            .take(SHOWN_MODES)
+            .map(|shape| MechModeShape {
+                omega: shape.omega,
+                stage: shape
+                    .points
+                    .last()
+                    .map_or([0.0; 3], |p| [p.dx, p.dy, p.dpsi]),
+                flexures: vec![shape.points],
             })
             .collect();
-        modes.omega
+        (modes.omega, shapes)
     } else {
-        let settings = ModeSettings::frequencies(count);
+        let settings = ModeSettings {
+            shape_points: SHAPE_POINTS,
+            ..ModeSettings::frequencies(count)
+        };
         let mass = MechMass::from_si(mechanism, density, scene.body.mass, scene.body.inertia)?;
-        let held = mechanism.drives.first().map_or([false; 3], held_by);
-        mech_modes(mechanism, &mass, held, None, &settings)?.omega
+        let held = unloaded_held(scene, mechanism);
+        let modes = mech_modes(mechanism, &mass, held, None, &settings)?;
+        let shapes = modes.shapes.into_iter().take(SHOWN_MODES).collect();
+        (modes.omega, shapes)
     };
     Ok(TruthModes {
         omega,
@@ -142,7 +160,27 @@ fn truth_modes(
     })
 }
 
+/// The stage coordinates held while the unloaded mechanism rings: its first drive's
+/// prescribed ones, or on measured data (whose drives are the file's, not the mechanism's)
+/// the data's prescribed columns; none for a cantilever.
+fn unloaded_held(scene: &Scene, mechanism: &crate::scene::Mechanism) -> [bool; 3] {
+    match mechanism.drives.first() {
+        Some(drive) => held_by(drive),
+        None => scene
+            .truth
+            .as_ref()
+            .and_then(|t| t.stage.as_ref())
+            .map_or([false; 3], |s| s.prescribed),
+    }
+}
+
 impl Study {
+    /// The stage coordinates held while the unloaded scene rings (`[x, y, phi]`): the first
+    /// drive's prescribed ones, or a mechanism's measured data's.
+    pub fn unloaded_held(&self) -> [bool; 3] {
+        unloaded_held(self.scene(), self.mechanism())
+    }
+
     /// The truth's natural frequencies, when the scene gives `[beam] density`.
     pub fn truth_modes(&self) -> Option<&TruthModes> {
         self.modes.as_ref()
@@ -163,7 +201,7 @@ impl Study {
                 chain.modes(Load::new(0.0, 0.0, 0.0), &q, body)
             }
             None => {
-                let state = unloaded_state(self.mechanism(), matrix);
+                let state = unloaded_state_held(self.mechanism(), matrix, self.unloaded_held());
                 prb_modes(self.mechanism(), matrix, &state, body)
             }
         }
@@ -191,28 +229,76 @@ impl Study {
         })
     }
 
-    /// A cantilever's first mode shapes, the beam's and `matrix`'s over each other (as many
-    /// as both have, at most [`SHOWN_MODES`]); empty for a mechanism or without `[beam]
-    /// density`.
+    /// The first mode shapes about the unloaded equilibrium, the truth's and `matrix`'s
+    /// over each other, paired lowest first (as many as both have, at most
+    /// [`SHOWN_MODES`]): a cantilever's (its one-flexure mechanism) or a mechanism's, one
+    /// path. Each model shape's sign is the one that correlates positively with the
+    /// beam's. Empty without `[beam] density` or when the model has no modes.
     pub fn mode_shapes(&self, matrix: &PrbMatrix) -> Vec<ModeShapePair> {
-        let (Some(truth), Some(baseline)) = (self.modes.as_ref(), self.baseline()) else {
+        let Some(truth) = self.modes.as_ref() else {
             return Vec::new();
         };
-        let chain = PrbSolver::new(matrix, baseline.model.axial_compliance());
-        let model = chain
-            .unloaded_shapes(truth.body, SHOWN_MODES)
-            .unwrap_or_default();
+        let mechanism = self.mechanism();
+        let state = unloaded_state_held(mechanism, matrix, self.unloaded_held());
+        let model =
+            prb_mode_shapes(mechanism, matrix, &state, truth.body, SHOWN_MODES).unwrap_or_default();
         truth
             .shapes
             .iter()
-            .zip(&truth.omega)
             .zip(model)
-            .map(|((beam, &w), (wm, shape))| ModeShapePair {
-                beam_hz: truth.scale.hz(w),
-                model_hz: truth.scale.hz(wm),
-                beam: beam.clone(),
-                model: shape,
+            .map(|(beam, mut model)| {
+                if correlation(beam, &model) < 0.0 {
+                    flip(&mut model);
+                }
+                ModeShapePair {
+                    beam_hz: truth.scale.hz(beam.omega),
+                    model_hz: truth.scale.hz(model.omega),
+                    beam: beam.clone(),
+                    model,
+                    nominal: truth.nominal,
+                }
             })
             .collect()
+    }
+}
+
+/// How `model`'s motion agrees with `beam`'s: the stage's `(dx, dy)` products and, at every
+/// station of each of the model's flexures, its motion dotted with the beam's at the same
+/// arc length (interpolated between the beam's stations).
+fn correlation(beam: &MechModeShape, model: &MechModeShape) -> f64 {
+    let mut sum = beam.stage[0] * model.stage[0] + beam.stage[1] * model.stage[1];
+    for (line, points) in beam.flexures.iter().zip(&model.flexures) {
+        for p in points {
+            let [dx, dy] = motion_at(line, p.s);
+            sum += dx * p.dx + dy * p.dy;
+        }
+    }
+    sum
+}
+
+/// The motion of the centre line `line` (stations by arc length, ascending) at arc length
+/// `s`, linear between stations.
+fn motion_at(line: &[ModePoint], s: f64) -> [f64; 2] {
+    let k = line.partition_point(|p| p.s < s);
+    match (k.checked_sub(1).and_then(|i| line.get(i)), line.get(k)) {
+        (Some(a), Some(b)) if b.s > a.s => {
+            let t = (s - a.s) / (b.s - a.s);
+            [a.dx + t * (b.dx - a.dx), a.dy + t * (b.dy - a.dy)]
+        }
+        (_, Some(b)) => [b.dx, b.dy],
+        (Some(a), None) => [a.dx, a.dy],
+        (None, None) => [0.0, 0.0],
+    }
+}
+
+/// The same mode with its motion's sign turned.
+fn flip(shape: &mut MechModeShape) {
+    for v in &mut shape.stage {
+        *v = -*v;
+    }
+    for p in shape.flexures.iter_mut().flatten() {
+        p.dx = -p.dx;
+        p.dy = -p.dy;
+        p.dpsi = -p.dpsi;
     }
 }

@@ -10,7 +10,8 @@
 //!   equilibrium under the same load (the model's statics followed along the same drive).
 //!
 //! The equilibria ([`Equilibria`]): the unloaded one (the first drive's prescribed
-//! coordinates held, as the PRB side holds them), one tip load of a cantilever (the beam's
+//! coordinates held, as the PRB side holds them; on measured data the data's prescribed
+//! columns, [`Study::unloaded_held`]), one tip load of a cantilever (the beam's
 //! statics first: a load past buckling gets their own message), or every case of the
 //! scene's paths. Measured data are not dynamic: a data scene's modes are its nominal
 //! beam's, and its cases the nominal beam's equilibria under the measured loads.
@@ -185,7 +186,7 @@ impl Study {
                 let beam = match self.truth_modes() {
                     Some(t) if t.omega.len() >= count => t.omega[..count].to_vec(),
                     _ => {
-                        let held = self.mechanism.drives.first().map_or([false; 3], held_by);
+                        let held = self.unloaded_held();
                         mech_modes(&self.mechanism, &mass, held, None, &settings)?.omega
                     }
                 };

@@ -429,7 +429,7 @@ pub const KEYMAP: &[Entry] = &[
     },
     Entry {
         keys: "M",
-        does: "mode shapes of beam and PRB (a cantilever with [beam] density); again: back",
+        does: "mode shapes of beam and PRB over each other ([beam] density); again: back",
         scope: ALL,
         bindings: &[ch('M', Action::ModeShapes)],
         hints: &[],

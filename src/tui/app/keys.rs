@@ -187,10 +187,18 @@ impl App {
             }
             Action::ModeShapes => {
                 self.show_modes = !self.show_modes;
-                self.set_info(if self.show_modes {
-                    "mode shapes: beam and PRB, unloaded, the tip's motion 1 (M: back)"
-                } else {
-                    "deformed shapes"
+                let mechanism = self.edit.case_form() == crate::study::CaseForm::Stage;
+                self.set_info(match (self.show_modes, mechanism) {
+                    (true, false) => {
+                        "mode shapes: beam and PRB, unloaded, the tip's motion 1 (M: back)"
+                            .to_string()
+                    }
+                    (true, true) => format!(
+                        "mode shapes: beam and PRB displaced about the unloaded mechanism, \
+                         the largest motion {} of its size (M: back)",
+                        crate::tui::ui::shapes::MODE_SCALE
+                    ),
+                    (false, _) => "deformed shapes".to_string(),
                 });
             }
             Action::ToggleSi => {

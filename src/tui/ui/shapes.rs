@@ -9,8 +9,11 @@
 //! - a mechanism: one case of the shown drive (`<` `>`), over the unloaded mechanism in
 //!   grey, with a bar across each flexure's clamp and its stage point `P` marked.
 //!
-//! With `M` it shows a cantilever's first mode shapes instead (DESIGN §10): the beam's and
-//! the PRB model's transverse motion about the unloaded beam over each other.
+//! With `M` it shows the first mode shapes instead (DESIGN §10), the beam's and the PRB
+//! model's over each other about the unloaded equilibrium, each mode in its colour: a
+//! cantilever's as its transverse motion along the unloaded beam (the tip's 1), a
+//! mechanism's as the mechanism displaced by its motion (the same [`MODE_SCALE`] for beam and
+//! PRB) over the unloaded mechanism in grey. On a data scene they are the nominal beam's.
 //! The shown case's largest fibre stress (DESIGN §11) is on the bottom border (a
 //! cantilever's shown case is its path's end, the outermost shape; a mechanism's names its
 //! most stressed flexure), with `past limit` when the case lies past its path's stroke limit,
@@ -30,7 +33,9 @@ use ratatui::widgets::canvas::{Canvas, Context, Line as CanvasLine};
 use ratatui::widgets::{Block, Borders, Paragraph, Wrap};
 use ratatui::Frame;
 
-use crate::mech::pose::Pose;
+use crate::mech::modes::MechModeShape;
+use crate::mech::pose::{self, Pose};
+use crate::scene::Mechanism;
 use crate::study::dynamics::ModeShapePair;
 use crate::study::CaseForm;
 use crate::text::sanitize_terminal;
@@ -149,6 +154,21 @@ fn lines(ctx: &mut Context, pose: &Pose, color: Color) {
     }
 }
 
+/// A short bar across each flexure's clamp of the unloaded `rest`, scaled to the chart's
+/// bounds.
+fn clamp_bars(rest: &Pose, xb: [f64; 2], yb: [f64; 2]) -> Vec<[f64; 4]> {
+    let bar = 0.04 * (xb[1] - xb[0]).max(yb[1] - yb[0]);
+    rest.flexures
+        .iter()
+        .filter_map(|line| {
+            let (r, t) = (line.first()?, line.last()?);
+            let len = (t[0] - r[0]).hypot(t[1] - r[1]).max(1e-12);
+            let (nx, ny) = (-(t[1] - r[1]) / len * bar, (t[0] - r[0]) / len * bar);
+            Some([r[0] - nx, r[1] - ny, r[0] + nx, r[1] + ny])
+        })
+        .collect()
+}
+
 /// The chart's frame: its title, and on measured data the legend on the bottom border (so
 /// that a narrow chart keeps it whole).
 fn block<'a>(view: &View, measured: Option<bool>) -> Block<'a> {
@@ -224,17 +244,33 @@ fn block<'a>(view: &View, measured: Option<bool>) -> Block<'a> {
 /// The mode shapes' colours, first mode first.
 const MODE_COLORS: [Color; 3] = [Color::Yellow, Color::Cyan, Color::Magenta];
 
-/// Draws the mode shapes (`M`): per mode, the beam's transverse motion along the unloaded
-/// beam as a line and the PRB chain's through its joints (`o`), in the mode's colour
-/// (yellow, cyan, magenta), each scaled so the tip moves by 1; the title gives each mode's
-/// frequencies, beam/PRB in Hz.
-fn draw_modes(frame: &mut Frame, area: Rect, modes: &[ModeShapePair], pal: Palette) {
-    let mut title = " Modes (tip 1): beam ─ PRB ─o ".to_string();
+/// A mechanism's mode shapes are drawn with their largest motion this fraction of the
+/// unloaded mechanism's size (its bounding box's larger side): visible, and small enough
+/// that the modes read as motions about the equilibrium drawn under them.
+pub const MODE_SCALE: f64 = 0.15;
+
+/// Draws the mode shapes (`M`): per mode, in its colour (yellow, cyan, magenta), the
+/// beam's shape as lines and the PRB model's through its joints (`o`); the title gives each
+/// mode's frequencies, beam/PRB in Hz. A cantilever's are its transverse motion along the
+/// unloaded beam, each scaled so the tip moves by 1; a mechanism's are drawn displaced
+/// about its unloaded equilibrium (grey), both by the same [`MODE_SCALE`].
+fn draw_modes(frame: &mut Frame, area: Rect, view: &View, modes: &[ModeShapePair]) {
+    let mechanism = view
+        .truth
+        .filter(|_| view.form == CaseForm::Stage)
+        .map(|t| &t.mechanism);
+    let mut title = match mechanism {
+        Some(_) => " Mode shapes: beam ─ PRB ─o ".to_string(),
+        None => " Modes (tip 1): beam ─ PRB ─o ".to_string(),
+    };
+    if modes.first().is_some_and(|m| m.nominal) {
+        title.push_str(" nominal beam ");
+    }
     for m in modes {
         title.push_str(&format!(
             " {}/{}",
-            crate::tui::units::trim_number(m.beam_hz, 4),
-            crate::tui::units::trim_number(m.model_hz, 4)
+            trim_number(m.beam_hz, 4),
+            trim_number(m.model_hz, 4)
         ));
     }
     if !modes.is_empty() {
@@ -244,8 +280,8 @@ fn draw_modes(frame: &mut Frame, area: Rect, modes: &[ModeShapePair], pal: Palet
     if modes.is_empty() {
         frame.render_widget(
             Paragraph::new(
-                "no mode shapes: they are drawn for a cantilever scene with [beam] density \
-                 (M: back to the deformed shapes)",
+                "no mode shapes: they need [beam] density in the scene and a judged PRB model \
+                 that rings about the unloaded equilibrium (M: back to the deformed shapes)",
             )
             .wrap(Wrap { trim: true })
             .block(block),
@@ -253,9 +289,37 @@ fn draw_modes(frame: &mut Frame, area: Rect, modes: &[ModeShapePair], pal: Palet
         );
         return;
     }
-    let (lo, hi) = modes
+    match mechanism {
+        Some(mechanism) => draw_mech_modes(frame, area, block, mechanism, modes, view.pal),
+        None => draw_tip_modes(frame, area, block, modes, view.pal),
+    }
+}
+
+/// A cantilever's mode (its one-flexure mechanism's) as its transverse motion `(x, dy)`
+/// along the unloaded beam, the tip's 1.
+fn transverse(shape: &MechModeShape) -> Vec<[f64; 2]> {
+    let line = shape.flexures.first().map_or(&[][..], |l| &l[..]);
+    let tip = line.last().map_or(1.0, |p| p.dy);
+    let scale = if tip == 0.0 { 1.0 } else { 1.0 / tip };
+    line.iter().map(|p| [p.x, scale * p.dy]).collect()
+}
+
+/// A cantilever's mode shapes ([`draw_modes`]).
+fn draw_tip_modes(
+    frame: &mut Frame,
+    area: Rect,
+    block: Block,
+    modes: &[ModeShapePair],
+    pal: Palette,
+) {
+    let lines: Vec<[Vec<[f64; 2]>; 2]> = modes
         .iter()
-        .flat_map(|m| m.beam.iter().chain(&m.model))
+        .map(|m| [transverse(&m.beam), transverse(&m.model)])
+        .collect();
+    let (lo, hi) = lines
+        .iter()
+        .flatten()
+        .flatten()
         .fold((0.0_f64, 0.0_f64), |(lo, hi), p| {
             (lo.min(p[1]), hi.max(p[1]))
         });
@@ -273,22 +337,18 @@ fn draw_modes(frame: &mut Frame, area: Rect, modes: &[ModeShapePair], pal: Palet
                 0.0,
                 pal.color(Color::DarkGray),
             ));
-            for (m, color) in modes.iter().zip(MODE_COLORS) {
-                let color = pal.color(color);
-                for w in m.beam.windows(2) {
-                    ctx.draw(&CanvasLine::new(w[0][0], w[0][1], w[1][0], w[1][1], color));
+            for marked in [false, true] {
+                for ([beam, model], color) in lines.iter().zip(MODE_COLORS) {
+                    let line = if marked { model } else { beam };
+                    let color = pal.color(color);
+                    for w in line.windows(2) {
+                        ctx.draw(&CanvasLine::new(w[0][0], w[0][1], w[1][0], w[1][1], color));
+                    }
                 }
+                ctx.layer();
             }
-            ctx.layer();
-            for (m, color) in modes.iter().zip(MODE_COLORS) {
-                let color = pal.color(color);
-                for w in m.model.windows(2) {
-                    ctx.draw(&CanvasLine::new(w[0][0], w[0][1], w[1][0], w[1][1], color));
-                }
-            }
-            ctx.layer();
-            for (m, color) in modes.iter().zip(MODE_COLORS) {
-                for p in m.model.iter().skip(1) {
+            for ([_, model], color) in lines.iter().zip(MODE_COLORS) {
+                for p in model.iter().skip(1) {
                     ctx.print(p[0], p[1], Span::styled("o", pal.fg(color)));
                 }
             }
@@ -296,10 +356,84 @@ fn draw_modes(frame: &mut Frame, area: Rect, modes: &[ModeShapePair], pal: Palet
     frame.render_widget(canvas, area);
 }
 
+/// A mechanism's mode shapes ([`draw_modes`]).
+fn draw_mech_modes(
+    frame: &mut Frame,
+    area: Rect,
+    block: Block,
+    mechanism: &Mechanism,
+    modes: &[ModeShapePair],
+    pal: Palette,
+) {
+    let Some(first) = modes.first() else {
+        return;
+    };
+    let rest = pose::mode(mechanism, [0.0; 3], &first.beam, 0.0);
+    let mut all = Vec::new();
+    points(&rest, &mut all);
+    let (x0, x1, y0, y1) = all.iter().fold(
+        (
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+        ),
+        |(x0, x1, y0, y1), p| (x0.min(p.0), x1.max(p.0), y0.min(p.1), y1.max(p.1)),
+    );
+    let size = (x1 - x0).max(y1 - y0);
+    let scale = MODE_SCALE
+        * if size.is_finite() && size > 0.0 {
+            size
+        } else {
+            1.0
+        };
+    let poses: Vec<[Pose; 2]> = modes
+        .iter()
+        .map(|m| {
+            [
+                pose::mode(mechanism, [0.0; 3], &m.beam, scale),
+                pose::mode(mechanism, [0.0; 3], &m.model, scale),
+            ]
+        })
+        .collect();
+    for pose in poses.iter().flatten() {
+        points(pose, &mut all);
+    }
+    let (xb, yb) = equal_aspect_bounds(&all, area);
+    let clamps = clamp_bars(&rest, xb, yb);
+    let canvas = Canvas::default()
+        .block(block)
+        .marker(Marker::Braille)
+        .x_bounds(xb)
+        .y_bounds(yb)
+        .paint(|ctx| {
+            lines(ctx, &rest, pal.color(Color::DarkGray));
+            for c in &clamps {
+                let color = pal.color(Color::Gray);
+                ctx.draw(&CanvasLine::new(c[0], c[1], c[2], c[3], color));
+            }
+            ctx.layer();
+            for side in 0..2 {
+                for (pair, color) in poses.iter().zip(MODE_COLORS) {
+                    lines(ctx, &pair[side], pal.color(color));
+                }
+                ctx.layer();
+            }
+            for ([_, model], color) in poses.iter().zip(MODE_COLORS) {
+                for p in model.flexures.iter().flat_map(|l| l.iter().skip(1)) {
+                    ctx.print(p[0], p[1], Span::styled("o", pal.fg(color)));
+                }
+            }
+            let p = rest.stage_point;
+            ctx.print(p[0], p[1], Span::styled("P", pal.fg(Color::Cyan)));
+        });
+    frame.render_widget(canvas, area);
+}
+
 /// Draws the shape chart (the mode shapes when `M` asks).
 pub fn draw(frame: &mut Frame, area: Rect, view: &View) {
     if let Some(modes) = view.modes {
-        draw_modes(frame, area, modes, view.pal);
+        draw_modes(frame, area, view, modes);
         return;
     }
     let measured = view.truth.and_then(|t| t.measured.as_ref());
@@ -357,18 +491,7 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View) {
     // The clamps: a bar across each flexure's root, a mechanism's short, a cantilever's a
     // wall.
     let clamps: Vec<[f64; 4]> = if single {
-        let bar = 0.04 * (xb[1] - xb[0]).max(yb[1] - yb[0]);
-        truth
-            .unloaded
-            .flexures
-            .iter()
-            .filter_map(|line| {
-                let (r, t) = (line.first()?, line.last()?);
-                let len = (t[0] - r[0]).hypot(t[1] - r[1]).max(1e-12);
-                let (nx, ny) = (-(t[1] - r[1]) / len * bar, (t[0] - r[0]) / len * bar);
-                Some([r[0] - nx, r[1] - ny, r[0] + nx, r[1] + ny])
-            })
-            .collect()
+        clamp_bars(&truth.unloaded, xb, yb)
     } else {
         vec![[0.0, yb[0] * 0.3, 0.0, yb[1] * 0.3]]
     };

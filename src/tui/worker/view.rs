@@ -135,7 +135,8 @@ pub struct ModelView {
     /// Its natural frequencies against the truth's (DESIGN §10), when the scene gives
     /// `[beam] density`.
     pub frequencies: Option<Frequencies>,
-    /// A cantilever's first mode shapes, the beam's and the model's (with a density).
+    /// The first mode shapes about the unloaded equilibrium, the beam's (beam mechanism's)
+    /// and the model's (with a density), for a cantilever or a mechanism alike.
     pub mode_shapes: Vec<ModeShapePair>,
 }
 
