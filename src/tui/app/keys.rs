@@ -196,7 +196,7 @@ impl App {
                     (true, true) => format!(
                         "mode shapes: beam and PRB displaced about the unloaded mechanism, \
                          the largest motion {} of its size (M: back)",
-                        crate::tui::ui::shapes::MODE_SCALE
+                        super::MODE_SCALE
                     ),
                     (false, _) => "deformed shapes".to_string(),
                 });

@@ -38,6 +38,11 @@ pub use edit::{EditTarget, Editing};
 pub use jobs::{Activity, JobClient, DEBOUNCE};
 pub use shown::{Judged, Shown};
 
+/// A mechanism's mode shapes are drawn with their largest motion this fraction of the
+/// unloaded mechanism's size (its bounding box's larger side): visible, and small enough
+/// that the modes read as motions about the equilibrium drawn under them.
+pub const MODE_SCALE: f64 = 0.15;
+
 /// The whole UI state.
 #[derive(Debug)]
 pub struct App {

@@ -40,7 +40,7 @@ use crate::study::dynamics::ModeShapePair;
 use crate::study::CaseForm;
 use crate::text::sanitize_terminal;
 
-use super::super::app::{Activity, App};
+use super::super::app::{Activity, App, MODE_SCALE};
 use super::super::units::trim_number;
 use super::super::worker::{ModelView, TruthView};
 use super::parts::{equal_aspect_bounds, Palette, MEASURED_COLOR, MEASURED_MARKER};
@@ -243,11 +243,6 @@ fn block<'a>(view: &View, measured: Option<bool>) -> Block<'a> {
 
 /// The mode shapes' colours, first mode first.
 const MODE_COLORS: [Color; 3] = [Color::Yellow, Color::Cyan, Color::Magenta];
-
-/// A mechanism's mode shapes are drawn with their largest motion this fraction of the
-/// unloaded mechanism's size (its bounding box's larger side): visible, and small enough
-/// that the modes read as motions about the equilibrium drawn under them.
-pub const MODE_SCALE: f64 = 0.15;
 
 /// Draws the mode shapes (`M`): per mode, in its colour (yellow, cyan, magenta), the
 /// beam's shape as lines and the PRB model's through its joints (`o`); the title gives each
