@@ -123,7 +123,8 @@ pub fn cholesky_solve(matrix: &mut [f64], rhs: &mut [f64], n: usize) -> bool {
 /// Solved as the eigenvalues `mu = 1 / omega^2` of `A^-1 B` (Schur decomposition), which
 /// holds for a symmetric pair and for a constrained mechanism's unsymmetric saddle-point
 /// system alike, and leaves the massless coordinates at `mu = 0` (an infinite frequency,
-/// dropped) instead of dividing by their zero mass. The lowest frequencies are the largest
+/// dropped) instead of dividing by their zero mass; only the massive coordinates' block of
+/// `A^-1 B` is decomposed (the rest contributes only those zeros). The lowest frequencies are the largest
 /// `mu`, computed to the Schur decomposition's relative accuracy (about `n` ulp of the
 /// largest); frequencies more than 1000 times the lowest are not resolved and left out. A `mu` with an imaginary part or a negative one (below `-1e-12` of the largest)
 /// means `A` is not a stable stiffness: `Err` with the most negative `omega^2`, or NaN.
@@ -131,26 +132,27 @@ pub fn frequencies(a: &[f64], b: &[f64], n: usize) -> Result<Vec<f64>, f64> {
     if n == 0 {
         return Ok(Vec::new());
     }
-    let mut lu = a.to_vec();
-    let mut c = vec![0.0; n * n];
-    // A^-1 B column by column (n is a few dozen at most).
-    let mut col = vec![0.0; n];
-    let mut factor = lu.clone();
-    for j in 0..n {
-        for i in 0..n {
-            col[i] = b[i * n + j];
-        }
-        factor.copy_from_slice(&lu);
-        if lu_solve(&mut factor, &mut col, n).is_none() {
-            return Err(0.0);
-        }
-        for i in 0..n {
-            c[i * n + j] = col[i];
-        }
+    // Only the coordinates with mass have a column in `A^-1 B`: with the others (massless
+    // coordinates, multipliers) ordered last it is block lower triangular, `[[C_mm, 0],
+    // [C_om, 0]]`, so its nonzero eigenvalues are those of `C_mm`, the massive rows and
+    // columns of `A^-1 B_m`: one factorisation of `A` and as many solves as masses.
+    let massive: Vec<usize> = (0..n)
+        .filter(|&j| (0..n).any(|i| b[i * n + j] != 0.0))
+        .collect();
+    let m = massive.len();
+    if m == 0 {
+        return Ok(Vec::new());
     }
-    lu.clear();
-    let m = nalgebra::DMatrix::from_row_slice(n, n, &c);
-    let eig = m.complex_eigenvalues();
+    let lu = nalgebra::DMatrix::from_row_slice(n, n, a).lu();
+    let b_m = nalgebra::DMatrix::from_fn(n, m, |i, j| b[i * n + massive[j]]);
+    let Some(c) = lu.solve(&b_m) else {
+        return Err(0.0);
+    };
+    let c_mm = nalgebra::DMatrix::from_fn(m, m, |i, j| c[(massive[i], j)]);
+    if c_mm.iter().any(|v| !v.is_finite()) {
+        return Err(0.0);
+    }
+    let eig = c_mm.complex_eigenvalues();
     let largest = eig.iter().fold(0.0_f64, |a, z| a.max(z.norm()));
     if largest == 0.0 || !largest.is_finite() {
         return Ok(Vec::new());

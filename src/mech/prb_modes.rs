@@ -48,6 +48,11 @@ pub fn unloaded_state_held(
     matrix: &PrbMatrix,
     held: [bool; 3],
 ) -> SolvedState {
+    held_state(&solver(mechanism, matrix, 1e-10), held)
+}
+
+/// The unloaded state of the PRB mechanism `s` with the stage coordinates `held` fixed.
+fn held_state(s: &MechSolver<ChainFlexure>, held: [bool; 3]) -> SolvedState {
     let at: [Coordinate; 3] = std::array::from_fn(|c| {
         if held[c] {
             Coordinate::Prescribed(0.0)
@@ -56,9 +61,23 @@ pub fn unloaded_state_held(
         }
     });
     SolvedState {
-        unknowns: solver(mechanism, matrix, 1e-10).start(&at),
+        unknowns: s.start(&at),
         at,
     }
+}
+
+/// [`prb_modes`] about [`unloaded_state_held`]'s state, the PRB mechanism built once (what a
+/// dynamic fit asks for every trial model).
+pub fn unloaded_prb_modes(
+    mechanism: &Mechanism,
+    matrix: &PrbMatrix,
+    held: [bool; 3],
+    stage: TipBody,
+) -> Result<Vec<f64>, ModesError> {
+    let s = solver(mechanism, matrix, 1e-10);
+    let state = held_state(&s, held);
+    let pencil = Pencil::from_solver(s, mechanism, &state, stage)?;
+    frequencies(&pencil.a, &pencil.b, pencil.n).map_err(ModesError::Unstable)
 }
 
 /// The PRB mechanism's natural frequencies `Omega` (flexure 1's units), lowest first, at
@@ -151,7 +170,16 @@ impl Pencil {
         state: &SolvedState,
         stage: TipBody,
     ) -> Result<Pencil, ModesError> {
-        let s = solver(mechanism, matrix, 1e-10);
+        Pencil::from_solver(solver(mechanism, matrix, 1e-10), mechanism, state, stage)
+    }
+
+    /// As [`Pencil::new`], with the PRB mechanism's solver `s` already built.
+    fn from_solver(
+        s: MechSolver<ChainFlexure>,
+        mechanism: &Mechanism,
+        state: &SolvedState,
+        stage: TipBody,
+    ) -> Result<Pencil, ModesError> {
         let x = &state.unknowns;
         let n = x.len();
         if n != s.flexure_unknowns + state.at.iter().filter(|c| !c.is_prescribed()).count() {

@@ -25,7 +25,7 @@ use crate::beam::modes::{
 use crate::beam::Load;
 use crate::mech::figures::Frequencies;
 use crate::mech::modes::{held_by, mech_modes, MechMass, MechModeShape};
-use crate::mech::prb_modes::{prb_mode_shapes, prb_modes, unloaded_state_held};
+use crate::mech::prb_modes::{prb_mode_shapes, unloaded_prb_modes, unloaded_state_held};
 use crate::prb::{PrbMatrix, PrbSolver, TipBody};
 use crate::scene::Scene;
 
@@ -200,10 +200,7 @@ impl Study {
                 let q = vec![0.0; chain.dof_count()];
                 chain.modes(Load::new(0.0, 0.0, 0.0), &q, body)
             }
-            None => {
-                let state = unloaded_state_held(self.mechanism(), matrix, self.unloaded_held());
-                prb_modes(self.mechanism(), matrix, &state, body)
-            }
+            None => unloaded_prb_modes(self.mechanism(), matrix, self.unloaded_held(), body),
         }
     }
 
