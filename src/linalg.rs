@@ -13,14 +13,8 @@ pub fn solve_dense(matrix: &mut [f64], rhs: &mut [f64], n: usize) -> bool {
 /// non-finite solution.
 pub fn solve_many(matrix: &mut [f64], rhs: &mut [f64], n: usize, m: usize) -> bool {
     for col in 0..n {
-        let mut pivot = col;
-        let mut best = matrix[col * n + col].abs();
-        for i in col + 1..n {
-            let v = matrix[i * n + col].abs();
-            if v > best {
-                (pivot, best) = (i, v);
-            }
-        }
+        let pivot = pivot_row(matrix, n, col);
+        let best = matrix[pivot * n + col].abs();
         if best == 0.0 || !best.is_finite() {
             return false;
         }
@@ -59,6 +53,21 @@ pub fn solve_many(matrix: &mut [f64], rhs: &mut [f64], n: usize, m: usize) -> bo
     rhs.iter().all(|v| v.is_finite())
 }
 
+/// Partial pivoting: the row at or below `col` with the largest entry in column `col` (the
+/// first of equals).
+#[inline]
+fn pivot_row(matrix: &[f64], n: usize, col: usize) -> usize {
+    let mut pivot = col;
+    let mut best = matrix[col * n + col].abs();
+    for i in col + 1..n {
+        let v = matrix[i * n + col].abs();
+        if v > best {
+            (pivot, best) = (i, v);
+        }
+    }
+    pivot
+}
+
 /// What an elimination learnt about the matrix besides the solution.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct LuInfo {
@@ -75,14 +84,7 @@ pub fn lu_solve(matrix: &mut [f64], rhs: &mut [f64], n: usize) -> Option<LuInfo>
     let mut sign = 1.0;
     let (mut smallest, mut largest) = (f64::INFINITY, 0.0_f64);
     for col in 0..n {
-        let mut pivot = col;
-        let mut best = matrix[col * n + col].abs();
-        for i in col + 1..n {
-            let v = matrix[i * n + col].abs();
-            if v > best {
-                (pivot, best) = (i, v);
-            }
-        }
+        let pivot = pivot_row(matrix, n, col);
         let p = matrix[pivot * n + col];
         if p == 0.0 || !p.is_finite() {
             return None;

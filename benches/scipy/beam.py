@@ -18,7 +18,6 @@ The scipy program is the one a competent engineer writes for this BVP:
 Usage: python beam.py PRBFIT_BINARY [--repeats N]
 """
 
-import argparse
 import sys
 
 import numpy as np
@@ -128,13 +127,7 @@ def run(binary, repeats=3, prbfit_repeats=None):
 
 
 def main(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("binary")
-    parser.add_argument("--repeats", type=int, default=3)
-    args = parser.parse_args(argv)
-    r = run(args.binary, args.repeats)
-    for k, v in r.items():
-        print(f"{k}: {v}")
+    common.job_main(run, __doc__, argv)
 
 
 if __name__ == "__main__":

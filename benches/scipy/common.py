@@ -4,6 +4,7 @@ Everything here is plain Python; the numerical work lives in beam.py, fit3r.py a
 parallelogram.py. Nondimensional units throughout (DESIGN §1: L = 1, E I0 = 1).
 """
 
+import argparse
 import json
 import math
 import os
@@ -107,3 +108,15 @@ def fmt_seconds(s):
     if s < 1e-3:
         return f"{s * 1e6:.0f} us"
     return f"{s * 1e3:.1f} ms" if s < 1.0 else f"{s:.2f} s"
+
+
+def job_main(run, doc, argv=None):
+    """The command line of one job run alone: `python JOB.py BINARY [--repeats N]`, printing
+    the job's result fields."""
+    parser = argparse.ArgumentParser(description=doc.splitlines()[0])
+    parser.add_argument("binary")
+    parser.add_argument("--repeats", type=int, default=3)
+    args = parser.parse_args(argv)
+    r = run(args.binary, args.repeats)
+    for k, v in r.items():
+        print(f"{k}: {v}")

@@ -22,7 +22,6 @@ The scipy program is the one a competent engineer writes:
 Usage: python fit3r.py PRBFIT_BINARY [--repeats N]
 """
 
-import argparse
 import math
 import sys
 import time
@@ -268,13 +267,7 @@ def run(binary, repeats=3, prbfit_repeats=None):
 
 
 def main(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("binary")
-    parser.add_argument("--repeats", type=int, default=3)
-    args = parser.parse_args(argv)
-    r = run(args.binary, args.repeats)
-    for k, v in r.items():
-        print(f"{k}: {v}")
+    common.job_main(run, __doc__, argv)
 
 
 if __name__ == "__main__":

@@ -28,7 +28,6 @@ The scipy program is the one a competent engineer writes:
 Usage: python parallelogram.py PRBFIT_BINARY [--repeats N]
 """
 
-import argparse
 import sys
 import tomllib
 
@@ -229,13 +228,7 @@ def run(binary, repeats=3, prbfit_repeats=None):
 
 
 def main(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("binary")
-    parser.add_argument("--repeats", type=int, default=3)
-    args = parser.parse_args(argv)
-    r = run(args.binary, args.repeats)
-    for k, v in r.items():
-        print(f"{k}: {v}")
+    common.job_main(run, __doc__, argv)
 
 
 if __name__ == "__main__":
