@@ -232,3 +232,50 @@ fn eval_of_a_mechanism_model_that_stops_part_way_reports_how_far() {
     assert_eq!(v["meets_targets"], false);
     assert!(v["max_force_err"].as_f64().unwrap().is_finite());
 }
+
+/// A mechanism's truth is as cancellable as a beam's: a cancelled token stops the exact
+/// mechanism's drive paths (between cases) and the `auto` effects decision made on them,
+/// where both used to run to the end whatever the token said.
+#[test]
+fn a_cancelled_mechanism_truth_and_its_effects_decision_stop() {
+    use prbfit::mech::{exact, MechError};
+    use prbfit::study::{resolve_effects, EffectsError};
+
+    let stage = scene("parallel-stage");
+    let mechanism = stage.mechanism.clone().unwrap();
+    let cancel = CancelToken::new();
+    let solver = exact::solver(&mechanism, Resolution::default()).unwrap();
+    // Not cancelled: the drives are followed.
+    let drive = mechanism.drive_path(&mechanism.drives[0]);
+    assert!(!solver.solve_path(&drive, 1).unwrap().is_empty());
+    cancel.cancel();
+    let solver = solver.with_cancel(&cancel);
+    assert!(matches!(
+        solver.solve_path(&drive, 1),
+        Err(MechError::Cancelled)
+    ));
+
+    let mut auto = stage.clone();
+    for f in &mut auto.mechanism.as_mut().unwrap().flexures {
+        f.beam.effects = EffectsChoice::Auto;
+    }
+    match resolve_effects(&auto, Resolution::default(), &cancel) {
+        Err(EffectsError::Mechanism {
+            source: MechError::Cancelled,
+            ..
+        }) => {}
+        other => panic!(
+            "expected a cancelled decision, got {:?}",
+            other.map(|r| r.1)
+        ),
+    }
+    assert!(matches!(
+        Study::solve(
+            &auto,
+            Sampling::Fidelity(Fidelity::Draft),
+            &cancel,
+            &mut |_, _, _| {}
+        ),
+        Err(prbfit::study::StudyError::Cancelled)
+    ));
+}

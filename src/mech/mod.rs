@@ -214,6 +214,9 @@ pub enum MechError {
         /// What stopped it.
         reason: String,
     },
+    /// The solver's cancel token ([`solve::MechSolver::with_cancel`]) stopped a drive path.
+    #[error("cancelled")]
+    Cancelled,
     /// A flexure could not be solved at all (its model or resolution is unusable).
     #[error("flexure {flexure}: {source}")]
     Flexure {

@@ -168,7 +168,7 @@ impl<M: FlexureModel> MechSolver<M> {
             ratio0,
             cases: Vec::with_capacity(steps as usize),
         };
-        continuation::follow(&mut problem, start, steps, &limits, None)?;
+        continuation::follow(&mut problem, start, steps, &limits, self.cancel.as_ref())?;
         Ok(problem.cases)
     }
 
@@ -368,8 +368,8 @@ impl<M: FlexureModel> PathProblem for MechPath<'_, M> {
                 "continuation rejected more than {REJECTIONS_PER_CASE} sub-steps of one case \
                  without reaching it"
             )),
-            // Neither is ever asked for: a drive has no cancel token and no attempt budget.
-            Stop::Cancelled => no_equilibrium("cancelled".into()),
+            Stop::Cancelled => MechError::Cancelled,
+            // Never asked for: a drive has no attempt budget.
             Stop::Attempts => no_equilibrium("the effort budget ran out".into()),
         }
     }

@@ -176,7 +176,8 @@ pub fn follow(mechanism: &Mechanism, matrix: &PrbMatrix, tol: f64) -> Followed {
                     | MechError::NoEquilibrium { fraction, .. } => *fraction,
                     MechError::Immobile { .. }
                     | MechError::Indeterminate { .. }
-                    | MechError::Flexure { .. } => 0.0,
+                    | MechError::Flexure { .. }
+                    | MechError::Cancelled => 0.0,
                 };
                 // Cases sit at k / steps; the small margin absorbs the fraction's rounding.
                 let k = ((reached_fraction * f64::from(steps) + 1e-6).floor() as u32).min(steps);

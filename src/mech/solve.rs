@@ -5,6 +5,7 @@
 //! reports are in `path.rs`.
 
 use crate::beam::{Stress, TipPose};
+use crate::cancel::CancelToken;
 
 use super::geometry::Geometry;
 use super::TipFailure;
@@ -57,6 +58,8 @@ pub struct MechSolver<M> {
     pub(super) max_newton: u32,
     /// The smallest continuation step (a fraction of the drive) before giving up.
     pub(super) min_step: f64,
+    /// Stops a drive path between its cases ([`MechError::Cancelled`]) once set.
+    pub(super) cancel: Option<CancelToken>,
 }
 
 /// Newton iterations at one point of the path before the step is halved.
@@ -92,7 +95,15 @@ impl<M: FlexureModel> MechSolver<M> {
             flexure_unknowns: at,
             max_newton: MAX_NEWTON,
             min_step: MIN_STEP,
+            cancel: None,
         }
+    }
+
+    /// The solver whose drive paths stop with [`MechError::Cancelled`] soon after `cancel`
+    /// is set (checked between the continuation's steps: a case or two of work).
+    pub fn with_cancel(mut self, cancel: &CancelToken) -> MechSolver<M> {
+        self.cancel = Some(cancel.clone());
+        self
     }
 
     /// The same solver with a fit's trial limits: fewer Newton iterations per point and a

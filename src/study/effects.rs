@@ -136,7 +136,7 @@ pub fn decide_effects(
     cancel: &CancelToken,
 ) -> Result<EffectsDecision, EffectsError> {
     match &scene.mechanism {
-        Some(mechanism) => decide_mechanism_effects(mechanism, &scene.accuracy, resolution),
+        Some(mechanism) => decide_mechanism_effects(mechanism, &scene.accuracy, resolution, cancel),
         None => Ok(decide_beam_effects(
             &scene.beam,
             &scene.loads,
@@ -183,11 +183,6 @@ fn decide_beam_effects(
     resolution: Resolution,
     cancel: &CancelToken,
 ) -> Result<EffectsDecision, BaselineError> {
-    let mut every = Solved::new(beam, loads, resolution, cancel);
-    // The plate criterion on the narrow beam with every refinement, on every case.
-    let narrow = every.get(Effects::ALL)?;
-    let plate = plate_criterion(beam, &every.solved[narrow].1);
-    let full = Effects::ALL.with_plane_strain(true);
     let sample: Vec<LoadPath> = loads
         .iter()
         .map(|p| LoadPath {
@@ -195,18 +190,70 @@ fn decide_beam_effects(
             steps: sample_steps(p.steps),
         })
         .collect();
-    let mut sampled =
-        (sample.as_slice() != loads).then(|| Solved::new(beam, &sample, resolution, cancel));
+    let change = |memo: &mut Memo<Vec<BeamSolution>, _>, e: Effects| {
+        let (reference, with) = memo.pair(full_effects(), e)?;
+        let (pos, ang) = tip_change(reference, with);
+        Ok::<_, BaselineError>(Change {
+            pos,
+            ang,
+            force: None,
+        })
+    };
+    let mut every = Memo::new(solve_beam(beam, loads, resolution, cancel));
+    // The plate criterion on the narrow beam with every refinement, on every case.
+    let plate = plate_criterion(beam, every.get(Effects::ALL)?);
+    let full = full_effects();
+    let mut sampled = (sample.as_slice() != loads)
+        .then(|| Memo::new(solve_beam(beam, &sample, resolution, cancel)));
     let mut decision = decide_on_sample(
         accuracy,
         full,
-        sampled
-            .as_mut()
-            .map(|s| move |e: Effects| s.change(full, e)),
-        |e| every.change(full, e),
+        sampled.as_mut().map(|s| move |e: Effects| change(s, e)),
+        |e| change(&mut every, e),
     )?;
     decision.plate = Some(plate);
     Ok(decision)
+}
+
+/// Solves `beam` under `loads` with the effects asked for (a [`Memo`]'s solve).
+fn solve_beam<'a>(
+    beam: &'a BeamSpec,
+    loads: &'a [LoadPath],
+    resolution: Resolution,
+    cancel: &'a CancelToken,
+) -> impl FnMut(Effects) -> Result<Vec<BeamSolution>, BaselineError> + 'a {
+    move |e| {
+        let mut b = *beam;
+        b.effects = EffectsChoice::Fixed(e);
+        Baseline::solve(b.model(), loads, resolution, cancel, &mut |_, _| {})
+            .map(|cases| cases.solutions)
+    }
+}
+
+/// A mechanism's drives and its cases along them, one `Vec` per drive.
+type DriveCases = (Vec<Drive>, Vec<Vec<MechCase>>);
+
+/// Solves `mechanism` along `drives` with the effects asked for in every flexure whose
+/// effects are `auto` (a [`Memo`]'s solve); the drives come back with the cases.
+fn solve_mechanism<'a>(
+    mechanism: &'a Mechanism,
+    drives: Vec<Drive>,
+    resolution: Resolution,
+    cancel: &'a CancelToken,
+) -> impl FnMut(Effects) -> Result<DriveCases, EffectsError> + 'a {
+    move |e| {
+        let mut m = mechanism.clone();
+        m.drives.clone_from(&drives);
+        for f in &mut m.flexures {
+            if f.beam.effects == EffectsChoice::Auto {
+                f.beam.effects = EffectsChoice::Fixed(e);
+            }
+        }
+        let cases = exact::solver(&m, resolution)
+            .and_then(|s| s.with_cancel(cancel).solve_all(&m))
+            .map_err(|source| EffectsError::Mechanism { effects: e, source })?;
+        Ok((drives.clone(), cases))
+    }
 }
 
 /// A path's steps on the sample that decides the effects: the largest divisor of `steps` not
@@ -243,59 +290,46 @@ where
     decide(accuracy, full, every)
 }
 
-/// A beam's cases solved with several sets of effects, each set solved once however often
-/// it is asked for.
-struct Solved<'a> {
-    beam: &'a BeamSpec,
-    loads: &'a [LoadPath],
-    resolution: Resolution,
-    cancel: &'a CancelToken,
-    solved: Vec<(Effects, Vec<BeamSolution>)>,
+/// The full model a decision is judged against: every effect, plane strain too.
+fn full_effects() -> Effects {
+    Effects::ALL.with_plane_strain(true)
 }
 
-impl<'a> Solved<'a> {
-    fn new(
-        beam: &'a BeamSpec,
-        loads: &'a [LoadPath],
-        resolution: Resolution,
-        cancel: &'a CancelToken,
-    ) -> Self {
-        Solved {
-            beam,
-            loads,
-            resolution,
-            cancel,
+/// A scene's cases solved with several sets of effects by `solve` (a beam's load paths, a
+/// mechanism's drives), each set solved once however often it is asked for.
+struct Memo<T, F> {
+    solve: F,
+    solved: Vec<(Effects, T)>,
+}
+
+impl<T, E, F: FnMut(Effects) -> Result<T, E>> Memo<T, F> {
+    fn new(solve: F) -> Self {
+        Memo {
+            solve,
             solved: Vec::new(),
         }
     }
 
     /// The index in `solved` of the cases solved with `e`.
-    fn get(&mut self, e: Effects) -> Result<usize, BaselineError> {
+    fn index(&mut self, e: Effects) -> Result<usize, E> {
         if let Some(i) = self.solved.iter().position(|(k, _)| *k == e) {
             return Ok(i);
         }
-        let mut b = *self.beam;
-        b.effects = EffectsChoice::Fixed(e);
-        let cases = Baseline::solve(
-            b.model(),
-            self.loads,
-            self.resolution,
-            self.cancel,
-            &mut |_, _| {},
-        )?;
-        self.solved.push((e, cases.solutions));
+        let cases = (self.solve)(e)?;
+        self.solved.push((e, cases));
         Ok(self.solved.len() - 1)
     }
 
-    /// What modelling with `effects` instead of `reference` changes on the cases.
-    fn change(&mut self, reference: Effects, effects: Effects) -> Result<Change, BaselineError> {
-        let (r, e) = (self.get(reference)?, self.get(effects)?);
-        let (pos, ang) = tip_change(&self.solved[r].1, &self.solved[e].1);
-        Ok(Change {
-            pos,
-            ang,
-            force: None,
-        })
+    /// The cases solved with `e`.
+    fn get(&mut self, e: Effects) -> Result<&T, E> {
+        let i = self.index(e)?;
+        Ok(&self.solved[i].1)
+    }
+
+    /// The cases solved with `reference` and with `effects`.
+    fn pair(&mut self, reference: Effects, effects: Effects) -> Result<(&T, &T), E> {
+        let (r, e) = (self.index(reference)?, self.index(effects)?);
+        Ok((&self.solved[r].1, &self.solved[e].1))
     }
 }
 
@@ -398,12 +432,13 @@ fn decide_mechanism_effects(
     mechanism: &Mechanism,
     accuracy: &Accuracy,
     resolution: Resolution,
+    cancel: &CancelToken,
 ) -> Result<EffectsDecision, EffectsError> {
     // A flexure's plate stiffening in a mechanism is its ends' (`Flexure::model`: the guided
     // flexure's when its tip is clamped to the stage, the cantilever's when pinned or
     // coupled): the anticlastic part is load dependent, and the mechanism solver does not
     // follow each flexure's own load path case by case.
-    let full = Effects::ALL.with_plane_strain(true);
+    let full = full_effects();
     let sample: Vec<Drive> = mechanism
         .drives
         .iter()
@@ -416,67 +451,30 @@ fn decide_mechanism_effects(
             ..d.clone()
         })
         .collect();
-    let mut every = MechSolved::new(mechanism, mechanism.drives.clone(), resolution);
-    let mut sampled =
-        (sample != mechanism.drives).then(|| MechSolved::new(mechanism, sample, resolution));
-    decide_on_sample(
-        accuracy,
-        full,
-        sampled
-            .as_mut()
-            .map(|s| move |e: Effects| s.change(full, e)),
-        |e| every.change(full, e),
-    )
-}
-
-/// A mechanism's drives solved with several sets of effects (for every flexure whose effects
-/// are `auto`), each set solved once however often it is asked for.
-struct MechSolved<'a> {
-    mechanism: &'a Mechanism,
-    drives: Vec<Drive>,
-    resolution: Resolution,
-    solved: Vec<(Effects, Vec<Vec<MechCase>>)>,
-}
-
-impl<'a> MechSolved<'a> {
-    fn new(mechanism: &'a Mechanism, drives: Vec<Drive>, resolution: Resolution) -> Self {
-        MechSolved {
-            mechanism,
-            drives,
-            resolution,
-            solved: Vec::new(),
-        }
-    }
-
-    /// The index in `solved` of the cases solved with `e`.
-    fn get(&mut self, e: Effects) -> Result<usize, EffectsError> {
-        if let Some(i) = self.solved.iter().position(|(k, _)| *k == e) {
-            return Ok(i);
-        }
-        let mut m = self.mechanism.clone();
-        m.drives.clone_from(&self.drives);
-        for f in &mut m.flexures {
-            if f.beam.effects == EffectsChoice::Auto {
-                f.beam.effects = EffectsChoice::Fixed(e);
-            }
-        }
-        let cases = exact::solve(&m, self.resolution)
-            .map_err(|source| EffectsError::Mechanism { effects: e, source })?;
-        self.solved.push((e, cases));
-        Ok(self.solved.len() - 1)
-    }
-
-    /// What modelling with `effects` instead of `reference` changes on the drives.
-    fn change(&mut self, reference: Effects, effects: Effects) -> Result<Change, EffectsError> {
-        let (r, e) = (self.get(reference)?, self.get(effects)?);
-        let change = compare(&self.drives, &self.solved[e].1, &self.solved[r].1, 1.0, 1.0)?.figures;
-        debug_assert_eq!(change.max_force_err.is_some(), has_reactions(&self.drives));
-        Ok(Change {
+    let change = |memo: &mut Memo<DriveCases, _>, e: Effects| {
+        let ((drives, reference), (_, with)) = memo.pair(full, e)?;
+        let change = compare(drives, with, reference, 1.0, 1.0)?.figures;
+        debug_assert_eq!(change.max_force_err.is_some(), has_reactions(drives));
+        Ok::<_, EffectsError>(Change {
             pos: change.max_pos_err,
             ang: change.max_ang_err,
             force: change.max_force_err,
         })
-    }
+    };
+    let mut every = Memo::new(solve_mechanism(
+        mechanism,
+        mechanism.drives.clone(),
+        resolution,
+        cancel,
+    ));
+    let mut sampled = (sample != mechanism.drives)
+        .then(|| Memo::new(solve_mechanism(mechanism, sample, resolution, cancel)));
+    decide_on_sample(
+        accuracy,
+        full,
+        sampled.as_mut().map(|s| move |e: Effects| change(s, e)),
+        |e| change(&mut every, e),
+    )
 }
 
 /// Why the effects could not be decided.

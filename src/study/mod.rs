@@ -248,14 +248,19 @@ impl Study {
                     for d in mechanism.drives.iter_mut().filter(|d| d.rows.is_empty()) {
                         d.steps = sampling.steps(d.steps);
                     }
-                    let solver = exact::solver(&mechanism, resolution)?;
+                    let solver = exact::solver(&mechanism, resolution)?.with_cancel(cancel);
                     let n = mechanism.drives.len();
                     let mut cases = Vec::with_capacity(n);
                     for (i, d) in mechanism.drives.iter().enumerate() {
                         if cancel.is_cancelled() {
                             return Err(StudyError::Cancelled);
                         }
-                        cases.push(solver.solve_path(&mechanism.drive_path(d), i + 1)?);
+                        cases.push(solver.solve_path(&mechanism.drive_path(d), i + 1).map_err(
+                            |e| match e {
+                                MechError::Cancelled => StudyError::Cancelled,
+                                e => e.into(),
+                            },
+                        )?);
                         let done = cases.iter().map(Vec::len).sum();
                         on_path(i + 1, n, done);
                     }

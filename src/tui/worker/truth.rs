@@ -18,7 +18,7 @@ use crate::cancel::CancelToken;
 use crate::eval::{Baseline, CaseError};
 use crate::mech::figures::{compare, JudgedCase};
 use crate::mech::pose::{self, Pose};
-use crate::mech::{exact, MechCase};
+use crate::mech::{exact, MechCase, MechError};
 use crate::scene::data::DataTruth;
 use crate::study::truth::tip_case;
 use crate::study::Study;
@@ -128,8 +128,11 @@ fn beside(
         });
     }
     let mechanism = study.mechanism();
-    let beam = match exact::solve(mechanism, resolution) {
+    let beam = match exact::solver(mechanism, resolution)
+        .and_then(|s| s.with_cancel(cancel).solve_all(mechanism))
+    {
         Ok(b) => b,
+        Err(MechError::Cancelled) => return Err(Cancelled),
         Err(e) => {
             let why = format!("the beam mechanism along the measured drives: {e}");
             return Ok((Err(why), none()));
