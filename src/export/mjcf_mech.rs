@@ -34,8 +34,10 @@
 //! from `solref = (tau, zeta)`. The file asks for the stiffest MuJoCo allows: `d = 0.9999`
 //! (MuJoCo's largest impedance) everywhere (`solimp = "0.9999 0.9999 0.001 0.5 2"`), and
 //! `tau` = two time steps (the smallest `tau` MuJoCo accepts without disabling its `refsafe`
-//! check), critically damped. The time step is 1/100 of the fastest spring's `1 / omega`
-//! (its stiffness over the unloaded chain's inertia beyond it), so a closure settles about
+//! check), critically damped. The time step is 1/100 of `1 / omega_max`
+//! ([`STEP_FRACTION`]; `omega_max` the highest natural frequency of any flexure's chain as
+//! written, clamped at its root and free at its tip, which bounds the whole mechanism's:
+//! [`time_step`]), so a closure settles about
 //! 50 times faster than any spring moves and `r` is about `1e-4 (0.02 / omega_max)^2 a0`,
 //! i.e. `4e-8` of `a0 / omega_max^2`, the springs' own deflection scale. The largest is a
 //! weld's twist under the tip moment (the last link's rotational inertia is the smallest):
@@ -77,20 +79,21 @@ pub const STAGE_JOINTS: [(&str, &str); 3] = [
 /// `density` (kg/m^3), `comment` at the top.
 /// `stage` is the stage's mass and inertia (`[stage]`); with neither given the stage gets
 /// flexure 1's mass and that as a rod's inertia, since a simulator refuses a massless moving
-/// body.
+/// body. `Err` for a model too stiff to simulate at a practical time step
+/// ([`time_step`]).
 pub fn write(
     mechanism: &Mechanism,
     matrix: &PrbMatrix,
     density: f64,
     stage: &Body,
     comment: &str,
-) -> String {
+) -> Result<String, super::ExportError> {
     let chains: Vec<Chain> = mechanism
         .flexures
         .iter()
         .map(|f| Chain::new(matrix, &f.beam, density, &Body::default()))
         .collect();
-    let step = time_step(&chains);
+    let step = time_step(&chains, STEP_FRACTION)?;
     let mut out = String::new();
     let _ = writeln!(
         out,
@@ -173,12 +176,12 @@ pub fn write(
     let _ = writeln!(out, "  </worldbody>");
     write_equalities(&mut out, mechanism, &chains);
     let _ = writeln!(out, "</mujoco>");
-    out
+    Ok(out)
 }
 
 /// The stage body: three joints whose positions are the stage pose; the scene's stage mass
 /// and inertia (about P), or flexure 1's mass when it gives neither. A part left at 0 gets
-/// 1e-9 of flexure 1's: MuJoCo refuses a massless moving body.
+/// [`super::chain::MASS_FLOOR`] of flexure 1's: MuJoCo refuses a massless moving body.
 fn write_stage(out: &mut String, mechanism: &Mechanism, density: f64, stage: &Body) {
     let [px, py] = mechanism.stage_point;
     let b = mechanism.flexures.first().map(|f| f.beam);
@@ -188,7 +191,10 @@ fn write_stage(out: &mut String, mechanism: &Mechanism, density: f64, stage: &Bo
         if stage.is_none() {
             (m, i)
         } else {
-            (stage.mass.max(1e-9 * m), stage.inertia.max(1e-9 * i))
+            (
+                stage.mass.max(super::chain::MASS_FLOOR * m),
+                stage.inertia.max(super::chain::MASS_FLOOR * i),
+            )
         }
     });
     let _ = writeln!(
@@ -394,7 +400,7 @@ mod tests {
     fn every_loop_closes_in_the_unloaded_pose_it_is_written_in() {
         let m = mixed();
         let matrix = PrbMatrix::parse(SU_3R_EX).unwrap();
-        let text = write(&m, &matrix, 1000.0, &Body::default(), "test");
+        let text = write(&m, &matrix, 1000.0, &Body::default(), "test").unwrap();
         let doc = Document::parse(&text).expect("well-formed XML");
         let site = |name: &str| {
             let s = named(&doc, "site", name);
@@ -429,7 +435,7 @@ mod tests {
     fn springs_are_scaled_to_each_flexure_and_the_drive_is_the_scenes() {
         let m = mixed();
         let matrix = PrbMatrix::parse(SU_3R_EX).unwrap();
-        let text = write(&m, &matrix, 1000.0, &Body::default(), "test");
+        let text = write(&m, &matrix, 1000.0, &Body::default(), "test").unwrap();
         let doc = Document::parse(&text).unwrap();
         let count = |tag: &str| doc.descendants().filter(|n| n.has_tag_name(tag)).count();
         // 4 segments per flexure, one coupler, the stage.
@@ -483,8 +489,10 @@ mod tests {
                         &m.flexures
                             .iter()
                             .map(|f| Chain::new(&matrix, &f.beam, 1000.0, &Body::default()))
-                            .collect::<Vec<_>>()
+                            .collect::<Vec<_>>(),
+                        STEP_FRACTION
                     )
+                    .unwrap()
         );
     }
 
@@ -499,8 +507,8 @@ mod tests {
                 .collect()
         };
         // Four times the springs: half the time step.
-        let soft = time_step(&chains("0.1,inf,inf; 0.9,2,inf"));
-        let stiff = time_step(&chains("0.1,inf,inf; 0.9,8,inf"));
+        let soft = time_step(&chains("0.1,inf,inf; 0.9,2,inf"), STEP_FRACTION).unwrap();
+        let stiff = time_step(&chains("0.1,inf,inf; 0.9,8,inf"), STEP_FRACTION).unwrap();
         assert!((soft / stiff - 2.0).abs() < 1e-12);
     }
 }

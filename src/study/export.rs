@@ -56,22 +56,22 @@ impl Study {
         match (format, &scene.mechanism, self.baseline()) {
             (Format::Toml, _, _) => Ok(own()?.to_toml()?),
             (Format::Json, _, _) => Ok(own()?.to_json()?),
-            (Format::Mjcf, Some(m), _) => Ok(mjcf_mech::write(
+            (Format::Mjcf, Some(m), _) => mjcf_mech::write(
                 m,
                 matrix,
                 density,
                 &scene.body,
                 &mechanism_comment(name, matrix, scene, m),
-            )),
+            ),
             (Format::Mjcf | Format::Urdf | Format::Sdf, None, _) => {
                 judged()?;
                 let chain = Chain::new(matrix, &scene.beam, density, &scene.body);
                 let comment = header_comment(matrix, scene);
-                Ok(match format {
+                match format {
                     Format::Mjcf => mjcf::write(&chain, &comment),
-                    Format::Urdf => urdf::write(&chain, &comment),
-                    _ => sdf::write(&chain, &comment),
-                })
+                    Format::Urdf => Ok(urdf::write(&chain, &comment)),
+                    _ => Ok(sdf::write(&chain, &comment)),
+                }
             }
             (Format::Csv, None, Some(baseline)) => csv::write(
                 matrix,
