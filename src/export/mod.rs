@@ -42,8 +42,8 @@ pub enum ExportError {
     /// The model's highest natural frequency is so far above its lowest that MuJoCo's
     /// time step ([`chain::time_step`]) would make a run impractical.
     #[error(
-        "the model's highest natural frequency is {ratio:.3e} times its lowest (a link with a \
-         tiny mu between stiff springs): MuJoCo would need {steps:.2e} time steps per period \
+        "the model's highest natural frequency is {ratio:.3e} times its lowest (a link with a tiny \
+         mu on a stiff spring): MuJoCo would need {steps:.2e} time steps per period \
          of the first mode (the export's limit is {limit:.0e}); raise the smallest mus"
     )]
     TooStiff {
