@@ -329,3 +329,95 @@ fn a_model_that_cannot_follow_has_its_reason_in_place_of_frequencies() {
         );
     }
 }
+
+/// `select` judges by the frequency target (DESIGN §10: `[accuracy] max_freq_err` joins the
+/// targets with `[fit] modes`): on the ringing flexure the 2R (`L-R-R`) meets the statics
+/// targets, so without `modes` it is the simplest model that meets them and is chosen; with
+/// `modes = 3` it has only two frequencies, so it fails (its `max_freq_err` and
+/// `target_ratio` infinite, `"inf"` in the JSON, which used to stop the command with "a
+/// result is not a finite number") and a model that rings within 1 % is chosen instead. The
+/// text names the frequency target and each model's verdict on it.
+#[test]
+fn select_judges_by_the_frequency_target() {
+    let dir = Scratch::new("modes-select");
+    let base = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/assets/scenes/ringing-flexure.toml"
+    ))
+    .unwrap();
+    let statics = dir.write("statics.toml", &base);
+    let dynamic = dir.write(
+        "dynamic.toml",
+        &base.replacen("[accuracy]", "[fit]\nmodes = 3\n\n[accuracy]", 1),
+    );
+    let select = |scene: &str| {
+        json(&prbfit(&[
+            "select",
+            "--scene",
+            scene,
+            "--fidelity",
+            "draft",
+            "--json",
+        ]))
+    };
+    let row = |v: &Value, name: &str| {
+        v["rows"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|r| r["name"] == name)
+            .unwrap_or_else(|| panic!("{name} missing from {v}"))
+            .clone()
+    };
+
+    let without = select(&statics);
+    assert_eq!(row(&without, "L-R-R")["meets_targets"], true);
+    assert_eq!(without["chosen"]["name"], "L-R-R");
+    assert!(row(&without, "L-R-R")["figures"]
+        .get("max_freq_err")
+        .is_none());
+
+    let with = select(&dynamic);
+    let two = row(&with, "L-R-R");
+    assert_eq!(two["meets_targets"], false);
+    assert_eq!(two["figures"]["max_freq_err"], "inf");
+    assert_eq!(two["target_ratio"], "inf");
+    let chosen = &with["chosen"];
+    assert_ne!(chosen["name"], "L-R-R");
+    let err = chosen["figures"]["max_freq_err"].as_f64().unwrap();
+    assert!(err <= 0.01, "chosen {} rings {err} off", chosen["name"]);
+
+    let out = prbfit(&["select", "--scene", &dynamic, "--fidelity", "draft"]);
+    common::succeeded(&out);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        text.contains("frequency target: max error 1% on the first 3 natural frequencies")
+            && text.contains("  L-R-R: fewer than 3 frequencies: NOT met"),
+        "{text}"
+    );
+    // The same figures through eval and fit, text and JSON.
+    let out = prbfit(&[
+        "eval",
+        "--scene",
+        &dynamic,
+        "--model",
+        "howell-1r",
+        "--json",
+    ]);
+    common::succeeded(&out);
+    let v = json(&out);
+    assert_eq!(v["max_freq_err"], "inf", "{v}");
+    let out = prbfit(&[
+        "fit",
+        "--scene",
+        &dynamic,
+        "--topology",
+        "L-R",
+        "--fidelity",
+        "draft",
+    ]);
+    common::succeeded(&out);
+    assert!(
+        String::from_utf8_lossy(&out.stdout).contains("fitted: fewer than 3 frequencies: NOT met")
+    );
+}
