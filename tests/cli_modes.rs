@@ -259,6 +259,12 @@ fn bad_input_is_refused_naming_the_key_or_flag() {
         &prbfit(&["modes", "--scene", &ok, "--count", "-1"]),
         &["--count"],
     );
+    // Past what the discretisation resolves (it used to return 288 modes for 1000, the high
+    // ones its own artefacts).
+    assert_input_error(
+        &prbfit(&["modes", "--scene", &ok, "--count", "1000"]),
+        &["--count 1000", "at most 45"],
+    );
     for (name, extra, key) in [
         ("neg.toml", "density = -1.0\n", "density"),
         ("nan.toml", "density = nan\n", "density"),
@@ -420,4 +426,45 @@ fn select_judges_by_the_frequency_target() {
     assert!(
         String::from_utf8_lossy(&out.stdout).contains("fitted: fewer than 3 frequencies: NOT met")
     );
+}
+
+/// A model with no frequencies says why (DESIGN §10's `failure`): Howell's 1R in the
+/// parallel stage cannot hold the unloaded stage (inextensible chains: a self-stress), which
+/// `modes` reports as `eval` does instead of as a critical load; in the slider-crank its
+/// chains' constraints leave no joint free to ring (it used to print blank rows and "0 of
+/// the 3 frequencies" with no `failure` in the JSON).
+#[test]
+fn a_model_without_frequencies_says_why() {
+    let dir = Scratch::new("modes-failures");
+    for (name, want) in [
+        ("parallel-stage", "statically indeterminate"),
+        ("slider-crank", "no degree of freedom"),
+    ] {
+        let text = std::fs::read_to_string(format!(
+            "{}/assets/scenes/{name}.toml",
+            env!("CARGO_MANIFEST_DIR")
+        ))
+        .unwrap()
+        .replacen(
+            "poisson_ratio = 0.3",
+            "poisson_ratio = 0.3\ndensity = 7850.0",
+            1,
+        );
+        let scene = dir.write(&format!("{name}.toml"), &text);
+        let v = json(&prbfit(&[
+            "modes",
+            "--scene",
+            &scene,
+            "--model",
+            "howell-1r",
+            "--json",
+        ]));
+        let model = &v["models"][0];
+        let failure = model["failure"].as_str().unwrap_or_else(|| panic!("{v}"));
+        assert!(failure.contains(want), "{name}: {failure}");
+        assert!(model.get("omega").is_none(), "{model}");
+        assert_eq!(model["meets_target"], false);
+        // The beam still rings.
+        assert_eq!(floats(&v["beam"]["omega"]).len(), 3);
+    }
 }

@@ -1421,5 +1421,8 @@ fn mu_cells_edit_fix_and_refit_with_the_modes() {
     let su = PrbMatrix::parse("0.1,inf,inf; 0.35,3.51,inf; 0.4,2.99,inf; 0.15,2.58,inf").unwrap();
     let study = Study::new(&app.edit.scene, Sampling::Fidelity(Fidelity::Draft)).unwrap();
     let uniform = study.frequencies(&su).unwrap().max_err();
-    assert!(uniform > 10.0 * target, "Su's 3R with uniform mass: {uniform}");
+    assert!(
+        uniform > 10.0 * target,
+        "Su's 3R with uniform mass: {uniform}"
+    );
 }
