@@ -259,6 +259,12 @@ fn bad_input_is_refused_naming_the_key_or_flag() {
         &prbfit(&["modes", "--scene", &ok, "--count", "-1"]),
         &["--count"],
     );
+    // Past what the discretisation resolves (it used to return 288 modes for 1000, the high
+    // ones its own artefacts).
+    assert_input_error(
+        &prbfit(&["modes", "--scene", &ok, "--count", "1000"]),
+        &["--count 1000", "at most 45"],
+    );
     for (name, extra, key) in [
         ("neg.toml", "density = -1.0\n", "density"),
         ("nan.toml", "density = nan\n", "density"),
@@ -327,5 +333,138 @@ fn a_model_that_cannot_follow_has_its_reason_in_place_of_frequencies() {
             m["failure"].as_str().unwrap().contains("does not reach"),
             "{m}"
         );
+    }
+}
+
+/// `select` judges by the frequency target (DESIGN §10: `[accuracy] max_freq_err` joins the
+/// targets with `[fit] modes`): on the ringing flexure the 2R (`L-R-R`) meets the statics
+/// targets, so without `modes` it is the simplest model that meets them and is chosen; with
+/// `modes = 3` it has only two frequencies, so it fails (its `max_freq_err` and
+/// `target_ratio` infinite, `"inf"` in the JSON, which used to stop the command with "a
+/// result is not a finite number") and a model that rings within 1 % is chosen instead. The
+/// text names the frequency target and each model's verdict on it.
+#[test]
+fn select_judges_by_the_frequency_target() {
+    let dir = Scratch::new("modes-select");
+    let base = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/assets/scenes/ringing-flexure.toml"
+    ))
+    .unwrap();
+    let statics = dir.write("statics.toml", &base);
+    let dynamic = dir.write(
+        "dynamic.toml",
+        &base.replacen("[accuracy]", "[fit]\nmodes = 3\n\n[accuracy]", 1),
+    );
+    let select = |scene: &str| {
+        json(&prbfit(&[
+            "select",
+            "--scene",
+            scene,
+            "--fidelity",
+            "draft",
+            "--json",
+        ]))
+    };
+    let row = |v: &Value, name: &str| {
+        v["rows"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|r| r["name"] == name)
+            .unwrap_or_else(|| panic!("{name} missing from {v}"))
+            .clone()
+    };
+
+    let without = select(&statics);
+    assert_eq!(row(&without, "L-R-R")["meets_targets"], true);
+    assert_eq!(without["chosen"]["name"], "L-R-R");
+    assert!(row(&without, "L-R-R")["figures"]
+        .get("max_freq_err")
+        .is_none());
+
+    let with = select(&dynamic);
+    let two = row(&with, "L-R-R");
+    assert_eq!(two["meets_targets"], false);
+    assert_eq!(two["figures"]["max_freq_err"], "inf");
+    assert_eq!(two["target_ratio"], "inf");
+    let chosen = &with["chosen"];
+    assert_ne!(chosen["name"], "L-R-R");
+    let err = chosen["figures"]["max_freq_err"].as_f64().unwrap();
+    assert!(err <= 0.01, "chosen {} rings {err} off", chosen["name"]);
+
+    let out = prbfit(&["select", "--scene", &dynamic, "--fidelity", "draft"]);
+    common::succeeded(&out);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        text.contains("frequency target: max error 1% on the first 3 natural frequencies")
+            && text.contains("  L-R-R: fewer than 3 frequencies: NOT met"),
+        "{text}"
+    );
+    // The same figures through eval and fit, text and JSON.
+    let out = prbfit(&[
+        "eval",
+        "--scene",
+        &dynamic,
+        "--model",
+        "howell-1r",
+        "--json",
+    ]);
+    common::succeeded(&out);
+    let v = json(&out);
+    assert_eq!(v["max_freq_err"], "inf", "{v}");
+    let out = prbfit(&[
+        "fit",
+        "--scene",
+        &dynamic,
+        "--topology",
+        "L-R",
+        "--fidelity",
+        "draft",
+    ]);
+    common::succeeded(&out);
+    assert!(
+        String::from_utf8_lossy(&out.stdout).contains("fitted: fewer than 3 frequencies: NOT met")
+    );
+}
+
+/// A model with no frequencies says why (DESIGN §10's `failure`): Howell's 1R in the
+/// parallel stage cannot hold the unloaded stage (inextensible chains: a self-stress), which
+/// `modes` reports as `eval` does instead of as a critical load; in the slider-crank its
+/// chains' constraints leave no joint free to ring (it used to print blank rows and "0 of
+/// the 3 frequencies" with no `failure` in the JSON).
+#[test]
+fn a_model_without_frequencies_says_why() {
+    let dir = Scratch::new("modes-failures");
+    for (name, want) in [
+        ("parallel-stage", "statically indeterminate"),
+        ("slider-crank", "no degree of freedom"),
+    ] {
+        let text = std::fs::read_to_string(format!(
+            "{}/assets/scenes/{name}.toml",
+            env!("CARGO_MANIFEST_DIR")
+        ))
+        .unwrap()
+        .replacen(
+            "poisson_ratio = 0.3",
+            "poisson_ratio = 0.3\ndensity = 7850.0",
+            1,
+        );
+        let scene = dir.write(&format!("{name}.toml"), &text);
+        let v = json(&prbfit(&[
+            "modes",
+            "--scene",
+            &scene,
+            "--model",
+            "howell-1r",
+            "--json",
+        ]));
+        let model = &v["models"][0];
+        let failure = model["failure"].as_str().unwrap_or_else(|| panic!("{v}"));
+        assert!(failure.contains(want), "{name}: {failure}");
+        assert!(model.get("omega").is_none(), "{model}");
+        assert_eq!(model["meets_target"], false);
+        // The beam still rings.
+        assert_eq!(floats(&v["beam"]["omega"]).len(), 3);
     }
 }

@@ -1354,3 +1354,75 @@ fn compare_with_another_model() {
     }
     assert!(app.shown.compare.is_none() && app.shown.shown_compare().is_none());
 }
+
+/// The matrix panel's fourth column (issue 25): a typed mu keeps the mus summing to 1 (as a
+/// typed gamma keeps the gammas), `f` fixes it, a bad mu is refused with a message and the
+/// matrix unchanged; and on a scene that asks for modes the live refit frees the mus and
+/// matches the frequencies (the shown model's `max_freq_err` within the target, where the
+/// starting model with uniform mass is far off).
+#[test]
+fn mu_cells_edit_fix_and_refit_with_the_modes() {
+    use prbfit::scene::DEFAULT_SCENE_TOML;
+    use prbfit::tui::worker::Worker;
+    let text = DEFAULT_SCENE_TOML
+        .replacen(
+            "poisson_ratio = 0.3",
+            "poisson_ratio = 0.3\ndensity = 7850.0",
+            1,
+        )
+        .replacen("angle_weight = 1.0", "angle_weight = 1.0\nmodes = 3", 1);
+    let scene = Scene::from_toml_str(&text, "dynamic.toml").unwrap();
+    let mut app = App::new(scene, None);
+    app.jobs.fidelity = Fidelity::Normal;
+    let t0 = Instant::now();
+    app.edit.focus = Panel::Matrix;
+    app.edit.matrix_state.row = 1;
+    app.edit.matrix_state.col = 3;
+    edit(&mut app, "0.3", t0);
+    let rows = app.edit.matrix.rows();
+    assert_eq!(rows[1].mu, Some(0.3));
+    let sum: f64 = rows.iter().map(|r| r.mass()).sum();
+    assert!((sum - 1.0).abs() < 1e-12, "mus sum to {sum}");
+
+    app.on_key(key(KeyCode::Char('f')), t0);
+    assert!(!app.edit.matrix.rows()[1].is_free(Column::Mu));
+    app.on_key(key(KeyCode::Char('f')), t0);
+    assert!(app.edit.matrix.rows()[1].is_free(Column::Mu));
+
+    let before = app.edit.matrix.clone();
+    edit(&mut app, "-0.1", t0);
+    assert_eq!(app.edit.matrix, before, "a bad mu leaves the matrix");
+    let (message, _) = app.message.clone().expect("a message");
+    assert!(message.contains("mu"), "{message}");
+
+    // The live refit: the debounced job, answered by the real worker.
+    let Some(Command::Submit(job)) = app.tick(t0 + DEBOUNCE * 2) else {
+        panic!("a refit")
+    };
+    assert_eq!(job.kind, prbfit::tui::worker::JobKind::Fit);
+    let id = job.id;
+    let worker = Worker::spawn().unwrap();
+    worker.submit(job);
+    loop {
+        let msg = worker
+            .messages
+            .recv_timeout(Duration::from_secs(120))
+            .expect("the worker answers");
+        let done = matches!(msg, WorkerMsg::Done { id: d, .. } if d == id);
+        app.on_worker(msg);
+        if done {
+            break;
+        }
+    }
+    let model = app.shown.model().expect("a fitted model");
+    let err = model.figures.max_freq_err.expect("frequencies judged");
+    let target = app.edit.scene.accuracy.max_freq_err;
+    assert!(err <= target, "the refit rings {err} off (target {target})");
+    let su = PrbMatrix::parse("0.1,inf,inf; 0.35,3.51,inf; 0.4,2.99,inf; 0.15,2.58,inf").unwrap();
+    let study = Study::new(&app.edit.scene, Sampling::Fidelity(Fidelity::Draft)).unwrap();
+    let uniform = study.frequencies(&su).unwrap().max_err();
+    assert!(
+        uniform > 10.0 * target,
+        "Su's 3R with uniform mass: {uniform}"
+    );
+}

@@ -69,8 +69,54 @@ pub struct Figures {
     /// natural frequencies about the unloaded equilibrium (DESIGN §10; infinite when the
     /// model has fewer or is unstable there); absent when the scene asks for none. `J`
     /// then includes `w_omega mean_i (Omega_PRB,i / Omega_beam,i - 1)^2`.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[serde(
+        default,
+        skip_serializing_if = "Option::is_none",
+        with = "infinite_as_text"
+    )]
     pub max_freq_err: Option<f64>,
+}
+
+/// `max_freq_err` in files: a number, or the text `"inf"` for a model with fewer frequencies
+/// than the scene judges (JSON has no infinity, and serde_json would write `null`); read back
+/// from either.
+pub(crate) mod infinite_as_text {
+    use serde::de::Error;
+    use serde::{Deserialize, Deserializer, Serializer};
+
+    pub fn serialize<S: Serializer>(v: &Option<f64>, s: S) -> Result<S::Ok, S::Error> {
+        match v {
+            Some(x) if *x == f64::INFINITY => s.serialize_some("inf"),
+            Some(x) => s.serialize_some(x),
+            None => s.serialize_none(),
+        }
+    }
+
+    /// A plain number the same way (a ratio to a target that is infinite with it).
+    pub fn number<S: Serializer>(x: &f64, s: S) -> Result<S::Ok, S::Error> {
+        if *x == f64::INFINITY {
+            s.serialize_str("inf")
+        } else {
+            s.serialize_f64(*x)
+        }
+    }
+
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Option<f64>, D::Error> {
+        #[derive(Deserialize)]
+        #[serde(untagged)]
+        enum Value {
+            Number(f64),
+            Text(String),
+        }
+        match Option::<Value>::deserialize(d)? {
+            None => Ok(None),
+            Some(Value::Number(x)) => Ok(Some(x)),
+            Some(Value::Text(t)) if t == "inf" => Ok(Some(f64::INFINITY)),
+            Some(Value::Text(t)) => Err(D::Error::custom(format!(
+                "max_freq_err: expected a number or \"inf\", got {t:?}"
+            ))),
+        }
+    }
 }
 
 impl Figures {

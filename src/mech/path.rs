@@ -59,6 +59,39 @@ struct Point {
     det_sign: f64,
 }
 
+impl<M: FlexureModel> MechSolver<M> {
+    /// The unloaded pose's Jacobian `jac` (`n` x `n`, row-major) checked for regularity, as
+    /// drive `index` (from 1) meets it: its determinant's sign and its equilibrated pivot
+    /// spread, or why nothing can follow the drive from there (a self-stress,
+    /// [`MechError::Indeterminate`], or a free or impossible motion, [`MechError::Immobile`]).
+    pub(crate) fn regular_unloaded(
+        &self,
+        mut jac: Vec<f64>,
+        n: usize,
+        index: usize,
+    ) -> Result<(f64, f64), MechError> {
+        let mut rhs = vec![0.0; n];
+        equilibrate(&mut jac, n);
+        let equilibrated = jac.clone();
+        match lu_solve(&mut jac, &mut rhs, n) {
+            Some(lu) if lu.pivot_ratio > SINGULAR => Ok((lu.det_sign, lu.pivot_ratio)),
+            other => {
+                let ratio = other.map_or(0.0, |l| l.pivot_ratio);
+                Err(match self.self_stress(&equilibrated, n) {
+                    Some(flexures) => MechError::Indeterminate {
+                        drive: index,
+                        flexures,
+                    },
+                    None => MechError::Immobile {
+                        drive: index,
+                        detail: format!("its smallest pivot is {ratio:.1e} of its largest"),
+                    },
+                })
+            }
+        }
+    }
+}
+
 /// One drive path of one solver in progress.
 struct MechPath<'a, M> {
     solver: &'a MechSolver<M>,
@@ -111,27 +144,8 @@ impl<M: FlexureModel> MechSolver<M> {
         // the drive asks for a motion nothing can make.
         let at0 = path.at(0.0);
         let sys0 = self.system(&at0, &x0)?;
-        let mut jac = self.jacobian(&at0, &x0, &sys0);
-        let mut rhs = vec![0.0; n];
-        let immobile = |ratio: f64| MechError::Immobile {
-            drive: index,
-            detail: format!("its smallest pivot is {ratio:.1e} of its largest"),
-        };
-        equilibrate(&mut jac, n);
-        let equilibrated = jac.clone();
-        let (sign0, ratio0) = match lu_solve(&mut jac, &mut rhs, n) {
-            Some(lu) if lu.pivot_ratio > SINGULAR => (lu.det_sign, lu.pivot_ratio),
-            other => {
-                let ratio = other.map_or(0.0, |l| l.pivot_ratio);
-                return Err(match self.self_stress(&equilibrated, n) {
-                    Some(flexures) => MechError::Indeterminate {
-                        drive: index,
-                        flexures,
-                    },
-                    None => immobile(ratio),
-                });
-            }
-        };
+        let jac = self.jacobian(&at0, &x0, &sys0);
+        let (sign0, ratio0) = self.regular_unloaded(jac, n, index)?;
         let start = Point {
             lambda: 0.0,
             x: x0,

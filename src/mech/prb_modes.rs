@@ -77,7 +77,17 @@ pub fn unloaded_prb_modes(
     let s = solver(mechanism, matrix, 1e-10);
     let state = held_state(&s, held);
     let pencil = Pencil::from_solver(s, mechanism, &state, stage)?;
-    frequencies(&pencil.a, &pencil.b, pencil.n).map_err(ModesError::Unstable)
+    frequencies(&pencil.a, &pencil.b, pencil.n).map_err(|w2| {
+        // Unloaded, a singular or unstable stiffness is no critical load: say what the
+        // mechanism solver says of the pose (a self-stress, or a motion nothing holds).
+        match pencil
+            .solver
+            .regular_unloaded(pencil.a.clone(), pencil.n, 1)
+        {
+            Err(e) => ModesError::Mechanism(e.to_string()),
+            Ok(_) => ModesError::Unstable(w2),
+        }
+    })
 }
 
 /// The PRB mechanism's natural frequencies `Omega` (flexure 1's units), lowest first, at

@@ -36,6 +36,10 @@ pub enum ModesError {
     /// The tangent stiffness is singular or not positive there (at or past a critical load).
     #[error("the PRB chain is not stable at this equilibrium (omega^2 = {0:.3e}): the load is at or past its critical point")]
     Unstable(f64),
+    /// The PRB mechanism cannot hold its unloaded pose (its equations are singular there: a
+    /// self-stress or a motion nothing holds), the mechanism solver's own diagnosis.
+    #[error("{0}")]
+    Mechanism(String),
     /// `q` does not fit the chain.
     #[error("expected {expected} joint coordinates, got {got}")]
     Coordinates {

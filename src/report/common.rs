@@ -62,6 +62,38 @@ impl Display for DecisionLine<'_> {
     }
 }
 
+/// The frequency target's lines (DESIGN §10) when the scene judges its first `modes`
+/// natural frequencies (`[fit] modes`; nothing when 0): the target, then each model's largest
+/// error over them about the unloaded equilibrium, or that it has fewer, and whether it meets
+/// the target (the models' `targets` verdicts include it).
+pub fn frequency_lines<'a>(
+    f: &mut fmt::Formatter<'_>,
+    modes: u32,
+    target: f64,
+    rows: impl IntoIterator<Item = (&'a str, &'a Figures)>,
+) -> fmt::Result {
+    if modes == 0 {
+        return Ok(());
+    }
+    writeln!(
+        f,
+        "frequency target: max error {}% on the first {modes} natural frequencies (unloaded)",
+        num(target * 100.0)
+    )?;
+    for (name, figures) in rows {
+        let Some(e) = figures.max_freq_err else {
+            continue;
+        };
+        let what = if e.is_finite() {
+            format!("largest error {:.3}%", e * 100.0)
+        } else {
+            format!("fewer than {modes} frequencies")
+        };
+        writeln!(f, "  {}: {what}: {}", safe(name), met(e <= target))?;
+    }
+    Ok(())
+}
+
 /// "met" or "NOT met".
 pub fn met(ok: bool) -> &'static str {
     if ok {

@@ -19,8 +19,8 @@ use crate::scene::{Accuracy, Scene};
 use crate::study::{CaseForm, EffectsDecision, FitError, Sampling};
 
 use super::{
-    met, num, parse_matrix, safe, scene_model, study, Control, DecisionLine, Progress, ReportError,
-    Result, TruthInfo, TruthLine,
+    frequency_lines, met, num, parse_matrix, safe, scene_model, study, Control, DecisionLine,
+    Progress, ReportError, Result, TruthInfo, TruthLine,
 };
 
 /// `fit`'s arguments (the CLI's flags).
@@ -85,6 +85,9 @@ pub struct FitOutput {
     accuracy: Accuracy,
     #[serde(skip)]
     form: CaseForm,
+    /// The natural frequencies the scene judges (`[fit] modes`).
+    #[serde(skip)]
+    modes: u32,
 }
 
 impl fmt::Display for FitOutput {
@@ -97,6 +100,16 @@ impl fmt::Display for FitOutput {
 }
 
 impl FitOutput {
+    /// The fitted model's frequency target line, when the scene judges frequencies.
+    fn frequency_line(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        frequency_lines(
+            f,
+            self.modes,
+            self.accuracy.max_freq_err,
+            [("fitted", &self.figures)],
+        )
+    }
+
     /// The text of a cantilever's fit.
     fn fmt_tip(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let m = &self.figures;
@@ -122,6 +135,7 @@ impl FitOutput {
             num(self.accuracy.max_ang_err),
             met(self.meets_targets)
         )?;
+        self.frequency_line(f)?;
         writeln!(
             f,
             "{}; {} iterations, {} evaluations, {:.1} ms (baseline {:.1} ms)",
@@ -169,6 +183,7 @@ impl FitOutput {
             num(self.accuracy.max_force_err),
             met(self.meets_targets)
         )?;
+        self.frequency_line(f)?;
         if let Some(path) = &self.saved {
             writeln!(f, "saved {}", safe(path))?;
         }
@@ -269,6 +284,7 @@ pub fn fit(scene: &Scene, args: &FitArgs, ctl: &mut Control<'_>) -> Result<FitOu
         scene: scene.name.clone(),
         matrix: report.matrix,
         accuracy: scene.accuracy,
+        modes: scene.fit.modes,
         form: study.case_form(),
     };
     Ok(out)

@@ -197,6 +197,22 @@ pub fn modes(scene: &Scene, args: &ModesArgs, ctl: &mut Control<'_>) -> Result<M
             .iter()
             .zip(e.models)
             .map(|((name, m), r)| match r {
+                // Constraints that hold every joint (a slider-crank of 1R flexures with its
+                // slider held) leave nothing to ring: say so, as for a model with no
+                // solution there.
+                Ok(mm) if mm.omega.is_empty() => ModelRow {
+                    model: name.clone(),
+                    prb: m.to_text(),
+                    omega: None,
+                    hz: None,
+                    freq_err: None,
+                    meets_target: Some(false),
+                    failure: Some(
+                        "no degree of freedom: the mechanism's constraints hold every joint \
+                         of this model still about this equilibrium"
+                            .to_string(),
+                    ),
+                },
                 // A model with fewer frequencies than asked (a 1R has one) does not meet
                 // the target on the ones it lacks.
                 Ok(mm) => ModelRow {
@@ -216,7 +232,7 @@ pub fn modes(scene: &Scene, args: &ModesArgs, ctl: &mut Control<'_>) -> Result<M
                     omega: None,
                     hz: None,
                     freq_err: None,
-                    meets_target: None,
+                    meets_target: Some(false),
                     failure: Some(why),
                 },
             })

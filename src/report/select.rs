@@ -14,7 +14,8 @@ use crate::study::select::{Rung, Selection, Unfollowed};
 use crate::study::{CaseForm, EffectsDecision, Sampling};
 
 use super::{
-    num, safe, study, Control, DecisionLine, Progress, ReportError, Result, TruthInfo, TruthLine,
+    frequency_lines, num, safe, study, Control, DecisionLine, Progress, ReportError, Result,
+    TruthInfo, TruthLine,
 };
 
 /// `select`'s arguments (the CLI's flags).
@@ -105,6 +106,9 @@ pub struct SelectOutput {
     chosen_index: Option<usize>,
     #[serde(skip)]
     form: CaseForm,
+    /// The natural frequencies the scene judges (`[fit] modes`).
+    #[serde(skip)]
+    modes: u32,
 }
 
 impl SelectOutput {
@@ -131,6 +135,7 @@ impl SelectOutput {
             seconds,
             cases,
             form,
+            modes: scene.fit.modes,
         }
     }
 }
@@ -191,6 +196,12 @@ impl fmt::Display for SelectOutput {
                 mark
             )?;
         }
+        frequency_lines(
+            f,
+            self.modes,
+            self.targets.max_freq_err,
+            self.rows.iter().map(|r| (r.name.as_str(), &r.figures)),
+        )?;
         for u in &self.unfollowed {
             writeln!(
                 f,

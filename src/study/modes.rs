@@ -21,7 +21,7 @@
 
 use serde::Serialize;
 
-use crate::beam::modes::{FrequencyScale, ModeSettings, ModesError};
+use crate::beam::modes::{FrequencyScale, ModeSettings, ModesError, MAX_MODES};
 use crate::beam::{BeamSolver, Load};
 use crate::mech::modes::{held_by, mech_modes, MechMass};
 use crate::mech::prb_modes::prb_modes;
@@ -98,6 +98,12 @@ pub enum StudyModesError {
     /// No mode asked for.
     #[error("the number of modes must be at least 1")]
     NoModes,
+    /// More modes asked for than the beam's discretisation resolves.
+    #[error(
+        "--count {0}: at most {MAX_MODES} modes (the beam's discretisation resolves no more to \
+         its accuracy)"
+    )]
+    TooManyModes(usize),
     /// A tip load given to a mechanism scene (its loads are its drives).
     #[error(
         "a mechanism's loads are its [[drives]]: its modes are the unloaded ones or every case's"
@@ -122,6 +128,7 @@ impl StudyModesError {
             self,
             StudyModesError::NoDensity
                 | StudyModesError::NoModes
+                | StudyModesError::TooManyModes(_)
                 | StudyModesError::LoadOnMechanism
                 | StudyModesError::Modes(ModesError::BadInput(_))
         )
@@ -153,6 +160,9 @@ impl Study {
     ) -> Result<Vec<EquilibriumModes>, StudyModesError> {
         if count == 0 {
             return Err(StudyModesError::NoModes);
+        }
+        if count > MAX_MODES {
+            return Err(StudyModesError::TooManyModes(count));
         }
         let density = self.density()?;
         let scale = self.frequency_scale()?;

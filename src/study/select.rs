@@ -52,7 +52,9 @@ pub struct Rung {
     pub figures: Figures,
     /// Whether every error figure is within the scene's target.
     pub meets_targets: bool,
-    /// Worst ratio of an error figure to its target (1 = on target).
+    /// Worst ratio of an error figure to its target (1 = on target); infinite, `"inf"` in
+    /// JSON, for a model with fewer frequencies than the scene judges.
+    #[serde(serialize_with = "crate::mech::figures::infinite_as_text::number")]
     pub target_ratio: f64,
     /// Time to solve the PRB model for one case, seconds.
     pub eval_seconds_per_case: f64,

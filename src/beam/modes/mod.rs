@@ -285,6 +285,11 @@ pub enum ModesError {
 /// The most Legendre coefficients per field.
 pub const MAX_DEGREE: usize = 96;
 
+/// The most modes asked for at once: the unloaded beam's degree rule below reaches
+/// [`MAX_DEGREE`] there (a load needs a higher degree still, which the clamp then denies:
+/// past this the highest frequencies returned are the discretisation's, not the beam's).
+pub const MAX_MODES: usize = (MAX_DEGREE - 6) / 2;
+
 /// The degree that gives 1e-8 on the first `count` frequencies at this load:
 /// `6 + 2 count + lambda / 2` (12 for three modes of the unloaded beam), `lambda` the
 /// fastest rate at which the shape turns (`sqrt|alpha|`, the moments), to resolve the

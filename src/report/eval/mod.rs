@@ -33,8 +33,8 @@ use stress::StressLines;
 
 use super::stage::{count, drive_line, tidy, units_line, DriveInfo, LOAD_NAMES};
 use super::{
-    met, num, parse_matrix, safe, scene_model, study, Control, DecisionLine, ReportError, Result,
-    TruthInfo, TruthLine,
+    frequency_lines, met, num, parse_matrix, safe, scene_model, study, Control, DecisionLine,
+    ReportError, Result, TruthInfo, TruthLine,
 };
 
 /// `eval`'s arguments (the CLI's flags).
@@ -298,6 +298,9 @@ pub struct EvalReport {
     force_weight: f64,
     #[serde(skip)]
     mechanism: Mechanism,
+    /// The natural frequencies the scene judges (`[fit] modes`).
+    #[serde(skip)]
+    modes: u32,
 }
 
 impl fmt::Display for EvalReport {
@@ -310,6 +313,19 @@ impl fmt::Display for EvalReport {
 }
 
 impl EvalReport {
+    /// The frequency target's lines for every model judged, when the scene judges them.
+    fn frequency_lines(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        frequency_lines(
+            f,
+            self.modes,
+            self.accuracy.max_freq_err,
+            self.models
+                .rows()
+                .iter()
+                .filter_map(|r| r.figures.as_ref().map(|m| (r.model.as_str(), m))),
+        )
+    }
+
     /// The text of a cantilever's evaluation.
     fn fmt_tip(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         writeln!(
@@ -353,6 +369,7 @@ impl EvalReport {
                 )?,
             }
         }
+        self.frequency_lines(f)?;
         for r in self.models.rows() {
             r.unfollowed_lines(f, "load path")?;
         }
@@ -536,6 +553,7 @@ impl EvalReport {
                 )?,
             }
         }
+        self.frequency_lines(f)?;
         for r in self.models.rows() {
             r.unfollowed_lines(f, "drive")?;
         }
@@ -661,6 +679,7 @@ pub fn eval(scene: &Scene, args: &EvalArgs, ctl: &mut Control<'_>) -> Result<Eva
         angle_weight: scene.fit.angle_weight,
         force_weight: scene.fit.force_weight,
         mechanism: study.mechanism().clone(),
+        modes: scene.fit.modes,
     };
     Ok(EvalOutput::Scene(Box::new(report)))
 }
