@@ -41,11 +41,13 @@
 //! 50 times faster than any spring moves and `r` is about `1e-4 (0.02 / omega_max)^2 a0`,
 //! i.e. `4e-8` of `a0 / omega_max^2`, the springs' own deflection scale. The largest is a
 //! weld's twist under the tip moment (the last link's rotational inertia is the smallest):
-//! `tests/mujoco_mech.rs` measures at most 3e-8 rad of twist, 4e-9 L of gap and a stage
-//! pose within 1.1e-8 L of prbfit's (with twice this time step, 4 times more: `r` goes
-//! with its square). Forces at rest are exact whatever the softness (they balance the
-//! springs at the pose reached), so the reactions agree to 1.2e-7. The time step's cost is
-//! the settling: a few 1e5 steps per case (seconds). Stiff closures also mean a drive
+//! `tests/mujoco_mech.rs` measures at most 1.2e-8 rad of twist, 4.7e-9 L of gap and a
+//! stage pose within 4.4e-9 L of prbfit's (with twice this time step, 4 times more: `r`
+//! goes with its square; the time step from each spring over the inertia beyond it, which
+//! underestimates `omega_max`, gave 3e-8 rad and 1.1e-8 L). Forces at rest are exact
+//! whatever the softness (they balance the springs at the pose reached), so the reactions
+//! agree to 5.4e-8. The time step's cost is the settling: a few 1e5 to 1.2e6 steps per case
+//! (seconds). Stiff closures also mean a drive
 //! target must move in small steps: a jump asks for accelerations past MuJoCo's `1e10`
 //! guard, which resets the simulation (the check moves it every 10 steps). The integrator is
 //! `implicitfast`;
