@@ -304,6 +304,7 @@ mod tests {
     #![allow(clippy::unwrap_used, clippy::expect_used)] // tests: a failure should panic
 
     use super::*;
+    use crate::export::chain::frequency_range;
     use crate::scene::{BeamSpec, Drive, EffectsChoice, Flexure};
     use roxmltree::{Document, Node};
 
@@ -512,5 +513,51 @@ mod tests {
         let soft = time_step(&chains("0.1,inf,inf; 0.9,2,inf"), STEP_FRACTION).unwrap();
         let stiff = time_step(&chains("0.1,inf,inf; 0.9,8,inf"), STEP_FRACTION).unwrap();
         assert!((soft / stiff - 2.0).abs() < 1e-12);
+    }
+
+    /// The mechanism's time step rests on Rayleigh's principle: the closures and the stage
+    /// only lower the highest frequency below its flexures' free chains'. Checked on the
+    /// parallel stage (Su's 3R, a stage of a flexure's mass, every coordinate loaded):
+    /// prbfit's PRB mechanism modes, in SI, stay below the chains' highest frequency, so
+    /// `omega dt <= STEP_FRACTION` for every one of them.
+    #[test]
+    fn the_mechanisms_frequencies_stay_below_its_free_chains() {
+        let scene = crate::scene::Scene::from_toml_str(
+            include_str!("../../assets/scenes/parallel-stage.toml"),
+            "parallel-stage.toml",
+        )
+        .unwrap();
+        let mech = scene.mechanism.unwrap();
+        let matrix =
+            PrbMatrix::parse("0.1,inf,inf; 0.35,3.51,inf; 0.4,2.99,inf; 0.15,2.58,inf").unwrap();
+        let rho = 7850.0;
+        let chains: Vec<Chain> = mech
+            .flexures
+            .iter()
+            .map(|f| Chain::new(&matrix, &f.beam, rho, &Body::default()))
+            .collect();
+        let dt = time_step(&chains, STEP_FRACTION).unwrap();
+        let b = &mech.flexures[0].beam;
+        let rho_a = rho * b.area();
+        let unit = (b.youngs_modulus * b.second_moment() / (rho_a * b.length.powi(4))).sqrt();
+        let stage = crate::prb::TipBody {
+            mass: 1.0,
+            inertia: 1.0 / 12.0,
+        };
+        let state = crate::mech::prb_modes::unloaded_state_held(&mech, &matrix, [false; 3]);
+        let omegas = crate::mech::prb_modes::prb_modes(&mech, &matrix, &state, stage).unwrap();
+        assert!(omegas.len() >= 3, "{omegas:?}");
+        let highest = omegas.iter().fold(0.0_f64, |a, &w| a.max(w)) * unit;
+        let chain_max = chains
+            .iter()
+            .filter_map(frequency_range)
+            .fold(0.0_f64, |a, (_, hi)| a.max(hi));
+        eprintln!(
+            "{} PRB mechanism frequencies, highest {highest:.4e} rad/s; free chains' highest \
+             {chain_max:.4e} rad/s",
+            omegas.len()
+        );
+        assert!(highest <= chain_max, "{highest} vs {chain_max}");
+        assert!(highest * dt <= STEP_FRACTION, "{}", highest * dt);
     }
 }
