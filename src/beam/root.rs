@@ -42,6 +42,19 @@ impl BeamSolver {
     /// shot over the whole beam: perturbations grow like `exp(sqrt(|alpha|))`, so forces
     /// past a few hundred lose digits (the loaded solvers split the beam instead).
     pub fn shoot_root(&self, alpha_x: f64, alpha_y: f64, m0: f64) -> Result<RootShot, SolveError> {
+        self.shoot_root_sampled(alpha_x, alpha_y, m0, None)
+    }
+
+    /// [`BeamSolver::shoot_root`], also sampling the centre line it shoots into `shape` (as
+    /// [`BeamSolver::root_shape`] does, from the same integration: a mechanism's flexure
+    /// gets its stress from its last Newton evaluation's shot instead of one more).
+    pub fn shoot_root_sampled(
+        &self,
+        alpha_x: f64,
+        alpha_y: f64,
+        m0: f64,
+        shape: Option<&mut Vec<ShapePoint>>,
+    ) -> Result<RootShot, SolveError> {
         let load = Load::new(alpha_x, alpha_y, m0);
         if !load.is_finite() {
             return Err(SolveError::NonFiniteLoad(load));
@@ -51,7 +64,15 @@ impl BeamSolver {
         let mut settings = self.settings(load);
         settings.moment_scale = load.magnitude();
         let force = TipForce { alpha_x, alpha_y };
-        let (u, _) = root_shot(&self.model, force, m0, settings, &mut meter)
+        let samples = shape.map(|points| {
+            points.clear();
+            Samples {
+                points,
+                count: self.resolution.shape_points,
+                sensitivities: None,
+            }
+        });
+        let (u, _) = root_shot(&self.model, force, m0, settings, samples, &mut meter)
             .map_err(|e| shot_error(e, load, &meter))?;
         // Slots: psi, M, x, y; then d/dM0 (4..8), d/dalpha_x (8..12), d/dalpha_y (12..16).
         let row = |k: usize| [u[8 + k], u[12 + k], u[4 + k]];
@@ -226,6 +247,38 @@ mod tests {
         for (k, p) in shape.iter().enumerate() {
             let s = k as f64 / (shape.len() - 1) as f64;
             assert!((p.s - s).abs() < 1e-12);
+        }
+    }
+
+    /// The shape a sampled root shot records (what a mechanism's exact flexure takes its
+    /// stress from) is the drawn one, sample for sample: both integrate the same beam to the
+    /// same tolerance, so they agree to the shot's error (1e-8 of L, as the tip above), and
+    /// the sampled shot's tip and Jacobian are the unsampled one's exactly (sampling only
+    /// interpolates between the steps).
+    #[test]
+    fn a_sampled_root_shot_records_the_drawn_shape() {
+        let solver = stubby_rubber();
+        for (ax, ay, m0) in [(-0.6, 2.4, 1.1), (3.0, -1.0, 0.2), (0.0, 0.0, 1.5)] {
+            let mut shape = vec![ShapePoint {
+                s: 9.0,
+                x: 9.0,
+                y: 9.0,
+                psi: 9.0,
+            }];
+            let sampled = solver
+                .shoot_root_sampled(ax, ay, m0, Some(&mut shape))
+                .unwrap();
+            assert_eq!(sampled, solver.shoot_root(ax, ay, m0).unwrap());
+            let drawn = solver.root_shape(ax, ay, m0).unwrap();
+            assert_eq!(shape.len(), drawn.len(), "the stale point is cleared");
+            for (p, q) in shape.iter().zip(&drawn) {
+                assert_eq!(p.s, q.s);
+                let d = (p.x - q.x)
+                    .abs()
+                    .max((p.y - q.y).abs())
+                    .max((p.psi - q.psi).abs());
+                assert!(d < 1e-8, "at s = {}: {p:?} vs {q:?}", p.s);
+            }
         }
     }
 }

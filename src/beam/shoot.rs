@@ -290,6 +290,7 @@ pub(crate) fn root_shot(
     force: TipForce,
     moment: f64,
     settings: ShotSettings,
+    shape: Option<Samples<'_>>,
     meter: &mut Meter<'_>,
 ) -> Result<(State<16>, u32), ShotFailure> {
     let segment = Segment {
@@ -299,7 +300,7 @@ pub(crate) fn root_shot(
         moment,
         origin: (0.0, 0.0),
     };
-    integrate::<16>(model, force, segment, settings, None, meter)
+    integrate::<16>(model, force, segment, settings, shape, meter)
 }
 
 /// [`shoot`]'s integration, returning the whole end state.
@@ -444,7 +445,10 @@ fn second_derivatives<const N: usize>(
     u: &State<N>,
     f: &State<N>,
 ) -> Result<[f64; 4], ShotFailure> {
-    let mut probe = *u;
+    // The direction's variational right-hand side needs only the state and the direction
+    // (`x, y` do not enter it): one column of it, whatever the shot carries.
+    let mut probe = [0.0; 8];
+    probe[..4].copy_from_slice(&u[..4]);
     probe[4] = f[PSI];
     probe[5] = f[MOM];
     let d = rhs(model, force, &probe).map_err(ShotFailure::Material)?;

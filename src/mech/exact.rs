@@ -36,12 +36,19 @@ impl FlexureModel for BeamFlexure {
     }
 
     fn eval(&self, w: [f64; 3], _z: &[f64]) -> Result<FlexEval, TipFailure> {
-        let shot = self.solver.shoot_root(w[0], w[1], w[2])?;
+        // The shot samples its centre line: the last evaluation's is the solved shape,
+        // whose stress the case reports (`stress`), for a few interpolations per step
+        // instead of another shot.
+        let mut shape = Vec::new();
+        let shot = self
+            .solver
+            .shoot_root_sampled(w[0], w[1], w[2], Some(&mut shape))?;
         Ok(FlexEval {
             tip: shot.tip,
             tip_moment: shot.tip_moment,
             internal: Vec::new(),
             jacobian: shot.jacobian.iter().flatten().copied().collect(),
+            shape,
         })
     }
 
@@ -51,10 +58,9 @@ impl FlexureModel for BeamFlexure {
     }
 
     fn stress(&self, eval: &FlexEval, w: [f64; 3], _z: &[f64]) -> Option<Stress> {
-        // One more shot from the clamp samples the shape the root wrench gives.
-        let shape = self.solver.root_shape(w[0], w[1], w[2]).ok()?;
+        // The shape `eval`'s own shot sampled (the root wrench `w` it was shot with).
         let load = Load::new(w[0], w[1], eval.tip_moment);
-        self.solver.max_stress(load, eval.tip, &shape)
+        self.solver.max_stress(load, eval.tip, &eval.shape)
     }
 }
 

@@ -86,6 +86,7 @@ impl FlexureModel for ChainFlexure {
             tip_moment: w[2],
             internal: lin.residual.clone(),
             jacobian,
+            shape: Vec::new(),
         })
     }
 

@@ -4,7 +4,7 @@
 //! ([`MechSolver::solve_path`]: Newton, continuation, critical-point tests) and the cases it
 //! reports are in `path.rs`.
 
-use crate::beam::{Stress, TipPose};
+use crate::beam::{ShapePoint, Stress, TipPose};
 use crate::cancel::CancelToken;
 
 use super::geometry::Geometry;
@@ -42,6 +42,9 @@ pub struct FlexEval {
     /// `d(a, b, phi, tip_moment, internal...) / d(alpha_x, alpha_y, w, z...)`, row-major,
     /// `4 + k` rows of `3 + k` (`k` = [`FlexureModel::internal`]).
     pub jacobian: Vec<f64>,
+    /// The centre line this evaluation shot (own frame and units), where the model shoots
+    /// one (the exact beam); empty otherwise.
+    pub shape: Vec<ShapePoint>,
 }
 
 /// The solver of one mechanism with one model per flexure.

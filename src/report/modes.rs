@@ -289,27 +289,38 @@ fn columns(values: &[f64], format: impl Fn(f64) -> String) -> String {
         .collect::<String>()
 }
 
+impl CaseModes {
+    /// The models' column: 12 characters, or the longest name (a fitted model's file name).
+    fn name_width(&self) -> usize {
+        self.models
+            .iter()
+            .map(|m| safe(&m.model).chars().count())
+            .fold(12, usize::max)
+    }
+}
+
 impl fmt::Display for CaseModes {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let n = self.name_width();
         let omega = |w: f64| format!("{w:.6}");
         let hz = |h: f64| num(h);
         writeln!(
             f,
-            "{:<12} {:<6}{}",
+            "{:<n$} {:<6}{}",
             "beam",
             "Omega",
             columns(&self.beam.omega, omega)
         )?;
-        writeln!(f, "{:<12} {:<6}{}", "", "Hz", columns(&self.beam.hz, hz))?;
+        writeln!(f, "{:<n$} {:<6}{}", "", "Hz", columns(&self.beam.hz, hz))?;
         for m in &self.models {
             let name = safe(&m.model);
             match (&m.omega, &m.hz, &m.freq_err) {
                 (Some(w), Some(h), Some(e)) => {
-                    writeln!(f, "{name:<12} {:<6}{}", "Omega", columns(w, omega))?;
-                    writeln!(f, "{:<12} {:<6}{}", "", "Hz", columns(h, hz))?;
+                    writeln!(f, "{name:<n$} {:<6}{}", "Omega", columns(w, omega))?;
+                    writeln!(f, "{:<n$} {:<6}{}", "", "Hz", columns(h, hz))?;
                     writeln!(
                         f,
-                        "{:<12} {:<6}{}",
+                        "{:<n$} {:<6}{}",
                         "",
                         "error",
                         columns(e, |x| format!("{:+.3}%", 100.0 * x))
@@ -317,7 +328,7 @@ impl fmt::Display for CaseModes {
                 }
                 _ => writeln!(
                     f,
-                    "{name:<12} no frequencies: {}",
+                    "{name:<n$} no frequencies: {}",
                     safe(m.failure.as_deref().unwrap_or("unknown"))
                 )?,
             }
@@ -383,7 +394,7 @@ impl fmt::Display for ModesReport {
             .collect();
         match &self.found {
             ModesBody::One(c) => {
-                writeln!(f, "{:<19}{header}", "")?;
+                writeln!(f, "{:<w$}{header}", "", w = c.name_width() + 7)?;
                 write!(f, "{c}")?;
                 targets(f, std::slice::from_ref(c), self.max_freq_err)
             }
@@ -391,12 +402,13 @@ impl fmt::Display for ModesReport {
                 for c in cases {
                     writeln!(
                         f,
-                        "{:<19}{header}",
+                        "{:<w$}{header}",
                         format!(
                             "path {} at {}",
                             c.path.unwrap_or(1),
                             num((c.fraction * 1e6).round() / 1e6)
-                        )
+                        ),
+                        w = c.name_width() + 7
                     )?;
                     write!(f, "{c}")?;
                 }
