@@ -2,12 +2,16 @@
 //! `gamma L` (m), torsion springs `K_theta = k_theta E I0 / L` (N m/rad), extension springs
 //! `K_ex = k_ex E A0 / L` (N/m), and the loads `F = alpha E I0 / L^2` (N), `M = beta E I0 / L`
 //! (N m). The core works nondimensionally; this is the one place that converts.
+//!
+//! With a density (`[beam] density`, DESIGN §10) a segment also carries its mass
+//! `mu_i rho A0 L` (kg) and its rotary inertia about its centre, bending axis,
+//! `m (gamma_i L)^2 / 12` (kg m^2): the PRB model whose frequencies prbfit computes.
 
 use serde::{Deserialize, Serialize};
 
 use crate::beam::Load;
 use crate::prb::{Column, PrbMatrix};
-use crate::scene::{BeamSpec, Coordinate, LoadPath, Mechanism};
+use crate::scene::{BeamSpec, Body, Coordinate, LoadPath, Mechanism};
 
 /// One segment in SI units.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -20,6 +24,13 @@ pub struct SiSegment {
     /// N/m along the segment; absent: fixed length.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub k_ex: Option<f64>,
+    /// kg: `mu_i rho A0 L`; absent without a density.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mass: Option<f64>,
+    /// kg m^2 about the segment's centre (the bending axis, z): a uniform rod's
+    /// `mass (gamma_i L)^2 / 12`; absent without a density.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub inertia: Option<f64>,
 }
 
 /// A model in SI units for one beam.
@@ -35,6 +46,14 @@ pub struct SiModel {
     pub youngs_modulus: f64,
     /// Root first.
     pub segments: Vec<SiSegment>,
+    /// A cantilever's tip body (`[tip]`: kg, kg m^2 about its centre of mass at the tip);
+    /// absent without one.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tip: Option<Body>,
+    /// A mechanism's stage (`[stage]`: kg, kg m^2 about P), on flexure 1's entry; absent
+    /// without one.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stage: Option<Body>,
 }
 
 /// The range of a scene's loads, nondimensional and in SI (N, N m); the paths start at zero,
@@ -88,10 +107,12 @@ pub fn load_si(beam: &BeamSpec, load: &Load) -> [f64; 3] {
     ]
 }
 
-/// The SI values of `matrix` for `beam`.
+/// The SI values of `matrix` for `beam`, with the segments' masses and inertias when the
+/// beam has a density (no body: [`SiModel::tip`] and [`SiModel::stage`] are the caller's).
 pub fn si_model(matrix: &PrbMatrix, beam: &BeamSpec) -> SiModel {
     let k_theta = column_factor(beam, Column::KTheta);
     let k_ex = column_factor(beam, Column::KEx);
+    let total = beam_mass(beam);
     SiModel {
         beam_length: beam.length,
         width: beam.width,
@@ -104,8 +125,15 @@ pub fn si_model(matrix: &PrbMatrix, beam: &BeamSpec) -> SiModel {
                 length: r.gamma * beam.length,
                 k_theta: r.k_theta.is_finite().then_some(r.k_theta * k_theta),
                 k_ex: r.k_ex.is_finite().then_some(r.k_ex * k_ex),
+                mass: total.map(|m| r.mass() * m),
+                inertia: total.map(|m| {
+                    let length = r.gamma * beam.length;
+                    r.mass() * m * length * length / 12.0
+                }),
             })
             .collect(),
+        tip: None,
+        stage: None,
     }
 }
 

@@ -534,3 +534,82 @@ fn robot_formats_carry_the_mus_masses_and_the_tip_body() {
         }
     }
 }
+
+/// The model file of a scene with `[beam] density` and a `[tip]` body carries each segment's
+/// mass `mu_i rho A0 L` and rod inertia about its centre, and the tip body, in SI; an
+/// export's `--density` sets the masses; the built-in scene (no density) writes none.
+#[test]
+fn model_files_carry_the_masses_in_si() {
+    let dir = Dir::new("si-masses");
+    let scene_path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/assets/scenes/ringing-flexure.toml"
+    );
+    let scene = Scene::from_file(Path::new(scene_path)).unwrap();
+    let b = scene.beam;
+    let rho = b.density.unwrap();
+    let matrix = "0.1,inf,inf,0.2; 0.35,3.51,inf,0.3; 0.4,2.99,inf,0.3; 0.15,2.58,inf,0.2";
+    let m = PrbMatrix::parse(matrix).unwrap();
+    for (density, file_name) in [(None, "m.toml"), (Some(1000.0), "m1000.json")] {
+        let path = dir.file(file_name);
+        let mut args = vec![
+            "export", "--scene", scene_path, "--prb", matrix, "-o", &path,
+        ];
+        let given = density.map(|d: f64| d.to_string());
+        if let Some(d) = &given {
+            args.extend(["--density", d]);
+        }
+        succeeded(&prbfit(&args));
+        let file = ModelFile::load(&path).unwrap();
+        let si = file.si.unwrap();
+        let rho_a_l = density.unwrap_or(rho) * b.width * b.thickness * b.length;
+        for (seg, row) in si.segments.iter().zip(m.rows()) {
+            let mass = row.mass() * rho_a_l;
+            let inertia = mass * (row.gamma * b.length).powi(2) / 12.0;
+            // The same products in another order, through a decimal round trip: ulps.
+            assert!(close(seg.mass.unwrap(), mass), "{seg:?} vs {mass}");
+            assert!(close(seg.inertia.unwrap(), inertia), "{seg:?} vs {inertia}");
+        }
+        assert_eq!(si.tip, Some(scene.body));
+    }
+    let path = dir.file("plain.toml");
+    succeeded(&prbfit(&["export", "--prb", matrix, "-o", &path]));
+    let text = std::fs::read_to_string(&path).unwrap();
+    assert!(
+        !text.contains("mass") && !text.contains("inertia"),
+        "{text}"
+    );
+}
+
+/// A massless tip segment (floored to 1e-6 of the mass) on an extension spring of
+/// `100 E A0 / L` rings 8e5 times above the first mode, 2.5e7 steps per period at the
+/// export's time step: the MJCF export says so and writes nothing; a `mu = 0` row between
+/// torsion springs exports.
+#[test]
+fn an_mjcf_too_stiff_to_simulate_is_refused() {
+    let dir = Dir::new("too-stiff");
+    let path = dir.file("m.xml");
+    let out = prbfit(&[
+        "export",
+        "--prb",
+        "0.1,inf,inf,0.1; 0.6,2,inf,0.9; 0.3,2,100,0",
+        "--format",
+        "mjcf",
+        "-o",
+        &path,
+    ]);
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("raise the smallest mus"), "{err}");
+    assert!(!Path::new(&path).exists());
+    let out = prbfit(&[
+        "export",
+        "--prb",
+        "0.1,inf,inf,0.1; 0.35,3.51,inf,0; 0.4,2.99,inf,0.4; 0.15,2.58,inf,0.5",
+        "--format",
+        "mjcf",
+        "-o",
+        &path,
+    ]);
+    succeeded(&out);
+}

@@ -13,8 +13,20 @@
 //! rod's `m (gamma_i L)^2 / 12`, exactly the PRB model whose frequencies prbfit computes; about
 //! x and y `m (l^2 + w^2) / 12` (they do not enter planar motion). A cantilever's tip body ([`Body`],
 //! `[tip]`) is added to the last segment's (its centre of mass at the tip, parallel axis
-//! theorem), so every format carries it without an extra link. A segment given `mu = 0` gets
-//! `1e-9` of the beam's mass: simulators refuse massless moving links.
+//! theorem), so every format carries it without an extra link.
+//!
+//! # The mass floor
+//! Simulators refuse a massless moving link (MuJoCo: `mass and inertia of moving bodies must
+//! be larger than mjMINVAL`), and a fit may let a mu fall to `e^-20` of the beam's mass. Every
+//! link's mass is at least [`MASS_FLOOR`] of the model's total mass `M` (the beam's `rho A0 L`
+//! and the tip body's), and its inertia about each axis at least [`MASS_FLOOR`] of
+//! `M L^2 / 12` (the whole beam's as a rod). Why `1e-6`: it moves the model's frequencies by
+//! about 1e-6 relative at most (a mass added where the mode moves at most as much as the
+//! tip), four orders below the 0.5 % the MuJoCo test asks and the fits' frequency errors, yet
+//! keeps the fastest local mode of a floored link between two springs within about
+//! `sqrt(k 12 / 1e-6) ~ 3e3 sqrt(k)` of the beam's unit frequency, so the time step
+//! ([`time_step`]) stays practical; a plain `1e-9` of the mass made its inertia `1e-17 kg
+//! m^2` for a steel blade, which MuJoCo refuses, and its frequency `3e4` times higher.
 
 use crate::prb::PrbMatrix;
 use crate::scene::{BeamSpec, Body};
@@ -109,6 +121,11 @@ impl Chain {
     pub fn new(matrix: &PrbMatrix, beam: &BeamSpec, density: f64, tip: &Body) -> Chain {
         let si = si_model(matrix, beam);
         let beam_mass = density * beam.area() * beam.length;
+        let total = beam_mass + tip.mass;
+        let floor = Floor {
+            mass: MASS_FLOOR * total,
+            inertia: MASS_FLOOR * total * beam.length * beam.length / 12.0,
+        };
         let mut start_x = 0.0;
         let n = si.segments.len();
         let segments = si
@@ -117,11 +134,11 @@ impl Chain {
             .zip(matrix.rows())
             .enumerate()
             .map(|(i, (s, row))| {
-                let mass = (row.mass() * beam_mass).max(1e-9 * beam_mass);
-                let mut props = rod_mass(beam, mass, s.length);
+                let mut props = rod_mass(beam, row.mass() * beam_mass, s.length);
                 if i + 1 == n && !tip.is_none() {
                     props = with_tip(props, s.length, tip);
                 }
+                let props = floor.apply(props);
                 let seg = ChainSegment {
                     index: i + 1,
                     start_x,
@@ -141,13 +158,33 @@ impl Chain {
             width: beam.width,
             thickness: beam.thickness,
             segments,
-            hinge_link_mass: boxed(HINGE_LINK_FRACTION * beam.length),
+            hinge_link_mass: floor.apply(boxed(HINGE_LINK_FRACTION * beam.length)),
         }
     }
 
     /// The length of the intermediate links, m.
     pub fn hinge_link_length(&self) -> f64 {
         HINGE_LINK_FRACTION * self.beam_length
+    }
+}
+
+/// The least mass and inertia of a moving link (module docs, [`MASS_FLOOR`]).
+pub const MASS_FLOOR: f64 = 1e-6;
+
+/// The least mass (kg) and inertia (kg m^2, about each axis) a link is given.
+struct Floor {
+    mass: f64,
+    inertia: f64,
+}
+
+impl Floor {
+    /// `link` with its mass and each inertia raised to the floor (the centre kept).
+    fn apply(&self, link: MassProperties) -> MassProperties {
+        MassProperties {
+            mass: link.mass.max(self.mass),
+            com: link.com,
+            inertia: link.inertia.map(|i| i.max(self.inertia)),
+        }
     }
 }
 
@@ -172,44 +209,122 @@ fn rod_mass(beam: &BeamSpec, mass: f64, length: f64) -> MassProperties {
     }
 }
 
-/// The MJCF time step as a fraction of the fastest spring's `1 / omega`.
+/// MuJoCo's stability bound on `omega dt` for a spring of frequency `omega`: its default
+/// integrator (semi-implicit Euler, explicit in the springs' forces) is stable only for
+/// `omega dt < 2`.
+pub const STABILITY_BOUND: f64 = 2.0;
+
+/// The single chain's `omega_max dt`: a tenth of [`STABILITY_BOUND`]. The highest mode's
+/// frequency is then off by `(omega dt)^2 / 24 < 0.2 %`, the first mode's by far less (it is
+/// slower by the ratio of the two, squared).
+pub const CHAIN_STEP: f64 = 0.2;
+
+/// The mechanism's `omega_max dt`, 1/200 of [`STABILITY_BOUND`]: its closures' time
+/// constant is two time steps and must be far faster than every spring
+/// ([`super::mjcf_mech`]'s docs).
 pub const STEP_FRACTION: f64 = 0.01;
 
-/// The time step: [`STEP_FRACTION`] of the fastest spring's `1 / omega`, `omega^2` its
-/// stiffness over the unloaded chain's inertia (or mass, for an extension spring) beyond it
-/// (the tip body's included):
-/// the diagonal estimate `tests/mujoco_check.py` uses for the single chain, with the stage's
-/// and couplers' inertia left out (which only slows the springs). With 100 steps per
-/// `1 / omega` and the springs' damping integrated implicitly, it is stable with a wide
-/// margin; the closures' `tau` of two steps is what needs it this small (module docs).
-pub fn time_step(chains: &[Chain]) -> f64 {
-    let mut omega_max = 0.0_f64;
-    for chain in chains {
-        let segs = &chain.segments;
-        for (i, s) in segs.iter().enumerate() {
-            let mut inertia = 0.0;
-            let mut mass = 0.0;
-            let mut d = 0.0;
-            for t in &segs[i..] {
-                let (m, c) = (t.mass.mass, d + t.mass.com);
-                inertia += t.mass.inertia[2] + m * c * c;
-                mass += m;
-                d += t.length;
-            }
-            if let Some(k) = s.hinge {
-                omega_max = omega_max.max((k / inertia).sqrt());
-            }
-            if let Some(k) = s.slide {
-                omega_max = omega_max.max((k / mass).sqrt());
-            }
+/// Beyond this many time steps per period of the model's lowest mode the export is refused
+/// ([`time_step`]): a MuJoCo run of ten periods would take 1e8 steps.
+pub const MAX_STEPS_PER_PERIOD: f64 = 1e7;
+
+/// The chain's lowest and highest natural frequencies (rad/s) as written: clamped at the
+/// root, free at the tip, in the unloaded straight pose, each link with its (floored) mass
+/// and inertia, the revolute and prismatic joints with their springs and nothing else (an
+/// MJCF body's slide moves the whole body). In the straight pose the bending (hinges) and
+/// the axial motion (slides) decouple; each is `K q = omega^2 M q` with `K` the diagonal of
+/// the springs and `M` the links' kinetic energy, solved by Cholesky (`M = C C^T`) and the
+/// symmetric eigenvalues of `C^-1 K C^-T`, which keeps the largest to round-off relative to
+/// itself. `None` for a chain without springs.
+pub fn frequency_range(chain: &Chain) -> Option<(f64, f64)> {
+    let segs = &chain.segments;
+    // Each body's centre of mass along x from the clamp.
+    let centre: Vec<f64> = segs.iter().map(|s| s.start_x + s.mass.com).collect();
+    let mut lo = f64::INFINITY;
+    let mut hi = 0.0_f64;
+    let hinges: Vec<(usize, f64)> = segs
+        .iter()
+        .enumerate()
+        .filter_map(|(i, s)| s.hinge.map(|k| (i, k)))
+        .collect();
+    let slides: Vec<(usize, f64)> = segs
+        .iter()
+        .enumerate()
+        .filter_map(|(i, s)| s.slide.map(|k| (i, k)))
+        .collect();
+    let bending = |a: usize, b: usize| -> f64 {
+        let (xa, xb) = (segs[a].start_x, segs[b].start_x);
+        (a.max(b)..segs.len())
+            .map(|i| {
+                segs[i].mass.mass * (centre[i] - xa) * (centre[i] - xb) + segs[i].mass.inertia[2]
+            })
+            .sum()
+    };
+    let axial = |a: usize, b: usize| -> f64 { segs[a.max(b)..].iter().map(|s| s.mass.mass).sum() };
+    for (joints, mass) in [
+        (&hinges, &bending as &dyn Fn(usize, usize) -> f64),
+        (&slides, &axial),
+    ] {
+        let n = joints.len();
+        if n == 0 {
+            continue;
+        }
+        let m = nalgebra::DMatrix::from_fn(n, n, |r, c| mass(joints[r].0, joints[c].0));
+        let c = m.cholesky()?.unpack();
+        let c_inv = c.try_inverse()?;
+        let k = nalgebra::DMatrix::from_diagonal(&nalgebra::DVector::from_iterator(
+            n,
+            joints.iter().map(|j| j.1),
+        ));
+        let a = &c_inv * k * c_inv.transpose();
+        let a = (&a + a.transpose()) * 0.5;
+        for w2 in a.symmetric_eigenvalues().iter() {
+            let w = w2.max(0.0).sqrt();
+            lo = lo.min(w);
+            hi = hi.max(w);
         }
     }
-    if omega_max > 0.0 && omega_max.is_finite() {
-        STEP_FRACTION / omega_max
-    } else {
-        // A valid matrix has a spring; this only keeps the file loadable.
-        1e-3
+    (hi > 0.0 && hi.is_finite() && lo > 0.0).then_some((lo, hi))
+}
+
+/// Why a model cannot be simulated at a practical time step.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TooStiff {
+    /// The time steps one period of the lowest mode would take.
+    pub steps_per_period: f64,
+    /// The highest over the lowest natural frequency.
+    pub ratio: f64,
+}
+
+/// The MJCF time step for `chains` at `omega_max dt = fraction` ([`CHAIN_STEP`] for the
+/// single chain, [`STEP_FRACTION`] for a mechanism), `omega_max` the highest natural
+/// frequency of any of them as written ([`frequency_range`]). For a mechanism each flexure's
+/// chain is taken clamped at its root and free at its tip, without the stage and the
+/// couplers: the closures only confine the motion and the stage only adds mass, and neither
+/// raises the highest frequency (Rayleigh's principle: the largest Rayleigh quotient over a
+/// subspace, or with more kinetic energy, is no larger), so the bound holds for the whole
+/// mechanism too. `Err` when one period of the lowest mode (a chain's own) would take more
+/// than [`MAX_STEPS_PER_PERIOD`] steps: a floored link between stiff springs (raise its mu).
+pub fn time_step(chains: &[Chain], fraction: f64) -> Result<f64, TooStiff> {
+    let mut omega_max = 0.0_f64;
+    let mut omega_min = f64::INFINITY;
+    for (lo, hi) in chains.iter().filter_map(frequency_range) {
+        omega_max = omega_max.max(hi);
+        omega_min = omega_min.min(lo);
     }
+    if !(omega_max > 0.0 && omega_max.is_finite()) {
+        // A valid matrix has a spring; this only keeps the file loadable.
+        return Ok(1e-3);
+    }
+    let dt = fraction / omega_max;
+    let steps_per_period = 2.0 * std::f64::consts::PI / omega_min / dt;
+    if steps_per_period > MAX_STEPS_PER_PERIOD {
+        return Err(TooStiff {
+            steps_per_period,
+            ratio: omega_max / omega_min,
+        });
+    }
+    Ok(dt)
 }
 
 /// `link` of `length` with `tip` (its centre of mass at the link's end) added: the combined
@@ -276,5 +391,177 @@ mod tests {
         assert!((with.com - 0.75 * l).abs() < 1e-15);
         let want = link.inertia[2] + 1e-9 + 2.0 * link.mass * (l / 4.0).powi(2);
         assert!((with.inertia[2] - want).abs() < 1e-12 * want);
+    }
+
+    /// The MJCF chain's kinetic energy matrix by finite differences of its forward
+    /// kinematics (body k: its hinge turns it about its origin, then its slide moves it along
+    /// its own x; its child sits at its length along that x), independent of
+    /// [`frequency_range`]'s closed form; with the springs' diagonal, every `omega^2`.
+    fn omegas_by_kinematics(chain: &Chain) -> Vec<f64> {
+        let segs = &chain.segments;
+        let joints: Vec<(usize, bool, f64)> = segs
+            .iter()
+            .enumerate()
+            .flat_map(|(i, s)| {
+                let h = s.hinge.map(|k| (i, true, k));
+                let x = s.slide.map(|k| (i, false, k));
+                h.into_iter().chain(x)
+            })
+            .collect();
+        let n = joints.len();
+        // Each body's centre of mass and angle at joint values `q`.
+        let pose = |q: &[f64]| -> Vec<[f64; 3]> {
+            let (mut base, mut phi) = ([0.0_f64, 0.0_f64], 0.0_f64);
+            let mut out = Vec::new();
+            for (i, s) in segs.iter().enumerate() {
+                let mut delta = 0.0;
+                for (j, &(seg, hinge, _)) in joints.iter().enumerate() {
+                    if seg == i && hinge {
+                        phi += q[j];
+                    } else if seg == i {
+                        delta = q[j];
+                    }
+                }
+                let (sn, cs) = phi.sin_cos();
+                let origin = [base[0] + cs * delta, base[1] + sn * delta];
+                out.push([
+                    origin[0] + cs * s.mass.com,
+                    origin[1] + sn * s.mass.com,
+                    phi,
+                ]);
+                base = [origin[0] + cs * s.length, origin[1] + sn * s.length];
+            }
+            out
+        };
+        let h = 1e-7 * chain.beam_length;
+        let rates: Vec<Vec<[f64; 3]>> = (0..n)
+            .map(|j| {
+                let (mut up, mut down) = (vec![0.0; n], vec![0.0; n]);
+                up[j] = h;
+                down[j] = -h;
+                pose(&up)
+                    .iter()
+                    .zip(pose(&down))
+                    .map(|(a, b)| std::array::from_fn(|c| (a[c] - b[c]) / (2.0 * h)))
+                    .collect()
+            })
+            .collect();
+        let mass = nalgebra::DMatrix::from_fn(n, n, |a, b| {
+            segs.iter()
+                .enumerate()
+                .map(|(i, s)| {
+                    let (va, vb) = (rates[a][i], rates[b][i]);
+                    s.mass.mass * (va[0] * vb[0] + va[1] * vb[1])
+                        + s.mass.inertia[2] * va[2] * vb[2]
+                })
+                .sum::<f64>()
+        });
+        let stiffness = nalgebra::DMatrix::from_diagonal(&nalgebra::DVector::from_iterator(
+            n,
+            joints.iter().map(|j| j.2),
+        ));
+        let Some(inverse) = mass.try_inverse() else {
+            panic!("a singular mass matrix")
+        };
+        let mut w2: Vec<f64> = (inverse * stiffness)
+            .complex_eigenvalues()
+            .iter()
+            .map(|z| z.re)
+            .collect();
+        w2.sort_by(f64::total_cmp);
+        w2
+    }
+
+    /// The light link between two springs (the audit's matrix) and a `mu = 0` row: every
+    /// link keeps the floor's mass and inertia, the highest frequency is the exported chain's
+    /// own (checked against its kinematics), and the time step keeps `omega_max dt` at
+    /// [`CHAIN_STEP`], ten times inside MuJoCo's bound, where the old rule (each spring over
+    /// the inertia beyond it, 1/100 of its `1 / omega`) left it above the bound.
+    #[test]
+    fn the_time_step_keeps_a_light_link_inside_the_stability_bound() {
+        let beam = crate::scene::Scene::builtin().beam;
+        let rho = 7850.0;
+        let total = rho * beam.area() * beam.length;
+        for text in [
+            "0.1,inf,inf,0.499998; 0.35,3.51,inf,1e-6; 0.4,2.99,inf,1e-6; 0.15,2.58,inf,0.5",
+            "0.1,inf,inf,0.1; 0.35,3.51,inf,0; 0.4,2.99,inf,0.4; 0.15,2.58,inf,0.5",
+            "0.1,inf,inf,0.25; 0.35,3.51,40,0; 0.4,2.99,inf,0.4; 0.15,2.58,inf,0.35",
+        ] {
+            let m = PrbMatrix::parse(text).unwrap();
+            let chain = Chain::new(&m, &beam, rho, &Body::default());
+            for s in &chain.segments {
+                assert!(s.mass.mass >= MASS_FLOOR * total, "{text}");
+                let least = MASS_FLOOR * total * beam.length * beam.length / 12.0;
+                assert!(s.mass.inertia.iter().all(|&i| i >= least), "{text}");
+                // MuJoCo's mjMINVAL is 1e-15: the steel blade's floor (4e-13) is far above it.
+                assert!(least > 1e-13, "{least}");
+            }
+            let (lo, hi) = frequency_range(&chain).unwrap();
+            let w2 = omegas_by_kinematics(&chain);
+            // Finite differences at h = 1e-7 L: O(h^2) in M, round-off 1e-16 / 1e-14 in the
+            // rates: 1e-6 covers both.
+            assert!(
+                (hi * hi / w2[w2.len() - 1] - 1.0).abs() < 1e-6,
+                "{text}: {hi} {w2:?}"
+            );
+            assert!((lo * lo / w2[0] - 1.0).abs() < 1e-6, "{text}: {lo} {w2:?}");
+            let dt = time_step(std::slice::from_ref(&chain), CHAIN_STEP).unwrap();
+            assert!(hi * dt <= CHAIN_STEP * (1.0 + 1e-12), "{text}: {}", hi * dt);
+            // The old rule: the fastest spring over the inertia beyond it.
+            let mut old = 0.0_f64;
+            for (i, s) in chain.segments.iter().enumerate() {
+                let (mut inertia, mut d) = (0.0, 0.0);
+                for t in &chain.segments[i..] {
+                    let c = d + t.mass.com;
+                    inertia += t.mass.inertia[2] + t.mass.mass * c * c;
+                    d += t.length;
+                }
+                if let Some(k) = s.hinge {
+                    old = old.max((k / inertia).sqrt());
+                }
+            }
+            let old_dt = 0.01 / old;
+            eprintln!(
+                "{text}: omega_max {hi:.4e} rad/s, old rule's omega_max dt {:.3}",
+                hi * old_dt
+            );
+            if text.contains("1e-6") {
+                assert!(
+                    hi * old_dt > STABILITY_BOUND,
+                    "the audit's case: {}",
+                    hi * old_dt
+                );
+            }
+        }
+    }
+
+    /// With the floor out of reach, the chain as written is prbfit's PRB chain: its lowest
+    /// frequency is [`crate::prb::PrbSolver::modes`]'s first, in SI.
+    #[test]
+    fn the_written_chain_rings_at_prbfits_first_frequency() {
+        let beam = crate::scene::Scene::builtin().beam;
+        let rho = 7850.0;
+        let m =
+            PrbMatrix::parse("0.1,inf,inf; 0.35,3.51,inf; 0.4,2.99,inf; 0.15,2.58,inf").unwrap();
+        let tip = Body {
+            mass: 0.0005,
+            inertia: 1e-9,
+        };
+        let chain = Chain::new(&m, &beam, rho, &tip);
+        let (lo, _) = frequency_range(&chain).unwrap();
+        let rho_a = rho * beam.area();
+        let unit =
+            (beam.youngs_modulus * beam.second_moment() / (rho_a * beam.length.powi(4))).sqrt();
+        let body = crate::prb::TipBody {
+            mass: tip.mass / (rho_a * beam.length),
+            inertia: tip.inertia / (rho_a * beam.length.powi(3)),
+        };
+        let prb = crate::prb::PrbSolver::new(&m, beam.model().axial_compliance());
+        let first = prb
+            .modes(crate::beam::Load::new(0.0, 0.0, 0.0), &[0.0; 3], body)
+            .unwrap()[0]
+            * unit;
+        // Both are eigenvalues of 3x3 pencils of the same masses: round-off only.
+        assert!((lo / first - 1.0).abs() < 1e-10, "{lo} vs {first}");
     }
 }

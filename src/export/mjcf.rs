@@ -5,21 +5,28 @@
 //! `tests/mujoco_modes.rs` (free vibration at prbfit's PRB frequency).
 //!
 //! The time step: MuJoCo's default semi-implicit Euler integrates a spring of `omega` stably
-//! only for `omega dt < 2`, and its frequency is right to `(omega dt)^2 / 24`. The file's
-//! `timestep` is [`super::chain::time_step`]: 1/100 of the fastest joint's `1 / omega`
-//! (its stiffness over the inertia beyond it, which bounds the PRB model's highest frequency
-//! within a small factor), so the export is far inside the bound and the ringing's
-//! frequency is right to about 1e-5.
+//! only for `omega dt < 2` ([`super::chain::STABILITY_BOUND`]), and its frequency is right to
+//! `(omega dt)^2 / 24`. The file's `timestep` is [`super::chain::time_step`] at
+//! `omega_max dt = 0.2` ([`super::chain::CHAIN_STEP`], ten times inside the bound), with
+//! `omega_max` the highest natural frequency of the chain exactly as written (its floored
+//! masses and inertias included, [`super::chain::frequency_range`]): a light link between two
+//! springs rings far above any one spring over the inertia beyond it, which an estimate from
+//! the springs alone misses (it gave `omega_max dt = 15` for a link of `1e-6` of the mass).
+//! The first mode's frequency is then right to `(0.2 omega_1 / omega_max)^2 / 24`. A model
+//! whose first period would take more than 1e7 steps is refused
+//! ([`super::ExportError::TooStiff`]).
 //!
 //! The chain's bodies are written by [`write_chain`], which the whole mechanism's MJCF
 //! ([`super::mjcf_mech`]) shares: one chain per flexure, its names prefixed.
 
 use std::fmt::Write as _;
 
-use super::chain::{g, Chain};
+use super::chain::{g, Chain, CHAIN_STEP};
 
-/// The MJCF document of `chain`, with `comment` at the top.
-pub fn write(chain: &Chain, comment: &str) -> String {
+/// The MJCF document of `chain`, with `comment` at the top; `Err` for a model too stiff to
+/// simulate at a practical time step ([`super::chain::time_step`]).
+pub fn write(chain: &Chain, comment: &str) -> Result<String, super::ExportError> {
+    let step = super::chain::time_step(std::slice::from_ref(chain), CHAIN_STEP)?;
     let mut out = String::new();
     let _ = writeln!(out, "<mujoco model=\"{}\">", chain.name);
     let _ = writeln!(out, "  <!-- {comment} -->");
@@ -27,7 +34,7 @@ pub fn write(chain: &Chain, comment: &str) -> String {
     let _ = writeln!(
         out,
         "  <option gravity=\"0 0 0\" timestep=\"{}\"/>",
-        g(super::chain::time_step(std::slice::from_ref(chain)))
+        g(step)
     );
     let _ = writeln!(
         out,
@@ -54,7 +61,7 @@ pub fn write(chain: &Chain, comment: &str) -> String {
     );
     let _ = writeln!(out, "  </worldbody>");
     let _ = writeln!(out, "</mujoco>");
-    out
+    Ok(out)
 }
 
 /// Where a chain sits in the world and how its names are prefixed.

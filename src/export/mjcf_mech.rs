@@ -34,16 +34,20 @@
 //! from `solref = (tau, zeta)`. The file asks for the stiffest MuJoCo allows: `d = 0.9999`
 //! (MuJoCo's largest impedance) everywhere (`solimp = "0.9999 0.9999 0.001 0.5 2"`), and
 //! `tau` = two time steps (the smallest `tau` MuJoCo accepts without disabling its `refsafe`
-//! check), critically damped. The time step is 1/100 of the fastest spring's `1 / omega`
-//! (its stiffness over the unloaded chain's inertia beyond it), so a closure settles about
+//! check), critically damped. The time step is 1/100 of `1 / omega_max`
+//! ([`STEP_FRACTION`]; `omega_max` the highest natural frequency of any flexure's chain as
+//! written, clamped at its root and free at its tip, which bounds the whole mechanism's:
+//! [`time_step`]), so a closure settles about
 //! 50 times faster than any spring moves and `r` is about `1e-4 (0.02 / omega_max)^2 a0`,
 //! i.e. `4e-8` of `a0 / omega_max^2`, the springs' own deflection scale. The largest is a
 //! weld's twist under the tip moment (the last link's rotational inertia is the smallest):
-//! `tests/mujoco_mech.rs` measures at most 3e-8 rad of twist, 4e-9 L of gap and a stage
-//! pose within 1.1e-8 L of prbfit's (with twice this time step, 4 times more: `r` goes
-//! with its square). Forces at rest are exact whatever the softness (they balance the
-//! springs at the pose reached), so the reactions agree to 1.2e-7. The time step's cost is
-//! the settling: a few 1e5 steps per case (seconds). Stiff closures also mean a drive
+//! `tests/mujoco_mech.rs` measures at most 1.2e-8 rad of twist, 4.7e-9 L of gap and a
+//! stage pose within 4.4e-9 L of prbfit's (with twice this time step, 4 times more: `r`
+//! goes with its square; the time step from each spring over the inertia beyond it, which
+//! underestimates `omega_max`, gave 3e-8 rad and 1.1e-8 L). Forces at rest are exact
+//! whatever the softness (they balance the springs at the pose reached), so the reactions
+//! agree to 5.4e-8. The time step's cost is the settling: a few 1e5 to 1.2e6 steps per case
+//! (seconds). Stiff closures also mean a drive
 //! target must move in small steps: a jump asks for accelerations past MuJoCo's `1e10`
 //! guard, which resets the simulation (the check moves it every 10 steps). The integrator is
 //! `implicitfast`;
@@ -77,20 +81,21 @@ pub const STAGE_JOINTS: [(&str, &str); 3] = [
 /// `density` (kg/m^3), `comment` at the top.
 /// `stage` is the stage's mass and inertia (`[stage]`); with neither given the stage gets
 /// flexure 1's mass and that as a rod's inertia, since a simulator refuses a massless moving
-/// body.
+/// body. `Err` for a model too stiff to simulate at a practical time step
+/// ([`time_step`]).
 pub fn write(
     mechanism: &Mechanism,
     matrix: &PrbMatrix,
     density: f64,
     stage: &Body,
     comment: &str,
-) -> String {
+) -> Result<String, super::ExportError> {
     let chains: Vec<Chain> = mechanism
         .flexures
         .iter()
         .map(|f| Chain::new(matrix, &f.beam, density, &Body::default()))
         .collect();
-    let step = time_step(&chains);
+    let step = time_step(&chains, STEP_FRACTION)?;
     let mut out = String::new();
     let _ = writeln!(
         out,
@@ -173,12 +178,12 @@ pub fn write(
     let _ = writeln!(out, "  </worldbody>");
     write_equalities(&mut out, mechanism, &chains);
     let _ = writeln!(out, "</mujoco>");
-    out
+    Ok(out)
 }
 
 /// The stage body: three joints whose positions are the stage pose; the scene's stage mass
 /// and inertia (about P), or flexure 1's mass when it gives neither. A part left at 0 gets
-/// 1e-9 of flexure 1's: MuJoCo refuses a massless moving body.
+/// [`super::chain::MASS_FLOOR`] of flexure 1's: MuJoCo refuses a massless moving body.
 fn write_stage(out: &mut String, mechanism: &Mechanism, density: f64, stage: &Body) {
     let [px, py] = mechanism.stage_point;
     let b = mechanism.flexures.first().map(|f| f.beam);
@@ -188,7 +193,10 @@ fn write_stage(out: &mut String, mechanism: &Mechanism, density: f64, stage: &Bo
         if stage.is_none() {
             (m, i)
         } else {
-            (stage.mass.max(1e-9 * m), stage.inertia.max(1e-9 * i))
+            (
+                stage.mass.max(super::chain::MASS_FLOOR * m),
+                stage.inertia.max(super::chain::MASS_FLOOR * i),
+            )
         }
     });
     let _ = writeln!(
@@ -296,6 +304,7 @@ mod tests {
     #![allow(clippy::unwrap_used, clippy::expect_used)] // tests: a failure should panic
 
     use super::*;
+    use crate::export::chain::frequency_range;
     use crate::scene::{BeamSpec, Drive, EffectsChoice, Flexure};
     use roxmltree::{Document, Node};
 
@@ -394,7 +403,7 @@ mod tests {
     fn every_loop_closes_in_the_unloaded_pose_it_is_written_in() {
         let m = mixed();
         let matrix = PrbMatrix::parse(SU_3R_EX).unwrap();
-        let text = write(&m, &matrix, 1000.0, &Body::default(), "test");
+        let text = write(&m, &matrix, 1000.0, &Body::default(), "test").unwrap();
         let doc = Document::parse(&text).expect("well-formed XML");
         let site = |name: &str| {
             let s = named(&doc, "site", name);
@@ -429,7 +438,7 @@ mod tests {
     fn springs_are_scaled_to_each_flexure_and_the_drive_is_the_scenes() {
         let m = mixed();
         let matrix = PrbMatrix::parse(SU_3R_EX).unwrap();
-        let text = write(&m, &matrix, 1000.0, &Body::default(), "test");
+        let text = write(&m, &matrix, 1000.0, &Body::default(), "test").unwrap();
         let doc = Document::parse(&text).unwrap();
         let count = |tag: &str| doc.descendants().filter(|n| n.has_tag_name(tag)).count();
         // 4 segments per flexure, one coupler, the stage.
@@ -483,8 +492,10 @@ mod tests {
                         &m.flexures
                             .iter()
                             .map(|f| Chain::new(&matrix, &f.beam, 1000.0, &Body::default()))
-                            .collect::<Vec<_>>()
+                            .collect::<Vec<_>>(),
+                        STEP_FRACTION
                     )
+                    .unwrap()
         );
     }
 
@@ -499,8 +510,54 @@ mod tests {
                 .collect()
         };
         // Four times the springs: half the time step.
-        let soft = time_step(&chains("0.1,inf,inf; 0.9,2,inf"));
-        let stiff = time_step(&chains("0.1,inf,inf; 0.9,8,inf"));
+        let soft = time_step(&chains("0.1,inf,inf; 0.9,2,inf"), STEP_FRACTION).unwrap();
+        let stiff = time_step(&chains("0.1,inf,inf; 0.9,8,inf"), STEP_FRACTION).unwrap();
         assert!((soft / stiff - 2.0).abs() < 1e-12);
+    }
+
+    /// The mechanism's time step rests on Rayleigh's principle: the closures and the stage
+    /// only lower the highest frequency below its flexures' free chains'. Checked on the
+    /// parallel stage (Su's 3R, a stage of a flexure's mass, every coordinate loaded):
+    /// prbfit's PRB mechanism modes, in SI, stay below the chains' highest frequency, so
+    /// `omega dt <= STEP_FRACTION` for every one of them.
+    #[test]
+    fn the_mechanisms_frequencies_stay_below_its_free_chains() {
+        let scene = crate::scene::Scene::from_toml_str(
+            include_str!("../../assets/scenes/parallel-stage.toml"),
+            "parallel-stage.toml",
+        )
+        .unwrap();
+        let mech = scene.mechanism.unwrap();
+        let matrix =
+            PrbMatrix::parse("0.1,inf,inf; 0.35,3.51,inf; 0.4,2.99,inf; 0.15,2.58,inf").unwrap();
+        let rho = 7850.0;
+        let chains: Vec<Chain> = mech
+            .flexures
+            .iter()
+            .map(|f| Chain::new(&matrix, &f.beam, rho, &Body::default()))
+            .collect();
+        let dt = time_step(&chains, STEP_FRACTION).unwrap();
+        let b = &mech.flexures[0].beam;
+        let rho_a = rho * b.area();
+        let unit = (b.youngs_modulus * b.second_moment() / (rho_a * b.length.powi(4))).sqrt();
+        let stage = crate::prb::TipBody {
+            mass: 1.0,
+            inertia: 1.0 / 12.0,
+        };
+        let state = crate::mech::prb_modes::unloaded_state_held(&mech, &matrix, [false; 3]);
+        let omegas = crate::mech::prb_modes::prb_modes(&mech, &matrix, &state, stage).unwrap();
+        assert!(omegas.len() >= 3, "{omegas:?}");
+        let highest = omegas.iter().fold(0.0_f64, |a, &w| a.max(w)) * unit;
+        let chain_max = chains
+            .iter()
+            .filter_map(frequency_range)
+            .fold(0.0_f64, |a, (_, hi)| a.max(hi));
+        eprintln!(
+            "{} PRB mechanism frequencies, highest {highest:.4e} rad/s; free chains' highest \
+             {chain_max:.4e} rad/s",
+            omegas.len()
+        );
+        assert!(highest <= chain_max, "{highest} vs {chain_max}");
+        assert!(highest * dt <= STEP_FRACTION, "{}", highest * dt);
     }
 }

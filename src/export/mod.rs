@@ -39,6 +39,21 @@ pub enum ExportError {
     /// A bad density.
     #[error("density must be a finite number > 0, got {}", crate::text::bounded(*.0))]
     Density(f64),
+    /// The model's highest natural frequency is so far above its lowest that MuJoCo's
+    /// time step ([`chain::time_step`]) would make a run impractical.
+    #[error(
+        "the model's highest natural frequency is {ratio:.3e} times its lowest (a link with a tiny \
+         mu on a stiff spring): MuJoCo would need {steps:.2e} time steps per period \
+         of the first mode (the export's limit is {limit:.0e}); raise the smallest mus"
+    )]
+    TooStiff {
+        /// The highest over the lowest natural frequency.
+        ratio: f64,
+        /// The time steps per period of the lowest mode.
+        steps: f64,
+        /// [`chain::MAX_STEPS_PER_PERIOD`].
+        limit: f64,
+    },
     /// The model file could not be written as text.
     #[error(transparent)]
     ModelFile(#[from] ModelFileError),
@@ -108,4 +123,14 @@ pub fn header_comment(matrix: &PrbMatrix, scene: &Scene) -> String {
         xml_comment_safe(&scene.name),
         xml_comment_safe(&matrix.to_text()),
     )
+}
+
+impl From<chain::TooStiff> for ExportError {
+    fn from(e: chain::TooStiff) -> ExportError {
+        ExportError::TooStiff {
+            ratio: e.ratio,
+            steps: e.steps_per_period,
+            limit: chain::MAX_STEPS_PER_PERIOD,
+        }
+    }
 }

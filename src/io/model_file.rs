@@ -9,7 +9,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::mech::figures::Figures;
 use crate::prb::{published, PrbMatrix};
-use crate::scene::{Scene, SceneError};
+use crate::scene::{BeamSpec, Scene, SceneError};
 use crate::si::{load_range, si_model, LoadRange, SiModel};
 
 /// A PRB model file. Unknown keys are allowed (richer exports carry more), but what is
@@ -168,19 +168,27 @@ impl ModelFile {
     /// A fitted (or hand-made) model of `scene` judged by `figures`, with provenance. On a
     /// mechanism scene (DESIGN §8) the record adds `J`'s force weight and the model in SI for
     /// every flexure (`si` is flexure 1's, which sets the mechanism's units); a mechanism has
-    /// drives, not a cantilever's load range, so `load_range` is absent.
+    /// drives, not a cantilever's load range, so `load_range` is absent. With the scene's
+    /// `[beam] density` every segment's SI entry carries its mass and inertia, and `si` the
+    /// scene's `[tip]` body (`tip`) or `[stage]` (`stage`) when it gives one.
     pub fn fitted(
         matrix: &PrbMatrix,
         scene: &Scene,
         fidelity: &str,
         figures: &Figures,
     ) -> ModelFile {
+        // One density for every flexure: the scene's `[beam] density`.
+        let with_density = |b: &BeamSpec| BeamSpec {
+            density: scene.beam.density,
+            ..*b
+        };
+        let body = (!scene.body.is_none()).then_some(scene.body);
         let mechanism = scene.mechanism.as_ref().map(|m| MechRecord {
             force_weight: scene.fit.force_weight,
             flexure_si: m
                 .flexures
                 .iter()
-                .map(|f| si_model(matrix, &f.beam))
+                .map(|f| si_model(matrix, &with_density(&f.beam)))
                 .collect(),
         });
         let title = match &mechanism {
@@ -202,8 +210,15 @@ impl ModelFile {
             conversion: None,
             prb: matrix.clone(),
             si: match &mechanism {
-                Some(m) => m.flexure_si.first().cloned(),
-                None => Some(si_model(matrix, &scene.beam)),
+                Some(m) => m
+                    .flexure_si
+                    .first()
+                    .cloned()
+                    .map(|si| SiModel { stage: body, ..si }),
+                None => Some(SiModel {
+                    tip: body,
+                    ..si_model(matrix, &scene.beam)
+                }),
             },
             load_range: mechanism
                 .is_none()
@@ -311,7 +326,10 @@ mod tests {
         let file = ModelFile::fitted(&m, &scene, "normal", &figures);
         let record = file.fit.as_ref().unwrap().mechanism.as_ref().unwrap();
         assert_eq!(record.flexure_si.len(), mechanism.flexures.len());
-        assert_eq!(file.si.as_ref(), record.flexure_si.first());
+        assert_eq!(
+            file.si.as_ref().map(|s| &s.segments),
+            record.flexure_si.first().map(|s| &s.segments)
+        );
         assert!(file.load_range.is_none());
         let text = file.to_toml().unwrap();
         assert!(text.contains("max_force_err = 7.0"), "{text}");
@@ -324,5 +342,114 @@ mod tests {
     fn unknown_names_say_what_exists() {
         let err = ModelFile::load("nosuch-9r").unwrap_err().to_string();
         assert!(err.contains("howell-1r, su-3r, chen-3r"), "{err}");
+    }
+
+    /// With `[beam] density` every segment's SI entry carries `mu_i rho A0 L` and the rod's
+    /// inertia about its centre, and `si` the tip body; without a density (and body) none of
+    /// these keys is written; both read back as written.
+    #[test]
+    fn model_files_carry_the_masses_in_si_with_a_density() {
+        let figures = Figures {
+            rms_pos_err: 1.0,
+            max_pos_err: 2.0,
+            rms_ang_err: 3.0,
+            max_ang_err: 4.0,
+            objective: 5.0,
+            rms_force_err: None,
+            max_force_err: None,
+            max_tip_err: None,
+            max_freq_err: None,
+        };
+        let m = PrbMatrix::parse("0.15,inf,inf,0.25; 0.5,2.2,inf,0.45; 0.35,3,40,0.3").unwrap();
+        let mut scene = Scene::builtin();
+        scene.beam.density = Some(7850.0);
+        scene.body = crate::scene::Body {
+            mass: 0.002,
+            inertia: 1e-8,
+        };
+        let file = ModelFile::fitted(&m, &scene, "normal", &figures);
+        let b = &scene.beam;
+        let rho_a_l = 7850.0 * b.width * b.thickness * b.length;
+        let si = file.si.as_ref().unwrap();
+        for ((seg, mu), gamma) in si
+            .segments
+            .iter()
+            .zip([0.25, 0.45, 0.3])
+            .zip([0.15, 0.5, 0.35])
+        {
+            let mass = mu * rho_a_l;
+            let inertia = mass * (gamma * b.length).powi(2) / 12.0;
+            // Products of the same few numbers in another order: a few ulp.
+            assert!((seg.mass.unwrap() / mass - 1.0).abs() < 1e-14, "{seg:?}");
+            assert!(
+                (seg.inertia.unwrap() / inertia - 1.0).abs() < 1e-14,
+                "{seg:?}"
+            );
+        }
+        assert_eq!(si.tip, Some(scene.body));
+        assert_eq!(si.stage, None);
+        let text = file.to_toml().unwrap();
+        assert!(
+            text.contains("mass = ") && text.contains("[si.tip]"),
+            "{text}"
+        );
+        assert_eq!(ModelFile::from_toml_str(&text, "t").unwrap(), file);
+        let back: ModelFile = serde_json::from_str(&file.to_json().unwrap()).unwrap();
+        assert_eq!(back, file);
+
+        let plain = ModelFile::fitted(&m, &Scene::builtin(), "normal", &figures);
+        let si = plain.si.as_ref().unwrap();
+        assert!(si
+            .segments
+            .iter()
+            .all(|s| s.mass.is_none() && s.inertia.is_none()));
+        assert!(si.tip.is_none() && si.stage.is_none());
+        let text = plain.to_toml().unwrap();
+        assert!(
+            !text.contains("mass") && !text.contains("inertia"),
+            "{text}"
+        );
+    }
+
+    /// A model file written before the masses (no `mass`, `inertia`, `tip` under `si`) loads,
+    /// its SI segments without masses.
+    #[test]
+    fn an_old_model_file_without_masses_still_loads() {
+        let old = r#"name = "fitted-l-r"
+title = "L-R fitted to prbfit example"
+topology = "L-R"
+
+[[prb]]
+gamma = 0.15
+k_theta = "inf"
+k_ex = "inf"
+
+[[prb]]
+gamma = 0.85
+k_theta = 2.2525
+k_ex = "inf"
+
+[si]
+beam_length = 0.1
+width = 0.01
+thickness = 0.001
+youngs_modulus = 200000000000.0
+
+[[si.segments]]
+length = 0.015
+
+[[si.segments]]
+length = 0.085
+k_theta = 37.541666666666664
+"#;
+        let file = ModelFile::from_toml_str(old, "old.toml").unwrap();
+        let si = file.si.unwrap();
+        assert_eq!(si.segments.len(), 2);
+        assert_eq!(si.segments[1].k_theta, Some(37.541666666666664));
+        assert!(si
+            .segments
+            .iter()
+            .all(|s| s.mass.is_none() && s.inertia.is_none()));
+        assert!(si.tip.is_none() && si.stage.is_none());
     }
 }

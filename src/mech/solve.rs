@@ -102,7 +102,7 @@ impl<M: FlexureModel> MechSolver<M> {
         }
     }
 
-    /// The solver whose drive paths stop with [`MechError::Cancelled`] soon after `cancel`
+    /// The solver whose drive paths stop with [`super::MechError::Cancelled`] soon after `cancel`
     /// is set (checked between the continuation's steps: a case or two of work).
     pub fn with_cancel(mut self, cancel: &CancelToken) -> MechSolver<M> {
         self.cancel = Some(cancel.clone());

@@ -18,7 +18,8 @@ impl Study {
     /// The text of `matrix`, named `name`, exported in `format` for this study's scene;
     /// `density` (kg/m^3) gives the simulators' masses. The formats that record figures
     /// (the model file, the CSV) judge the model on the truth first, and fail when it cannot
-    /// follow the scene.
+    /// follow the scene. The model file carries the segments' masses in SI when the scene
+    /// gives `[beam] density`, at `density` (which a caller's override may have changed).
     pub fn export(
         &self,
         name: &str,
@@ -39,7 +40,14 @@ impl Study {
                 .map_err(|e| ExportError::Eval(e.to_string()))
         };
         let own = || -> Result<ModelFile, ExportError> {
-            let mut file = ModelFile::fitted(matrix, scene, &fidelity, &judged()?.figures);
+            let figures = judged()?.figures;
+            let mut file = if scene.beam.density.is_some_and(|d| d != density) {
+                let mut at = scene.clone();
+                at.beam.density = Some(density);
+                ModelFile::fitted(matrix, &at, &fidelity, &figures)
+            } else {
+                ModelFile::fitted(matrix, scene, &fidelity, &figures)
+            };
             file.name = name.to_string();
             if scene.mechanism.is_some() {
                 file.title = Some(format!(
@@ -56,22 +64,22 @@ impl Study {
         match (format, &scene.mechanism, self.baseline()) {
             (Format::Toml, _, _) => Ok(own()?.to_toml()?),
             (Format::Json, _, _) => Ok(own()?.to_json()?),
-            (Format::Mjcf, Some(m), _) => Ok(mjcf_mech::write(
+            (Format::Mjcf, Some(m), _) => mjcf_mech::write(
                 m,
                 matrix,
                 density,
                 &scene.body,
                 &mechanism_comment(name, matrix, scene, m),
-            )),
+            ),
             (Format::Mjcf | Format::Urdf | Format::Sdf, None, _) => {
                 judged()?;
                 let chain = Chain::new(matrix, &scene.beam, density, &scene.body);
                 let comment = header_comment(matrix, scene);
-                Ok(match format {
+                match format {
                     Format::Mjcf => mjcf::write(&chain, &comment),
-                    Format::Urdf => urdf::write(&chain, &comment),
-                    _ => sdf::write(&chain, &comment),
-                })
+                    Format::Urdf => Ok(urdf::write(&chain, &comment)),
+                    _ => Ok(sdf::write(&chain, &comment)),
+                }
             }
             (Format::Csv, None, Some(baseline)) => csv::write(
                 matrix,
