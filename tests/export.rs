@@ -579,6 +579,23 @@ fn model_files_carry_the_masses_in_si() {
         !text.contains("mass") && !text.contains("inertia"),
         "{text}"
     );
+    // `--density` on a scene without one (the built-in) gives the masses too.
+    let path = dir.file("given.toml");
+    succeeded(&prbfit(&[
+        "export",
+        "--prb",
+        matrix,
+        "--density",
+        "2700",
+        "-o",
+        &path,
+    ]));
+    let builtin = Scene::builtin().beam;
+    let rho_a_l = 2700.0 * builtin.width * builtin.thickness * builtin.length;
+    let si = ModelFile::load(&path).unwrap().si.unwrap();
+    for (seg, row) in si.segments.iter().zip(m.rows()) {
+        assert!(close(seg.mass.unwrap(), row.mass() * rho_a_l), "{seg:?}");
+    }
 }
 
 /// A massless tip segment (floored to 1e-6 of the mass) on an extension spring of

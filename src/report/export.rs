@@ -56,9 +56,7 @@ impl ExportArgs {
     }
 }
 
-/// The links' density when neither `--density` nor the scene's `[beam] density` gives one
-/// (water's, kg/m^3: only the dynamics depend on it).
-pub const DEFAULT_DENSITY: f64 = 1000.0;
+pub use crate::study::export::DEFAULT_DENSITY;
 
 /// What was written.
 #[derive(Debug, Serialize)]
@@ -100,14 +98,7 @@ pub fn export(scene: &Scene, args: &ExportArgs, ctl: &mut Control<'_>) -> Result
     let (name, matrix) = model(args, scene)?;
     let study = study(scene, Sampling::Fidelity(args.fidelity), ctl)?;
     let text = study
-        .export(
-            &name,
-            &matrix,
-            format,
-            args.density
-                .or(scene.beam.density)
-                .unwrap_or(DEFAULT_DENSITY),
-        )
+        .export(&name, &matrix, format, args.density)
         .map_err(input_error)?;
     write_atomic(&args.output, text.as_bytes(), args.force)?;
     let out = ExportOutput {

@@ -14,23 +14,32 @@ use crate::prb::PrbMatrix;
 
 use super::{Sampling, Study};
 
+/// The links' density when neither the caller nor the scene's `[beam] density` gives one
+/// (water's, kg/m^3: only the dynamics depend on it).
+pub const DEFAULT_DENSITY: f64 = 1000.0;
+
 impl Study {
     /// The text of `matrix`, named `name`, exported in `format` for this study's scene;
-    /// `density` (kg/m^3) gives the simulators' masses. The formats that record figures
-    /// (the model file, the CSV) judge the model on the truth first, and fail when it cannot
-    /// follow the scene. The model file carries the segments' masses in SI when the scene
-    /// gives `[beam] density`, at `density` (which a caller's override may have changed).
+    /// `density` (kg/m^3; `None`: the scene's `[beam] density`, else [`DEFAULT_DENSITY`])
+    /// gives the simulators' masses. The formats that record figures (the model file, the
+    /// CSV) judge the model on the truth first, and fail when it cannot follow the scene.
+    /// The model file carries the segments' masses in SI when a density is given or the
+    /// scene has one (never the default's).
     pub fn export(
         &self,
         name: &str,
         matrix: &PrbMatrix,
         format: Format,
-        density: f64,
+        density: Option<f64>,
     ) -> Result<String, ExportError> {
+        let scene = self.scene();
+        // The model file's masses: the density given, else the scene's, else none; the
+        // simulators' links need one, the default if nothing gives it.
+        let masses = density.or(scene.beam.density);
+        let density = masses.unwrap_or(DEFAULT_DENSITY);
         if !(density.is_finite() && density > 0.0) {
             return Err(ExportError::Density(density));
         }
-        let scene = self.scene();
         let fidelity = match self.sampling() {
             Sampling::Fidelity(f) => f.to_string(),
             Sampling::Every(r) => format!("tol {:e}", r.tol),
@@ -41,9 +50,9 @@ impl Study {
         };
         let own = || -> Result<ModelFile, ExportError> {
             let figures = judged()?.figures;
-            let mut file = if scene.beam.density.is_some_and(|d| d != density) {
+            let mut file = if masses != scene.beam.density {
                 let mut at = scene.clone();
-                at.beam.density = Some(density);
+                at.beam.density = masses;
                 ModelFile::fitted(matrix, &at, &fidelity, &figures)
             } else {
                 ModelFile::fitted(matrix, scene, &fidelity, &figures)

@@ -202,7 +202,7 @@ fn export_file(
         Format::from_path(path).ok_or_else(|| format!("{}: use {formats}", path.display()))?;
     let name = format!("{}-{name}", job.matrix.topology().to_lowercase());
     let text = study
-        .export(&name, &job.matrix, format, density)
+        .export(&name, &job.matrix, format, Some(density))
         .map_err(|e| e.to_string())?;
     crate::io::files::write_atomic(path, text.as_bytes(), overwrite).map_err(write_error)
 }
