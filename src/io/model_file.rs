@@ -276,11 +276,9 @@ mod tests {
         }
     }
 
-    #[test]
-    fn fit_records_flatten_the_figures() {
-        let scene = Scene::builtin();
-        let m = PrbMatrix::parse("0.15,inf,inf; 0.85,2.2525,inf").unwrap();
-        let figures = Figures {
+    /// Distinct figures, each told apart in the file.
+    fn figures() -> Figures {
+        Figures {
             rms_pos_err: 1.0,
             max_pos_err: 2.0,
             rms_ang_err: 3.0,
@@ -290,7 +288,14 @@ mod tests {
             max_force_err: None,
             max_tip_err: None,
             max_freq_err: None,
-        };
+        }
+    }
+
+    #[test]
+    fn fit_records_flatten_the_figures() {
+        let scene = Scene::builtin();
+        let m = PrbMatrix::parse("0.15,inf,inf; 0.85,2.2525,inf").unwrap();
+        let figures = figures();
         let file = ModelFile::fitted(&m, &scene, "normal", &figures);
         let text = file.to_toml().unwrap();
         assert!(text.contains("max_ang_err = 4.0"), "{text}");
@@ -349,17 +354,7 @@ mod tests {
     /// these keys is written; both read back as written.
     #[test]
     fn model_files_carry_the_masses_in_si_with_a_density() {
-        let figures = Figures {
-            rms_pos_err: 1.0,
-            max_pos_err: 2.0,
-            rms_ang_err: 3.0,
-            max_ang_err: 4.0,
-            objective: 5.0,
-            rms_force_err: None,
-            max_force_err: None,
-            max_tip_err: None,
-            max_freq_err: None,
-        };
+        let figures = figures();
         let m = PrbMatrix::parse("0.15,inf,inf,0.25; 0.5,2.2,inf,0.45; 0.35,3,40,0.3").unwrap();
         let mut scene = Scene::builtin();
         scene.beam.density = Some(7850.0);

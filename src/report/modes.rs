@@ -196,37 +196,8 @@ pub fn modes(scene: &Scene, args: &ModesArgs, ctl: &mut Control<'_>) -> Result<M
         models: named
             .iter()
             .zip(e.models)
-            .map(|((name, m), r)| match r {
-                // Constraints that hold every joint (a slider-crank of 1R flexures with its
-                // slider held) leave nothing to ring: say so, as for a model with no
-                // solution there.
-                Ok(mm) if mm.omega.is_empty() => ModelRow {
-                    model: name.clone(),
-                    prb: m.to_text(),
-                    omega: None,
-                    hz: None,
-                    freq_err: None,
-                    meets_target: Some(false),
-                    failure: Some(
-                        "no degree of freedom: the mechanism's constraints hold every joint \
-                         of this model still about this equilibrium"
-                            .to_string(),
-                    ),
-                },
-                // A model with fewer frequencies than asked (a 1R has one) does not meet
-                // the target on the ones it lacks.
-                Ok(mm) => ModelRow {
-                    model: name.clone(),
-                    prb: m.to_text(),
-                    meets_target: Some(
-                        mm.worst() <= max_freq_err && mm.omega.len() >= e.beam.omega.len(),
-                    ),
-                    omega: Some(mm.omega),
-                    hz: Some(mm.hz),
-                    freq_err: Some(mm.freq_err),
-                    failure: None,
-                },
-                Err(why) => ModelRow {
+            .map(|((name, m), r)| {
+                let failed = |why: String| ModelRow {
                     model: name.clone(),
                     prb: m.to_text(),
                     omega: None,
@@ -234,7 +205,31 @@ pub fn modes(scene: &Scene, args: &ModesArgs, ctl: &mut Control<'_>) -> Result<M
                     freq_err: None,
                     meets_target: Some(false),
                     failure: Some(why),
-                },
+                };
+                match r {
+                    // Constraints that hold every joint (a slider-crank of 1R flexures with
+                    // its slider held) leave nothing to ring: say so, as for a model with no
+                    // solution there.
+                    Ok(mm) if mm.omega.is_empty() => failed(
+                        "no degree of freedom: the mechanism's constraints hold every joint \
+                         of this model still about this equilibrium"
+                            .to_string(),
+                    ),
+                    // A model with fewer frequencies than asked (a 1R has one) does not meet
+                    // the target on the ones it lacks.
+                    Ok(mm) => ModelRow {
+                        model: name.clone(),
+                        prb: m.to_text(),
+                        meets_target: Some(
+                            mm.worst() <= max_freq_err && mm.omega.len() >= e.beam.omega.len(),
+                        ),
+                        omega: Some(mm.omega),
+                        hz: Some(mm.hz),
+                        freq_err: Some(mm.freq_err),
+                        failure: None,
+                    },
+                    Err(why) => failed(why),
+                }
             })
             .collect(),
         beam: e.beam,
