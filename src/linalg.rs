@@ -202,9 +202,7 @@ pub fn frequencies(a: &[f64], b: &[f64], n: usize) -> Result<Vec<f64>, f64> {
     if n == 0 {
         return Ok(Vec::new());
     }
-    let massive: Vec<usize> = (0..n)
-        .filter(|&j| (0..n).any(|i| b[i * n + j] != 0.0))
-        .collect();
+    let massive = massive_columns(b, n);
     if massive.is_empty() {
         return Ok(Vec::new());
     }
@@ -221,12 +219,17 @@ pub fn frequencies(a: &[f64], b: &[f64], n: usize) -> Result<Vec<f64>, f64> {
     eigen_frequencies(c)
 }
 
+/// The coordinates with mass: the columns of `b` (`n` x `n`) with a nonzero entry.
+fn massive_columns(b: &[f64], n: usize) -> Vec<usize> {
+    (0..n)
+        .filter(|&j| (0..n).any(|i| b[i * n + j] != 0.0))
+        .collect()
+}
+
 /// [`frequencies`] by the first reduction alone: the massive block `C_mm` of `A^-1 B`.
 #[cfg(test)]
 fn frequencies_unreduced(a: &[f64], b: &[f64], n: usize) -> Result<Vec<f64>, f64> {
-    let massive: Vec<usize> = (0..n)
-        .filter(|&j| (0..n).any(|i| b[i * n + j] != 0.0))
-        .collect();
+    let massive = massive_columns(b, n);
     eigen_frequencies(massive_block(a, b, n, &massive)?)
 }
 

@@ -165,19 +165,7 @@ fn a_heavy_stage_rings_at_the_massless_flexure_limit() {
     // (each flexure adding 13/35 of its mass): its error is second order in the flexures'
     // share (1e-5 here); shear and stretch at slenderness 100 change the stiffness by
     // (E / kappa G) (t / L)^2 ~ 3e-4: the tolerance is 1e-3.
-    let text = std::fs::read_to_string(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/assets/scenes/parallel-stage.toml"
-    ))
-    .unwrap()
-    .replace(
-        "poisson_ratio = 0.3",
-        "poisson_ratio = 0.3\ndensity = 7850.0",
-    )
-    .replace(
-        "point = [0.05, 0.0]",
-        "point = [0.05, 0.0]\nmass = 0.2\ninertia = 1e-4",
-    );
+    let text = common::dense_parallel_stage(0.2, 1e-4);
     let dir = Scratch::new("modes-stage");
     let scene = dir.write("p.toml", &text);
     let v = json(&prbfit(&["modes", "--scene", &scene, "--json"]));
@@ -440,16 +428,7 @@ fn a_model_without_frequencies_says_why() {
         ("parallel-stage", "statically indeterminate"),
         ("slider-crank", "no degree of freedom"),
     ] {
-        let text = std::fs::read_to_string(format!(
-            "{}/assets/scenes/{name}.toml",
-            env!("CARGO_MANIFEST_DIR")
-        ))
-        .unwrap()
-        .replacen(
-            "poisson_ratio = 0.3",
-            "poisson_ratio = 0.3\ndensity = 7850.0",
-            1,
-        );
+        let text = common::dense_scene_text(name);
         let scene = dir.write(&format!("{name}.toml"), &text);
         let v = json(&prbfit(&[
             "modes",

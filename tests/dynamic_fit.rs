@@ -5,6 +5,8 @@
 //! (`cargo test --test dynamic_fit -- --nocapture`).
 #![allow(clippy::unwrap_used, clippy::expect_used)] // tests: a failure should panic
 
+mod common;
+
 use prbfit::fit::{CancelToken, Fidelity, FitOptions};
 use prbfit::prb::{published, PrbMatrix};
 use prbfit::scene::{Scene, DEFAULT_SCENE_TOML};
@@ -159,19 +161,11 @@ fn fitted_3r_rings_like_the_beam_where_su_does_not() {
 #[test]
 fn mechanism_and_data_scenes_go_through_the_same_study() {
     let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/scenes/");
-    let text = std::fs::read_to_string(format!("{dir}parallel-stage.toml"))
-        .unwrap()
-        .replacen(
-            "poisson_ratio = 0.3",
-            "poisson_ratio = 0.3\ndensity = 7850.0",
-            1,
-        )
-        .replacen(
-            "point = [0.05, 0.0]",
-            "point = [0.05, 0.0]\nmass = 0.0039\ninertia = 1e-6",
-            1,
-        )
-        .replacen("force_weight = 1.0", "force_weight = 1.0\nmodes = 1", 1);
+    let text = common::dense_parallel_stage(0.0039, 1e-6).replacen(
+        "force_weight = 1.0",
+        "force_weight = 1.0\nmodes = 1",
+        1,
+    );
     let scene = Scene::from_toml_str(&text, "stage.toml").unwrap();
     let study = Study::new(&scene, Sampling::Fidelity(Fidelity::Draft)).unwrap();
     let su = su();

@@ -4,6 +4,8 @@
 //! `E = 12e6 Pa`), the inextensible elastica, so the nondimensional `Omega` reads directly.
 #![allow(clippy::unwrap_used, clippy::expect_used)] // tests: a failure should panic
 
+mod common;
+
 use prbfit::beam::modes::ModeSettings;
 use prbfit::beam::{Effects, Resolution};
 use prbfit::mech::modes::{drive_modes, held_by, mech_modes, MechMass};
@@ -225,20 +227,7 @@ fn the_first_frequency_vanishes_where_the_mechanisms_statics_find_buckling() {
 /// The parallel stage (assets/scenes/parallel-stage.toml) with `[beam] density` and a stage
 /// of `stage_kg` (about 100 times a flexure's 1.96 g when heavy).
 fn dense_parallel_stage(stage_kg: f64) -> prbfit::scene::Scene {
-    let text = std::fs::read_to_string(
-        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/parallel-stage.toml"),
-    )
-    .unwrap()
-    .replacen(
-        "poisson_ratio = 0.3",
-        "poisson_ratio = 0.3\ndensity = 7850.0",
-        1,
-    )
-    .replacen(
-        "point = [0.05, 0.0]",
-        &format!("point = [0.05, 0.0]\nmass = {stage_kg}\ninertia = 1e-5"),
-        1,
-    );
+    let text = common::dense_parallel_stage(stage_kg, 1e-5);
     prbfit::scene::Scene::from_toml_str(&text, "dense-parallel-stage.toml").unwrap()
 }
 

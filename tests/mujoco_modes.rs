@@ -92,21 +92,7 @@ fn exported_mjcf_rings_at_prbfits_frequency() {
     );
 
     // The parallel stage with a stage of twice a flexure's mass.
-    let stage_text = std::fs::read_to_string(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/assets/scenes/parallel-stage.toml"
-    ))
-    .unwrap()
-    .replacen(
-        "poisson_ratio = 0.3",
-        "poisson_ratio = 0.3\ndensity = 7850.0",
-        1,
-    )
-    .replacen(
-        "point = [0.05, 0.0]",
-        "point = [0.05, 0.0]\nmass = 0.0039\ninertia = 1e-6",
-        1,
-    );
+    let stage_text = common::dense_parallel_stage(0.0039, 1e-6);
     let stage_path = dir.write("stage.toml", &stage_text);
     let scene = Scene::from_toml_str(&stage_text, "stage.toml").unwrap();
     let mech = scene.mechanism.clone().unwrap();

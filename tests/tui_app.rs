@@ -1400,20 +1400,9 @@ fn mu_cells_edit_fix_and_refit_with_the_modes() {
         panic!("a refit")
     };
     assert_eq!(job.kind, prbfit::tui::worker::JobKind::Fit);
-    let id = job.id;
     let worker = Worker::spawn().unwrap();
-    worker.submit(job);
-    loop {
-        let msg = worker
-            .messages
-            .recv_timeout(Duration::from_secs(120))
-            .expect("the worker answers");
-        let done = matches!(msg, WorkerMsg::Done { id: d, .. } if d == id);
-        app.on_worker(msg);
-        if done {
-            break;
-        }
-    }
+    let last = common::tui::run_job(&mut app, &worker, job);
+    assert!(matches!(last, WorkerMsg::Done { .. }), "{last:?}");
     let model = app.shown.model().expect("a fitted model");
     let err = model.figures.max_freq_err.expect("frequencies judged");
     let target = app.edit.scene.accuracy.max_freq_err;

@@ -568,18 +568,7 @@ mod no_panics {
 /// scale, with each mode's frequencies (beam / PRB, Hz) in the title.
 #[test]
 fn mech_mode_shapes_120x40() {
-    let text = std::fs::read_to_string(scene_path("parallel-stage"))
-        .unwrap()
-        .replacen(
-            "poisson_ratio = 0.3",
-            "poisson_ratio = 0.3\ndensity = 7850.0",
-            1,
-        )
-        .replacen(
-            "point = [0.05, 0.0]",
-            "point = [0.05, 0.0]\nmass = 0.02\ninertia = 2e-6",
-            1,
-        );
+    let text = common::dense_parallel_stage(0.02, 2e-6);
     let mut scene = Scene::from_toml_str(&text, "dense-parallel-stage.toml").unwrap();
     scene.prb = Some(ModelFile::load("su-3r").unwrap().prb);
     let mut app = common::tui::judged_as_given(scene, None);

@@ -230,29 +230,25 @@ fn solve_beam<'a>(
     }
 }
 
-/// A mechanism's drives and its cases along them, one `Vec` per drive.
-type DriveCases = (Vec<Drive>, Vec<Vec<MechCase>>);
-
 /// Solves `mechanism` along `drives` with the effects asked for in every flexure whose
-/// effects are `auto` (a [`Memo`]'s solve); the drives come back with the cases.
+/// effects are `auto` (a [`Memo`]'s solve).
 fn solve_mechanism<'a>(
     mechanism: &'a Mechanism,
-    drives: Vec<Drive>,
+    drives: &'a [Drive],
     resolution: Resolution,
     cancel: &'a CancelToken,
-) -> impl FnMut(Effects) -> Result<DriveCases, EffectsError> + 'a {
+) -> impl FnMut(Effects) -> Result<Vec<Vec<MechCase>>, EffectsError> + 'a {
     move |e| {
         let mut m = mechanism.clone();
-        m.drives.clone_from(&drives);
+        m.drives = drives.to_vec();
         for f in &mut m.flexures {
             if f.beam.effects == EffectsChoice::Auto {
                 f.beam.effects = EffectsChoice::Fixed(e);
             }
         }
-        let cases = exact::solver(&m, resolution)
+        exact::solver(&m, resolution)
             .and_then(|s| s.with_cancel(cancel).solve_all(&m))
-            .map_err(|source| EffectsError::Mechanism { effects: e, source })?;
-        Ok((drives.clone(), cases))
+            .map_err(|source| EffectsError::Mechanism { effects: e, source })
     }
 }
 
@@ -451,8 +447,8 @@ fn decide_mechanism_effects(
             ..d.clone()
         })
         .collect();
-    let change = |memo: &mut Memo<DriveCases, _>, e: Effects| {
-        let ((drives, reference), (_, with)) = memo.pair(full, e)?;
+    let change = |memo: &mut Memo<Vec<Vec<MechCase>>, _>, drives: &[Drive], e: Effects| {
+        let (reference, with) = memo.pair(full, e)?;
         let change = compare(drives, with, reference, 1.0, 1.0)?.figures;
         debug_assert_eq!(change.max_force_err.is_some(), has_reactions(drives));
         Ok::<_, EffectsError>(Change {
@@ -461,19 +457,15 @@ fn decide_mechanism_effects(
             force: change.max_force_err,
         })
     };
-    let mut every = Memo::new(solve_mechanism(
-        mechanism,
-        mechanism.drives.clone(),
-        resolution,
-        cancel,
-    ));
-    let mut sampled = (sample != mechanism.drives)
-        .then(|| Memo::new(solve_mechanism(mechanism, sample, resolution, cancel)));
+    let drives = &mechanism.drives;
+    let mut every = Memo::new(solve_mechanism(mechanism, drives, resolution, cancel));
+    let mut sampled = (&sample != drives)
+        .then(|| Memo::new(solve_mechanism(mechanism, &sample, resolution, cancel)));
     decide_on_sample(
         accuracy,
         full,
-        sampled.as_mut().map(|s| move |e: Effects| change(s, e)),
-        |e| change(&mut every, e),
+        sampled.as_mut().map(|s| |e: Effects| change(s, &sample, e)),
+        |e| change(&mut every, drives, e),
     )
 }
 

@@ -366,3 +366,28 @@ pub fn driven_cantilever_pushed_deep() -> String {
         .collect::<Vec<_>>()
         .join("\n")
 }
+
+/// A shipped scene's text (`assets/scenes/NAME.toml`) with steel's `[beam] density` (7850
+/// kg/m^3), which its modes need.
+pub fn dense_scene_text(name: &str) -> String {
+    std::fs::read_to_string(format!(
+        "{}/assets/scenes/{name}.toml",
+        env!("CARGO_MANIFEST_DIR")
+    ))
+    .expect("a shipped scene")
+    .replacen(
+        "poisson_ratio = 0.3",
+        "poisson_ratio = 0.3\ndensity = 7850.0",
+        1,
+    )
+}
+
+/// The parallel stage's text in steel ([`dense_scene_text`]) with a stage of `mass` kg and
+/// `inertia` kg m^2 about its point (a flexure weighs 1.96 g).
+pub fn dense_parallel_stage(mass: f64, inertia: f64) -> String {
+    dense_scene_text("parallel-stage").replacen(
+        "point = [0.05, 0.0]",
+        &format!("point = [0.05, 0.0]\nmass = {mass}\ninertia = {inertia}"),
+        1,
+    )
+}
