@@ -83,10 +83,12 @@ mod path;
 pub mod plate;
 pub mod root;
 mod shoot;
+mod shot;
 mod solution;
 mod solve;
 mod solver;
 mod stress;
+mod taylor;
 mod trig;
 
 pub use load::{Load, ShapePoint, TipPose};

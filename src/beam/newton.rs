@@ -5,7 +5,8 @@
 
 use super::band::Band;
 use super::model::BeamModel;
-use super::shoot::{shoot, Meter, Samples, Segment, Shot, ShotFailure, ShotSettings, TipForce};
+use super::shoot::{Meter, Samples, Segment, Shot, ShotFailure, ShotSettings, TipForce};
+use super::shot::shoot;
 use super::{BeamSolver, Convergence, Load, ShapePoint, TipPose};
 use crate::continuation::Effort;
 

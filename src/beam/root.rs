@@ -9,7 +9,8 @@
 //! the root moment (the tip's compliance). The map has no folds, so a beam held by a
 //! mechanism past its own load-controlled limit point is as regular as any other.
 
-use super::shoot::{root_shot, shoot, Meter, Samples, Segment, ShotFailure, TipForce};
+use super::shoot::{Meter, Samples, Segment, ShotFailure, TipForce};
+use super::shot::{root_shot, shoot};
 use super::{BeamSolver, Load, ShapePoint, SolveError, TipPose};
 use crate::cancel::CancelToken;
 

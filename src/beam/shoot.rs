@@ -1,4 +1,6 @@
-//! One shot: integrate the beam from the clamped root with a guessed root moment.
+//! One shot: integrate the beam from the clamped root with a guessed root moment (the
+//! Dormand-Prince integrator of any beam, and what every shot shares; [`super::shot`] picks the
+//! integrator a model needs).
 //!
 //! Because the tip load keeps its direction, differentiating DESIGN's Eq. 3,
 //! `M = beta + alpha_y (a - x) - alpha_x (b - y)`, along the beam gives
@@ -89,11 +91,17 @@ impl<'a> Meter<'a> {
 
     #[inline]
     fn tick(&mut self) -> Result<(), ShotFailure> {
-        if self.cost + self.weight > self.limit {
+        self.tick_weighted(self.weight)
+    }
+
+    /// Charges one integration step that costs `weight` elastica steps.
+    #[inline]
+    pub(crate) fn tick_weighted(&mut self, weight: u64) -> Result<(), ShotFailure> {
+        if self.cost + weight > self.limit {
             return Err(ShotFailure::OutOfEffort);
         }
         self.tries += 1;
-        self.cost += self.weight;
+        self.cost += weight;
         if self.tries.is_multiple_of(Self::CANCEL_STRIDE) && self.cancel.is_cancelled() {
             return Err(ShotFailure::Cancelled);
         }
@@ -266,45 +274,11 @@ pub(crate) struct Samples<'a> {
     pub sensitivities: Option<&'a mut Vec<[f64; 6]>>,
 }
 
-/// Integrates one segment. Position states start at zero (they are increments), the
-/// sensitivities at the identity. Every attempted step is charged to `meter`.
-pub(crate) fn shoot<const N: usize>(
-    model: &BeamModel,
-    force: TipForce,
-    segment: Segment,
-    settings: ShotSettings,
-    shape: Option<Samples<'_>>,
-    meter: &mut Meter<'_>,
-) -> Result<Shot, ShotFailure> {
-    let (u, steps) = integrate::<N>(model, force, segment, settings, shape, meter)?;
-    let mut end = [0.0; 12];
-    end[..N.min(12)].copy_from_slice(&u[..N.min(12)]);
-    Ok(Shot { end, steps })
-}
-
-/// The whole beam shot from its clamp under the tip force `force` and the root moment
-/// `moment`, with the derivatives of the tip state with respect to `moment`, `alpha_x` and
-/// `alpha_y` (the `N = 16` layout): an initial-value problem, no Newton iteration.
-pub(crate) fn root_shot(
-    model: &BeamModel,
-    force: TipForce,
-    moment: f64,
-    settings: ShotSettings,
-    shape: Option<Samples<'_>>,
-    meter: &mut Meter<'_>,
-) -> Result<(State<16>, u32), ShotFailure> {
-    let segment = Segment {
-        s_start: 0.0,
-        s_end: 1.0,
-        psi: 0.0,
-        moment,
-        origin: (0.0, 0.0),
-    };
-    integrate::<16>(model, force, segment, settings, shape, meter)
-}
-
-/// [`shoot`]'s integration, returning the whole end state.
-fn integrate<const N: usize>(
+/// One segment's integration by the Dormand-Prince pair ([`super::shot`] chooses the
+/// integrator), returning the whole end state. Position states start at zero (they are
+/// increments), the sensitivities at the identity. Every attempted step is charged to
+/// `meter`.
+pub(crate) fn integrate<const N: usize>(
     model: &BeamModel,
     force: TipForce,
     segment: Segment,

@@ -1,0 +1,60 @@
+//! One shot: the integrator a segment of the beam needs. The plain-bending beam (no shear,
+//! no extension, no Poisson) is integrated by Taylor series ([`super::taylor`]), several times
+//! faster at the same tolerance; any other by the Dormand-Prince pair of [`super::shoot`],
+//! which also holds what both share (the state layout, the settings, the samples, the meter).
+
+use super::model::BeamModel;
+use super::shoot::{Meter, Samples, Segment, Shot, ShotFailure, ShotSettings, State, TipForce};
+
+/// One segment's integration by the integrator its model needs.
+fn integrate<const N: usize>(
+    model: &BeamModel,
+    force: TipForce,
+    segment: Segment,
+    settings: ShotSettings,
+    shape: Option<Samples<'_>>,
+    meter: &mut Meter<'_>,
+) -> Result<(State<N>, u32), ShotFailure> {
+    if super::taylor::applies(model) {
+        super::taylor::integrate::<N>(model, force, segment, settings, shape, meter)
+    } else {
+        super::shoot::integrate::<N>(model, force, segment, settings, shape, meter)
+    }
+}
+
+/// Integrates one segment. Position states start at zero (they are increments), the
+/// sensitivities at the identity. Every attempted step is charged to `meter`.
+pub(crate) fn shoot<const N: usize>(
+    model: &BeamModel,
+    force: TipForce,
+    segment: Segment,
+    settings: ShotSettings,
+    shape: Option<Samples<'_>>,
+    meter: &mut Meter<'_>,
+) -> Result<Shot, ShotFailure> {
+    let (u, steps) = integrate::<N>(model, force, segment, settings, shape, meter)?;
+    let mut end = [0.0; 12];
+    end[..N.min(12)].copy_from_slice(&u[..N.min(12)]);
+    Ok(Shot { end, steps })
+}
+
+/// The whole beam shot from its clamp under the tip force `force` and the root moment
+/// `moment`, with the derivatives of the tip state with respect to `moment`, `alpha_x` and
+/// `alpha_y` (the `N = 16` layout): an initial-value problem, no Newton iteration.
+pub(crate) fn root_shot(
+    model: &BeamModel,
+    force: TipForce,
+    moment: f64,
+    settings: ShotSettings,
+    shape: Option<Samples<'_>>,
+    meter: &mut Meter<'_>,
+) -> Result<(State<16>, u32), ShotFailure> {
+    let segment = Segment {
+        s_start: 0.0,
+        s_end: 1.0,
+        psi: 0.0,
+        moment,
+        origin: (0.0, 0.0),
+    };
+    integrate::<16>(model, force, segment, settings, shape, meter)
+}
