@@ -10,6 +10,9 @@
 //! Then the cost of the largest fibre stress (DESIGN §11) that every case carries: the time
 //! of recomputing it on each case of a path, over the time of the path's solve.
 //!
+//! An integration step is a Dormand-Prince step, or for the plain-bending beam (the elastica
+//! rows) a Taylor step of order about `-ln(tol)/2 + 1` (`src/beam/taylor.rs`).
+//!
 //! Run: `cargo bench --bench beam` (release build). Prints tables; asserts nothing.
 //! `HUGE_ONLY=1` skips the first table, `SKIP_HUGE=1` the others, `STRESS_ONLY=1` runs only
 //! the stress table.
@@ -120,7 +123,7 @@ fn resolution_table() {
                 print!(" {t:>10.2} {err:>11.2e} |");
             }
             println!(
-                " {:>9.2} {:>9.2e}   {:.2} shots/case, {:.1} RK steps/shot",
+                " {:>9.2} {:>9.2e}   {:.2} shots/case, {:.1} integration steps/shot",
                 median(all_times),
                 worst,
                 shots as f64 / cases as f64,

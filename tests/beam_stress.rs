@@ -185,3 +185,38 @@ fn path_stress_grows_and_bounds_the_root() {
         last = max;
     }
 }
+
+/// A solver without shapes (what `solve --scene` uses without `--shape`) returns the same
+/// tips, stresses and counts, bit for bit, and no shapes: on the elastica (Taylor shots), a
+/// shearing beam (Runge-Kutta shots) and a wide plane-strain strip (each case at its plate
+/// fraction from the narrow beam's shape, which it still needs).
+#[test]
+fn a_solver_without_shapes_keeps_every_other_figure() {
+    let shear = Effects {
+        shear: true,
+        ..Effects::NONE
+    };
+    let strip = BeamModel::new(100.0, 0.3, None, Effects::NONE.with_plane_strain(true))
+        .unwrap()
+        .with_width_ratio(20.0);
+    for model in [
+        BeamModel::elastica(),
+        BeamModel::new(8.0, 0.3, None, shear).unwrap(),
+        strip,
+    ] {
+        let with = solver(model, 1e-9, 41);
+        let without = with.without_shapes();
+        for end in [Load::new(0.0, 5.0, 0.0), Load::new(-1.0, 3.0, 1.0)] {
+            let a = with.solve_path(end, 25).unwrap();
+            let b = without.solve_path(end, 25).unwrap();
+            assert_eq!(a.len(), b.len());
+            for (a, b) in a.iter().zip(&b) {
+                assert_eq!(a.shape.len(), 41);
+                assert!(b.shape.is_empty());
+                assert_eq!((a.load, a.tip, a.stress), (b.load, b.tip, b.stress));
+                assert_eq!((a.iterations, a.rk_steps), (b.iterations, b.rk_steps));
+                assert_eq!(a.root_moment, b.root_moment);
+            }
+        }
+    }
+}

@@ -418,19 +418,26 @@ impl PathProblem for BeamPath<'_> {
     }
 
     /// Newton's last update reached the tip and the shape linearly (see
-    /// [`BeamSolver::newton`]), so the point is the case's solution as it stands.
-    fn report(&mut self, lambda: f64, point: &PathPoint, tally: Tally, _effort: &mut Effort) {
+    /// [`BeamSolver::newton`]), so the point is the case's solution as it stands; its shape
+    /// moves into the solution (Newton samples a new one for every point), unless the solver
+    /// keeps none.
+    fn report(&mut self, lambda: f64, point: &mut PathPoint, tally: Tally, _effort: &mut Effort) {
         let load = self.end.scaled(lambda);
+        let stress = self.solver.max_stress(load, point.tip, &point.shape);
         let solution = BeamSolution {
             load,
             tip: point.tip,
             root_moment: point.nodes[0][1],
-            shape: point.shape.clone(),
+            shape: if self.solver.keep_shapes {
+                std::mem::take(&mut point.shape)
+            } else {
+                Vec::new()
+            },
             iterations: tally.iterations,
             continuation_steps: tally.accepted,
             rk_steps: point.rk_steps,
             convergence: point.convergence,
-            stress: self.solver.max_stress(load, point.tip, &point.shape),
+            stress,
         };
         self.cases.push(solution);
     }

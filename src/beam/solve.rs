@@ -47,6 +47,8 @@ impl BeamSolver {
                 ..self.resolution
             },
             budget: self.budget,
+            // Each case's plate fraction comes from the narrow beam's shape.
+            keep_shapes: true,
         })
     }
 

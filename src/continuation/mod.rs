@@ -409,8 +409,10 @@ pub trait PathProblem {
         let _ = point;
     }
 
-    /// The case at `lambda` was reached at `point`.
-    fn report(&mut self, lambda: f64, point: &Self::Point, tally: Tally, effort: &mut Effort);
+    /// The case at `lambda` was reached at `point`. The problem may take what it keeps of the
+    /// case out of `point` (its shape, say, instead of a copy): the path goes on from the
+    /// point's unknowns and never reads the rest again.
+    fn report(&mut self, lambda: f64, point: &mut Self::Point, tally: Tally, effort: &mut Effort);
 
     /// The error that ends the path at `fraction`, the last accepted point's parameter.
     fn stop(&self, why: Stop<Self::Failure>, fraction: f64, effort: &Effort) -> Self::Error;
@@ -488,7 +490,7 @@ pub fn follow<P: PathProblem>(
                             }
                             rejected = false;
                             if lambda >= target {
-                                problem.report(lambda, &history.last.point, tally, &mut effort);
+                                problem.report(lambda, &mut history.last.point, tally, &mut effort);
                                 break;
                             }
                             continue;

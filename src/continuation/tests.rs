@@ -90,7 +90,7 @@ impl PathProblem for Fold {
         1.0 - x * x < 0.01
     }
 
-    fn report(&mut self, lambda: f64, x: &f64, tally: Tally, _effort: &mut Effort) {
+    fn report(&mut self, lambda: f64, x: &mut f64, tally: Tally, _effort: &mut Effort) {
         self.cases.push((lambda, *x, tally));
         if let Some((after, token)) = &self.cancel_after {
             if tally.case == *after {
@@ -185,7 +185,7 @@ fn a_crossing_ends_the_path_at_once_when_asked() {
         fn near_critical(&mut self, history: &History<f64>, failure: &String) -> bool {
             self.0.near_critical(history, failure)
         }
-        fn report(&mut self, lambda: f64, x: &f64, tally: Tally, effort: &mut Effort) {
+        fn report(&mut self, lambda: f64, x: &mut f64, tally: Tally, effort: &mut Effort) {
             self.0.report(lambda, x, tally, effort)
         }
         fn stop(&self, why: Stop<String>, fraction: f64, effort: &Effort) -> Self::Error {

@@ -361,7 +361,7 @@ impl<M: FlexureModel> PathProblem for MechPath<'_, M> {
         self.solver.pivot_ratio(self.path, &history.last().point) < NEAR_CRITICAL * self.ratio0
     }
 
-    fn report(&mut self, _lambda: f64, point: &Point, tally: Tally, _effort: &mut Effort) {
+    fn report(&mut self, _lambda: f64, point: &mut Point, tally: Tally, _effort: &mut Effort) {
         let case = self.solver.case(self.path, point, tally.iterations);
         self.cases.push(case);
     }

@@ -285,7 +285,7 @@ where
         false
     }
 
-    fn report(&mut self, _lambda: f64, point: &Point, tally: Tally, _effort: &mut Effort) {
+    fn report(&mut self, _lambda: f64, point: &mut Point, tally: Tally, _effort: &mut Effort) {
         (self.visit)(PrbCase {
             load: point.load,
             tip: point.tip,

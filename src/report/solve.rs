@@ -572,6 +572,12 @@ pub fn solve(scene: &Scene, args: &SolveArgs, ctl: &mut Control<'_>) -> Result<S
     let model = beam_model(&scene, args)?;
     let solver = BeamSolver::new(model, Resolution::with_tol(args.tol))
         .map_err(|e| ReportError::input(format!("--tol {}: {e}", num(args.tol))))?;
+    // Without --shape nothing reads a case's shape once its stress is found.
+    let solver = if args.shape {
+        solver
+    } else {
+        solver.without_shapes()
+    };
     let shape = |s: &BeamSolution| args.shape.then(|| s.shape.clone());
     let youngs = scene.beam.youngs_modulus;
     let allowable = scene.beam.allowable_stress;
