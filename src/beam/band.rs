@@ -34,6 +34,19 @@ impl Band {
         }
     }
 
+    /// This matrix made a zero `n x n` one with `kl` subdiagonals and `ku` superdiagonals,
+    /// in the storage it has (a Newton iteration's, reused from case to case).
+    pub(crate) fn reshape(&mut self, n: usize, kl: usize, ku: usize) {
+        self.n = n;
+        self.kl = kl;
+        self.ku = ku;
+        let len = self.ld() * n;
+        self.data.clear();
+        self.data.resize(len, 0.0);
+        self.pivots.clear();
+        self.pivots.resize(n, 0);
+    }
+
     pub(crate) fn size(&self) -> usize {
         self.n
     }

@@ -24,6 +24,31 @@ const SEGMENT_GROWTH: f64 = 3.0;
 /// system makes a segment cost little more than the integration steps it holds.
 const MAX_SEGMENTS: usize = 4096;
 
+/// Newton's storage, kept by a path from case to case so that a case allocates next to
+/// nothing; `shape` is the buffer the next solve samples its shape into (the path hands back
+/// the one its point no longer needs).
+pub(super) struct NewtonScratch {
+    pub shape: Vec<ShapePoint>,
+    sensitivities: Vec<[f64; 6]>,
+    first_sample: Vec<usize>,
+    ends: Vec<[f64; 12]>,
+    jacobian: Band,
+    residual: Vec<f64>,
+}
+
+impl Default for NewtonScratch {
+    fn default() -> NewtonScratch {
+        NewtonScratch {
+            shape: Vec::new(),
+            sensitivities: Vec::new(),
+            first_sample: Vec::new(),
+            ends: Vec::new(),
+            jacobian: Band::new(0, 2, 1),
+            residual: Vec::new(),
+        }
+    }
+}
+
 /// The outcome of one Newton solve at a fixed load.
 pub(super) struct NewtonResult {
     pub nodes: Vec<[f64; 2]>,
@@ -69,6 +94,7 @@ impl BeamSolver {
         prior: Option<f64>,
         meter: &mut Meter<'_>,
         effort: &mut Effort,
+        scratch: &mut NewtonScratch,
     ) -> Result<NewtonResult, NewtonFailure> {
         let force = TipForce {
             alpha_x: load.alpha_x,
@@ -83,15 +109,27 @@ impl BeamSolver {
         let segments = nodes.len();
         let unknowns = 2 * segments - 1;
         let samples = self.resolution.shape_points;
-        let mut shape = Vec::with_capacity(samples);
-        let mut sensitivities: Vec<[f64; 6]> = Vec::with_capacity(samples);
+        let mut shape = std::mem::take(&mut scratch.shape);
+        shape.reserve(samples);
+        let NewtonScratch {
+            sensitivities,
+            first_sample,
+            ends,
+            jacobian,
+            residual,
+            ..
+        } = scratch;
+        sensitivities.reserve(samples);
         // Where each segment's samples start in `shape`.
-        let mut first_sample = vec![0usize; segments + 1];
-        let mut ends: Vec<[f64; 12]> = vec![[0.0; 12]; segments];
+        first_sample.clear();
+        first_sample.resize(segments + 1, 0);
+        ends.clear();
+        ends.resize(segments, [0.0; 12]);
         // Row 2k (psi continuity) reaches from column 2k - 1 to 2k + 1, row 2k + 1 (moment
         // continuity) from 2k - 1 to 2k + 2: two subdiagonals and one superdiagonal.
-        let mut jacobian = Band::new(unknowns, 2, 1);
-        let mut residual = vec![0.0; unknowns];
+        jacobian.reshape(unknowns, 2, 1);
+        residual.clear();
+        residual.resize(unknowns, 0.0);
         // The last iterate that improved the residual, and the update taken from it.
         let mut base: Option<(Vec<[f64; 2]>, f64, Vec<f64>)> = None;
         let mut last_measure = f64::INFINITY;
@@ -120,7 +158,7 @@ impl BeamSolver {
                 let sampling = Samples {
                     points: &mut shape,
                     count: samples,
-                    sensitivities: Some(&mut sensitivities),
+                    sensitivities: Some(&mut *sensitivities),
                 };
                 // The first segment starts at the clamp, where psi = 0 is no unknown.
                 let shot = if k == 0 {
@@ -247,10 +285,13 @@ impl BeamSolver {
                     b: origin.1 + delta.b,
                     phi: last[0] + delta.phi,
                 };
-                let chain = chain_stability(&ends);
-                carry_to_shape(&mut shape, &sensitivities, &first_sample, &ends, &update);
+                let chain = chain_stability(ends);
+                carry_to_shape(&mut shape, sensitivities, first_sample, ends, &update);
                 return Ok(NewtonResult {
-                    nodes: apply(&nodes, &update),
+                    nodes: {
+                        apply_in_place(&mut nodes, &update);
+                        nodes
+                    },
                     shape,
                     tip,
                     shots: shot_no,
@@ -391,6 +432,14 @@ fn carry_to_shape(
         }
         origin.0 += e[6] * d_m + e[10] * d_psi;
         origin.1 += e[7] * d_m + e[11] * d_psi;
+    }
+}
+
+/// [`apply`] in place.
+fn apply_in_place(nodes: &mut [[f64; 2]], update: &[f64]) {
+    for (k, n) in nodes.iter_mut().enumerate() {
+        let d_psi = if k > 0 { update[2 * k - 1] } else { 0.0 };
+        *n = [n[0] + d_psi, n[1] + update[2 * k]];
     }
 }
 

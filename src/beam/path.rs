@@ -4,7 +4,7 @@
 //! stability slope `dM(L)/dM(0)` (see the parent module for the method and its accuracy).
 
 use super::model::BeamModel;
-use super::newton::{segment_count, Chain, NewtonFailure};
+use super::newton::{segment_count, Chain, NewtonFailure, NewtonScratch};
 use super::shoot::{Meter, ShotFailure};
 use super::{BeamSolution, BeamSolver, Convergence, Load, ShapePoint, SolveError, TipPose};
 use crate::continuation::{
@@ -91,6 +91,8 @@ pub(super) struct BeamPath<'a> {
     peak_direction: f64,
     /// The cases reached, in order.
     cases: Vec<BeamSolution>,
+    /// Newton's storage, reused from case to case.
+    scratch: NewtonScratch,
     /// With a wide section's plane strain: the plate fraction of each case `k / steps`
     /// (`k = 1..=steps`), which the model takes at the case and linearly in between
     /// ([`BeamPath::solver_at`]); `None`: the solver's own model throughout.
@@ -148,6 +150,7 @@ impl BeamSolver {
             peak_stability: 1.0,
             peak_direction: 0.0,
             cases: Vec::with_capacity(steps as usize),
+            scratch: NewtonScratch::default(),
             plate,
         };
         let start = PathPoint::unloaded(segment_count(&self.model, end));
@@ -304,12 +307,15 @@ impl PathProblem for BeamPath<'_> {
                 reason,
             })
         };
+        // The trial's old shape is the buffer the new one is sampled into.
+        self.scratch.shape = std::mem::take(&mut trial.shape);
         match self.solver_at(lambda).newton(
             end.scaled(lambda),
             guess,
             prior,
             &mut self.meter,
             effort,
+            &mut self.scratch,
         ) {
             Ok(result) => {
                 trial.contraction = result.contraction.or(prior);

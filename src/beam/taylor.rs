@@ -216,24 +216,73 @@ fn sample_step<const N: usize, const B: usize>(
         0
     };
     let n = samples.count;
-    while *next < n {
-        let sj = *next as f64 / (n - 1) as f64;
-        if sj > step.s_new + 1e-12 {
-            break;
+    // The samples in chunks of LANES, each evaluated by Horner's scheme on every lane at once
+    // (independent chains of multiply-adds, where one sample at a time waits on each).
+    loop {
+        let mut ts = [0.0; LANES];
+        let mut ss = [0.0; LANES];
+        let mut lanes = 0;
+        while lanes < LANES && *next < n {
+            let sj = *next as f64 / (n - 1) as f64;
+            if sj > step.s_new + 1e-12 {
+                break;
+            }
+            ss[lanes] = sj;
+            ts[lanes] = (sj - step.s).clamp(0.0, step.h);
+            lanes += 1;
+            *next += 1;
         }
-        let t = (sj - step.s).clamp(0.0, step.h);
-        let (v, d) = evaluate_split(z, [0, 2, 3], which, step.p, q, t);
-        samples.points.push(ShapePoint {
-            s: sj,
-            x: step.origin.0 + v[1],
-            y: step.origin.1 + v[2],
-            psi: v[0],
-        });
-        if let Some(sens) = samples.sensitivities.as_mut() {
-            sens.push(std::array::from_fn(|m| if m < B { d[m] } else { 0.0 }));
+        if lanes == 0 {
+            return;
         }
-        *next += 1;
+        let v = horner_lanes(z, [0, 2, 3], step.p, &ts);
+        let d = if q > 0 {
+            horner_lanes(z, which, q, &ts)
+        } else {
+            [[0.0; LANES]; B]
+        };
+        for l in 0..lanes {
+            samples.points.push(ShapePoint {
+                s: ss[l],
+                x: step.origin.0 + v[1][l],
+                y: step.origin.1 + v[2][l],
+                psi: v[0][l],
+            });
+            if let Some(sens) = samples.sensitivities.as_mut() {
+                sens.push(std::array::from_fn(|m| if m < B { d[m][l] } else { 0.0 }));
+            }
+        }
+        if lanes < LANES {
+            return;
+        }
     }
+}
+
+/// Samples evaluated side by side.
+const LANES: usize = 8;
+
+/// The components `which` of the series `z`, summed to order `p` by Horner's scheme, at the
+/// points `ts` (one lane each).
+#[inline(always)]
+fn horner_lanes<const N: usize, const M: usize>(
+    z: &[[f64; MAX_ORDER + 1]; N],
+    which: [usize; M],
+    p: usize,
+    ts: &[f64; LANES],
+) -> [[f64; LANES]; M] {
+    let mut acc = [[0.0; LANES]; M];
+    for m in 0..M {
+        acc[m] = [z[which[m]][p]; LANES];
+    }
+    for k in (0..p).rev() {
+        for m in 0..M {
+            let c = z[which[m]][k];
+            for l in 0..LANES {
+                acc[m][l] = acc[m][l] * ts[l] + c;
+            }
+        }
+    }
+    acc
 }
 
 /// The largest term a sensitivity sample leaves out, in units of its tolerance.
@@ -344,44 +393,6 @@ const INV: [f64; MAX_ORDER + 2] = {
     }
     t
 };
-
-/// The components `first` of the series `z` at `t` summed to order `p`, and `second` to order
-/// `q <= p` (zero for `q = 0`), with the powers of `t` shared.
-// `k` indexes the same order of several series at once.
-#[allow(clippy::needless_range_loop)]
-#[inline(always)]
-fn evaluate_split<const N: usize, const A: usize, const B: usize>(
-    z: &[[f64; MAX_ORDER + 1]; N],
-    first: [usize; A],
-    second: [usize; B],
-    p: usize,
-    q: usize,
-    t: f64,
-) -> ([f64; A], [f64; B]) {
-    let mut a: [f64; A] = std::array::from_fn(|m| z[first[m]][0]);
-    let mut b: [f64; B] = if q == 0 {
-        [0.0; B]
-    } else {
-        std::array::from_fn(|m| z[second[m]][0])
-    };
-    let mut tk = 1.0;
-    for k in 1..=q {
-        tk *= t;
-        for m in 0..A {
-            a[m] += z[first[m]][k] * tk;
-        }
-        for m in 0..B {
-            b[m] += z[second[m]][k] * tk;
-        }
-    }
-    for k in q + 1..=p {
-        tk *= t;
-        for m in 0..A {
-            a[m] += z[first[m]][k] * tk;
-        }
-    }
-    (a, b)
-}
 
 /// The components `which` of the series `z` at `t` (orders up to `p`). The powers of `t` are
 /// formed once and every component summed beside the others: one Horner scheme per
