@@ -83,17 +83,45 @@ impl Baseline {
         cancel: &CancelToken,
         on_path: &mut dyn FnMut(usize, usize),
     ) -> Result<Baseline, BaselineError> {
+        Baseline::solve_keeping(model, paths, resolution, cancel, on_path, true, None)
+    }
+
+    /// [`Baseline::solve`], keeping the cases' shapes or not (`shapes`: a caller that reads
+    /// only tips and stresses, like the effects decision comparing models, spares the
+    /// memory), and with `narrow`, the same paths' cases solved by the narrow beam, where a
+    /// plane-strain model takes its plate fractions from them
+    /// ([`BeamSolver::solve_path_on_narrow`]).
+    pub fn solve_keeping(
+        model: BeamModel,
+        paths: &[LoadPath],
+        resolution: Resolution,
+        cancel: &CancelToken,
+        on_path: &mut dyn FnMut(usize, usize),
+        shapes: bool,
+        narrow: Option<&[BeamSolution]>,
+    ) -> Result<Baseline, BaselineError> {
         let t0 = Instant::now();
         let solver = BeamSolver::new(model, resolution)
             .map_err(|source| BaselineError { path: 0, source })?;
+        let solver = if shapes {
+            solver
+        } else {
+            solver.without_shapes()
+        };
         let mut solutions = Vec::new();
         for (i, p) in paths.iter().enumerate() {
-            let sols = solver
-                .solve_path_cancellable(p.end, p.steps, cancel)
-                .map_err(|source| BaselineError {
-                    path: i + 1,
-                    source,
-                })?;
+            let first = solutions.len();
+            let sols = match narrow {
+                Some(n) => {
+                    let cases = n.get(first..first + p.steps.max(1) as usize).unwrap_or(&[]);
+                    solver.solve_path_on_narrow(p.end, p.steps, cases, cancel)
+                }
+                None => solver.solve_path_cancellable(p.end, p.steps, cancel),
+            };
+            let sols = sols.map_err(|source| BaselineError {
+                path: i + 1,
+                source,
+            })?;
             solutions.extend(sols);
             on_path(i + 1, solutions.len());
         }

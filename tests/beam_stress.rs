@@ -220,3 +220,58 @@ fn a_solver_without_shapes_keeps_every_other_figure() {
         }
     }
 }
+
+/// A wide strip's plane-strain path given its narrow beam's cases (the effects decision's
+/// `Effects::ALL` solve) is the path solved alone, bit for bit; cases that are not the path's
+/// (another path's, or too few) are ignored, not trusted.
+#[test]
+fn a_plate_path_on_given_narrow_cases_is_the_path_solved_alone() {
+    let all = Effects {
+        shear: true,
+        extension: true,
+        poisson: true,
+        plane_strain: false,
+    };
+    let wide = BeamModel::new(20.0, 0.45, None, all.with_plane_strain(true))
+        .unwrap()
+        .with_width_ratio(20.0);
+    let narrow = BeamModel::new(20.0, 0.45, None, all)
+        .unwrap()
+        .with_width_ratio(20.0);
+    let (wide, narrow) = (solver(wide, 1e-9, 41), solver(narrow, 1e-9, 41));
+    let cancel = prbfit::cancel::CancelToken::new();
+    let end = Load::new(-1.0, 4.0, 1.0);
+    let other = Load::new(0.0, 6.0, 0.0);
+    let alone = wide.solve_path(end, 12).unwrap();
+    let given = narrow.solve_path(end, 12).unwrap();
+    let wrong = narrow.solve_path(other, 12).unwrap();
+    for (cases, trusted) in [
+        (&given[..], true),
+        (&wrong[..], false),
+        (&given[..6], false),
+    ] {
+        let on = wide.solve_path_on_narrow(end, 12, cases, &cancel).unwrap();
+        assert_eq!(on.len(), alone.len());
+        for (a, b) in on.iter().zip(&alone) {
+            assert_eq!(
+                (a.tip, a.stress, a.iterations),
+                (b.tip, b.stress, b.iterations)
+            );
+        }
+        if !trusted {
+            continue;
+        }
+        // And they differ from the narrow beam's own: plane strain is on.
+        assert!(on[11].tip.max_diff(&given[11].tip) > 1e-4);
+    }
+    // The given cases are used, not solved again: other shapes (moments, from the points'
+    // positions) give other plate fractions.
+    let mut bent = given.clone();
+    for case in &mut bent {
+        for p in &mut case.shape {
+            p.y *= 0.5;
+        }
+    }
+    let on_bent = wide.solve_path_on_narrow(end, 12, &bent, &cancel).unwrap();
+    assert!(on_bent[11].tip.max_diff(&alone[11].tip) > 1e-9);
+}

@@ -99,6 +99,44 @@ impl BeamSolver {
         self.follow_path(end, steps, cancel)
     }
 
+    /// As [`BeamSolver::solve_path_cancellable`], given `narrow`: this path's cases as the
+    /// narrow beam solves them (this model without plane strain, at this resolution with
+    /// shapes of at least 41 points: an [`Effects::ALL`](super::Effects::ALL) solve of the
+    /// same path, say). With plane strain on a section of known width, each case takes its
+    /// plate fraction from them instead of solving the narrow beam again; otherwise, or when
+    /// `narrow` does not hold the path's cases (their number, loads and shapes), it is
+    /// ignored. The cases are the same, bit for bit.
+    pub fn solve_path_on_narrow(
+        &self,
+        end: Load,
+        steps: u32,
+        narrow: &[BeamSolution],
+        cancel: &CancelToken,
+    ) -> Result<Vec<BeamSolution>, SolveError> {
+        let given = self.plate_refined().is_some()
+            && narrow.len() == steps.max(1) as usize
+            && self.resolution.shape_points >= PLATE_SHAPE_POINTS
+            && narrow
+                .iter()
+                .all(|c| c.shape.len() == self.resolution.shape_points)
+            && narrow.iter().enumerate().all(|(k, c)| {
+                // Case k + 1 of the path (the cases are at k / steps).
+                let at = end.scaled((k + 1) as f64 / steps.max(1) as f64);
+                let scale = 1e-12 * (1.0 + end.magnitude());
+                (c.load.alpha_x - at.alpha_x).abs() <= scale
+                    && (c.load.alpha_y - at.alpha_y).abs() <= scale
+                    && (c.load.beta - at.beta).abs() <= scale
+            });
+        if !given {
+            return self.solve_path_cancellable(end, steps, cancel);
+        }
+        if !end.is_finite() {
+            return Err(SolveError::NonFiniteLoad(end));
+        }
+        let phis: Vec<f64> = narrow.iter().map(|c| self.case_plate(c)).collect();
+        self.follow_with_plate(end, steps, Some(&phis), cancel)
+    }
+
     /// The cases of the proportional path to `end` at `k / steps`, `k = 1..=steps` (one at
     /// least), for a narrow beam or one with its plate fraction set.
     fn follow_path(

@@ -5,6 +5,8 @@
 //! scene: a cantilever's tip (plane strain judged once [`plate_criterion`] has said how near
 //! the plate the section is), a mechanism's stage motion and reactions.
 
+use std::rc::Rc;
+
 use serde::Serialize;
 
 use crate::beam::plate::{case_fraction, ends_fraction};
@@ -190,7 +192,7 @@ fn decide_beam_effects(
             steps: sample_steps(p.steps),
         })
         .collect();
-    let change = |memo: &mut Memo<Vec<BeamSolution>, _>, e: Effects| {
+    let change = |memo: &mut Memo<Rc<Vec<BeamSolution>>, _>, e: Effects| {
         let (reference, with) = memo.pair(full_effects(), e)?;
         let (pos, ang) = tip_change(reference, with);
         Ok::<_, BaselineError>(Change {
@@ -215,18 +217,45 @@ fn decide_beam_effects(
     Ok(decision)
 }
 
-/// Solves `beam` under `loads` with the effects asked for (a [`Memo`]'s solve).
+/// Solves `beam` under `loads` with the effects asked for (a [`Memo`]'s solve). Once the
+/// narrow beam with every refinement ([`Effects::ALL`]) is solved, the model with every
+/// refinement and plane strain takes its cases' plate fractions from those cases instead of
+/// solving them again (the same cases, bit for bit: [`BeamSolver::solve_path_on_narrow`]).
+///
+/// [`BeamSolver::solve_path_on_narrow`]: crate::beam::BeamSolver::solve_path_on_narrow
 fn solve_beam<'a>(
     beam: &'a BeamSpec,
     loads: &'a [LoadPath],
     resolution: Resolution,
     cancel: &'a CancelToken,
-) -> impl FnMut(Effects) -> Result<Vec<BeamSolution>, BaselineError> + 'a {
+) -> impl FnMut(Effects) -> Result<Rc<Vec<BeamSolution>>, BaselineError> + 'a {
+    let mut narrow: Option<Rc<Vec<BeamSolution>>> = None;
     move |e| {
         let mut b = *beam;
         b.effects = EffectsChoice::Fixed(e);
-        Baseline::solve(b.model(), loads, resolution, cancel, &mut |_, _| {})
-            .map(|cases| cases.solutions)
+        // The decision compares tips; only the plate criterion reads shapes, those of the
+        // narrow beam with every refinement.
+        let shapes = e == Effects::ALL;
+        let on_narrow = narrow
+            .as_deref()
+            .filter(|_| e.plane_strain && e.with_plane_strain(false) == Effects::ALL)
+            .map(|n| n.as_slice());
+        let cases = Rc::new(
+            Baseline::solve_keeping(
+                b.model(),
+                loads,
+                resolution,
+                cancel,
+                &mut |_, _| {},
+                shapes,
+                on_narrow,
+            )?
+            .solutions,
+        );
+        if e == Effects::ALL {
+            narrow = Some(Rc::clone(&cases));
+        }
+        Ok(cases)
     }
 }
 
