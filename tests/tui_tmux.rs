@@ -300,15 +300,23 @@ fn ui_ends_when_its_terminal_is_killed_mid_fit() {
     }
     keys(&["L-RP-RP-RP", "Enter"]);
     wait_for(&session, "the new topology", |s| s.contains("L-RP-RP-RP"));
-    keys(&["v", "v"]);
-    // v cycles draft, normal, precise: press until precise, whatever the start.
+    // v cycles draft, normal, precise: press until precise, whatever the start, each press
+    // once the last has shown (on a loaded machine a redraw can lag a fixed pause, and a
+    // press too many cycles past precise).
+    let fidelity = |s: &str| {
+        s.split("fidelity ")
+            .nth(1)
+            .and_then(|rest| rest.split_whitespace().next())
+            .map(str::to_string)
+    };
     for _ in 0..3 {
         let s = tmux(&["capture-pane", "-p", "-t", &session]).unwrap_or_default();
         if s.contains("fidelity precise") {
             break;
         }
+        let before = fidelity(&s);
         keys(&["v"]);
-        sleep(Duration::from_millis(100));
+        wait_for(&session, "the next fidelity", |s| fidelity(s) != before);
     }
     wait_for(&session, "precise fidelity", |s| {
         s.contains("fidelity precise")
