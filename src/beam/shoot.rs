@@ -262,6 +262,22 @@ pub(crate) struct Segment {
     pub origin: (f64, f64),
 }
 
+impl Segment {
+    /// The state a shot of this segment starts from: `psi` and `M` given, positions zero
+    /// (they are increments), the sensitivities the identity (slot 5, `dM/dM`; and slot 8,
+    /// `dpsi/dpsi`, when `N = 12`).
+    pub(crate) fn initial_state<const N: usize>(&self) -> State<N> {
+        let mut u: State<N> = [0.0; N];
+        u[PSI] = self.psi;
+        u[MOM] = self.moment;
+        u[5] = 1.0;
+        if N == 12 {
+            u[8] = 1.0;
+        }
+        u
+    }
+}
+
 /// Shape samples: uniform in `s` over the whole beam, `count` of them (root and tip
 /// included); a shot appends those inside its segment.
 pub(crate) struct Samples<'a> {
@@ -272,6 +288,29 @@ pub(crate) struct Samples<'a> {
     /// its starting `psi` (zero for the clamped first segment), so that Newton can carry its
     /// last update to the shape linearly.
     pub sensitivities: Option<&'a mut Vec<[f64; 6]>>,
+}
+
+impl Samples<'_> {
+    /// Readies the samples for a shot of `segment`: the clamp's own sample when the segment
+    /// starts there (it does not move: zero sensitivities), and the index of the first
+    /// sample the shot owes (samples on a segment boundary belong to the segment that ends
+    /// there).
+    pub(crate) fn start(&mut self, segment: &Segment) -> usize {
+        let spacing = 1.0 / (self.count - 1) as f64;
+        if segment.s_start != 0.0 {
+            return (segment.s_start / spacing + 1e-9).floor() as usize + 1;
+        }
+        self.points.push(ShapePoint {
+            s: 0.0,
+            x: segment.origin.0,
+            y: segment.origin.1,
+            psi: segment.psi,
+        });
+        if let Some(sens) = self.sensitivities.as_mut() {
+            sens.push([0.0; 6]);
+        }
+        1
+    }
 }
 
 /// One segment's integration by the Dormand-Prince pair ([`super::shot`] chooses the
@@ -286,13 +325,7 @@ pub(crate) fn integrate<const N: usize>(
     mut shape: Option<Samples<'_>>,
     meter: &mut Meter<'_>,
 ) -> Result<(State<N>, u32), ShotFailure> {
-    let mut u: State<N> = [0.0; N];
-    u[PSI] = segment.psi;
-    u[MOM] = segment.moment;
-    u[5] = 1.0;
-    if N == 12 {
-        u[8] = 1.0;
-    }
+    let mut u: State<N> = segment.initial_state();
     let mut k1 = rhs(model, force, &u).map_err(ShotFailure::Material)?;
     let mut s = segment.s_start;
     let s_end = segment.s_end;
@@ -306,23 +339,7 @@ pub(crate) fn integrate<const N: usize>(
     let mut g0 = [0.0; 4];
     if let Some(samples) = shape.as_mut() {
         g0 = second_derivatives(model, force, &u, &k1)?;
-        let n = samples.count;
-        let spacing = 1.0 / (n - 1) as f64;
-        // Samples on a segment boundary belong to the segment that ends there.
-        next_sample = (s / spacing + 1e-9).floor() as usize + 1;
-        if s == 0.0 {
-            samples.points.push(ShapePoint {
-                s: 0.0,
-                x: ox,
-                y: oy,
-                psi: segment.psi,
-            });
-            if let Some(sens) = samples.sensitivities.as_mut() {
-                // The clamp does not move.
-                sens.push([0.0; 6]);
-            }
-            next_sample = 1;
-        }
+        next_sample = samples.start(&segment);
     }
     let mut steps = 0u32;
     let mut tries = 0u32;

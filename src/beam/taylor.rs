@@ -71,13 +71,7 @@ pub(crate) fn integrate<const N: usize>(
     mut shape: Option<Samples<'_>>,
     meter: &mut Meter<'_>,
 ) -> Result<(State<N>, u32), ShotFailure> {
-    let mut u: State<N> = [0.0; N];
-    u[0] = segment.psi;
-    u[1] = segment.moment;
-    u[5] = 1.0;
-    if N == 12 {
-        u[8] = 1.0;
-    }
+    let mut u: State<N> = segment.initial_state();
     let p = order_for(settings.tol);
     let c = model.plate_compliance();
     let (ax, ay) = (force.alpha_x, force.alpha_y);
@@ -87,25 +81,7 @@ pub(crate) fn integrate<const N: usize>(
     let mut s = segment.s_start;
     let s_end = segment.s_end;
 
-    let mut next_sample = 0usize;
-    if let Some(samples) = shape.as_mut() {
-        let spacing = 1.0 / (samples.count - 1) as f64;
-        // Samples on a segment boundary belong to the segment that ends there.
-        next_sample = (s / spacing + 1e-9).floor() as usize + 1;
-        if s == 0.0 {
-            samples.points.push(ShapePoint {
-                s: 0.0,
-                x: segment.origin.0,
-                y: segment.origin.1,
-                psi: segment.psi,
-            });
-            if let Some(sens) = samples.sensitivities.as_mut() {
-                // The clamp does not move.
-                sens.push([0.0; 6]);
-            }
-            next_sample = 1;
-        }
-    }
+    let mut next_sample = shape.as_mut().map_or(0, |samples| samples.start(&segment));
 
     // Taylor coefficients: z[i][k] of state component i, and those of sin psi, cos psi.
     let mut z = [[0.0_f64; MAX_ORDER + 1]; N];
