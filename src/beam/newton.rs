@@ -435,7 +435,8 @@ fn carry_to_shape(
     }
 }
 
-/// [`apply`] in place.
+/// `nodes` moved in place by a Newton update laid out as the unknowns
+/// (`M_0, psi_1, M_1, ...`).
 fn apply_in_place(nodes: &mut [[f64; 2]], update: &[f64]) {
     for (k, n) in nodes.iter_mut().enumerate() {
         let d_psi = if k > 0 { update[2 * k - 1] } else { 0.0 };
@@ -445,14 +446,9 @@ fn apply_in_place(nodes: &mut [[f64; 2]], update: &[f64]) {
 
 /// `nodes` moved by a Newton update laid out as the unknowns (`M_0, psi_1, M_1, ...`).
 fn apply(nodes: &[[f64; 2]], update: &[f64]) -> Vec<[f64; 2]> {
-    nodes
-        .iter()
-        .enumerate()
-        .map(|(k, n)| {
-            let d_psi = if k > 0 { update[2 * k - 1] } else { 0.0 };
-            [n[0] + d_psi, n[1] + update[2 * k]]
-        })
-        .collect()
+    let mut moved = nodes.to_vec();
+    apply_in_place(&mut moved, update);
+    moved
 }
 
 /// How many shooting segments a load path needs (see [`SEGMENT_GROWTH`]).

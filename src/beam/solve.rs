@@ -86,15 +86,8 @@ impl BeamSolver {
             // Each case at its own plate fraction (from its narrow-beam solution), all in one
             // continuation along the path with the fraction varying between the cases: each
             // case on the branch the path follows, no case re-solved from rest.
-            let phis: Vec<f64> = narrow
-                .follow_path(end, steps, cancel)?
-                .iter()
-                .map(|c| self.case_plate(c))
-                .collect();
-            if !end.is_finite() {
-                return Err(SolveError::NonFiniteLoad(end));
-            }
-            return self.follow_with_plate(end, steps, Some(&phis), cancel);
+            let narrow_cases = narrow.follow_path(end, steps, cancel)?;
+            return self.follow_on_narrow(end, steps, &narrow_cases, cancel);
         }
         self.follow_path(end, steps, cancel)
     }
@@ -130,10 +123,22 @@ impl BeamSolver {
         if !given {
             return self.solve_path_cancellable(end, steps, cancel);
         }
+        self.follow_on_narrow(end, steps, narrow, cancel)
+    }
+
+    /// The wide beam's path, each case at the plate fraction of its narrow-beam solution in
+    /// `narrow`.
+    fn follow_on_narrow(
+        &self,
+        end: Load,
+        steps: u32,
+        narrow: &[BeamSolution],
+        cancel: &CancelToken,
+    ) -> Result<Vec<BeamSolution>, SolveError> {
+        let phis: Vec<f64> = narrow.iter().map(|c| self.case_plate(c)).collect();
         if !end.is_finite() {
             return Err(SolveError::NonFiniteLoad(end));
         }
-        let phis: Vec<f64> = narrow.iter().map(|c| self.case_plate(c)).collect();
         self.follow_with_plate(end, steps, Some(&phis), cancel)
     }
 
