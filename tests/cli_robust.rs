@@ -322,11 +322,22 @@ fn interrupt_after(mut child: std::process::Child, wait: Duration) -> std::proce
 fn ctrl_c_stops_a_long_fit_with_its_best_so_far() {
     let dir = Scratch::new("ctrl-c-fit");
     let model = dir.file("best.toml");
-    // Eight RP segments at precise fidelity: minutes of fitting; the truth (20 cases) takes
-    // milliseconds, so a second in, the fit is running.
+    // Eight RP segments at precise fidelity on the built-in scene at 50 steps a path (400
+    // cases at precise's doubled sampling): about 10 s of fitting on the 2-core machine (1.2
+    // s at the built-in 5 steps, since the polish's exact Jacobian); the truth takes
+    // milliseconds, so two seconds in, the fit is running.
+    let scene = std::fs::read_to_string(format!(
+        "{}/assets/scenes/default.toml",
+        env!("CARGO_MANIFEST_DIR")
+    ))
+    .unwrap()
+    .replace("steps = 5", "steps = 50");
+    let scene = dir.write("long.toml", &scene);
     let child = bin()
         .args([
             "fit",
+            "--scene",
+            &scene,
             "--topology",
             "L-RP-RP-RP-RP-RP-RP-RP-RP",
             "--fidelity",

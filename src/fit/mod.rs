@@ -16,7 +16,11 @@
 //! 3. A global phase (`normal`, `precise`): argmin's particle swarm, its population seeded
 //!    with the starts, in a box around them.
 //! 4. A local polish: Levenberg-Marquardt ([`lm`]) from the swarm's best and from every start;
-//!    the best result wins.
+//!    the best result wins. It takes the residuals' exact Jacobian where the target gives it
+//!    ([`Target::residuals_with_cells`]: a cantilever's, from the beam or from data, by the
+//!    implicit function theorem through each case's chain equilibrium, chained through the
+//!    reparameterisation), and differences the residuals otherwise (a mechanism's, a
+//!    dynamic fit's frequencies).
 //!
 //! A parameter set whose PRB model cannot follow a load path (it buckles or snaps where the
 //! beam does not) gets a finite penalty residual for the cases it misses, so the optimisers
@@ -41,7 +45,7 @@ mod swarm;
 use std::fmt;
 use std::time::Instant;
 
-use nalgebra::DVector;
+use nalgebra::{DMatrix, DVector};
 use serde::Serialize;
 
 use crate::mech::figures::Figures;
@@ -324,7 +328,9 @@ fn search_in(
             if cancel.is_cancelled() || at_floor {
                 break;
             }
-            let mut residuals = |p: &DVector<f64>, out: &mut Vec<f64>| objective.residuals(p, out);
+            let mut residuals = |p: &DVector<f64>, out: &mut Vec<f64>, jac: &mut DMatrix<f64>| {
+                objective.residuals_and_jacobian(p, out, jac)
+            };
             let mut on_iteration = |it: u32, j: f64, p: &DVector<f64>| {
                 tracker.offer("polish", it, j, p, objective.evaluations());
             };

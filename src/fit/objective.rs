@@ -6,11 +6,11 @@
 use std::cell::RefCell;
 use std::ops::ControlFlow;
 
-use nalgebra::DVector;
+use nalgebra::{DMatrix, DVector};
 
 use crate::cancel::CancelToken;
 use crate::eval::Baseline;
-use crate::prb::{PrbMatrix, PrbSolver, SolverLimits};
+use crate::prb::{PrbMatrix, PrbSolver, SolverLimits, CELLS_PER_ROW};
 
 use super::Parameterisation;
 
@@ -47,6 +47,21 @@ pub trait Target {
     }
     /// Appends the residuals of `matrix` to `out` (cleared), in a fixed order.
     fn residuals(&self, matrix: &PrbMatrix, out: &mut Vec<f64>);
+    /// As [`Target::residuals`], with the residuals' exact derivatives with respect to the
+    /// matrix's statics cells in `cells` (cleared; one row per residual of
+    /// [`CELLS_PER_ROW`] columns per matrix row: gamma, k_theta, k_ex; row-major), and
+    /// true. False, with neither filled, for a target without them (the default): the
+    /// polish then takes differences of [`Target::residuals`]. A capped residual (a missed
+    /// case, or one past [`PENALTY`]) has derivative 0, as the cap makes it.
+    fn residuals_with_cells(
+        &self,
+        matrix: &PrbMatrix,
+        out: &mut Vec<f64>,
+        cells: &mut Vec<f64>,
+    ) -> bool {
+        let _ = (matrix, out, cells);
+        false
+    }
     /// The `J` at which a target's errors are `fraction` of its accuracy targets: the polish
     /// stops once `J` is this low, where what it could still gain is that small a part of
     /// what the user asked for. 0 (the default): the polish stops on its tolerances alone.
@@ -102,30 +117,77 @@ impl Target for CantileverTarget<'_> {
     }
 
     fn residuals(&self, matrix: &PrbMatrix, out: &mut Vec<f64>) {
+        self.fill(matrix, out, None);
+    }
+
+    fn residuals_with_cells(
+        &self,
+        matrix: &PrbMatrix,
+        out: &mut Vec<f64>,
+        cells: &mut Vec<f64>,
+    ) -> bool {
+        self.fill(matrix, out, Some(cells));
+        true
+    }
+}
+
+impl CantileverTarget<'_> {
+    /// The residuals of `matrix`, and with `cells` their derivatives (see
+    /// [`Target::residuals_with_cells`]): each followed case's tip sensitivity, scaled as its
+    /// residuals are.
+    fn fill(&self, matrix: &PrbMatrix, out: &mut Vec<f64>, mut cells: Option<&mut Vec<f64>>) {
         out.clear();
+        let width = CELLS_PER_ROW * matrix.rows().len();
+        if let Some(c) = cells.as_deref_mut() {
+            c.clear();
+        }
         let solver = PrbSolver::new(matrix, self.baseline.model.axial_compliance())
             .with_limits(TRIAL_LIMITS);
+        let mut lin = solver.linearised();
+        let mut sensitivity = vec![0.0; 3 * width];
         // Residuals are capped at the penalty, so that failing to reach a case is never
         // better than reaching it badly.
         // The residuals stay in case order whichever cases are missed (the polish compares
         // residual vectors component by component), so both closures append to one vector.
         let cap = PENALTY;
-        let out = RefCell::new(out);
+        let state = RefCell::new((out, cells));
+        let scales = [
+            self.case_scale,
+            self.case_scale,
+            self.angle_scale * self.case_scale,
+        ];
         let _ = self.baseline.follow(
             &solver,
             |b, sol| {
-                let da = (sol.tip.phi - b.tip.phi) * self.angle_scale * self.case_scale;
-                out.borrow_mut().extend_from_slice(&[
-                    ((sol.tip.a - b.tip.a) * self.case_scale).clamp(-cap, cap),
-                    ((sol.tip.b - b.tip.b) * self.case_scale).clamp(-cap, cap),
-                    da.clamp(-cap, cap),
-                ]);
+                let raw = [
+                    (sol.tip.a - b.tip.a) * scales[0],
+                    (sol.tip.b - b.tip.b) * scales[1],
+                    (sol.tip.phi - b.tip.phi) * scales[2],
+                ];
+                let mut state = state.borrow_mut();
+                let (out, cells) = &mut *state;
+                out.extend(raw.iter().map(|r| r.clamp(-cap, cap)));
+                if let Some(cells) = cells.as_deref_mut() {
+                    let known = solver.tip_sensitivity(sol.load, sol.q, &mut lin, &mut sensitivity);
+                    for (k, r) in raw.iter().enumerate() {
+                        let row = &sensitivity[k * width..(k + 1) * width];
+                        if known && r.abs() < cap {
+                            cells.extend(row.iter().map(|d| d * scales[k]));
+                        } else {
+                            cells.extend(std::iter::repeat_n(0.0, width));
+                        }
+                    }
+                }
             },
             |missed, _| {
                 // The cases this model cannot reach.
-                let mut out = out.borrow_mut();
+                let mut state = state.borrow_mut();
+                let (out, cells) = &mut *state;
                 for _ in missed {
                     out.extend_from_slice(&[PENALTY; 3]);
+                }
+                if let Some(cells) = cells.as_deref_mut() {
+                    cells.extend(std::iter::repeat_n(0.0, 3 * width * missed.len()));
                 }
                 ControlFlow::Continue(())
             },
@@ -139,6 +201,8 @@ pub(super) struct Objective<'a> {
     param: &'a Parameterisation,
     cancel: &'a CancelToken,
     evaluations: std::cell::Cell<u64>,
+    /// Scratch: the residuals' derivatives with respect to the matrix's cells.
+    cells: RefCell<Vec<f64>>,
 }
 
 impl<'a> Objective<'a> {
@@ -152,6 +216,7 @@ impl<'a> Objective<'a> {
             param,
             cancel,
             evaluations: std::cell::Cell::new(0),
+            cells: RefCell::new(Vec::new()),
         }
     }
 
@@ -173,6 +238,37 @@ impl<'a> Objective<'a> {
                 true
             }
         }
+    }
+
+    /// As [`Objective::residuals`], with `d r / d p` in `jacobian` when the target gives
+    /// its cells' derivatives ([`Target::residuals_with_cells`]): `Some(true)` with both
+    /// filled, `Some(false)` with the residuals only (the caller differences them), `None`
+    /// when cancelled.
+    pub(super) fn residuals_and_jacobian(
+        &self,
+        p: &DVector<f64>,
+        out: &mut Vec<f64>,
+        jacobian: &mut DMatrix<f64>,
+    ) -> Option<bool> {
+        let Some(matrix) = self.param.decode(p) else {
+            // A parameter vector past every cell's range: the penalty, flat.
+            if !self.residuals(p, out) {
+                return None;
+            }
+            *jacobian = DMatrix::zeros(out.len(), self.param.len());
+            return Some(true);
+        };
+        if self.cancel.is_cancelled() {
+            return None;
+        }
+        self.evaluations.set(self.evaluations.get() + 1);
+        let mut cells = self.cells.borrow_mut();
+        if !self.target.residuals_with_cells(&matrix, out, &mut cells) {
+            self.target.residuals(&matrix, out);
+            return Some(false);
+        }
+        self.param.chain_rule(p, &cells, out.len(), jacobian);
+        Some(true)
     }
 
     /// Fills `out` with the residuals of `matrix`; false when cancelled.

@@ -8,9 +8,9 @@
 //!   the fixed ones leave through a softmax of their own, after the springs; a statics-only
 //!   fit leaves the mus alone (the statics do not see them).
 
-use nalgebra::DVector;
+use nalgebra::{DMatrix, DVector};
 
-use crate::prb::{Column, PrbMatrix};
+use crate::prb::{Column, PrbMatrix, CELLS_PER_ROW};
 
 /// Spring constants stay within `exp(+-SPRING_LOG_LIMIT)` = 1e-9 .. 1e9: beyond, a spring is
 /// rigid or absent for every practical load, and the optimiser gains nothing by wandering
@@ -212,6 +212,56 @@ impl Parameterisation {
         PrbMatrix::new(rows).ok()
     }
 
+    /// The derivatives of residuals with respect to the parameters, `out` (`m` x
+    /// [`Self::len`]), from their derivatives with respect to the matrix's statics cells,
+    /// `cells` (`m` rows of [`CELLS_PER_ROW`] per matrix row, row-major, as
+    /// [`crate::prb::PrbSolver::tip_sensitivity`] lays them out), at parameters `p`.
+    ///
+    /// A free gamma `g_i = F s_i` (`s` the softmax of the logits, the first pinned) moves
+    /// with logit `k` as `F s_i (delta_ik - s_k)`; a free spring `exp(u)` as itself. A
+    /// parameter past its clamp moves nothing (0), as [`Self::decode`] clamps it. The mus
+    /// (a dynamic fit) are not statics cells: their columns are 0.
+    pub fn chain_rule(&self, p: &DVector<f64>, cells: &[f64], m: usize, out: &mut DMatrix<f64>) {
+        let width = CELLS_PER_ROW * self.template.rows().len();
+        debug_assert_eq!(cells.len(), m * width);
+        if out.shape() != (m, self.len()) {
+            *out = DMatrix::zeros(m, self.len());
+        }
+        out.fill(0.0);
+        let n_logits = self.free_gammas.len().saturating_sub(1);
+        if n_logits > 0 {
+            let shares = softmax(p.iter().copied(), self.free_gammas.len());
+            for row in 0..m {
+                let d = &cells[row * width..(row + 1) * width];
+                // sum_i s_i dr/dg_i, shared by every logit's column.
+                let mean: f64 = self
+                    .free_gammas
+                    .iter()
+                    .zip(&shares)
+                    .map(|(&i, s)| s * d[CELLS_PER_ROW * i])
+                    .sum();
+                for k in 1..self.free_gammas.len() {
+                    if p[k - 1].abs() < LOGIT_LIMIT {
+                        let i = self.free_gammas[k];
+                        out[(row, k - 1)] =
+                            self.free_length * shares[k] * (d[CELLS_PER_ROW * i] - mean);
+                    }
+                }
+            }
+        }
+        for (j, &(i, c)) in self.free_springs.iter().enumerate() {
+            let u = p[n_logits + j];
+            if u.abs() >= SPRING_LOG_LIMIT {
+                continue;
+            }
+            let value = u.exp();
+            let column = CELLS_PER_ROW * i + c.index();
+            for row in 0..m {
+                out[(row, n_logits + j)] = value * cells[row * width + column];
+            }
+        }
+    }
+
     /// Box for a global search in parameter space: logits within +-3 of the start (gamma
     /// and mu ratios up to e^3 either way) and spring constants from 1/20 to 20 times the start's.
     pub fn search_box(&self, start: &DVector<f64>) -> (DVector<f64>, DVector<f64>) {
@@ -305,6 +355,61 @@ mod tests {
         let p = Parameterisation::with_masses(&zero).unwrap();
         let d = p.decode(&p.encode(&zero)).unwrap();
         assert!(d.rows()[0].mass() <= 1.0001 * (-LOGIT_LIMIT).exp(), "{d:?}");
+    }
+
+    /// The chain rule against central differences of `decode`: a residual that is a fixed
+    /// linear form of the cells, `r = sum w_c cell_c`, has `dr/dcell = w`, so its
+    /// parameter derivatives are the differences of `w . cells(decode(p))`. On a matrix with
+    /// free and fixed gammas and springs of both kinds; one logit past its clamp has none.
+    #[test]
+    fn the_chain_rule_matches_differences_of_decode() {
+        let m =
+            PrbMatrix::parse("0.1,inf,inf; 0.35,3.51,inf; 0.4!,2.99,5; 0.15,2.58!,inf").unwrap();
+        let param = Parameterisation::new(&m).unwrap();
+        let rows = m.rows().len();
+        let width = CELLS_PER_ROW * rows;
+        let weights: Vec<f64> = (0..2 * width)
+            .map(|k| ((k * 37 % 11) as f64) - 5.0)
+            .collect();
+        let linear = |p: &DVector<f64>, r: usize| -> f64 {
+            let d = param.decode(p).unwrap();
+            (0..rows)
+                .flat_map(|i| {
+                    let row = &d.rows()[i];
+                    [row.gamma, row.k_theta, row.k_ex]
+                })
+                .zip(&weights[r * width..(r + 1) * width])
+                .map(|(v, w)| if v.is_finite() { v * w } else { 0.0 })
+                .sum()
+        };
+        for clamped in [false, true] {
+            let mut p = param.encode(&m);
+            if clamped {
+                p[1] = LOGIT_LIMIT + 1.0;
+            }
+            let mut out = DMatrix::zeros(0, 0);
+            param.chain_rule(&p, &weights, 2, &mut out);
+            assert_eq!(out.shape(), (2, param.len()));
+            for r in 0..2 {
+                for k in 0..param.len() {
+                    let h = 1e-6;
+                    let (mut up, mut down) = (p.clone(), p.clone());
+                    up[k] += h;
+                    down[k] -= h;
+                    let fd = (linear(&up, r) - linear(&down, r)) / (2.0 * h);
+                    // Central differences of smooth exponentials: error about h^2 times
+                    // the third derivative (O(10) here) plus round-off 1e-16 / h.
+                    assert!(
+                        (out[(r, k)] - fd).abs() < 1e-7 * (1.0 + fd.abs()),
+                        "clamped {clamped}, residual {r}, parameter {k}: {} against {fd}",
+                        out[(r, k)]
+                    );
+                }
+            }
+            if clamped {
+                assert_eq!(out[(0, 1)], 0.0);
+            }
+        }
     }
 
     #[test]

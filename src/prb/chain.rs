@@ -102,6 +102,8 @@ pub struct PrbSolver {
     pub(super) k_theta: Vec<f64>,
     /// `k_ex / c_e` per row (infinite for rows without an extension spring).
     pub(super) k_ex_scaled: Vec<f64>,
+    /// The beam's `c_e` the extension springs are scaled by.
+    axial_compliance: f64,
     /// Each segment's mass as a fraction of the beam's (DESIGN §10: mu, or gamma).
     pub(super) mu: Vec<f64>,
     pub(super) dofs: Vec<Dof>,
@@ -136,6 +138,7 @@ impl PrbSolver {
             gamma: rows.iter().map(|r| r.gamma).collect(),
             k_theta: rows.iter().map(|r| r.k_theta).collect(),
             k_ex_scaled: rows.iter().map(|r| r.k_ex / axial_compliance).collect(),
+            axial_compliance,
             mu: rows.iter().map(|r| r.mass()).collect(),
             dofs,
             min_step: MIN_STEP,
@@ -336,6 +339,86 @@ impl PrbSolver {
         out.stiffness.copy_from_slice(&ws.jac[..m * m]);
     }
 
+    /// The tip's derivatives with respect to the matrix's statics cells at an equilibrium
+    /// `q` under `load`, by the implicit function theorem: the equilibrium `R(q, c) = 0`
+    /// moves with a cell `c` as `dq/dc = -K^-1 dR/dc` (`K` the tangent stiffness), so
+    /// `d tip/dc = d tip/dc|_q - (K^-1 T^T)^T dR/dc` with `T = d tip/dq`: one factorisation
+    /// of `K` against the tip's three rows, whatever the number of cells.
+    ///
+    /// `out` (length `3 * CELLS_PER_ROW * rows`) gets three rows `(a, b, phi)`, each with
+    /// row `i`'s `(gamma, k_theta, k_ex)` at columns `3 i .. 3 i + 3`; a spring the row does
+    /// not have (infinite) has derivative 0. `lin` is storage from
+    /// [`PrbSolver::linearised`]. False when `K` is singular (no equilibrium to follow).
+    pub fn tip_sensitivity(
+        &self,
+        load: Load,
+        q: &[f64],
+        lin: &mut Linearised,
+        out: &mut [f64],
+    ) -> bool {
+        let n = self.gamma.len();
+        let m = self.dofs.len();
+        let cols = CELLS_PER_ROW * n;
+        self.linearise_into(load, q, lin);
+        // Lambda = K^-1 T^T (m x 3, row-major): K is symmetric, so this is the adjoint.
+        let mut lambda = [0.0; 3 * MAX_DOFS_ON_STACK];
+        let mut heap;
+        let lambda: &mut [f64] = if m <= MAX_DOFS_ON_STACK {
+            &mut lambda[..3 * m]
+        } else {
+            heap = vec![0.0; 3 * m];
+            &mut heap
+        };
+        for r in 0..m {
+            for k in 0..3 {
+                lambda[r * 3 + k] = lin.tip_jacobian[k * m + r];
+            }
+        }
+        if !crate::linalg::solve_many(&mut lin.stiffness, lambda, m, 3) {
+            return false;
+        }
+        let ws = &lin.work;
+        out[..3 * cols].iter_mut().for_each(|v| *v = 0.0);
+        // Gammas: the tip moves along segment j (`d tip/d gamma_j` at fixed q), and every
+        // joint at or before j carries the moment of the tip force about segment j
+        // (`dR/d gamma_j = -transverse_j` on those rows). `acc` sums Lambda over them.
+        let mut acc = [0.0; 3];
+        let mut r = 0;
+        for j in 0..n {
+            while r < m && self.dof_row(r) <= j {
+                if let Dof::Theta(_) = self.dofs[r] {
+                    for (a, l) in acc.iter_mut().zip(&lambda[r * 3..r * 3 + 3]) {
+                        *a += l;
+                    }
+                }
+                r += 1;
+            }
+            let (s, c) = ws.theta_cum[j].sin_cos();
+            let direct = [c, s, 0.0];
+            for k in 0..3 {
+                out[k * cols + CELLS_PER_ROW * j] = direct[k] + ws.transverse[j] * acc[k];
+            }
+        }
+        // Springs: `dR/dk` is the spring's own displacement on its own row.
+        for (r, dof) in self.dofs.iter().enumerate() {
+            let (col, d_res) = match *dof {
+                Dof::Theta(i) => (CELLS_PER_ROW * i + 1, q[r]),
+                Dof::Delta(i) => (CELLS_PER_ROW * i + 2, q[r] / self.axial_compliance),
+            };
+            for k in 0..3 {
+                out[k * cols + col] = -lambda[r * 3 + k] * d_res;
+            }
+        }
+        true
+    }
+
+    /// The matrix row of degree of freedom `r`.
+    fn dof_row(&self, r: usize) -> usize {
+        match self.dofs[r] {
+            Dof::Theta(i) | Dof::Delta(i) => i,
+        }
+    }
+
     /// The residual and Jacobian at `q`, for testing the analytic Jacobian.
     pub fn residual_and_jacobian(&self, load: Load, q: &[f64]) -> (Vec<f64>, Vec<f64>) {
         let m = self.dofs.len();
@@ -344,6 +427,12 @@ impl PrbSolver {
         (ws.res[..m].to_vec(), ws.jac[..m * m].to_vec())
     }
 }
+
+/// Cells per matrix row in [`PrbSolver::tip_sensitivity`]: gamma, k_theta, k_ex.
+pub const CELLS_PER_ROW: usize = 3;
+
+/// Chains of up to this many degrees of freedom find their sensitivities without allocating.
+const MAX_DOFS_ON_STACK: usize = 16;
 
 /// Scratch space for one path solve, so Newton allocates nothing.
 #[derive(Debug, Clone, PartialEq)]
@@ -378,6 +467,69 @@ impl Workspace {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The implicit-function sensitivities match central differences of the equilibrium
+    /// solved again with each cell nudged, on a chain with revolute and prismatic joints
+    /// under a combined load. The differences' own error is about `h^2` (1e-12) plus the
+    /// equilibrium's tolerance over `h` (Newton's 1e-13 on the joint coordinates over
+    /// 2e-6: 5e-8), so 1e-6 separates a right sensitivity from a wrong one (a sign or a
+    /// missed term is O(0.1)).
+    #[test]
+    fn tip_sensitivities_match_central_differences() {
+        let matrix =
+            PrbMatrix::parse("0.1,inf,inf; 0.3,3.0,0.4; 0.35,2.5,inf; 0.25,2.0,0.6").unwrap();
+        let c_e = 0.01;
+        let solver = PrbSolver::new(&matrix, c_e);
+        let load = Load::new(-1.2, 2.5, 0.7);
+        let sol = solver.solve(load).unwrap();
+        let n = solver.gamma.len();
+        let mut lin = solver.linearised();
+        let mut sens = vec![0.0; 3 * CELLS_PER_ROW * n];
+        assert!(solver.tip_sensitivity(load, &sol.q, &mut lin, &mut sens));
+        let tip = |s: &PrbSolver| {
+            let t = s.solve(load).unwrap().tip;
+            [t.a, t.b, t.phi]
+        };
+        let mut checked = 0;
+        for i in 0..n {
+            for cell in 0..CELLS_PER_ROW {
+                let value = match cell {
+                    0 => solver.gamma[i],
+                    1 => solver.k_theta[i],
+                    _ => solver.k_ex_scaled[i] * c_e,
+                };
+                let column = CELLS_PER_ROW * i + cell;
+                if !value.is_finite() {
+                    for k in 0..3 {
+                        assert_eq!(sens[k * CELLS_PER_ROW * n + column], 0.0);
+                    }
+                    continue;
+                }
+                let h = 1e-6 * value.abs().max(0.1);
+                let nudged = |d: f64| {
+                    let mut s = solver.clone();
+                    match cell {
+                        0 => s.gamma[i] += d,
+                        1 => s.k_theta[i] += d,
+                        _ => s.k_ex_scaled[i] = (value + d) / c_e,
+                    }
+                    tip(&s)
+                };
+                let (up, down) = (nudged(h), nudged(-h));
+                for k in 0..3 {
+                    let fd = (up[k] - down[k]) / (2.0 * h);
+                    let analytic = sens[k * CELLS_PER_ROW * n + column];
+                    assert!(
+                        (fd - analytic).abs() < 1e-6 * (1.0 + fd.abs()),
+                        "row {i} cell {cell} tip {k}: {analytic} against {fd}"
+                    );
+                }
+                checked += 1;
+            }
+        }
+        // 4 gammas, 3 torsion springs, 2 extension springs.
+        assert_eq!(checked, 9);
+    }
 
     #[test]
     fn limits_are_checked() {

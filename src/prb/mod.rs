@@ -10,7 +10,7 @@ pub mod published;
 mod statics;
 mod stress;
 
-pub use chain::{Linearised, PrbSolver, SolverLimits};
+pub use chain::{Linearised, PrbSolver, SolverLimits, CELLS_PER_ROW};
 pub use matrix::{
     Column, MatrixError, PrbMatrix, PrbRow, GAMMA_SUM_TOL, MAX_SEGMENTS, MAX_SPRING, MU_SUM_TOL,
 };
