@@ -1,7 +1,7 @@
 //! Levenberg-Marquardt for the fit's least-squares form, `J = |r(p)|^2`, on the residuals'
-//! exact Jacobian where the target gives it (a cantilever's, by the implicit function
-//! theorem through the chain's equilibrium: [`super::Target::residuals_with_cells`]), else on
-//! forward differences.
+//! exact Jacobian where the target gives it (by the implicit function theorem through each
+//! case's equilibrium, a cantilever's chain or a mechanism:
+//! [`super::Target::residuals_with_cells`]), else on forward differences.
 //!
 //! Written here rather than taken from a crate because the fit needs three things a general
 //! solver does not give together: a residual function that may refuse (cancellation) at any

@@ -17,9 +17,9 @@
 //!    with the starts, in a box around them.
 //! 4. A local polish: Levenberg-Marquardt ([`lm`]) from the swarm's best and from every start;
 //!    the best result wins. It takes the residuals' exact Jacobian where the target gives it
-//!    ([`Target::residuals_with_cells`]: a cantilever's, from the beam or from data, by the
-//!    implicit function theorem through each case's chain equilibrium, chained through the
-//!    reparameterisation), and differences the residuals otherwise (a mechanism's, a
+//!    ([`Target::residuals_with_cells`], by the implicit function theorem through each case's
+//!    equilibrium: a cantilever's chain, from the beam or from data, or a whole mechanism,
+//!    chained through the reparameterisation), and differences the residuals otherwise (a
 //!    dynamic fit's frequencies).
 //!
 //! A parameter set whose PRB model cannot follow a load path (it buckles or snaps where the

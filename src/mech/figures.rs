@@ -516,11 +516,17 @@ pub fn signed_errors(
 ) -> [f64; 3] {
     std::array::from_fn(|c| {
         if drive.coordinates[c].is_prescribed() {
-            (model.stage_load[c] - truth.stage_load[c]) / scale[c].unwrap_or(ABSOLUTE_SCALE_FLOOR)
+            (model.stage_load[c] - truth.stage_load[c]) / reaction_divisor(scale, c)
         } else {
             model.stage[c] - truth.stage[c]
         }
     })
+}
+
+/// What [`signed_errors`] divides coordinate `c`'s reaction error by: its reaction scale,
+/// or the absolute floor where it has none.
+pub fn reaction_divisor(scale: &[Option<f64>; 3], c: usize) -> f64 {
+    scale[c].unwrap_or(ABSOLUTE_SCALE_FLOOR)
 }
 
 #[cfg(test)]

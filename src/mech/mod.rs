@@ -68,6 +68,7 @@ mod path;
 pub mod pose;
 pub mod prb;
 pub mod prb_modes;
+pub mod sensitivity;
 pub mod solve;
 mod system;
 

@@ -102,6 +102,20 @@ impl FlexureModel for ChainFlexure {
         m == 0 || lu_solve(&mut k, &mut rhs, m).is_some_and(|lu| lu.det_sign > 0.0)
     }
 
+    fn cell_derivatives(&self, w: [f64; 3], z: &[f64], out: &mut Vec<f64>) -> bool {
+        let mut lin = self.scratch.borrow_mut();
+        self.solver
+            .linearise_into(Load::new(w[0], w[1], w[2]), z, &mut lin);
+        self.solver.cell_partials(z, &mut lin);
+        let cols = lin.cell_tip.len() / 3;
+        out.clear();
+        out.extend_from_slice(&lin.cell_tip);
+        // The tip moment is the unknown itself.
+        out.extend(std::iter::repeat_n(0.0, cols));
+        out.extend_from_slice(&lin.cell_residual);
+        true
+    }
+
     fn stress(&self, eval: &FlexEval, w: [f64; 3], z: &[f64]) -> Option<Stress> {
         let section = self.section.as_ref()?;
         self.solver

@@ -28,6 +28,15 @@ pub trait FlexureModel {
         let _ = (eval, w, z);
         None
     }
+    /// For a model made of a PRB matrix's cells: the derivatives of its outputs `(a, b,
+    /// phi, tip_moment, internal...)` with respect to those cells at fixed unknowns `(w,
+    /// z)`, in `out` (cleared): `4 + k` rows of [`crate::prb::CELLS_PER_ROW`] columns per
+    /// matrix row, row-major, and true. False (the default) for a model without cells (the
+    /// beam).
+    fn cell_derivatives(&self, w: [f64; 3], z: &[f64], out: &mut Vec<f64>) -> bool {
+        let _ = (w, z, out);
+        false
+    }
 }
 
 /// A flexure model evaluated at its unknowns.

@@ -164,8 +164,21 @@ impl<M: FlexureModel> MechSolver<M> {
     /// variational equations, the chain's analytic tangent), chained with the geometry's
     /// derivatives, written out below (a rigid stage, straight couplers).
     pub(super) fn jacobian(&self, at: &[Coordinate; 3], x: &[f64], sys: &System) -> Vec<f64> {
+        self.jacobian_and_load(at, x, sys).0
+    }
+
+    /// [`MechSolver::jacobian`], and the derivatives of the load the flexures put on the
+    /// stage ([`System::load`]) with respect to the unknowns: 3 rows of `n`, row-major (a
+    /// loaded coordinate's row is its balance row; a prescribed one's is its reaction's).
+    pub(super) fn jacobian_and_load(
+        &self,
+        at: &[Coordinate; 3],
+        x: &[f64],
+        sys: &System,
+    ) -> (Vec<f64>, Vec<f64>) {
         let n = x.len();
         let mut jac = vec![0.0; n * n];
+        let mut load_jac = vec![0.0; 3 * n];
         let pose = self.pose(at, x);
         let p = self.geometry.stage_point_at(pose);
         let p0 = self.geometry.stage_point;
@@ -261,11 +274,10 @@ impl<M: FlexureModel> MechSolver<M> {
             // The stage's balance: force components, and the moment about P of the force
             // at `at` plus the tip moment.
             let arm = [at[0] - p[0], at[1] - p[1]];
-            for (b, row) in balance_row.iter().enumerate() {
-                let Some(row) = *row else { continue };
-                let at_row = |c: usize| row * n + c;
+            for b in 0..3 {
+                let at_row = |c: usize| b * n + c;
                 for (j, df) in d_force.iter().enumerate() {
-                    jac[at_row(o + j)] += match b {
+                    load_jac[at_row(o + j)] += match b {
                         0 => df[0],
                         1 => df[1],
                         _ => cross(arm, *df),
@@ -275,23 +287,29 @@ impl<M: FlexureModel> MechSolver<M> {
                     continue;
                 }
                 if matches!(f.joint, Joint::Link { .. }) {
-                    jac[at_row(o + 1)] += cross(d_at_psi, force);
+                    load_jac[at_row(o + 1)] += cross(d_at_psi, force);
                 }
                 for (c, col) in pose_col.iter().enumerate() {
                     if let Some(col) = *col {
                         // P moves with the stage's translation; `at` with all of the pose.
                         let dp = [f64::from(c == 0), f64::from(c == 1)];
                         let d_arm = [d_at_pose[c][0] - dp[0], d_at_pose[c][1] - dp[1]];
-                        jac[at_row(col)] += cross(d_arm, force);
+                        load_jac[at_row(col)] += cross(d_arm, force);
                     }
                 }
                 let to_global = f.moment_to_global(1.0);
                 for c in 0..cols {
-                    jac[at_row(o + c)] += to_global * own(3, c);
+                    load_jac[at_row(o + c)] += to_global * own(3, c);
                 }
             }
         }
-        jac
+        // The balance rows of the loaded coordinates are their loads' rows.
+        for (b, row) in balance_row.iter().enumerate() {
+            if let Some(row) = *row {
+                jac[row * n..(row + 1) * n].copy_from_slice(&load_jac[b * n..(b + 1) * n]);
+            }
+        }
+        (jac, load_jac)
     }
 
     /// Whether a residual meets the tolerance.

@@ -26,6 +26,10 @@ pub struct Linearised {
     pub stiffness: Vec<f64>,
     /// `d(a, b, phi) / dq`, 3 rows of `m`, row-major.
     pub tip_jacobian: Vec<f64>,
+    /// `d(a, b, phi) / d(cells)` at fixed `q`, from [`PrbSolver::cell_partials`].
+    pub cell_tip: Vec<f64>,
+    /// `d(K q - tau) / d(cells)` at fixed `q`, from [`PrbSolver::cell_partials`].
+    pub cell_residual: Vec<f64>,
     /// Scratch.
     work: Workspace,
 }
@@ -302,6 +306,8 @@ impl PrbSolver {
             residual: vec![0.0; m],
             stiffness: vec![0.0; m * m],
             tip_jacobian: vec![0.0; 3 * m],
+            cell_tip: vec![0.0; 3 * CELLS_PER_ROW * self.gamma.len()],
+            cell_residual: vec![0.0; m * CELLS_PER_ROW * self.gamma.len()],
             work: Workspace::new(self.gamma.len(), m),
         }
     }
@@ -339,16 +345,51 @@ impl PrbSolver {
         out.stiffness.copy_from_slice(&ws.jac[..m * m]);
     }
 
+    /// The partial derivatives of the chain's tip and equilibrium residual with respect to
+    /// the matrix's statics cells at fixed joint coordinates, as [`PrbSolver::linearise_into`]
+    /// last left `lin` (at `q`): `lin.cell_tip` (3 rows `a, b, phi`) and `lin.cell_residual`
+    /// (one row per degree of freedom), each row with row `i`'s `(gamma, k_theta, k_ex)` at
+    /// columns `3 i .. 3 i + 3` ([`CELLS_PER_ROW`]). A spring the row does not have (infinite)
+    /// has no column entry (0).
+    ///
+    /// - `gamma_j` lengthens segment `j`: the tip moves along it, and every joint at or
+    ///   before `j` carries more of the tip force's moment (`dR/d gamma_j = -transverse_j`).
+    /// - `k_theta_i`, `k_ex_i`: the spring's own row, `dR/dk = q` (over `c_e` for `k_ex`,
+    ///   which the chain scales by).
+    pub fn cell_partials(&self, q: &[f64], lin: &mut Linearised) {
+        let n = self.gamma.len();
+        let cols = CELLS_PER_ROW * n;
+        let ws = &lin.work;
+        lin.cell_tip.iter_mut().for_each(|v| *v = 0.0);
+        lin.cell_residual.iter_mut().for_each(|v| *v = 0.0);
+        for j in 0..n {
+            let (s, c) = ws.theta_cum[j].sin_cos();
+            lin.cell_tip[CELLS_PER_ROW * j] = c;
+            lin.cell_tip[cols + CELLS_PER_ROW * j] = s;
+        }
+        for (r, dof) in self.dofs.iter().enumerate() {
+            let row = &mut lin.cell_residual[r * cols..(r + 1) * cols];
+            match *dof {
+                Dof::Theta(i) => {
+                    for j in i..n {
+                        row[CELLS_PER_ROW * j] = -ws.transverse[j];
+                    }
+                    row[CELLS_PER_ROW * i + 1] = q[r];
+                }
+                Dof::Delta(i) => row[CELLS_PER_ROW * i + 2] = q[r] / self.axial_compliance,
+            }
+        }
+    }
+
     /// The tip's derivatives with respect to the matrix's statics cells at an equilibrium
     /// `q` under `load`, by the implicit function theorem: the equilibrium `R(q, c) = 0`
     /// moves with a cell `c` as `dq/dc = -K^-1 dR/dc` (`K` the tangent stiffness), so
     /// `d tip/dc = d tip/dc|_q - (K^-1 T^T)^T dR/dc` with `T = d tip/dq`: one factorisation
     /// of `K` against the tip's three rows, whatever the number of cells.
     ///
-    /// `out` (length `3 * CELLS_PER_ROW * rows`) gets three rows `(a, b, phi)`, each with
-    /// row `i`'s `(gamma, k_theta, k_ex)` at columns `3 i .. 3 i + 3`; a spring the row does
-    /// not have (infinite) has derivative 0. `lin` is storage from
-    /// [`PrbSolver::linearised`]. False when `K` is singular (no equilibrium to follow).
+    /// `out` (length `3 * CELLS_PER_ROW * rows`) gets three rows `(a, b, phi)` laid out as
+    /// [`PrbSolver::cell_partials`]' rows. `lin` is storage from [`PrbSolver::linearised`].
+    /// False when `K` is singular (no equilibrium to follow).
     pub fn tip_sensitivity(
         &self,
         load: Load,
@@ -356,10 +397,10 @@ impl PrbSolver {
         lin: &mut Linearised,
         out: &mut [f64],
     ) -> bool {
-        let n = self.gamma.len();
+        let cols = CELLS_PER_ROW * self.gamma.len();
         let m = self.dofs.len();
-        let cols = CELLS_PER_ROW * n;
         self.linearise_into(load, q, lin);
+        self.cell_partials(q, lin);
         // Lambda = K^-1 T^T (m x 3, row-major): K is symmetric, so this is the adjoint.
         let mut lambda = [0.0; 3 * MAX_DOFS_ON_STACK];
         let mut heap;
@@ -377,46 +418,19 @@ impl PrbSolver {
         if !crate::linalg::solve_many(&mut lin.stiffness, lambda, m, 3) {
             return false;
         }
-        let ws = &lin.work;
-        out[..3 * cols].iter_mut().for_each(|v| *v = 0.0);
-        // Gammas: the tip moves along segment j (`d tip/d gamma_j` at fixed q), and every
-        // joint at or before j carries the moment of the tip force about segment j
-        // (`dR/d gamma_j = -transverse_j` on those rows). `acc` sums Lambda over them.
-        let mut acc = [0.0; 3];
-        let mut r = 0;
-        for j in 0..n {
-            while r < m && self.dof_row(r) <= j {
-                if let Dof::Theta(_) = self.dofs[r] {
-                    for (a, l) in acc.iter_mut().zip(&lambda[r * 3..r * 3 + 3]) {
-                        *a += l;
+        out[..3 * cols].copy_from_slice(&lin.cell_tip);
+        for r in 0..m {
+            let d_res = &lin.cell_residual[r * cols..(r + 1) * cols];
+            for k in 0..3 {
+                let l = lambda[r * 3 + k];
+                if l != 0.0 {
+                    for (o, d) in out[k * cols..(k + 1) * cols].iter_mut().zip(d_res) {
+                        *o -= l * d;
                     }
                 }
-                r += 1;
-            }
-            let (s, c) = ws.theta_cum[j].sin_cos();
-            let direct = [c, s, 0.0];
-            for k in 0..3 {
-                out[k * cols + CELLS_PER_ROW * j] = direct[k] + ws.transverse[j] * acc[k];
-            }
-        }
-        // Springs: `dR/dk` is the spring's own displacement on its own row.
-        for (r, dof) in self.dofs.iter().enumerate() {
-            let (col, d_res) = match *dof {
-                Dof::Theta(i) => (CELLS_PER_ROW * i + 1, q[r]),
-                Dof::Delta(i) => (CELLS_PER_ROW * i + 2, q[r] / self.axial_compliance),
-            };
-            for k in 0..3 {
-                out[k * cols + col] = -lambda[r * 3 + k] * d_res;
             }
         }
         true
-    }
-
-    /// The matrix row of degree of freedom `r`.
-    fn dof_row(&self, r: usize) -> usize {
-        match self.dofs[r] {
-            Dof::Theta(i) | Dof::Delta(i) => i,
-        }
     }
 
     /// The residual and Jacobian at `q`, for testing the analytic Jacobian.

@@ -3,8 +3,10 @@
 //! swarm, polish, presets, progress, cancel) on one of two targets: a cantilever's
 //! ([`CantileverTarget`]: three residuals per load case from the chain's own statics along
 //! each load path) or a mechanism's (one residual per stage coordinate per case from the PRB
-//! mechanism along each drive). Both are the same `J`, and both stop their polish once `J` is
-//! a negligible part of the scene's targets ([`target_objective`]).
+//! mechanism along each drive). Both are the same `J`, both give their residuals' exact
+//! derivatives with respect to the matrix's cells for the polish (the chain's or the
+//! mechanism's equilibrium, by the implicit function theorem), and both stop their polish
+//! once `J` is a negligible part of the scene's targets ([`target_objective`]).
 //!
 //! The mechanism's residuals: a loaded coordinate's motion error (`sqrt(w)` times it for the
 //! angle), a prescribed one's reaction error over its reaction scale times `sqrt(w_f)`, all
@@ -22,9 +24,11 @@ use crate::fit::{
     objective_of, polish, search, CancelToken, CantileverTarget, Fidelity, FitOptions, FitProgress,
     FitReport, Found, SearchError, StopReason, Target, PENALTY,
 };
-use crate::mech::figures::{compare, reaction_scales, signed_errors, CompareError};
+use crate::mech::figures::{
+    compare, reaction_divisor, reaction_scales, signed_errors, CompareError,
+};
 use crate::mech::{prb, MechCase};
-use crate::prb::{Column, PrbMatrix};
+use crate::prb::{Column, PrbMatrix, CELLS_PER_ROW};
 use crate::scene::{Accuracy, Drive, Mechanism};
 
 use super::{JudgeError, Study, PRB_TOL};
@@ -334,7 +338,32 @@ impl Target for MechanismTarget<'_> {
     }
 
     fn residuals(&self, matrix: &PrbMatrix, out: &mut Vec<f64>) {
+        self.fill(matrix, out, None);
+    }
+
+    fn residuals_with_cells(
+        &self,
+        matrix: &PrbMatrix,
+        out: &mut Vec<f64>,
+        cells: &mut Vec<f64>,
+    ) -> bool {
+        self.fill(matrix, out, Some(cells));
+        true
+    }
+}
+
+impl MechanismTarget<'_> {
+    /// The residuals of `matrix`, and with `cells` their derivatives with respect to its
+    /// cells (see [`Target::residuals_with_cells`]): each case's sensitivity through the
+    /// PRB mechanism's equilibrium ([`crate::mech::sensitivity`]), scaled as its residuals
+    /// are. A case whose sensitivity cannot be had (a singular Jacobian: a trial at a
+    /// critical point) gets 0 there, which only slows the polish.
+    fn fill(&self, matrix: &PrbMatrix, out: &mut Vec<f64>, mut cells: Option<&mut Vec<f64>>) {
         out.clear();
+        let width = CELLS_PER_ROW * matrix.rows().len();
+        if let Some(c) = cells.as_deref_mut() {
+            c.clear();
+        }
         let solver = prb::solver(self.mechanism, matrix, PRB_TOL)
             .without_stress()
             .for_trials();
@@ -343,17 +372,44 @@ impl Target for MechanismTarget<'_> {
                 Ok(cases) if cases.len() == exact.len() => {
                     for (p, e) in cases.iter().zip(exact) {
                         let errors = signed_errors(drive, p, e, &self.reaction_scale);
+                        let sensitivity = cells
+                            .as_ref()
+                            .and_then(|_| solver.case_sensitivity(p, width));
                         for (c, err) in errors.iter().enumerate() {
-                            let scale = if drive.coordinates[c].is_prescribed() {
+                            let prescribed = drive.coordinates[c].is_prescribed();
+                            let scale = if prescribed {
                                 self.prescribed_scale
                             } else {
                                 self.loaded_scale[c]
                             };
-                            out.push((err * scale).clamp(-PENALTY, PENALTY));
+                            let r = err * scale;
+                            out.push(r.clamp(-PENALTY, PENALTY));
+                            let Some(cells) = cells.as_deref_mut() else {
+                                continue;
+                            };
+                            match &sensitivity {
+                                Some(s) if r.abs() < PENALTY => {
+                                    // The error's derivative: the pose's, or the reaction's
+                                    // over its scale (as `signed_errors` divides it).
+                                    let (d, over) = if prescribed {
+                                        (&s.stage_load, reaction_divisor(&self.reaction_scale, c))
+                                    } else {
+                                        (&s.stage, 1.0)
+                                    };
+                                    let row = &d[c * width..(c + 1) * width];
+                                    cells.extend(row.iter().map(|v| v * scale / over));
+                                }
+                                _ => cells.extend(std::iter::repeat_n(0.0, width)),
+                            }
                         }
                     }
                 }
-                _ => out.extend(std::iter::repeat_n(PENALTY, 3 * exact.len())),
+                _ => {
+                    out.extend(std::iter::repeat_n(PENALTY, 3 * exact.len()));
+                    if let Some(cells) = cells.as_deref_mut() {
+                        cells.extend(std::iter::repeat_n(0.0, 3 * width * exact.len()));
+                    }
+                }
             }
         }
     }
@@ -367,10 +423,65 @@ mod tests {
     use crate::scene::{Attach, BeamSpec, Coordinate, Drive, EffectsChoice, Flexure};
     use Coordinate::{Loaded, Prescribed};
 
-    /// The residuals' squares sum to the `J` that `compare` reports, on a mechanism with
-    /// loaded and prescribed coordinates in two drives: the fit minimises what eval judges.
+    /// `d r / d p` of a target's residuals (its cells' derivatives chained through the
+    /// parameterisation) and central differences of its residuals, at `matrix`'s
+    /// parameters; also checks the residuals given with the cells are the plain ones.
+    /// Returns the largest difference over the largest derivative.
+    fn target_jacobian_error(target: &dyn Target, matrix: &PrbMatrix, h: f64) -> f64 {
+        let param = crate::fit::Parameterisation::new(matrix).unwrap();
+        let p0 = param.encode(matrix);
+        let (mut r, mut plain, mut cells) = (Vec::new(), Vec::new(), Vec::new());
+        let at = param.decode(&p0).unwrap();
+        assert!(target.residuals_with_cells(&at, &mut r, &mut cells));
+        target.residuals(&at, &mut plain);
+        assert_eq!(r, plain);
+        let mut analytic = nalgebra::DMatrix::zeros(0, 0);
+        param.chain_rule(&p0, &cells, r.len(), &mut analytic);
+        let (mut worst, mut largest) = (0.0_f64, 0.0_f64);
+        for j in 0..param.len() {
+            let (mut up, mut down) = (p0.clone(), p0.clone());
+            up[j] += h;
+            down[j] -= h;
+            let (mut ru, mut rd) = (Vec::new(), Vec::new());
+            target.residuals(&param.decode(&up).unwrap(), &mut ru);
+            target.residuals(&param.decode(&down).unwrap(), &mut rd);
+            for i in 0..r.len() {
+                let fd = (ru[i] - rd[i]) / (2.0 * h);
+                worst = worst.max((analytic[(i, j)] - fd).abs());
+                largest = largest.max(fd.abs());
+            }
+        }
+        assert!(largest > 1e-3, "nothing moves: {largest}");
+        worst / largest
+    }
+
+    /// Both targets' exact Jacobians against differences of their residuals, scaling and
+    /// chain rule included. The cantilever's chains are solved to 1e-13 (Newton's step), so
+    /// differences at h = 1e-6 err by about 1e-7 of the largest derivative; the mechanism
+    /// target's trials stop at `PRB_TOL` = 1e-8 on their residuals, so at h = 1e-4 by about
+    /// 1e-4. A wrong scale (a reaction not divided by its scale, the angle weight left out)
+    /// is off by a factor, a missed term by O(0.1).
     #[test]
-    fn residuals_square_to_the_figures_objective() {
+    fn targets_give_the_jacobian_of_their_residuals() {
+        let scene = crate::scene::Scene::builtin();
+        let study =
+            Study::as_given(&scene, crate::study::Sampling::Fidelity(Fidelity::Draft)).unwrap();
+        let su =
+            PrbMatrix::parse("0.10,inf,inf; 0.35,3.51,inf; 0.40,2.99,0.9; 0.15,2.58,inf").unwrap();
+        let cantilever = CantileverTarget::new(study.baseline().unwrap(), 0.7);
+        let error = target_jacobian_error(&cantilever, &su, 1e-6);
+        assert!(error < 1e-5, "cantilever: {error}");
+
+        let m = mixed_stage();
+        let exact = exact::solve(&m, Resolution::with_tol(1e-10)).unwrap();
+        let target = MechanismTarget::new(&m, &exact, 0.7, 2.5, &Accuracy::default()).unwrap();
+        let error = target_jacobian_error(&target, &su, 1e-4);
+        assert!(error < 1e-3, "mechanism: {error}");
+    }
+
+    /// Two clamped flexures carrying one stage, driven with loaded and prescribed
+    /// coordinates.
+    fn mixed_stage() -> Mechanism {
         let beam = BeamSpec {
             length: 1.0,
             width: 1.0,
@@ -388,14 +499,110 @@ mod tests {
             attach: Attach::Clamped,
             beam,
         };
-        let m = Mechanism {
+        Mechanism {
             flexures: vec![flexure(0.3), flexure(-0.3)],
             stage_point: [1.0, 0.0],
             drives: vec![
                 Drive::proportional([Loaded(1.0), Prescribed(0.2), Loaded(0.3)], 3),
                 Drive::proportional([Loaded(-2.0), Loaded(4.0), Loaded(0.5)], 2),
             ],
+        }
+    }
+
+    /// A mechanism case's sensitivity to the matrix's cells, chained to the fit's
+    /// parameters, against central differences of the mechanism solved again at nudged
+    /// parameters: the stage pose of loaded coordinates and the reactions of prescribed
+    /// ones, on a clamped and a pinned flexure carrying one stage, with revolute and
+    /// prismatic joints. Solved at tol 1e-13, the differences (h = 1e-5) err by about
+    /// `h^2` (1e-10) plus 1e-13 / h (1e-8) relative to the largest derivative, so 1e-5
+    /// tells a right derivative from a wrong one (a missed term is O(0.1)).
+    #[test]
+    fn mechanism_sensitivities_match_differences() {
+        let beam = |thickness: f64| BeamSpec {
+            length: 1.0,
+            width: 1.0,
+            thickness,
+            youngs_modulus: 12e6,
+            poisson_ratio: 0.3,
+            shear_coefficient: None,
+            density: None,
+            effects: EffectsChoice::Fixed(Effects::NONE),
+            allowable_stress: None,
         };
+        let m = Mechanism {
+            flexures: vec![
+                Flexure {
+                    root: [0.0, 0.3],
+                    angle: 0.0,
+                    attach: Attach::Clamped,
+                    beam: beam(0.05),
+                },
+                Flexure {
+                    root: [0.0, -0.3],
+                    angle: 0.2,
+                    attach: Attach::Pinned,
+                    beam: beam(0.04),
+                },
+            ],
+            stage_point: [1.0, 0.0],
+            drives: vec![Drive::proportional(
+                [Loaded(0.8), Prescribed(0.15), Loaded(0.3)],
+                3,
+            )],
+        };
+        let matrix =
+            PrbMatrix::parse("0.10,inf,inf; 0.35,3.51,0.05; 0.40,2.99,inf; 0.15,2.58,0.08")
+                .unwrap();
+        let param = crate::fit::Parameterisation::new(&matrix).unwrap();
+        let p0 = param.encode(&matrix);
+        let width = CELLS_PER_ROW * matrix.rows().len();
+        let path = m.drive_path(&m.drives[0]);
+        let solve = |p: &nalgebra::DVector<f64>| {
+            let decoded = param.decode(p).unwrap();
+            let solver = prb::solver(&m, &decoded, 1e-13).without_stress();
+            let cases = solver.solve_path(&path, 1).unwrap();
+            (solver, cases)
+        };
+        let (solver, cases) = solve(&p0);
+        let mut checked = 0;
+        for (k, case) in cases.iter().enumerate() {
+            let s = solver.case_sensitivity(case, width).unwrap();
+            let rows: Vec<f64> = s.stage.iter().chain(&s.stage_load).copied().collect();
+            let mut analytic = nalgebra::DMatrix::zeros(0, 0);
+            param.chain_rule(&p0, &rows, 6, &mut analytic);
+            let h = 1e-5;
+            for j in 0..param.len() {
+                let (mut up, mut down) = (p0.clone(), p0.clone());
+                up[j] += h;
+                down[j] -= h;
+                let (a, b) = (&solve(&up).1[k], &solve(&down).1[k]);
+                let fd: Vec<f64> = (0..3)
+                    .map(|c| (a.stage[c] - b.stage[c]) / (2.0 * h))
+                    .chain((0..3).map(|c| (a.stage_load[c] - b.stage_load[c]) / (2.0 * h)))
+                    .collect();
+                let scale = fd.iter().fold(1.0_f64, |m, v| m.max(v.abs()));
+                for (r, f) in fd.iter().enumerate() {
+                    assert!(
+                        (analytic[(r, j)] - f).abs() <= 1e-5 * scale,
+                        "case {k}, output {r}, parameter {j}: {} against {f}",
+                        analytic[(r, j)]
+                    );
+                }
+                checked += 1;
+            }
+            // What moves: the loaded coordinates' pose, the prescribed one's reaction.
+            assert!(analytic.row(0).amax() > 1e-3 && analytic.row(4).amax() > 1e-3);
+            assert_eq!(analytic.row(1).amax(), 0.0);
+            assert_eq!(analytic.row(3).amax(), 0.0);
+        }
+        assert_eq!(checked, 3 * param.len());
+    }
+
+    /// The residuals' squares sum to the `J` that `compare` reports, on a mechanism with
+    /// loaded and prescribed coordinates in two drives: the fit minimises what eval judges.
+    #[test]
+    fn residuals_square_to_the_figures_objective() {
+        let m = mixed_stage();
         let exact = exact::solve(&m, Resolution::with_tol(1e-10)).unwrap();
         let su =
             PrbMatrix::parse("0.10,inf,inf; 0.35,3.51,inf; 0.40,2.99,inf; 0.15,2.58,inf").unwrap();
