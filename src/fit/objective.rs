@@ -143,8 +143,12 @@ impl CantileverTarget<'_> {
         }
         let solver = PrbSolver::new(matrix, self.baseline.model.axial_compliance())
             .with_limits(TRIAL_LIMITS);
-        let mut lin = solver.linearised();
-        let mut sensitivity = vec![0.0; 3 * width];
+        // Storage for the sensitivities, only when they are asked for (the swarm's and the
+        // plain evaluations' hot path allocates nothing for them).
+        let (mut lin, mut sensitivity) = match cells {
+            Some(_) => (Some(solver.linearised()), vec![0.0; 3 * width]),
+            None => (None, Vec::new()),
+        };
         // Residuals are capped at the penalty, so that failing to reach a case is never
         // better than reaching it badly.
         // The residuals stay in case order whichever cases are missed (the polish compares
@@ -167,8 +171,8 @@ impl CantileverTarget<'_> {
                 let mut state = state.borrow_mut();
                 let (out, cells) = &mut *state;
                 out.extend(raw.iter().map(|r| r.clamp(-cap, cap)));
-                if let Some(cells) = cells.as_deref_mut() {
-                    let known = solver.tip_sensitivity(sol.load, sol.q, &mut lin, &mut sensitivity);
+                if let (Some(cells), Some(lin)) = (cells.as_deref_mut(), lin.as_mut()) {
+                    let known = solver.tip_sensitivity(sol.load, sol.q, lin, &mut sensitivity);
                     for (k, r) in raw.iter().enumerate() {
                         let row = &sensitivity[k * width..(k + 1) * width];
                         if known && r.abs() < cap {
@@ -243,7 +247,9 @@ impl<'a> Objective<'a> {
     /// As [`Objective::residuals`], with `d r / d p` in `jacobian` when the target gives
     /// its cells' derivatives ([`Target::residuals_with_cells`]): `Some(true)` with both
     /// filled, `Some(false)` with the residuals only (the caller differences them), `None`
-    /// when cancelled.
+    /// when cancelled. A parameter vector no matrix decodes from (not finite) is the flat
+    /// penalty: `Some(true)` with a zero Jacobian. A target that fits the mus (a dynamic
+    /// fit) is differenced: the cells' derivatives are the statics cells' only.
     pub(super) fn residuals_and_jacobian(
         &self,
         p: &DVector<f64>,
@@ -263,7 +269,7 @@ impl<'a> Objective<'a> {
         }
         self.evaluations.set(self.evaluations.get() + 1);
         let mut cells = self.cells.borrow_mut();
-        if !self.target.residuals_with_cells(&matrix, out, &mut cells) {
+        if self.target.masses() || !self.target.residuals_with_cells(&matrix, out, &mut cells) {
             self.target.residuals(&matrix, out);
             return Some(false);
         }

@@ -26,9 +26,11 @@ pub struct Linearised {
     pub stiffness: Vec<f64>,
     /// `d(a, b, phi) / dq`, 3 rows of `m`, row-major.
     pub tip_jacobian: Vec<f64>,
-    /// `d(a, b, phi) / d(cells)` at fixed `q`, from [`PrbSolver::cell_partials`].
+    /// `d(a, b, phi) / d(cells)` at fixed `q`, filled (and sized) by
+    /// [`PrbSolver::cell_partials`] only; empty until then.
     pub cell_tip: Vec<f64>,
-    /// `d(K q - tau) / d(cells)` at fixed `q`, from [`PrbSolver::cell_partials`].
+    /// `d(K q - tau) / d(cells)` at fixed `q`, filled (and sized) by
+    /// [`PrbSolver::cell_partials`] only; empty until then.
     pub cell_residual: Vec<f64>,
     /// Scratch.
     work: Workspace,
@@ -306,8 +308,8 @@ impl PrbSolver {
             residual: vec![0.0; m],
             stiffness: vec![0.0; m * m],
             tip_jacobian: vec![0.0; 3 * m],
-            cell_tip: vec![0.0; 3 * CELLS_PER_ROW * self.gamma.len()],
-            cell_residual: vec![0.0; m * CELLS_PER_ROW * self.gamma.len()],
+            cell_tip: Vec::new(),
+            cell_residual: Vec::new(),
             work: Workspace::new(self.gamma.len(), m),
         }
     }
@@ -360,8 +362,10 @@ impl PrbSolver {
         let n = self.gamma.len();
         let cols = CELLS_PER_ROW * n;
         let ws = &lin.work;
-        lin.cell_tip.iter_mut().for_each(|v| *v = 0.0);
-        lin.cell_residual.iter_mut().for_each(|v| *v = 0.0);
+        lin.cell_tip.clear();
+        lin.cell_tip.resize(3 * cols, 0.0);
+        lin.cell_residual.clear();
+        lin.cell_residual.resize(self.dofs.len() * cols, 0.0);
         for j in 0..n {
             let (s, c) = ws.theta_cum[j].sin_cos();
             lin.cell_tip[CELLS_PER_ROW * j] = c;
