@@ -302,6 +302,16 @@ fn help_to_a_closed_pipe_is_quiet_too() {
     assert_eq!(status.code(), Some(0));
 }
 
+/// The built-in scene's text with `steps` steps on each of its load paths (5 each).
+fn builtin_with_steps(steps: u32) -> String {
+    std::fs::read_to_string(format!(
+        "{}/assets/scenes/default.toml",
+        env!("CARGO_MANIFEST_DIR")
+    ))
+    .unwrap()
+    .replace("steps = 5", &format!("steps = {steps}"))
+}
+
 /// Sends SIGINT (Ctrl-C) to `child` once `wait` has passed, and returns its output.
 fn interrupt_after(mut child: std::process::Child, wait: Duration) -> std::process::Output {
     std::thread::sleep(wait);
@@ -326,13 +336,7 @@ fn ctrl_c_stops_a_long_fit_with_its_best_so_far() {
     // cases at precise's doubled sampling): about 10 s of fitting on the 2-core machine (1.2
     // s at the built-in 5 steps, since the polish's exact Jacobian); the truth takes
     // milliseconds, so two seconds in, the fit is running.
-    let scene = std::fs::read_to_string(format!(
-        "{}/assets/scenes/default.toml",
-        env!("CARGO_MANIFEST_DIR")
-    ))
-    .unwrap()
-    .replace("steps = 5", "steps = 50");
-    let scene = dir.write("long.toml", &scene);
+    let scene = dir.write("long.toml", &builtin_with_steps(50));
     let child = bin()
         .args([
             "fit",
@@ -369,13 +373,7 @@ fn ctrl_c_stops_a_long_fit_with_its_best_so_far() {
 #[test]
 fn ctrl_c_stops_a_long_solve_and_prints_nothing_half_done() {
     let dir = Scratch::new("ctrl-c-solve");
-    let scene = std::fs::read_to_string(format!(
-        "{}/assets/scenes/default.toml",
-        env!("CARGO_MANIFEST_DIR")
-    ))
-    .unwrap()
-    .replace("steps = 5", "steps = 10000");
-    let path = dir.write("big.toml", &scene);
+    let path = dir.write("big.toml", &builtin_with_steps(10000));
     let child = bin()
         .args(["solve", "--scene", &path])
         .stdout(Stdio::piped())

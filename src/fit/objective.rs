@@ -46,22 +46,21 @@ pub trait Target {
         self.len() == 0
     }
     /// Appends the residuals of `matrix` to `out` (cleared), in a fixed order.
-    fn residuals(&self, matrix: &PrbMatrix, out: &mut Vec<f64>);
-    /// As [`Target::residuals`], with the residuals' exact derivatives with respect to the
-    /// matrix's statics cells in `cells` (cleared; one row per residual of
+    fn residuals(&self, matrix: &PrbMatrix, out: &mut Vec<f64>) {
+        self.residuals_with_cells(matrix, out, None);
+    }
+    /// As [`Target::residuals`]; with `cells`, also the residuals' exact derivatives with
+    /// respect to the matrix's statics cells there (cleared; one row per residual of
     /// [`CELLS_PER_ROW`] columns per matrix row: gamma, k_theta, k_ex; row-major), and
-    /// true. False, with neither filled, for a target without them (the default): the
-    /// polish then takes differences of [`Target::residuals`]. A capped residual (a missed
-    /// case, or one past [`PENALTY`]) has derivative 0, as the cap makes it.
+    /// true. False, with `cells` left empty, for a target without them: the polish then
+    /// takes differences of the residuals. A capped residual (a missed case, or one past
+    /// [`PENALTY`]) has derivative 0, as the cap makes it.
     fn residuals_with_cells(
         &self,
         matrix: &PrbMatrix,
         out: &mut Vec<f64>,
-        cells: &mut Vec<f64>,
-    ) -> bool {
-        let _ = (matrix, out, cells);
-        false
-    }
+        cells: Option<&mut Vec<f64>>,
+    ) -> bool;
     /// The `J` at which a target's errors are `fraction` of its accuracy targets: the polish
     /// stops once `J` is this low, where what it could still gain is that small a part of
     /// what the user asked for. 0 (the default): the polish stops on its tolerances alone.
@@ -116,26 +115,13 @@ impl Target for CantileverTarget<'_> {
         fraction * fraction * self.target_objective
     }
 
-    fn residuals(&self, matrix: &PrbMatrix, out: &mut Vec<f64>) {
-        self.fill(matrix, out, None);
-    }
-
+    /// With `cells`, each followed case's tip sensitivity, scaled as its residuals are.
     fn residuals_with_cells(
         &self,
         matrix: &PrbMatrix,
         out: &mut Vec<f64>,
-        cells: &mut Vec<f64>,
+        mut cells: Option<&mut Vec<f64>>,
     ) -> bool {
-        self.fill(matrix, out, Some(cells));
-        true
-    }
-}
-
-impl CantileverTarget<'_> {
-    /// The residuals of `matrix`, and with `cells` their derivatives (see
-    /// [`Target::residuals_with_cells`]): each followed case's tip sensitivity, scaled as its
-    /// residuals are.
-    fn fill(&self, matrix: &PrbMatrix, out: &mut Vec<f64>, mut cells: Option<&mut Vec<f64>>) {
         out.clear();
         let width = CELLS_PER_ROW * matrix.rows().len();
         if let Some(c) = cells.as_deref_mut() {
@@ -196,6 +182,7 @@ impl CantileverTarget<'_> {
                 ControlFlow::Continue(())
             },
         );
+        true
     }
 }
 
@@ -268,9 +255,15 @@ impl<'a> Objective<'a> {
             return None;
         }
         self.evaluations.set(self.evaluations.get() + 1);
-        let mut cells = self.cells.borrow_mut();
-        if self.target.masses() || !self.target.residuals_with_cells(&matrix, out, &mut cells) {
+        if self.target.masses() {
             self.target.residuals(&matrix, out);
+            return Some(false);
+        }
+        let mut cells = self.cells.borrow_mut();
+        if !self
+            .target
+            .residuals_with_cells(&matrix, out, Some(&mut cells))
+        {
             return Some(false);
         }
         self.param.chain_rule(p, &cells, out.len(), jacobian);

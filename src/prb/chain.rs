@@ -32,6 +32,8 @@ pub struct Linearised {
     /// `d(K q - tau) / d(cells)` at fixed `q`, filled (and sized) by
     /// [`PrbSolver::cell_partials`] only; empty until then.
     pub cell_residual: Vec<f64>,
+    /// Scratch: [`PrbSolver::tip_sensitivity`]'s adjoint `K^-1 T^T`.
+    adjoint: Vec<f64>,
     /// Scratch.
     work: Workspace,
 }
@@ -310,6 +312,7 @@ impl PrbSolver {
             tip_jacobian: vec![0.0; 3 * m],
             cell_tip: Vec::new(),
             cell_residual: Vec::new(),
+            adjoint: Vec::new(),
             work: Workspace::new(self.gamma.len(), m),
         }
     }
@@ -406,22 +409,13 @@ impl PrbSolver {
         self.linearise_into(load, q, lin);
         self.cell_partials(q, lin);
         // Lambda = K^-1 T^T (m x 3, row-major): K is symmetric, so this is the adjoint.
-        let mut lambda = [0.0; 3 * MAX_DOFS_ON_STACK];
-        let mut heap;
-        let lambda: &mut [f64] = if m <= MAX_DOFS_ON_STACK {
-            &mut lambda[..3 * m]
-        } else {
-            heap = vec![0.0; 3 * m];
-            &mut heap
-        };
-        for r in 0..m {
-            for k in 0..3 {
-                lambda[r * 3 + k] = lin.tip_jacobian[k * m + r];
-            }
-        }
+        let lambda = &mut lin.adjoint;
+        lambda.clear();
+        lambda.extend((0..3 * m).map(|i| lin.tip_jacobian[(i % 3) * m + i / 3]));
         if !crate::linalg::solve_many(&mut lin.stiffness, lambda, m, 3) {
             return false;
         }
+        let lambda = &lin.adjoint;
         out[..3 * cols].copy_from_slice(&lin.cell_tip);
         for r in 0..m {
             let d_res = &lin.cell_residual[r * cols..(r + 1) * cols];
@@ -448,9 +442,6 @@ impl PrbSolver {
 
 /// Cells per matrix row in [`PrbSolver::tip_sensitivity`]: gamma, k_theta, k_ex.
 pub const CELLS_PER_ROW: usize = 3;
-
-/// Chains of up to this many degrees of freedom find their sensitivities without allocating.
-const MAX_DOFS_ON_STACK: usize = 16;
 
 /// Scratch space for one path solve, so Newton allocates nothing.
 #[derive(Debug, Clone, PartialEq)]

@@ -249,7 +249,13 @@ impl Target for ModesTarget<'_> {
         }
     }
 
-    fn residuals(&self, matrix: &PrbMatrix, out: &mut Vec<f64>) {
+    /// No cells: the frequencies' residuals are differenced.
+    fn residuals_with_cells(
+        &self,
+        matrix: &PrbMatrix,
+        out: &mut Vec<f64>,
+        _cells: Option<&mut Vec<f64>>,
+    ) -> bool {
         let key: Vec<f64> = matrix
             .rows()
             .iter()
@@ -274,6 +280,7 @@ impl Target for ModesTarget<'_> {
                 (self.scale * (m / b - 1.0)).clamp(-PENALTY, PENALTY)
             }));
         }
+        false
     }
 
     fn masses(&self) -> bool {
@@ -337,28 +344,16 @@ impl Target for MechanismTarget<'_> {
         fraction * fraction * self.target_objective
     }
 
-    fn residuals(&self, matrix: &PrbMatrix, out: &mut Vec<f64>) {
-        self.fill(matrix, out, None);
-    }
-
+    /// With `cells`, each case's sensitivity through the PRB mechanism's equilibrium
+    /// ([`crate::mech::sensitivity`]), scaled as its residuals are. A case whose sensitivity
+    /// cannot be had (a singular Jacobian: a trial at a critical point) gets 0 there, which
+    /// only slows the polish.
     fn residuals_with_cells(
         &self,
         matrix: &PrbMatrix,
         out: &mut Vec<f64>,
-        cells: &mut Vec<f64>,
+        mut cells: Option<&mut Vec<f64>>,
     ) -> bool {
-        self.fill(matrix, out, Some(cells));
-        true
-    }
-}
-
-impl MechanismTarget<'_> {
-    /// The residuals of `matrix`, and with `cells` their derivatives with respect to its
-    /// cells (see [`Target::residuals_with_cells`]): each case's sensitivity through the
-    /// PRB mechanism's equilibrium ([`crate::mech::sensitivity`]), scaled as its residuals
-    /// are. A case whose sensitivity cannot be had (a singular Jacobian: a trial at a
-    /// critical point) gets 0 there, which only slows the polish.
-    fn fill(&self, matrix: &PrbMatrix, out: &mut Vec<f64>, mut cells: Option<&mut Vec<f64>>) {
         out.clear();
         let width = CELLS_PER_ROW * matrix.rows().len();
         if let Some(c) = cells.as_deref_mut() {
@@ -412,6 +407,7 @@ impl MechanismTarget<'_> {
                 }
             }
         }
+        true
     }
 }
 
@@ -433,7 +429,7 @@ mod tests {
         let p0 = param.encode(matrix);
         let (mut r, mut plain, mut cells) = (Vec::new(), Vec::new(), Vec::new());
         let at = param.decode(&p0).unwrap();
-        assert!(target.residuals_with_cells(&at, &mut r, &mut cells));
+        assert!(target.residuals_with_cells(&at, &mut r, Some(&mut cells)));
         target.residuals(&at, &mut plain);
         assert_eq!(r, plain);
         let mut analytic = nalgebra::DMatrix::zeros(0, 0);
@@ -486,25 +482,30 @@ mod tests {
         assert!(error < 1e-5, "mechanism: {error}");
     }
 
-    /// Two clamped flexures carrying one stage, driven with loaded and prescribed
-    /// coordinates.
-    fn mixed_stage() -> Mechanism {
-        let beam = BeamSpec {
+    /// A beam of unit length and width (`E = 12e6`, so `E I0 = 1e6 thickness^3`), the plain
+    /// elastica.
+    fn unit_beam(thickness: f64) -> BeamSpec {
+        BeamSpec {
             length: 1.0,
             width: 1.0,
-            thickness: 0.01,
+            thickness,
             youngs_modulus: 12e6,
             poisson_ratio: 0.3,
             shear_coefficient: None,
             density: None,
             effects: EffectsChoice::Fixed(Effects::NONE),
             allowable_stress: None,
-        };
+        }
+    }
+
+    /// Two clamped flexures carrying one stage, driven with loaded and prescribed
+    /// coordinates.
+    fn mixed_stage() -> Mechanism {
         let flexure = |y: f64| Flexure {
             root: [0.0, y],
             angle: 0.0,
             attach: Attach::Clamped,
-            beam,
+            beam: unit_beam(0.01),
         };
         Mechanism {
             flexures: vec![flexure(0.3), flexure(-0.3)],
@@ -526,22 +527,11 @@ mod tests {
     /// missed term is O(0.1)).
     #[test]
     fn mechanism_sensitivities_match_differences() {
-        let beam = |thickness: f64| BeamSpec {
-            length: 1.0,
-            width: 1.0,
-            thickness,
-            youngs_modulus: 12e6,
-            poisson_ratio: 0.3,
-            shear_coefficient: None,
-            density: None,
-            effects: EffectsChoice::Fixed(Effects::NONE),
-            allowable_stress: None,
-        };
         let flexure = |root: [f64; 2], angle: f64, attach, thickness| Flexure {
             root,
             angle,
             attach,
-            beam: beam(thickness),
+            beam: unit_beam(thickness),
         };
         let m = Mechanism {
             flexures: vec![
