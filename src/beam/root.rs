@@ -56,6 +56,49 @@ impl BeamSolver {
         m0: f64,
         shape: Option<&mut Vec<ShapePoint>>,
     ) -> Result<RootShot, SolveError> {
+        let u = self.root_state::<16>(alpha_x, alpha_y, m0, shape)?;
+        // Slots: psi, M, x, y; then d/dM0 (4..8), d/dalpha_x (8..12), d/dalpha_y (12..16).
+        let row = |k: usize| [u[8 + k], u[12 + k], u[4 + k]];
+        Ok(RootShot {
+            tip: TipPose {
+                a: u[2],
+                b: u[3],
+                phi: u[0],
+            },
+            tip_moment: u[1],
+            jacobian: [row(2), row(3), row(0), row(1)],
+        })
+    }
+
+    /// [`BeamSolver::shoot_root_sampled`] without the variational equations: the tip and the
+    /// tip moment alone, for a third of the arithmetic (a mechanism's Newton checks its last
+    /// iterate this way). The step sizes follow the state's own error alone, so the tip
+    /// agrees with the full shot's to the tolerance, not to the last digit.
+    pub fn shoot_root_tip(
+        &self,
+        alpha_x: f64,
+        alpha_y: f64,
+        m0: f64,
+        shape: Option<&mut Vec<ShapePoint>>,
+    ) -> Result<(TipPose, f64), SolveError> {
+        let u = self.root_state::<4>(alpha_x, alpha_y, m0, shape)?;
+        let tip = TipPose {
+            a: u[2],
+            b: u[3],
+            phi: u[0],
+        };
+        Ok((tip, u[1]))
+    }
+
+    /// The tip state of the shot from the clamp (`N = 16`: with its sensitivities; `N = 4`:
+    /// without), sampling the centre line into `shape` if given.
+    fn root_state<const N: usize>(
+        &self,
+        alpha_x: f64,
+        alpha_y: f64,
+        m0: f64,
+        shape: Option<&mut Vec<ShapePoint>>,
+    ) -> Result<[f64; N], SolveError> {
         let load = Load::new(alpha_x, alpha_y, m0);
         if !load.is_finite() {
             return Err(SolveError::NonFiniteLoad(load));
@@ -73,19 +116,9 @@ impl BeamSolver {
                 sensitivities: None,
             }
         });
-        let (u, _) = root_shot(&self.model, force, m0, settings, samples, &mut meter)
+        let (u, _) = root_shot::<N>(&self.model, force, m0, settings, samples, &mut meter)
             .map_err(|e| shot_error(e, load, &meter))?;
-        // Slots: psi, M, x, y; then d/dM0 (4..8), d/dalpha_x (8..12), d/dalpha_y (12..16).
-        let row = |k: usize| [u[8 + k], u[12 + k], u[4 + k]];
-        Ok(RootShot {
-            tip: TipPose {
-                a: u[2],
-                b: u[3],
-                phi: u[0],
-            },
-            tip_moment: u[1],
-            jacobian: [row(2), row(3), row(0), row(1)],
-        })
+        Ok(u)
     }
 
     /// The centre line of the beam [`BeamSolver::shoot_root`] shoots: the resolution's

@@ -264,13 +264,15 @@ pub(crate) struct Segment {
 
 impl Segment {
     /// The state a shot of this segment starts from: `psi` and `M` given, positions zero
-    /// (they are increments), the sensitivities the identity (slot 5, `dM/dM`; and slot 8,
-    /// `dpsi/dpsi`, when `N = 12`).
+    /// (they are increments), the sensitivities the identity (slot 5, `dM/dM`, unless `N = 4`,
+    /// the state alone; and slot 8, `dpsi/dpsi`, when `N = 12`).
     pub(crate) fn initial_state<const N: usize>(&self) -> State<N> {
         let mut u: State<N> = [0.0; N];
         u[PSI] = self.psi;
         u[MOM] = self.moment;
-        u[5] = 1.0;
+        if N > 4 {
+            u[5] = 1.0;
+        }
         if N == 12 {
             u[8] = 1.0;
         }

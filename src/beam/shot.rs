@@ -39,16 +39,17 @@ pub(crate) fn shoot<const N: usize>(
 }
 
 /// The whole beam shot from its clamp under the tip force `force` and the root moment
-/// `moment`, with the derivatives of the tip state with respect to `moment`, `alpha_x` and
-/// `alpha_y` (the `N = 16` layout): an initial-value problem, no Newton iteration.
-pub(crate) fn root_shot(
+/// `moment`: an initial-value problem, no Newton iteration. `N = 16` also gives the
+/// derivatives of the tip state with respect to `moment`, `alpha_x` and `alpha_y`; `N = 4`
+/// the tip state alone.
+pub(crate) fn root_shot<const N: usize>(
     model: &BeamModel,
     force: TipForce,
     moment: f64,
     settings: ShotSettings,
     shape: Option<Samples<'_>>,
     meter: &mut Meter<'_>,
-) -> Result<(State<16>, u32), ShotFailure> {
+) -> Result<(State<N>, u32), ShotFailure> {
     let segment = Segment {
         s_start: 0.0,
         s_end: 1.0,
@@ -56,5 +57,5 @@ pub(crate) fn root_shot(
         moment,
         origin: (0.0, 0.0),
     };
-    integrate::<16>(model, force, segment, settings, shape, meter)
+    integrate::<N>(model, force, segment, settings, shape, meter)
 }

@@ -150,10 +150,13 @@ pub(crate) fn integrate<const N: usize>(
                 let which = [4, 6, 7, 8 % N, 10 % N, 11 % N];
                 let weights = which.map(|i| weight(i, u[i]));
                 sample_step(&z, which, weights, &step, samples, &mut next_sample);
-            } else {
+            } else if N > 4 {
                 let which = [4, 6, 7];
                 let weights = which.map(|i| weight(i, u[i]));
                 sample_step(&z, which, weights, &step, samples, &mut next_sample);
+            } else {
+                // The state alone (N = 4): no sensitivities to sample.
+                sample_step::<N, 0>(&z, [], [], &step, samples, &mut next_sample);
             }
         }
         u = evaluate(&z, std::array::from_fn(|i| i), p, h);

@@ -52,6 +52,20 @@ impl FlexureModel for BeamFlexure {
         })
     }
 
+    fn eval_values(&self, w: [f64; 3], _z: &[f64]) -> Result<FlexEval, TipFailure> {
+        let mut shape = Vec::new();
+        let (tip, tip_moment) = self
+            .solver
+            .shoot_root_tip(w[0], w[1], w[2], Some(&mut shape))?;
+        Ok(FlexEval {
+            tip,
+            tip_moment,
+            internal: Vec::new(),
+            jacobian: Vec::new(),
+            shape,
+        })
+    }
+
     fn load_stable(&self, eval: &FlexEval, _w: [f64; 3], _z: &[f64]) -> bool {
         // dM(L)/dM(0), the single beam's own test (see `beam::root::RootShot::stability`).
         eval.jacobian[3 * 3 + 2] > 0.0

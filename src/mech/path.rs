@@ -187,6 +187,13 @@ impl<M: FlexureModel> MechSolver<M> {
     }
 
     /// Newton at `lambda` from the guess `x`.
+    ///
+    /// An iterate that Newton's last step should bring within the tolerance (the step's
+    /// residual was already within the square root of it, in units of the tolerance, so the
+    /// quadratic convergence leaves it far below) is evaluated by values alone
+    /// ([`FlexureModel::eval_values`]: the beam's shot without its variational equations);
+    /// if it has converged, its flexures keep the Jacobians of the iterate before, one tiny
+    /// step away, for their stability test. If not, it is evaluated again in full.
     fn newton(
         &self,
         path: &DrivePath,
@@ -201,15 +208,31 @@ impl<M: FlexureModel> MechSolver<M> {
         // within Newton's last (tiny) step of the solution, so a converged point needs no
         // Jacobian of its own.
         let mut det_sign = None;
+        // The flexures' Jacobians at that iterate, for a point checked by values alone.
+        let mut jacobians: Vec<Vec<f64>> = Vec::new();
+        // Below this residual ratio, Newton's next iterate is expected to converge.
+        let quadratic = (0.1 / self.tol).sqrt();
         let limit = effort.newton_limit();
         for iteration in 1..=limit {
             effort.spend_iteration();
-            let converged = self.converged(&sys.residual, sys.load);
+            let mut ratio = self.residual_ratio(&sys.residual, sys.load);
+            if ratio > 1.0 && !sys.has_jacobian() {
+                // Checked by values and not converged: Newton needs the Jacobian here.
+                sys = self.system(&at, &x).map_err(|e| e.to_string())?;
+                ratio = self.residual_ratio(&sys.residual, sys.load);
+            }
+            let converged = ratio <= 1.0;
             if let (true, Some(det_sign)) = (converged, det_sign) {
+                let mut evals = sys.evals;
+                for (e, j) in evals.iter_mut().zip(jacobians.drain(..)) {
+                    if e.jacobian.is_empty() {
+                        e.jacobian = j;
+                    }
+                }
                 let point = Point {
                     lambda,
                     x,
-                    evals: sys.evals,
+                    evals,
                     load: sys.load,
                     det_sign,
                 };
@@ -224,12 +247,16 @@ impl<M: FlexureModel> MechSolver<M> {
             }
             // Damped: halve the step while the residual grows.
             let norm0 = norm(&sys.residual);
+            let full = ratio > quadratic;
             let mut t = 1.0;
             loop {
                 let trial: Vec<f64> = x.iter().zip(&step).map(|(a, d)| a + t * d).collect();
-                if let Ok(st) = self.system(&at, &trial) {
+                if let Ok(st) = self.system_with(&at, &trial, full || t < 1.0) {
                     if norm(&st.residual) < norm0 || t < 0.1 {
-                        (x, sys) = (trial, st);
+                        let before = std::mem::replace(&mut sys, st);
+                        jacobians.clear();
+                        jacobians.extend(before.evals.into_iter().map(|e| e.jacobian));
+                        x = trial;
                         break;
                     }
                 }

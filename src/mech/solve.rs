@@ -20,6 +20,13 @@ pub trait FlexureModel {
     /// The flexure at `(alpha_x, alpha_y, w)` (its own frame and units; `w` is the root
     /// moment of a beam, the tip moment of a chain) and internal unknowns `z`.
     fn eval(&self, w: [f64; 3], z: &[f64]) -> Result<FlexEval, TipFailure>;
+    /// [`FlexureModel::eval`] where the Jacobian is not needed: the same outputs and
+    /// residuals, with `jacobian` left empty where leaving it out saves work (the beam's shot
+    /// without its variational equations). Newton checks a last iterate this way. The
+    /// default is the full evaluation.
+    fn eval_values(&self, w: [f64; 3], z: &[f64]) -> Result<FlexEval, TipFailure> {
+        self.eval(w, z)
+    }
     /// Whether the flexure is stable under its tip wrench as a *given* (dead) load.
     fn load_stable(&self, eval: &FlexEval, w: [f64; 3], z: &[f64]) -> bool;
     /// Its largest fibre stress in the state `eval` at `(w, z)` (DESIGN §11), `None` where
@@ -49,7 +56,10 @@ pub struct FlexEval {
     /// The internal equations' residuals.
     pub internal: Vec<f64>,
     /// `d(a, b, phi, tip_moment, internal...) / d(alpha_x, alpha_y, w, z...)`, row-major,
-    /// `4 + k` rows of `3 + k` (`k` = [`FlexureModel::internal`]).
+    /// `4 + k` rows of `3 + k` (`k` = [`FlexureModel::internal`]); empty from an
+    /// [`FlexureModel::eval_values`] that left it out. At a solved point it is the
+    /// evaluation's own or, where Newton checked its last iterate by values alone, the one
+    /// at the iterate before (within Newton's last, converged step of it).
     pub jacobian: Vec<f64>,
     /// The centre line this evaluation shot (own frame and units), where the model shoots
     /// one (the exact beam); empty otherwise.
