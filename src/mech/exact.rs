@@ -36,23 +36,22 @@ impl FlexureModel for BeamFlexure {
     }
 
     fn eval(&self, w: [f64; 3], _z: &[f64]) -> Result<FlexEval, TipFailure> {
-        // The shot samples its centre line: the last evaluation's is the solved shape,
-        // whose stress the case reports (`stress`), for a few interpolations per step
-        // instead of another shot.
-        let mut shape = Vec::new();
-        let shot = self
-            .solver
-            .shoot_root_sampled(w[0], w[1], w[2], Some(&mut shape))?;
+        // Newton's iterates with a Jacobian are seldom its solution (that is checked by
+        // values, below), so they do not sample the centre line.
+        let shot = self.solver.shoot_root(w[0], w[1], w[2])?;
         Ok(FlexEval {
             tip: shot.tip,
             tip_moment: shot.tip_moment,
             internal: Vec::new(),
             jacobian: shot.jacobian.iter().flatten().copied().collect(),
-            shape,
+            shape: Vec::new(),
         })
     }
 
     fn eval_values(&self, w: [f64; 3], _z: &[f64]) -> Result<FlexEval, TipFailure> {
+        // The shot samples its centre line: a check that converges is the solved shape,
+        // whose stress the case reports (`stress`), for a few interpolations per step
+        // instead of another shot.
         let mut shape = Vec::new();
         let (tip, tip_moment) = self
             .solver
@@ -72,8 +71,16 @@ impl FlexureModel for BeamFlexure {
     }
 
     fn stress(&self, eval: &FlexEval, w: [f64; 3], _z: &[f64]) -> Option<Stress> {
-        // The shape `eval`'s own shot sampled (the root wrench `w` it was shot with).
+        // The shape `eval`'s own shot sampled (the root wrench `w` it was shot with), or,
+        // for a solution Newton evaluated in full, the same shot's again.
         let load = Load::new(w[0], w[1], eval.tip_moment);
+        if eval.shape.is_empty() {
+            let mut shape = Vec::new();
+            self.solver
+                .shoot_root_tip(w[0], w[1], w[2], Some(&mut shape))
+                .ok()?;
+            return self.solver.max_stress(load, eval.tip, &shape);
+        }
         self.solver.max_stress(load, eval.tip, &eval.shape)
     }
 }
