@@ -433,11 +433,17 @@ fn solve_poisson(nu: f64, r: f64) -> Option<(f64, f64)> {
     // leave a relative error below (27 |x| / 4)^6 < 1e-7 for |x| < 0.01, and one Newton step
     // squares that to round-off. d eps / d r is the series differentiated: good to 1e-7
     // relative, plenty for the sensitivities it feeds, with no second division.
+    // Below |x| = 1e-3 (a slender beam's every section) the series alone is good to
+    // (27e-3 / 4)^6 < 1e-13 relative, and the Newton step's division is spared.
     let x = nu * r;
     if x.abs() < 0.01 {
         let eps = r * (1.0 + x * (2.0 + x * (7.0 + x * (30.0 + x * (143.0 + x * 728.0)))));
-        let p = 1.0 - nu * eps;
-        let eps = eps - (eps * p * p - r) / (p * (1.0 - 3.0 * nu * eps));
+        let eps = if x.abs() < 1e-3 {
+            eps
+        } else {
+            let p = 1.0 - nu * eps;
+            eps - (eps * p * p - r) / (p * (1.0 - 3.0 * nu * eps))
+        };
         let deps_dr = 1.0 + x * (4.0 + x * (21.0 + x * (120.0 + x * (715.0 + x * 4368.0))));
         return Some((eps, deps_dr));
     }
