@@ -253,9 +253,12 @@ impl<M: FlexureModel> MechSolver<M> {
                 let trial: Vec<f64> = x.iter().zip(&step).map(|(a, d)| a + t * d).collect();
                 if let Ok(st) = self.system_with(&at, &trial, full || t < 1.0) {
                     if norm(&st.residual) < norm0 || t < 0.1 {
+                        let by_values = !st.has_jacobian();
                         let before = std::mem::replace(&mut sys, st);
                         jacobians.clear();
-                        jacobians.extend(before.evals.into_iter().map(|e| e.jacobian));
+                        if by_values {
+                            jacobians.extend(before.evals.into_iter().map(|e| e.jacobian));
+                        }
                         x = trial;
                         break;
                     }
