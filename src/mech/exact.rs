@@ -4,7 +4,9 @@
 //! exact compliance (`d(a, b, phi, beta) / d(alpha_x, alpha_y, m0)`), and no Newton iteration
 //! inside the flexure. The map from the root to the tip is an initial-value problem, so it
 //! has no folds: a flexure held by the stage past its own load-controlled buckling load is
-//! solved like any other.
+//! solved like any other. Newton's check of an iterate it expects to have converged shoots
+//! without the variational equations ([`BeamSolver::shoot_root_tip`]) and samples the shape
+//! there, for the case's stress.
 //!
 //! Accuracy: Newton stops at the solver's `tol` on every compatibility residual; the shot
 //! integrates to the beam's `tol`, so a flexure's tip is good to the beam's
