@@ -47,8 +47,7 @@ impl BeamSolver {
     }
 
     /// [`BeamSolver::shoot_root`], also sampling the centre line it shoots into `shape` (as
-    /// [`BeamSolver::root_shape`] does, from the same integration: a mechanism's flexure
-    /// gets its stress from its last Newton evaluation's shot instead of one more).
+    /// [`BeamSolver::root_shape`] does, from the same integration).
     pub fn shoot_root_sampled(
         &self,
         alpha_x: f64,
@@ -240,6 +239,35 @@ mod tests {
                         (fd - an).abs() <= 1e-4 * (1.0 + fd.abs()),
                         "row {row} col {col}: analytic {an}, differences {fd}"
                     );
+                }
+            }
+        }
+    }
+
+    /// The shot by values (no variational equations) is the full shot's tip and tip moment,
+    /// to the shots' tolerance (1e-10: both about that far from the beam; 1e-8 as above),
+    /// through both integrators (Taylor series for the elastica, Dormand-Prince with every
+    /// effect), and samples the same centre line.
+    #[test]
+    fn a_shot_by_values_is_the_full_shot() {
+        for solver in [
+            stubby_rubber(),
+            BeamSolver::new(BeamModel::elastica(), Resolution::with_tol(1e-10)).unwrap(),
+        ] {
+            for (ax, ay, m0) in [(-1.3, 2.1, 0.7), (0.0, 0.0, 1.5), (2.0, -0.5, -0.4)] {
+                let full = solver.shoot_root(ax, ay, m0).unwrap();
+                let mut shape = Vec::new();
+                let (tip, moment) = solver.shoot_root_tip(ax, ay, m0, Some(&mut shape)).unwrap();
+                assert!(tip.max_diff(&full.tip) < 1e-8, "{tip:?} vs {:?}", full.tip);
+                assert!((moment - full.tip_moment).abs() < 1e-8 * (1.0 + moment.abs()));
+                let drawn = solver.root_shape(ax, ay, m0).unwrap();
+                assert_eq!(shape.len(), drawn.len());
+                for (p, q) in shape.iter().zip(&drawn) {
+                    let d = (p.x - q.x)
+                        .abs()
+                        .max((p.y - q.y).abs())
+                        .max((p.psi - q.psi).abs());
+                    assert!(p.s == q.s && d < 1e-8, "at s = {}: {p:?} vs {q:?}", p.s);
                 }
             }
         }

@@ -74,7 +74,8 @@ impl FlexureModel for BeamFlexure {
 
     fn stress(&self, eval: &FlexEval, w: [f64; 3], _z: &[f64]) -> Option<Stress> {
         // The shape `eval`'s own shot sampled (the root wrench `w` it was shot with), or,
-        // for a solution Newton evaluated in full, the same shot's again.
+        // for a solution Newton evaluated in full (which samples none), the shape of a shot
+        // by values at the same wrench: one more shot, at the same tolerance.
         let load = Load::new(w[0], w[1], eval.tip_moment);
         if eval.shape.is_empty() {
             let mut shape = Vec::new();

@@ -188,10 +188,11 @@ impl<M: FlexureModel> MechSolver<M> {
 
     /// Newton at `lambda` from the guess `x`.
     ///
-    /// An iterate that Newton's last step should bring within the tolerance (the step's
-    /// residual was already within the square root of it, in units of the tolerance, so the
-    /// quadratic convergence leaves it far below) is evaluated by values alone
-    /// ([`FlexureModel::eval_values`]: the beam's shot without its variational equations);
+    /// An iterate that Newton's last step should bring within the tolerance is evaluated by
+    /// values alone: where the residual the step came from was at most `sqrt(0.1 / tol)`
+    /// times its limit (`sqrt(0.1 tol)` in the limit's units), quadratic convergence leaves
+    /// the next one a tenth of the limit times Newton's contraction constant. The check
+    /// ([`FlexureModel::eval_values`]) is the beam's shot without its variational equations;
     /// if it has converged, its flexures keep the Jacobians of the iterate before, one tiny
     /// step away, for their stability test. If not, it is evaluated again in full.
     fn newton(

@@ -21,7 +21,7 @@ pub trait FlexureModel {
     /// moment of a beam, the tip moment of a chain) and internal unknowns `z`.
     fn eval(&self, w: [f64; 3], z: &[f64]) -> Result<FlexEval, TipFailure>;
     /// [`FlexureModel::eval`] where the Jacobian is not needed: the same outputs and
-    /// residuals, with `jacobian` left empty where leaving it out saves work (the beam's shot
+    /// residuals (to the model's integration tolerance), with `jacobian` left empty where leaving it out saves work (the beam's shot
     /// without its variational equations). Newton checks a last iterate this way. The
     /// default is the full evaluation.
     fn eval_values(&self, w: [f64; 3], z: &[f64]) -> Result<FlexEval, TipFailure> {
@@ -61,8 +61,9 @@ pub struct FlexEval {
     /// evaluation's own or, where Newton checked its last iterate by values alone, the one
     /// at the iterate before (within Newton's last, converged step of it).
     pub jacobian: Vec<f64>,
-    /// The centre line this evaluation shot (own frame and units), where the model shoots
-    /// one (the exact beam); empty otherwise.
+    /// The centre line this evaluation shot (own frame and units), where the model samples
+    /// one: the exact beam's [`FlexureModel::eval_values`] (Newton's check, which is the
+    /// solution when it converges); empty otherwise.
     pub shape: Vec<ShapePoint>,
 }
 
