@@ -235,6 +235,19 @@ pub fn objective_of(target: &dyn Target, template: &PrbMatrix, matrix: &PrbMatri
 }
 
 /// [`search`] (`local: None`) or [`polish`] (`local`: its settings).
+/// `points` without repeats, in order. The same point twice among the polish's candidates
+/// (`--topology`'s start is the topology's default; a published model given as the start is
+/// also among the published starts) would be polished twice, the same way, to the same end.
+fn distinct(points: Vec<DVector<f64>>) -> Vec<DVector<f64>> {
+    let mut out: Vec<DVector<f64>> = Vec::with_capacity(points.len());
+    for p in points {
+        if !out.contains(&p) {
+            out.push(p);
+        }
+    }
+    out
+}
+
 fn search_in(
     target: &dyn Target,
     start: &PrbMatrix,
@@ -300,6 +313,7 @@ fn search_in(
         }
         iterations += swarm_iterations;
     }
+    let mut candidates = distinct(candidates);
 
     // Local polish in two rounds: a short one from every candidate, then the full polish
     // from the best few only, so hopeless candidates cost little. Once a polish reaches the
@@ -384,4 +398,28 @@ fn search_in(
         (param.decode(&p).unwrap_or_else(|| start.clone()), stop)
     };
     report(matrix, stop, iterations, evaluations)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Repeated candidates are polished once: the first of each kept, in order; points
+    /// that differ in any coordinate, however little, are all kept.
+    #[test]
+    fn repeated_candidates_are_dropped() {
+        let v = |x: &[f64]| DVector::from_column_slice(x);
+        let points = vec![
+            v(&[1.0, 2.0]),
+            v(&[1.0, 2.0]),
+            v(&[0.5, 2.0]),
+            v(&[1.0, 2.0 + 1e-15]),
+            v(&[0.5, 2.0]),
+        ];
+        let kept = distinct(points);
+        assert_eq!(
+            kept,
+            vec![v(&[1.0, 2.0]), v(&[0.5, 2.0]), v(&[1.0, 2.0 + 1e-15])]
+        );
+    }
 }
