@@ -53,6 +53,7 @@ use crate::prb::PrbMatrix;
 
 pub use crate::cancel::CancelToken;
 pub use crate::fidelity::Fidelity;
+pub(crate) use objective::push_residual;
 pub use objective::PENALTY;
 pub use param::{ParamError, Parameterisation};
 pub use progress::{FitProgress, PROGRESS_INTERVAL};

@@ -135,11 +135,8 @@ impl Target for CantileverTarget<'_> {
             Some(_) => (Some(solver.linearised()), vec![0.0; 3 * width]),
             None => (None, Vec::new()),
         };
-        // Residuals are capped at the penalty, so that failing to reach a case is never
-        // better than reaching it badly.
         // The residuals stay in case order whichever cases are missed (the polish compares
         // residual vectors component by component), so both closures append to one vector.
-        let cap = PENALTY;
         let state = RefCell::new((out, cells));
         let scales = [
             self.case_scale,
@@ -156,17 +153,12 @@ impl Target for CantileverTarget<'_> {
                 ];
                 let mut state = state.borrow_mut();
                 let (out, cells) = &mut *state;
-                out.extend(raw.iter().map(|r| r.clamp(-cap, cap)));
-                if let (Some(cells), Some(lin)) = (cells.as_deref_mut(), lin.as_mut()) {
-                    let known = solver.tip_sensitivity(sol.load, sol.q, lin, &mut sensitivity);
-                    for (k, r) in raw.iter().enumerate() {
-                        let row = &sensitivity[k * width..(k + 1) * width];
-                        if known && r.abs() < cap {
-                            cells.extend(row.iter().map(|d| d * scales[k]));
-                        } else {
-                            cells.extend(std::iter::repeat_n(0.0, width));
-                        }
-                    }
+                let known = lin.as_mut().is_some_and(|lin| {
+                    solver.tip_sensitivity(sol.load, sol.q, lin, &mut sensitivity)
+                });
+                for (k, &r) in raw.iter().enumerate() {
+                    let row = known.then(|| &sensitivity[k * width..(k + 1) * width]);
+                    push_residual(out, cells.as_deref_mut(), r, row, (scales[k], 1.0), width);
                 }
             },
             |missed, _| {
@@ -183,6 +175,28 @@ impl Target for CantileverTarget<'_> {
             },
         );
         true
+    }
+}
+
+/// Appends the residual `r` to `out`, capped at [`PENALTY`] (so that failing to reach a case
+/// is never better than reaching it badly), and, with `cells`, its derivative: the row
+/// `derivative` (`width` cells) times `scale` over `over` (the residual's own scaling), or
+/// zeros where it is unknown or the residual is capped (flat there), as
+/// [`Target::residuals_with_cells`] promises.
+pub(crate) fn push_residual(
+    out: &mut Vec<f64>,
+    cells: Option<&mut Vec<f64>>,
+    r: f64,
+    derivative: Option<&[f64]>,
+    (scale, over): (f64, f64),
+    width: usize,
+) {
+    out.push(r.clamp(-PENALTY, PENALTY));
+    if let Some(cells) = cells {
+        match derivative {
+            Some(d) if r.abs() < PENALTY => cells.extend(d.iter().map(|v| v * scale / over)),
+            _ => cells.extend(std::iter::repeat_n(0.0, width)),
+        }
     }
 }
 

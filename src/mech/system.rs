@@ -595,22 +595,11 @@ mod tests {
     /// flexure a full evaluation.
     #[test]
     fn a_check_by_values_gives_the_full_evaluations_cases() {
-        let elastica = BeamSpec {
-            length: 1.0,
-            width: 1.0,
-            thickness: 0.01,
-            youngs_modulus: 12e6,
-            poisson_ratio: 0.3,
-            shear_coefficient: None,
-            density: None,
-            effects: EffectsChoice::Fixed(Effects::NONE),
-            allowable_stress: None,
-        };
         let clamped = |root: [f64; 2]| Flexure {
             root,
             angle: 0.0,
             attach: Attach::Clamped,
-            beam: elastica,
+            beam: BeamSpec::unit_elastica(0.01),
         };
         let stage = Mechanism {
             flexures: vec![clamped([0.0, 0.3]), clamped([0.0, -0.3])],

@@ -71,6 +71,23 @@ pub struct BeamSpec {
 }
 
 impl BeamSpec {
+    /// For the crate's tests: a beam of unit length and width (`E = 12e6`, so
+    /// `E I0 = 1e6 thickness^3`), the plain elastica.
+    #[cfg(test)]
+    pub(crate) fn unit_elastica(thickness: f64) -> BeamSpec {
+        BeamSpec {
+            length: 1.0,
+            width: 1.0,
+            thickness,
+            youngs_modulus: 12e6,
+            poisson_ratio: 0.3,
+            shear_coefficient: None,
+            density: None,
+            effects: EffectsChoice::Fixed(crate::beam::Effects::NONE),
+            allowable_stress: None,
+        }
+    }
+
     /// `L / t0`.
     pub fn slenderness(&self) -> f64 {
         self.length / self.thickness

@@ -21,8 +21,8 @@
 use std::time::Instant;
 
 use crate::fit::{
-    objective_of, polish, search, CancelToken, CantileverTarget, Fidelity, FitOptions, FitProgress,
-    FitReport, Found, SearchError, StopReason, Target, PENALTY,
+    objective_of, polish, push_residual, search, CancelToken, CantileverTarget, Fidelity,
+    FitOptions, FitProgress, FitReport, Found, SearchError, StopReason, Target, PENALTY,
 };
 use crate::mech::figures::{
     compare, reaction_divisor, reaction_scales, signed_errors, CompareError,
@@ -377,25 +377,18 @@ impl Target for MechanismTarget<'_> {
                             } else {
                                 self.loaded_scale[c]
                             };
-                            let r = err * scale;
-                            out.push(r.clamp(-PENALTY, PENALTY));
-                            let Some(cells) = cells.as_deref_mut() else {
-                                continue;
+                            // The error's derivative: the pose's, or the reaction's over
+                            // its scale (as `signed_errors` divides it).
+                            let (row, over) = match &sensitivity {
+                                Some(s) if prescribed => (
+                                    Some(&s.stage_load[c * width..(c + 1) * width]),
+                                    reaction_divisor(&self.reaction_scale, c),
+                                ),
+                                Some(s) => (Some(&s.stage[c * width..(c + 1) * width]), 1.0),
+                                None => (None, 1.0),
                             };
-                            match &sensitivity {
-                                Some(s) if r.abs() < PENALTY => {
-                                    // The error's derivative: the pose's, or the reaction's
-                                    // over its scale (as `signed_errors` divides it).
-                                    let (d, over) = if prescribed {
-                                        (&s.stage_load, reaction_divisor(&self.reaction_scale, c))
-                                    } else {
-                                        (&s.stage, 1.0)
-                                    };
-                                    let row = &d[c * width..(c + 1) * width];
-                                    cells.extend(row.iter().map(|v| v * scale / over));
-                                }
-                                _ => cells.extend(std::iter::repeat_n(0.0, width)),
-                            }
+                            let r = err * scale;
+                            push_residual(out, cells.as_deref_mut(), r, row, (scale, over), width);
                         }
                     }
                 }
@@ -414,9 +407,9 @@ impl Target for MechanismTarget<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::beam::{Effects, Resolution};
+    use crate::beam::Resolution;
     use crate::mech::exact;
-    use crate::scene::{Attach, BeamSpec, Coordinate, Drive, EffectsChoice, Flexure};
+    use crate::scene::{Attach, BeamSpec, Coordinate, Drive, Flexure};
     use Coordinate::{Loaded, Prescribed};
 
     /// `d r / d p` of a target's residuals (its cells' derivatives chained through the
@@ -482,22 +475,6 @@ mod tests {
         assert!(error < 1e-5, "mechanism: {error}");
     }
 
-    /// A beam of unit length and width (`E = 12e6`, so `E I0 = 1e6 thickness^3`), the plain
-    /// elastica.
-    fn unit_beam(thickness: f64) -> BeamSpec {
-        BeamSpec {
-            length: 1.0,
-            width: 1.0,
-            thickness,
-            youngs_modulus: 12e6,
-            poisson_ratio: 0.3,
-            shear_coefficient: None,
-            density: None,
-            effects: EffectsChoice::Fixed(Effects::NONE),
-            allowable_stress: None,
-        }
-    }
-
     /// Two clamped flexures carrying one stage, driven with loaded and prescribed
     /// coordinates.
     fn mixed_stage() -> Mechanism {
@@ -505,7 +482,7 @@ mod tests {
             root: [0.0, y],
             angle: 0.0,
             attach: Attach::Clamped,
-            beam: unit_beam(0.01),
+            beam: BeamSpec::unit_elastica(0.01),
         };
         Mechanism {
             flexures: vec![flexure(0.3), flexure(-0.3)],
@@ -531,7 +508,7 @@ mod tests {
             root,
             angle,
             attach,
-            beam: unit_beam(thickness),
+            beam: BeamSpec::unit_elastica(thickness),
         };
         let m = Mechanism {
             flexures: vec![
