@@ -12,6 +12,86 @@ pub fn solve_dense(matrix: &mut [f64], rhs: &mut [f64], n: usize) -> bool {
 /// one elimination for all of them. `false` for a non-finite or exactly singular matrix or a
 /// non-finite solution.
 pub fn solve_many(matrix: &mut [f64], rhs: &mut [f64], n: usize, m: usize) -> bool {
+    // A PRB chain's tip sensitivity: a few unknowns against the tip's three rows, in every
+    // case of every fit evaluation. The same arithmetic, in the same order, on arrays.
+    match (n, m) {
+        (1, 3) => solve_many_fixed::<1, 3>(matrix, rhs),
+        (2, 3) => solve_many_fixed::<2, 3>(matrix, rhs),
+        (3, 3) => solve_many_fixed::<3, 3>(matrix, rhs),
+        (4, 3) => solve_many_fixed::<4, 3>(matrix, rhs),
+        _ => solve_many_general(matrix, rhs, n, m),
+    }
+}
+
+/// [`solve_many`] for `N` x `N` against `M` right-hand sides: the same operations in the
+/// same order (so the same result to the bit), on arrays the compiler unrolls.
+fn solve_many_fixed<const N: usize, const M: usize>(matrix: &mut [f64], rhs: &mut [f64]) -> bool {
+    let mut a = [[0.0; N]; N];
+    let mut x = [[0.0; M]; N];
+    for i in 0..N {
+        a[i].copy_from_slice(&matrix[i * N..(i + 1) * N]);
+        x[i].copy_from_slice(&rhs[i * M..(i + 1) * M]);
+    }
+    let solved = eliminate_arrays(&mut a, &mut x);
+    for i in 0..N {
+        matrix[i * N..(i + 1) * N].copy_from_slice(&a[i]);
+        rhs[i * M..(i + 1) * M].copy_from_slice(&x[i]);
+    }
+    solved && x.iter().flatten().all(|v| v.is_finite())
+}
+
+/// The elimination and back substitution of [`solve_many_fixed`].
+#[allow(clippy::needless_range_loop)] // the general version's index order, kept to the bit
+fn eliminate_arrays<const N: usize, const M: usize>(
+    a: &mut [[f64; N]; N],
+    x: &mut [[f64; M]; N],
+) -> bool {
+    for col in 0..N {
+        let mut pivot = col;
+        let mut best = a[col][col].abs();
+        for i in col + 1..N {
+            let v = a[i][col].abs();
+            if v > best {
+                best = v;
+                pivot = i;
+            }
+        }
+        if best == 0.0 || !best.is_finite() {
+            return false;
+        }
+        if pivot != col {
+            a.swap(col, pivot);
+            x.swap(col, pivot);
+        }
+        let p = a[col][col];
+        for i in col + 1..N {
+            let f = a[i][col] / p;
+            if f == 0.0 {
+                continue;
+            }
+            for j in col..N {
+                a[i][j] -= f * a[col][j];
+            }
+            for j in 0..M {
+                x[i][j] -= f * x[col][j];
+            }
+        }
+    }
+    for i in (0..N).rev() {
+        let d = a[i][i];
+        for j in 0..M {
+            let mut v = x[i][j];
+            for k in i + 1..N {
+                v -= a[i][k] * x[k][j];
+            }
+            x[i][j] = v / d;
+        }
+    }
+    true
+}
+
+/// [`solve_many`] for any size.
+fn solve_many_general(matrix: &mut [f64], rhs: &mut [f64], n: usize, m: usize) -> bool {
     for col in 0..n {
         let pivot = pivot_row(matrix, n, col);
         let best = matrix[pivot * n + col].abs();
@@ -133,6 +213,19 @@ pub fn lu_solve(matrix: &mut [f64], rhs: &mut [f64], n: usize) -> Option<LuInfo>
 /// Cholesky factor); the solution replaces `rhs`. Returns false when `A` is not positive
 /// definite, which for a tangent stiffness means an unstable or critical equilibrium.
 pub fn cholesky_solve(matrix: &mut [f64], rhs: &mut [f64], n: usize) -> bool {
+    // A PRB chain's tangent stiffness is this small in almost every Newton iteration of a
+    // fit: the same arithmetic, in the same order, on fixed-size arrays.
+    match n {
+        1 => cholesky_fixed::<1>(matrix, rhs),
+        2 => cholesky_fixed::<2>(matrix, rhs),
+        3 => cholesky_fixed::<3>(matrix, rhs),
+        4 => cholesky_fixed::<4>(matrix, rhs),
+        _ => cholesky_general(matrix, rhs, n),
+    }
+}
+
+/// [`cholesky_solve`] for any `n`.
+fn cholesky_general(matrix: &mut [f64], rhs: &mut [f64], n: usize) -> bool {
     for j in 0..n {
         let mut d = matrix[j * n + j];
         for k in 0..j {
@@ -167,6 +260,64 @@ pub fn cholesky_solve(matrix: &mut [f64], rhs: &mut [f64], n: usize) -> bool {
         rhs[i] = v / matrix[i * n + i];
     }
     rhs.iter().all(|v| v.is_finite())
+}
+
+/// [`cholesky_solve`] for `N` x `N`: the same operations in the same order (so the same
+/// result to the bit), on arrays the compiler unrolls.
+fn cholesky_fixed<const N: usize>(matrix: &mut [f64], rhs: &mut [f64]) -> bool {
+    let mut a = [[0.0; N]; N];
+    for (i, row) in a.iter_mut().enumerate() {
+        row.copy_from_slice(&matrix[i * N..(i + 1) * N]);
+    }
+    let mut x = [0.0; N];
+    x.copy_from_slice(&rhs[..N]);
+    let definite = cholesky_arrays(&mut a, &mut x);
+    for (i, row) in a.iter().enumerate() {
+        matrix[i * N..(i + 1) * N].copy_from_slice(row);
+    }
+    if !definite {
+        return false;
+    }
+    rhs[..N].copy_from_slice(&x);
+    x.iter().all(|v| v.is_finite())
+}
+
+/// The factorisation and both substitutions of [`cholesky_fixed`].
+#[allow(clippy::needless_range_loop)] // the general version's index order, kept to the bit
+fn cholesky_arrays<const N: usize>(a: &mut [[f64; N]; N], x: &mut [f64; N]) -> bool {
+    for j in 0..N {
+        let mut d = a[j][j];
+        for k in 0..j {
+            d -= a[j][k] * a[j][k];
+        }
+        if d.is_nan() || d <= 0.0 || !d.is_finite() {
+            return false;
+        }
+        let d = d.sqrt();
+        a[j][j] = d;
+        for i in j + 1..N {
+            let mut v = a[i][j];
+            for k in 0..j {
+                v -= a[i][k] * a[j][k];
+            }
+            a[i][j] = v / d;
+        }
+    }
+    for i in 0..N {
+        let mut v = x[i];
+        for k in 0..i {
+            v -= a[i][k] * x[k];
+        }
+        x[i] = v / a[i][i];
+    }
+    for i in (0..N).rev() {
+        let mut v = x[i];
+        for k in i + 1..N {
+            v -= a[k][i] * x[k];
+        }
+        x[i] = v / a[i][i];
+    }
+    true
 }
 
 /// The lowest natural frequencies of the linear system `A v = omega^2 B v` (`n` x `n`,
@@ -479,6 +630,68 @@ mod tests {
                     let ax: f64 = (0..n).map(|j| a[i * n + j] * x[j]).sum();
                     prop_assert!((ax - b[i]).abs() < 1e-12);
                 }
+            }
+        }
+    }
+
+    proptest! {
+        /// The fixed-size Cholesky (n = 1 to 4) is the general one to the bit: its factor,
+        /// its solution and its verdict, on symmetric matrices definite or not (the diagonal
+        /// shift ranges from well inside to well outside definiteness).
+        #[test]
+        fn fixed_size_cholesky_is_the_general_one(
+            n in 1usize..=4,
+            entries in proptest::collection::vec(-1.0..1.0f64, 16),
+            shift in -2.0..4.0f64,
+            b in proptest::collection::vec(-1.0..1.0f64, 4),
+        ) {
+            let mut a = vec![0.0; n * n];
+            for i in 0..n {
+                for j in 0..n {
+                    let mut v = if i == j { shift } else { 0.0 };
+                    for k in 0..n {
+                        v += entries[i * 4 + k] * entries[j * 4 + k];
+                    }
+                    a[i * n + j] = v;
+                }
+            }
+            let (mut ma, mut xa) = (a.clone(), b[..n].to_vec());
+            let (mut mb, mut xb) = (a, b[..n].to_vec());
+            let general = cholesky_general(&mut ma, &mut xa, n);
+            let fixed = cholesky_solve(&mut mb, &mut xb, n);
+            prop_assert_eq!(general, fixed);
+            if general {
+                let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+                prop_assert_eq!(bits(&ma), bits(&mb));
+                prop_assert_eq!(bits(&xa), bits(&xb));
+            }
+        }
+    }
+
+    proptest! {
+        /// The fixed-size elimination against three right-hand sides (n = 1 to 4) is the
+        /// general one to the bit, pivots and all, on random (unsymmetric, occasionally
+        /// singular: a zeroed row) matrices.
+        #[test]
+        fn fixed_size_elimination_is_the_general_one(
+            n in 1usize..=4,
+            entries in proptest::collection::vec(-1.0..1.0f64, 16),
+            zero_row in proptest::option::of(0usize..4),
+            b in proptest::collection::vec(-1.0..1.0f64, 12),
+        ) {
+            let mut a: Vec<f64> = (0..n * n).map(|k| entries[k]).collect();
+            if let Some(r) = zero_row.filter(|&r| r < n) {
+                a[r * n..(r + 1) * n].iter_mut().for_each(|v| *v = 0.0);
+            }
+            let (mut ma, mut xa) = (a.clone(), b[..3 * n].to_vec());
+            let (mut mb, mut xb) = (a, b[..3 * n].to_vec());
+            let general = solve_many_general(&mut ma, &mut xa, n, 3);
+            let fixed = solve_many(&mut mb, &mut xb, n, 3);
+            prop_assert_eq!(general, fixed);
+            if general {
+                let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+                prop_assert_eq!(bits(&ma), bits(&mb));
+                prop_assert_eq!(bits(&xa), bits(&xb));
             }
         }
     }

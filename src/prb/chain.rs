@@ -194,7 +194,8 @@ impl PrbSolver {
 
     pub(super) fn tip(&self, q: &[f64], ws: &mut Workspace) -> TipPose {
         let n = self.gamma.len();
-        self.segments(q, &mut ws.theta_cum, &mut ws.length);
+        let ws = ws.parts();
+        self.segments(q, ws.theta_cum, ws.length);
         let (mut a, mut b) = (0.0, 0.0);
         for j in 0..n {
             let (s, c) = ws.theta_cum[j].sin_cos();
@@ -231,10 +232,13 @@ impl PrbSolver {
     pub(super) fn residual(&self, load: Load, q: &[f64], ws: &mut Workspace) -> TipPose {
         let n = self.gamma.len();
         let m = self.dofs.len();
-        self.segments(q, &mut ws.theta_cum, &mut ws.length);
+        let ws = ws.parts();
+        self.segments(q, ws.theta_cum, ws.length);
         let (mut a, mut b) = (0.0, 0.0);
         for j in 0..n {
             let (s, c) = ws.theta_cum[j].sin_cos();
+            ws.sin[j] = s;
+            ws.cos[j] = c;
             ws.axial[j] = load.alpha_x * c + load.alpha_y * s;
             ws.transverse[j] = -load.alpha_x * s + load.alpha_y * c;
             a += ws.length[j] * c;
@@ -322,13 +326,13 @@ impl PrbSolver {
     pub fn linearise_into(&self, load: Load, q: &[f64], out: &mut Linearised) {
         let n = self.gamma.len();
         let m = self.dofs.len();
-        let ws = &mut out.work;
-        out.tip = self.residual(load, q, ws);
+        out.tip = self.residual(load, q, &mut out.work);
+        let ws = out.work.parts();
         // Suffix sums of the segments' projections: d(a, b)/d(theta_i) turns everything
         // beyond joint i.
         let (mut sa, mut sb) = (0.0, 0.0);
         for j in (0..n).rev() {
-            let (s, c) = ws.theta_cum[j].sin_cos();
+            let (s, c) = (ws.sin[j], ws.cos[j]);
             sa -= ws.length[j] * s;
             sb += ws.length[j] * c;
             ws.suffix_q[j] = sa;
@@ -337,10 +341,7 @@ impl PrbSolver {
         for (c, dof) in self.dofs.iter().enumerate() {
             let (da, db, dphi) = match *dof {
                 Dof::Theta(i) => (ws.suffix_q[i], ws.suffix_n[i], 1.0),
-                Dof::Delta(i) => {
-                    let (s, co) = ws.theta_cum[i].sin_cos();
-                    (co, s, 0.0)
-                }
+                Dof::Delta(i) => (ws.cos[i], ws.sin[i], 0.0),
             };
             out.tip_jacobian[c] = da;
             out.tip_jacobian[m + c] = db;
@@ -364,15 +365,14 @@ impl PrbSolver {
     pub fn cell_partials(&self, q: &[f64], lin: &mut Linearised) {
         let n = self.gamma.len();
         let cols = CELLS_PER_ROW * n;
-        let ws = &lin.work;
+        let ws = lin.work.parts();
         lin.cell_tip.clear();
         lin.cell_tip.resize(3 * cols, 0.0);
         lin.cell_residual.clear();
         lin.cell_residual.resize(self.dofs.len() * cols, 0.0);
         for j in 0..n {
-            let (s, c) = ws.theta_cum[j].sin_cos();
-            lin.cell_tip[CELLS_PER_ROW * j] = c;
-            lin.cell_tip[cols + CELLS_PER_ROW * j] = s;
+            lin.cell_tip[CELLS_PER_ROW * j] = ws.cos[j];
+            lin.cell_tip[cols + CELLS_PER_ROW * j] = ws.sin[j];
         }
         for (r, dof) in self.dofs.iter().enumerate() {
             let row = &mut lin.cell_residual[r * cols..(r + 1) * cols];
@@ -436,39 +436,75 @@ impl PrbSolver {
         let m = self.dofs.len();
         let mut ws = Workspace::new(self.gamma.len(), m);
         self.residual(load, q, &mut ws);
-        (ws.res[..m].to_vec(), ws.jac[..m * m].to_vec())
+        let ws = ws.parts();
+        (ws.res.to_vec(), ws.jac.to_vec())
     }
 }
 
 /// Cells per matrix row in [`PrbSolver::tip_sensitivity`]: gamma, k_theta, k_ex.
 pub const CELLS_PER_ROW: usize = 3;
 
-/// Scratch space for one path solve, so Newton allocates nothing.
+/// Scratch space for one path solve, so Newton allocates nothing: one allocation, handed
+/// out as named slices by [`Workspace::parts`].
 #[derive(Debug, Clone, PartialEq)]
 pub(super) struct Workspace {
-    theta_cum: Vec<f64>,
-    length: Vec<f64>,
-    axial: Vec<f64>,
-    transverse: Vec<f64>,
-    suffix_q: Vec<f64>,
-    suffix_n: Vec<f64>,
-    pub(super) res: Vec<f64>,
-    pub(super) step: Vec<f64>,
-    pub(super) jac: Vec<f64>,
+    n: usize,
+    m: usize,
+    buf: Vec<f64>,
+}
+
+/// A [`Workspace`]'s slices: `n` per segment, then `res` and `step` (`m`) and `jac` (`m * m`).
+pub(super) struct Parts<'a> {
+    pub(super) theta_cum: &'a mut [f64],
+    /// `sin` and `cos` of `theta_cum`, as [`PrbSolver::residual`] last left them.
+    pub(super) sin: &'a mut [f64],
+    pub(super) cos: &'a mut [f64],
+    pub(super) length: &'a mut [f64],
+    pub(super) axial: &'a mut [f64],
+    pub(super) transverse: &'a mut [f64],
+    pub(super) suffix_q: &'a mut [f64],
+    pub(super) suffix_n: &'a mut [f64],
+    pub(super) res: &'a mut [f64],
+    pub(super) step: &'a mut [f64],
+    pub(super) jac: &'a mut [f64],
 }
 
 impl Workspace {
+    /// Per-segment slices of a workspace.
+    const SEGMENT_SLICES: usize = 8;
+
     pub(super) fn new(n: usize, m: usize) -> Workspace {
         Workspace {
-            theta_cum: vec![0.0; n],
-            length: vec![0.0; n],
-            axial: vec![0.0; n],
-            transverse: vec![0.0; n],
-            suffix_q: vec![0.0; n],
-            suffix_n: vec![0.0; n],
-            res: vec![0.0; m],
-            step: vec![0.0; m],
-            jac: vec![0.0; m * m],
+            n,
+            m,
+            buf: vec![0.0; Self::SEGMENT_SLICES * n + 2 * m + m * m],
+        }
+    }
+
+    pub(super) fn parts(&mut self) -> Parts<'_> {
+        let (n, m) = (self.n, self.m);
+        let (theta_cum, rest) = self.buf.split_at_mut(n);
+        let (sin, rest) = rest.split_at_mut(n);
+        let (cos, rest) = rest.split_at_mut(n);
+        let (length, rest) = rest.split_at_mut(n);
+        let (axial, rest) = rest.split_at_mut(n);
+        let (transverse, rest) = rest.split_at_mut(n);
+        let (suffix_q, rest) = rest.split_at_mut(n);
+        let (suffix_n, rest) = rest.split_at_mut(n);
+        let (res, rest) = rest.split_at_mut(m);
+        let (step, jac) = rest.split_at_mut(m);
+        Parts {
+            theta_cum,
+            sin,
+            cos,
+            length,
+            axial,
+            transverse,
+            suffix_q,
+            suffix_n,
+            res,
+            step,
+            jac,
         }
     }
 }

@@ -185,8 +185,9 @@ impl PrbSolver {
                 return Err(Failure::Diverged);
             }
             let tip = self.residual(load, q, ws);
-            ws.step[..m].copy_from_slice(&ws.res[..m]);
-            if !cholesky_solve(&mut ws.jac[..m * m], &mut ws.step[..m], m) {
+            let ws = ws.parts();
+            ws.step.copy_from_slice(ws.res);
+            if !cholesky_solve(ws.jac, ws.step, m) {
                 return Err(Failure::NotPositiveDefinite);
             }
             let biggest = ws.step[..m].iter().fold(0.0_f64, |acc, v| acc.max(v.abs()));
