@@ -62,12 +62,6 @@ use objective::Objective;
 pub use objective::{CantileverTarget, Target};
 use progress::Tracker;
 
-/// Levenberg-Marquardt iterations every candidate gets before only the best
-/// [`POLISHED_CANDIDATES`] (that have not converged yet) are polished to the end.
-const SCOUT_ITERATIONS: u32 = 12;
-/// How many scouted candidates get the full polish.
-const POLISHED_CANDIDATES: usize = 3;
-
 /// How to fit.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FitOptions {
@@ -317,14 +311,17 @@ fn search_in(
     let mut candidates = distinct(candidates);
 
     // Local polish in two rounds: a short one from every candidate, then the full polish
-    // from the best few only, so hopeless candidates cost little. Once a polish reaches the
+    // from the best few only (`Fidelity::scouting`), so hopeless candidates cost little; a
+    // lone candidate gets the full polish at once. Once a polish reaches the
     // target's floor (errors a negligible part of the targets) the search is done.
     let mut best: Option<lm::LmResult> = None;
     let mut polish = local.unwrap_or_else(|| fidelity.lm());
     polish.floor = target.objective_floor(fidelity.floor_fraction());
     let mut scout = polish;
-    scout.max_iterations = SCOUT_ITERATIONS;
+    let (scout_iterations, polished) = fidelity.scouting();
+    scout.max_iterations = scout_iterations;
     let mut scouted: Vec<lm::LmResult> = Vec::new();
+    let alone = candidates.len() == 1;
     for round in 0..2 {
         let starts: Vec<DVector<f64>> = if round == 0 {
             std::mem::take(&mut candidates)
@@ -333,7 +330,7 @@ fn search_in(
             scouted
                 .iter()
                 .filter(|r| r.stop == lm::LmStop::IterationLimit)
-                .take(POLISHED_CANDIDATES)
+                .take(polished)
                 .map(|r| r.p.clone())
                 .collect()
         };
@@ -349,13 +346,15 @@ fn search_in(
             let mut on_iteration = |it: u32, j: f64, p: &DVector<f64>| {
                 tracker.offer("polish", it, j, p, objective.evaluations());
             };
-            let options = if round == 0 { scout } else { polish };
+            // A lone candidate has nothing to be compared with: it is polished at once.
+            let scouting = round == 0 && !alone;
+            let options = if scouting { scout } else { polish };
             let run = lm::minimise(candidate, options, &mut residuals, &mut on_iteration);
             iterations += run.iterations;
             if best.as_ref().is_none_or(|b| run.objective < b.objective) {
                 best = Some(run.clone());
             }
-            if round == 0 {
+            if scouting {
                 scouted.push(run);
             }
         }
