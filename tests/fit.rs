@@ -77,38 +77,38 @@ fn fitted_3r_beats_su_and_chen_on_every_scene() {
 /// normal baseline. Draft fits half the load samples at a coarse
 /// resolution, which alone costs it up to about 1 % (`cargo bench --bench fit`: 0.2-0.9 %
 /// above precise for these 3R fits, normal 0.04-0.2 %); a draft that stopped after its scouts
-/// (no full polish) is 0.3 %, 1.3 % and 3.6 % above normal here. (Draft's L-RP-RP-RP on the spring-steel scene
-/// was 17 % above precise with twelve scouting iterations and three polishes too: it ends on
-/// the 3R with its extension springs unused, which normal's swarm gets past.)
+/// (no full polish) is 0.3 %, 1.3 % and 3.6 % above normal here. (Draft's L-RP-RP-RP on the
+/// spring-steel scene was 17 % above precise with twelve scouting iterations and three
+/// polishes too: it ends on the 3R with its extension springs unused, which normal's swarm
+/// gets past.)
 #[test]
 fn a_draft_fit_is_within_two_percent_of_normal() {
     for scene in scenes() {
         let normal_study = Study::as_given(&scene, Sampling::Fidelity(Fidelity::Normal)).unwrap();
         let baseline = normal_study.baseline().unwrap().clone();
-        for topology in ["L-R-R-R"] {
-            let start = PrbMatrix::from_topology(topology).unwrap();
-            let j = |fidelity: Fidelity| {
-                let study = Study::as_given(&scene, Sampling::Fidelity(fidelity)).unwrap();
-                let report = study
-                    .fit(
-                        &start,
-                        &options(&scene, fidelity),
-                        &mut |_| {},
-                        &CancelToken::new(),
-                    )
-                    .unwrap();
-                let figures = evaluate(&report.matrix, &baseline, scene.fit.angle_weight)
-                    .unwrap()
-                    .figures;
-                (figures.objective, report.evaluations)
-            };
-            let (draft, normal) = (j(Fidelity::Draft), j(Fidelity::Normal));
-            println!(
-                "{} {topology}: draft J {:.4e} ({} evaluations), normal J {:.4e} ({})",
-                scene.name, draft.0, draft.1, normal.0, normal.1
-            );
-            assert!(draft.0 <= 1.02 * normal.0, "{draft:?} against {normal:?}");
-        }
+        let topology = "L-R-R-R";
+        let start = PrbMatrix::from_topology(topology).unwrap();
+        let j = |fidelity: Fidelity| {
+            let study = Study::as_given(&scene, Sampling::Fidelity(fidelity)).unwrap();
+            let report = study
+                .fit(
+                    &start,
+                    &options(&scene, fidelity),
+                    &mut |_| {},
+                    &CancelToken::new(),
+                )
+                .unwrap();
+            let figures = evaluate(&report.matrix, &baseline, scene.fit.angle_weight)
+                .unwrap()
+                .figures;
+            (figures.objective, report.evaluations)
+        };
+        let (draft, normal) = (j(Fidelity::Draft), j(Fidelity::Normal));
+        println!(
+            "{} {topology}: draft J {:.4e} ({} evaluations), normal J {:.4e} ({})",
+            scene.name, draft.0, draft.1, normal.0, normal.1
+        );
+        assert!(draft.0 <= 1.02 * normal.0, "{draft:?} against {normal:?}");
     }
 }
 
