@@ -2,7 +2,7 @@
 //!
 //! 1. A 3R (`L-R-R-R`) fit on the built-in 20-case scene at `normal` fidelity, baseline
 //!    included: median wall time.
-//! 2. For every example scene and a few topologies, each fidelity's time (baseline + fit) and
+//! 2. For three example scenes and a few topologies, each fidelity's time (baseline + fit) and
 //!    how far its answer is from `precise`: every fitted matrix is judged on the precise
 //!    baseline (fine resolution, doubled load sampling), so the J column is comparable.
 //!

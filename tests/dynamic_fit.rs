@@ -212,3 +212,28 @@ fn mechanism_and_data_scenes_go_through_the_same_study() {
     let judged = study.judge(&su).unwrap();
     assert!(judged.frequencies.unwrap().nominal);
 }
+
+/// A staged dynamic fit ends on a polish alone from the statics-and-masses optimum: its one
+/// candidate keeps the twelve-iteration scout and the full polish that restarts from it. The
+/// ringing flexure (every effect, a tip body) fitted with L-RP-RP-RP and `modes = 2` at
+/// normal then matches both frequencies to 0.004 % (measured); one run of the same budget
+/// stopped "converged" at J 6.8e-3 with an 11 % frequency error. 0.1 % is a tenth of the
+/// scene's 1 % target: far from either.
+#[test]
+fn a_staged_fit_polishes_its_lone_candidate_to_the_frequencies() {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/assets/scenes/ringing-flexure.toml"
+    );
+    let text = std::fs::read_to_string(path).unwrap() + "\n[fit]\nmodes = 2\n";
+    let scene = Scene::from_toml_str(&text, "ringing.toml").unwrap();
+    let study = Study::as_given(&scene, Sampling::Fidelity(Fidelity::Normal)).unwrap();
+    let start = PrbMatrix::from_topology("L-RP-RP-RP").unwrap();
+    let fitted = fit(&study, &start);
+    let f = study.frequencies(&fitted.matrix).unwrap();
+    eprintln!(
+        "ringing flexure, L-RP-RP-RP, modes = 2: J {:.4e}, frequency errors {:?}",
+        fitted.figures.objective, f.freq_err
+    );
+    assert!(f.max_err() < 1e-3, "{f:?}");
+}

@@ -35,7 +35,7 @@ fn options(scene: &Scene, fidelity: Fidelity) -> FitOptions {
     }
 }
 
-/// On every example scene the fitted L-R-R-R is at least as good in J as Su's and Chen's 3R
+/// On three example scenes the fitted L-R-R-R is at least as good in J as Su's and Chen's 3R
 /// (printed with `-- --nocapture`).
 #[test]
 fn fitted_3r_beats_su_and_chen_on_every_scene() {
@@ -73,7 +73,7 @@ fn fitted_3r_beats_su_and_chen_on_every_scene() {
 }
 
 /// Draft scouts every distinct start for three iterations and polishes only the best in full:
-/// on every example scene its 3R stays within 2 % of the normal fit's `J`, both judged on the
+/// on three example scenes its 3R stays within 2 % of the normal fit's `J`, both judged on the
 /// normal baseline. Draft fits half the load samples at a coarse
 /// resolution, which alone costs it up to about 1 % (`cargo bench --bench fit`: 0.2-0.9 %
 /// above precise for these 3R fits, normal 0.04-0.2 %); a draft that stopped after its scouts

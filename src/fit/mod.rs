@@ -311,17 +311,16 @@ fn search_in(
     let mut candidates = distinct(candidates);
 
     // Local polish in two rounds: a short one from every candidate, then the full polish
-    // from the best few only (`Fidelity::scouting`), so hopeless candidates cost little; a
-    // lone candidate gets the full polish at once. Once a polish reaches the
+    // from the best few that have not converged (`Fidelity::scouting`), so hopeless
+    // candidates cost little. Once a polish reaches the
     // target's floor (errors a negligible part of the targets) the search is done.
     let mut best: Option<lm::LmResult> = None;
     let mut polish = local.unwrap_or_else(|| fidelity.lm());
     polish.floor = target.objective_floor(fidelity.floor_fraction());
     let mut scout = polish;
-    let (scout_iterations, polished) = fidelity.scouting();
+    let (scout_iterations, polished) = fidelity.scouting(candidates.len());
     scout.max_iterations = scout_iterations;
     let mut scouted: Vec<lm::LmResult> = Vec::new();
-    let alone = candidates.len() == 1;
     for round in 0..2 {
         let starts: Vec<DVector<f64>> = if round == 0 {
             std::mem::take(&mut candidates)
@@ -346,15 +345,13 @@ fn search_in(
             let mut on_iteration = |it: u32, j: f64, p: &DVector<f64>| {
                 tracker.offer("polish", it, j, p, objective.evaluations());
             };
-            // A lone candidate has nothing to be compared with: it is polished at once.
-            let scouting = round == 0 && !alone;
-            let options = if scouting { scout } else { polish };
+            let options = if round == 0 { scout } else { polish };
             let run = lm::minimise(candidate, options, &mut residuals, &mut on_iteration);
             iterations += run.iterations;
             if best.as_ref().is_none_or(|b| run.objective < b.objective) {
                 best = Some(run.clone());
             }
-            if scouting {
+            if round == 0 {
                 scouted.push(run);
             }
         }
