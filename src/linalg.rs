@@ -634,16 +634,23 @@ mod tests {
         }
     }
 
+    /// A NaN or an infinity of either sign.
+    fn non_finite() -> impl Strategy<Value = f64> {
+        prop_oneof![Just(f64::NAN), Just(f64::INFINITY), Just(f64::NEG_INFINITY)]
+    }
+
     proptest! {
         /// The fixed-size Cholesky (n = 1 to 4) is the general one to the bit: its factor,
         /// its solution and its verdict, on symmetric matrices definite or not (the diagonal
-        /// shift ranges from well inside to well outside definiteness).
+        /// shift ranges from well inside to well outside definiteness), sometimes with a NaN
+        /// or an infinity in one entry.
         #[test]
         fn fixed_size_cholesky_is_the_general_one(
             n in 1usize..=4,
             entries in proptest::collection::vec(-1.0..1.0f64, 16),
             shift in -2.0..4.0f64,
             b in proptest::collection::vec(-1.0..1.0f64, 4),
+            special in proptest::option::of((0usize..16, non_finite())),
         ) {
             let mut a = vec![0.0; n * n];
             for i in 0..n {
@@ -654,6 +661,9 @@ mod tests {
                     }
                     a[i * n + j] = v;
                 }
+            }
+            if let Some((k, v)) = special.filter(|&(k, _)| k < n * n) {
+                a[k] = v;
             }
             let (mut ma, mut xa) = (a.clone(), b[..n].to_vec());
             let (mut mb, mut xb) = (a, b[..n].to_vec());
@@ -671,17 +681,21 @@ mod tests {
     proptest! {
         /// The fixed-size elimination against three right-hand sides (n = 1 to 4) is the
         /// general one to the bit, pivots and all, on random (unsymmetric, occasionally
-        /// singular: a zeroed row) matrices.
+        /// singular: a zeroed row; sometimes a NaN or an infinity in one entry) matrices.
         #[test]
         fn fixed_size_elimination_is_the_general_one(
             n in 1usize..=4,
             entries in proptest::collection::vec(-1.0..1.0f64, 16),
             zero_row in proptest::option::of(0usize..4),
             b in proptest::collection::vec(-1.0..1.0f64, 12),
+            special in proptest::option::of((0usize..16, non_finite())),
         ) {
             let mut a: Vec<f64> = (0..n * n).map(|k| entries[k]).collect();
             if let Some(r) = zero_row.filter(|&r| r < n) {
                 a[r * n..(r + 1) * n].iter_mut().for_each(|v| *v = 0.0);
+            }
+            if let Some((k, v)) = special.filter(|&(k, _)| k < n * n) {
+                a[k] = v;
             }
             let (mut ma, mut xa) = (a.clone(), b[..3 * n].to_vec());
             let (mut mb, mut xb) = (a, b[..3 * n].to_vec());
