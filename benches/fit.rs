@@ -2,7 +2,11 @@
 //!
 //! 1. A 3R (`L-R-R-R`) fit on the built-in 20-case scene at `normal` fidelity, baseline
 //!    included: median wall time.
-//! 2. For three example scenes and a few topologies, each fidelity's time (baseline + fit) and
+//! 2. The scipy job's fit (`benches/scipy/fit3r.py`: the built-in scene's loads on the plain
+//!    elastica, `L-R-R-R` at `draft`) in this warm process: its baseline and its fit apart,
+//!    the best of many runs, and its evaluations (deterministic: the figure to compare
+//!    across changes when the machine is noisy).
+//! 3. For three example scenes and a few topologies, each fidelity's time (baseline + fit) and
 //!    how far its answer is from `precise`: every fitted matrix is judged on the precise
 //!    baseline (fine resolution, doubled load sampling), so the J column is comparable.
 //!
@@ -58,6 +62,39 @@ fn main() {
         times.iter().cloned().fold(f64::MAX, f64::min) * 1e3,
         times.iter().cloned().fold(0.0, f64::max) * 1e3,
         times.len()
+    );
+
+    // The scipy job's fit: the truth (`Study::as_given`, the draft baseline) and the fit
+    // timed apart, each the best of 200 runs.
+    let elastica = Scene::from_toml_str(
+        &prbfit::scene::DEFAULT_SCENE_TOML.replacen("effects = \"auto\"", "effects = []", 1),
+        "elastica.toml",
+    )
+    .unwrap();
+    let (mut truth, mut fit, mut evaluations) = (f64::MAX, f64::MAX, 0);
+    for _ in 0..200 {
+        let t0 = Instant::now();
+        let study = Study::as_given(&elastica, Sampling::Fidelity(Fidelity::Draft)).unwrap();
+        let t1 = Instant::now();
+        let options = FitOptions {
+            fidelity: Fidelity::Draft,
+            angle_weight: elastica.fit.angle_weight,
+            seed: 1,
+        };
+        let start = PrbMatrix::from_topology("L-R-R-R").unwrap();
+        let report = study
+            .fit(&start, &options, &mut |_| {}, &CancelToken::new())
+            .unwrap();
+        truth = truth.min((t1 - t0).as_secs_f64());
+        fit = fit.min(t1.elapsed().as_secs_f64());
+        evaluations = report.evaluations;
+    }
+    println!(
+        "the scipy job's fit (built-in loads, elastica, L-R-R-R, draft), best of 200 in this \
+         process: truth {:.1} us, fit {:.1} us, {} evaluations\n",
+        truth * 1e6,
+        fit * 1e6,
+        evaluations
     );
 
     // Cancellation: a precise fit (several hundred ms) cancelled 30 ms in; the time from the
