@@ -229,7 +229,6 @@ pub fn objective_of(target: &dyn Target, template: &PrbMatrix, matrix: &PrbMatri
         .filter(|j| j.is_finite())
 }
 
-/// [`search`] (`local: None`) or [`polish`] (`local`: its settings).
 /// `points` without repeats, in order. The same point twice among the polish's candidates
 /// (`--topology`'s start is the topology's default; a published model given as the start is
 /// also among the published starts) would be polished twice, the same way, to the same end.
@@ -243,6 +242,7 @@ fn distinct(points: Vec<DVector<f64>>) -> Vec<DVector<f64>> {
     out
 }
 
+/// [`search`] (`local: None`) or [`polish`] (`local`: its settings).
 fn search_in(
     target: &dyn Target,
     start: &PrbMatrix,

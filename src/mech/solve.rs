@@ -21,9 +21,9 @@ pub trait FlexureModel {
     /// moment of a beam, the tip moment of a chain) and internal unknowns `z`.
     fn eval(&self, w: [f64; 3], z: &[f64]) -> Result<FlexEval, TipFailure>;
     /// [`FlexureModel::eval`] where the Jacobian is not needed: the same outputs and
-    /// residuals (to the model's integration tolerance), with `jacobian` left empty where leaving it out saves work (the beam's shot
-    /// without its variational equations). Newton checks a last iterate this way. The
-    /// default is the full evaluation.
+    /// residuals (to the model's integration tolerance), with `jacobian` left empty where
+    /// leaving it out saves work (the beam's shot without its variational equations). Newton
+    /// checks a last iterate this way. The default is the full evaluation.
     fn eval_values(&self, w: [f64; 3], z: &[f64]) -> Result<FlexEval, TipFailure> {
         self.eval(w, z)
     }

@@ -157,7 +157,8 @@ impl<M: FlexureModel> MechSolver<M> {
 
     /// [`MechSolver::system`] with the flexures evaluated by values alone where that is
     /// cheaper (`full` false): its residual, load and outputs are the same to the shots'
-    /// integration tolerance, but the Jacobian cannot be formed from it ([`System::has_jacobian`]).
+    /// integration tolerance, but the Jacobian cannot be formed from it
+    /// ([`System::has_jacobian`]).
     pub(super) fn system_with(
         &self,
         at: &[Coordinate; 3],
@@ -590,9 +591,8 @@ mod tests {
     /// each figure is a hundred times that). On three flexures with every effect on
     /// (Dormand-Prince shots), and on a parallel stage of elastica flexures (Taylor shots),
     /// pushed sideways, then with its upper flexure compressed past its buckling load as a
-    /// dead load (not load-stable: the stability test reads the
-    /// Jacobian the check carries over). Most cases end on a check, which spares each
-    /// flexure a full evaluation.
+    /// dead load (not load-stable: the stability test reads the Jacobian the check carries
+    /// over). Most cases end on a check, which spares each flexure a full evaluation.
     #[test]
     fn a_check_by_values_gives_the_full_evaluations_cases() {
         let clamped = |root: [f64; 2]| Flexure {

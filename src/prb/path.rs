@@ -190,7 +190,7 @@ impl PrbSolver {
             if !cholesky_solve(ws.jac, ws.step, m) {
                 return Err(Failure::NotPositiveDefinite);
             }
-            let biggest = ws.step[..m].iter().fold(0.0_f64, |acc, v| acc.max(v.abs()));
+            let biggest = ws.step.iter().fold(0.0_f64, |acc, v| acc.max(v.abs()));
             if !biggest.is_finite() {
                 return Err(Failure::Diverged);
             }
@@ -199,7 +199,7 @@ impl PrbSolver {
             } else {
                 1.0
             };
-            for (qi, si) in q.iter_mut().zip(&ws.step[..m]) {
+            for (qi, si) in q.iter_mut().zip(ws.step.iter()) {
                 *qi -= scale * si;
             }
             if biggest <= NEWTON_TOL {
