@@ -322,18 +322,22 @@ fn search_in(
     scout.max_iterations = scout_iterations;
     let mut scouted: Vec<lm::LmResult> = Vec::new();
     for round in 0..2 {
-        let starts: Vec<DVector<f64>> = if round == 0 {
+        // A polish continues where its scout stopped, with the scout's last evaluation.
+        let starts: Vec<(DVector<f64>, Option<lm::Evaluation>)> = if round == 0 {
             std::mem::take(&mut candidates)
+                .into_iter()
+                .map(|p| (p, None))
+                .collect()
         } else {
             scouted.sort_by(|a, b| a.objective.total_cmp(&b.objective));
             scouted
-                .iter()
+                .iter_mut()
                 .filter(|r| r.stop == lm::LmStop::IterationLimit)
                 .take(polished)
-                .map(|r| r.p.clone())
+                .map(|r| (r.p.clone(), r.evaluation.take()))
                 .collect()
         };
-        for candidate in starts {
+        for (candidate, evaluated) in starts {
             // A polish that reached the floor is as good as any: the rest cannot gain.
             let at_floor = best.as_ref().is_some_and(|b| b.objective <= polish.floor);
             if cancel.is_cancelled() || at_floor {
@@ -346,7 +350,13 @@ fn search_in(
                 tracker.offer("polish", it, j, p, objective.evaluations());
             };
             let options = if round == 0 { scout } else { polish };
-            let run = lm::minimise(candidate, options, &mut residuals, &mut on_iteration);
+            let run = lm::minimise_from(
+                candidate,
+                evaluated,
+                options,
+                &mut residuals,
+                &mut on_iteration,
+            );
             iterations += run.iterations;
             if best.as_ref().is_none_or(|b| run.objective < b.objective) {
                 best = Some(run.clone());
@@ -359,7 +369,7 @@ fn search_in(
     tracker.flush("polish", iterations, objective.evaluations());
 
     let evaluations = objective.evaluations();
-    let (p, stop) = match best {
+    let (p, stop) = match &best {
         // Cancelled before any polish finished: the best point seen anywhere.
         None => (tracker.best_p.clone(), StopReason::Cancelled),
         Some(b) => {
@@ -376,11 +386,15 @@ fn search_in(
             if tracker.best_j < b.objective {
                 (tracker.best_p.clone(), stop)
             } else {
-                (b.p, stop)
+                (b.p.clone(), stop)
             }
         }
     };
-    let best_j = objective.value(&p).unwrap_or(tracker.best_j);
+    // The polish's own J where it ended; a point only the tracker saw is evaluated again.
+    let best_j = match &best {
+        Some(b) if b.p == p && b.evaluation.is_some() => b.objective,
+        _ => objective.value(&p).unwrap_or(tracker.best_j),
+    };
     let improved = best_j < start_objective;
     let (matrix, stop) = if !improved {
         (

@@ -30,8 +30,10 @@ impl Fidelity {
     /// the best `polished` that have not converged yet are polished to the end.
     ///
     /// At draft, with more than one candidate, three iterations show which basin is best and
-    /// one full polish follows it: the 20-case 3R fit takes 27 evaluations where twelve
-    /// iterations and three polishes took 53, to the same `J` (`cargo bench --bench fit`).
+    /// one full polish follows it: the 20-case 3R fit took 27 evaluations where twelve
+    /// iterations and three polishes took 53, to the same `J` (`cargo bench --bench fit`;
+    /// 20 since the polish continues from its scout's last evaluation and damps by
+    /// Nielsen's rule, [`super::lm`]).
     /// A lone candidate (a polish alone, as a staged dynamic fit's last stage; a topology with
     /// one start) keeps twelve and the full polish that restarts from them, at every
     /// fidelity: one run of the same budget instead stops far from the optimum on a staged
