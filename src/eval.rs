@@ -16,7 +16,7 @@ use crate::beam::{
 };
 use crate::cancel::CancelToken;
 use crate::mech::figures::Figures;
-use crate::prb::{PrbCase, PrbError, PrbMatrix, PrbSolver};
+use crate::prb::{PrbCase, PrbError, PrbMatrix, PrbSolver, WarmStart};
 use crate::scene::data::DataTruth;
 use crate::scene::{LoadPath, Scene};
 
@@ -202,25 +202,59 @@ impl Baseline {
     pub fn follow(
         &self,
         solver: &PrbSolver,
+        visit: impl FnMut(&BeamSolution, &PrbCase<'_>),
+        on_failure: impl FnMut(&[BeamSolution], &EvalError) -> ControlFlow<()>,
+    ) -> Result<(), EvalError> {
+        self.follow_warm(solver, None, visit, on_failure)
+    }
+
+    /// As [`Baseline::follow`], with a warm start: given `warm` (one [`WarmStart`] per
+    /// path, grown as needed) and whether to use it, each path's cases are first tried from
+    /// the equilibria `warm` holds, and `warm` then holds this solver's (a fit's next trial
+    /// model starts from them). The equilibria reported are the same; only the cost differs.
+    pub fn follow_warm(
+        &self,
+        solver: &PrbSolver,
+        mut warm: Option<(&mut Vec<WarmStart>, bool)>,
         mut visit: impl FnMut(&BeamSolution, &PrbCase<'_>),
         mut on_failure: impl FnMut(&[BeamSolution], &EvalError) -> ControlFlow<()>,
     ) -> Result<(), EvalError> {
+        if let Some((starts, _)) = warm.as_mut() {
+            starts.resize_with(self.paths.len(), WarmStart::default);
+        }
+        let m = solver.dof_count();
         let mut start = 0;
         for (i, path) in self.paths.iter().enumerate() {
             let end = (start + path.steps as usize).min(self.solutions.len());
             let beam = &self.solutions[start..end];
             start = end;
             let mut reached = 0;
+            let mut fresh = WarmStart::default();
+            fresh.clear(m);
             let mut on_case = |case: PrbCase<'_>| {
                 if let Some(b) = beam.get(reached) {
                     visit(b, &case);
                 }
                 reached += 1;
+                fresh.push(&case);
             };
-            let outcome = match self.measured.as_ref().and_then(|m| m.get(i)) {
-                Some(rows) => solver.solve_rows_with(rows, &mut on_case),
-                None => solver.solve_path_with(path.end, path.steps, &mut on_case),
+            let rows = self
+                .measured
+                .as_ref()
+                .and_then(|m| m.get(i))
+                .map(Vec::as_slice);
+            let outcome = match &mut warm {
+                Some((starts, true)) => {
+                    solver.solve_warm_with(path.end, path.steps, rows, &starts[i], &mut on_case)
+                }
+                _ => match rows {
+                    Some(rows) => solver.solve_rows_with(rows, &mut on_case),
+                    None => solver.solve_path_with(path.end, path.steps, &mut on_case),
+                },
             };
+            if let Some((starts, _)) = warm.as_mut() {
+                starts[i] = fresh;
+            }
             if let Err(source) = outcome {
                 let missed = &beam[reached.min(beam.len())..];
                 let error = EvalError {

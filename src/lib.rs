@@ -46,5 +46,6 @@ pub mod scene;
 pub mod si;
 pub mod study;
 pub mod text;
+mod trig;
 #[cfg(feature = "tui")]
 pub mod tui;

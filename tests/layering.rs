@@ -6,10 +6,11 @@
 use std::path::Path;
 
 /// Bottom first; each module may use those before it. `cli` is the binary and sits on top.
-const LAYERS: [&str; 20] = [
+const LAYERS: [&str; 21] = [
     "cancel",
     "continuation",
     "text",
+    "trig",
     "linalg",
     "beam",
     "prb",

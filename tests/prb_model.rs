@@ -1,8 +1,10 @@
 //! PRB matrix and statics: closed forms, the analytic Jacobian, round trips, bad input.
 #![allow(clippy::unwrap_used, clippy::expect_used)] // tests: a failure should panic
 
-use prbfit::beam::Load;
-use prbfit::prb::{Column, MatrixError, PrbMatrix, PrbRow, PrbSolver, TipBody};
+use prbfit::beam::{Load, TipPose};
+use prbfit::prb::{
+    Column, MatrixError, PrbCase, PrbError, PrbMatrix, PrbRow, PrbSolver, TipBody, WarmStart,
+};
 use proptest::prelude::*;
 
 /// A random valid matrix: 1 to 5 rows, any mix of L, R, P, RP (at least one joint).
@@ -283,4 +285,129 @@ fn bad_matrices_are_rejected_with_row_and_column() {
         .unwrap_err()
         .to_string();
     assert!(err.contains("row 1") && err.contains("soft"), "{err}");
+}
+
+/// The cases of `solver` along `end` in `steps`, warm-started from `warm` if given, and the
+/// equilibria as a warm start for the next model.
+fn warm_path(
+    solver: &PrbSolver,
+    end: Load,
+    steps: u32,
+    warm: Option<&WarmStart>,
+) -> (Result<Vec<(TipPose, u32)>, PrbError>, WarmStart) {
+    let mut cases = Vec::new();
+    let mut next = WarmStart::default();
+    next.clear(solver.dof_count());
+    let mut visit = |c: PrbCase<'_>| {
+        cases.push((c.tip, c.iterations));
+        next.push(&c);
+    };
+    let outcome = match warm {
+        Some(w) => solver.solve_warm_with(end, steps, None, w, &mut visit),
+        None => solver.solve_path_with(end, steps, &mut visit),
+    };
+    (outcome.map(|()| cases), next)
+}
+
+/// `matrix` with every finite spring scaled by `factor`.
+fn springs_scaled(matrix: &PrbMatrix, factor: f64) -> PrbMatrix {
+    let rows = matrix
+        .rows()
+        .iter()
+        .map(|r| PrbRow {
+            k_theta: r.k_theta * factor,
+            k_ex: r.k_ex * factor,
+            ..*r
+        })
+        .collect();
+    PrbMatrix::new(rows).unwrap()
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(96))]
+
+    /// A path warm-started from a neighbouring model's equilibria (its springs 0.8 to 1.25
+    /// times) reports the equilibria the plain path does, to Newton's tolerance (1e-13 on
+    /// the joints; 1e-10 on the tips leaves room for the early stop's estimate), and fails
+    /// where the plain path fails: the warm start changes the cost, not the answer.
+    #[test]
+    fn a_warm_start_changes_the_cost_not_the_equilibria(
+        m in matrix(),
+        factor in 0.8..1.25f64,
+        ax in -12.0..12.0f64,
+        ay in -12.0..12.0f64,
+        beta in -4.0..4.0f64,
+        steps in 1..6u32,
+    ) {
+        let end = Load::new(ax, ay, beta);
+        let near = springs_scaled(&m, factor);
+        let (_, warm) = warm_path(&PrbSolver::new(&m, C_E), end, steps, None);
+        let solver = PrbSolver::new(&near, C_E);
+        let (plain, _) = warm_path(&solver, end, steps, None);
+        let (warmed, _) = warm_path(&solver, end, steps, Some(&warm));
+        match (plain, warmed) {
+            (Ok(p), Ok(w)) => {
+                prop_assert_eq!(p.len(), w.len());
+                for ((pt, _), (wt, _)) in p.iter().zip(&w) {
+                    prop_assert!(pt.max_diff(wt) < 1e-10, "{:?} against {:?}", wt, pt);
+                }
+            }
+            (Err(_), Err(_)) => {}
+            (p, w) => prop_assert!(false, "plain {:?}, warm {:?}", p.err(), w.err()),
+        }
+    }
+}
+
+/// Su's 3R along a combined load, warm-started from the model with 1 % stiffer springs (a
+/// late polish step): every case reached, in fewer Newton iterations than from rest (the
+/// hint's first update is the parameter change's first-order effect).
+#[test]
+fn a_warm_start_saves_newton_iterations() {
+    let su = PrbMatrix::parse("0.10,inf,inf; 0.35,3.51,inf; 0.40,2.99,inf; 0.15,2.58,inf").unwrap();
+    let end = Load::new(-1.0, 3.0, 1.0);
+    let (_, warm) = warm_path(
+        &PrbSolver::new(&springs_scaled(&su, 1.01), C_E),
+        end,
+        5,
+        None,
+    );
+    let solver = PrbSolver::new(&su, C_E);
+    let (plain, _) = warm_path(&solver, end, 5, None);
+    let (warmed, _) = warm_path(&solver, end, 5, Some(&warm));
+    let total = |cases: &[(TipPose, u32)]| cases.iter().map(|c| c.1).sum::<u32>();
+    let (plain, warmed) = (plain.unwrap(), warmed.unwrap());
+    assert!(
+        total(&warmed) < total(&plain),
+        "warm {} against plain {} iterations",
+        total(&warmed),
+        total(&plain)
+    );
+}
+
+/// A warm start does not carry a model past its buckling load: the 1R pushed along its
+/// axis to 1.25 times `k / gamma` (critical at 0.8 of the path, between the cases at 4/6
+/// and 5/6), warm-started from a model 30 % stiffer (which stays straight there), still
+/// meets its critical point where it does from rest, to within the path's smallest step
+/// (1e-7). Each hint past it is a straight chain whose stiffness is not positive definite,
+/// so it is forgotten.
+#[test]
+fn a_warm_start_does_not_pass_a_critical_point() {
+    let m = PrbMatrix::parse("0.15,inf,inf; 0.85,2.2525,inf").unwrap();
+    let critical = 2.2525 / 0.85;
+    let end = Load::new(-1.25 * critical, 0.0, 0.0);
+    let (stiffer, warm) = warm_path(&PrbSolver::new(&springs_scaled(&m, 1.3), C_E), end, 6, None);
+    assert_eq!(stiffer.unwrap().len(), 6);
+    let solver = PrbSolver::new(&m, C_E);
+    let fraction = |r: Result<Vec<(TipPose, u32)>, PrbError>| match r {
+        Err(PrbError::Unstable { fraction, .. }) => fraction,
+        other => panic!("expected a critical point, got {other:?}"),
+    };
+    let plain = fraction(warm_path(&solver, end, 6, None).0);
+    let warmed = fraction(warm_path(&solver, end, 6, Some(&warm)).0);
+    for at in [plain, warmed] {
+        assert!(
+            (at - 0.8).abs() < 2e-7,
+            "plain at {plain}, warm at {warmed}"
+        );
+    }
 }

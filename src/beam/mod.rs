@@ -89,7 +89,6 @@ mod solve;
 mod solver;
 mod stress;
 mod taylor;
-mod trig;
 
 pub use load::{Load, ShapePoint, TipPose};
 pub use model::{cowper_kappa, BeamModel, Effects, ModelError, MAX_SLENDERNESS};

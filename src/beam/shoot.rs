@@ -122,7 +122,7 @@ pub(crate) fn rhs<const N: usize>(
     f: TipForce,
     u: &State<N>,
 ) -> Result<State<N>, MaterialLimit> {
-    let (sn, cs) = super::trig::sin_cos(u[PSI]);
+    let (sn, cs) = crate::trig::sin_cos(u[PSI]);
     let m = u[MOM];
     let n = f.alpha_x * cs + f.alpha_y * sn;
     let q = -f.alpha_x * sn + f.alpha_y * cs;

@@ -68,7 +68,7 @@ impl BeamModel {
 
 /// `sigma` and `d sigma / ds` at a section of angle `psi` carrying the moment `m`.
 fn stress_and_slope(model: &BeamModel, force: TipForce, psi: f64, m: f64) -> Option<(f64, f64)> {
-    let (sn, cs) = super::trig::sin_cos(psi);
+    let (sn, cs) = crate::trig::sin_cos(psi);
     let n = force.alpha_x * cs + force.alpha_y * sn;
     let q = -force.alpha_x * sn + force.alpha_y * cs;
     let (_, de_dn, p) = model.axial_strain(n).ok()?;
@@ -158,7 +158,7 @@ impl BeamSolver {
         let bend = 1.0 / (2.0 * model.slenderness);
         let c_e = model.axial_compliance();
         let exact = |p: &ShapePoint| {
-            let (sn, cs) = super::trig::sin_cos(p.psi);
+            let (sn, cs) = crate::trig::sin_cos(p.psi);
             let n = force.alpha_x * cs + force.alpha_y * sn;
             (c_e * n.abs() + bend * moment(p).abs(), n)
         };

@@ -319,7 +319,7 @@ fn coefficients<const N: usize>(
         let mut sp = [0.0_f64; COLS];
         let mut cp = [0.0_f64; COLS];
         if k == 0 {
-            let (s0, c0) = super::trig::sin_cos(z[0][0]);
+            let (s0, c0) = crate::trig::sin_cos(z[0][0]);
             sn[0] = s0;
             cs[0] = c0;
         } else {

@@ -16,6 +16,8 @@ struct Fold {
     tried: Vec<f64>,
     /// Every case reported: `(lambda, x, tally)`.
     cases: Vec<(f64, f64, Tally)>,
+    /// A warm start: a first guess per case.
+    hints: Vec<f64>,
 }
 
 impl Fold {
@@ -26,6 +28,7 @@ impl Fold {
             cancel_after: None,
             tried: Vec::new(),
             cases: Vec::new(),
+            hints: Vec::new(),
         }
     }
 }
@@ -45,6 +48,11 @@ impl PathProblem for Fold {
 
     fn secant(&self, last: &f64, before: &f64, t: f64, trial: &mut f64) {
         *trial = last + t * (last - before);
+    }
+
+    fn hint(&mut self, case: u32, trial: &mut f64) -> Option<u32> {
+        *trial = *self.hints.get(case as usize - 1)?;
+        Some(6)
     }
 
     fn correct(
@@ -361,4 +369,62 @@ fn the_newton_limit_reaches_the_corrector() {
     let limits = Limits::new(STEPS, 1e-7, 1);
     let (why, _) = follow(&mut toy, 0.0, STEPS, &limits, None).unwrap_err();
     assert_eq!(why, Stop::Stuck("Newton did not converge".into()));
+}
+
+/// The cases of a plain run of `mu` (to `STEPS`), as `(lambda, x)`.
+fn plain_cases(mu: f64) -> Vec<(f64, f64)> {
+    let mut fold = Fold::new(mu);
+    follow(&mut fold, 0.0, STEPS, &limits(), None).unwrap();
+    fold.cases.iter().map(|&(l, x, _)| (l, x)).collect()
+}
+
+/// A warm start from a neighbouring problem's cases (`mu` 0.49 for 0.5): every case is
+/// tried once, at its own fraction from the hint, and lands on the plain run's equilibrium
+/// (to Newton's tolerance).
+#[test]
+fn good_hints_reach_each_case_in_one_attempt() {
+    let plain = plain_cases(0.5);
+    let mut fold = Fold::new(0.5);
+    fold.hints = plain_cases(0.49).iter().map(|&(_, x)| x).collect();
+    follow(&mut fold, 0.0, STEPS, &limits(), None).unwrap();
+    let fractions: Vec<f64> = (1..=STEPS).map(|k| k as f64 / STEPS as f64).collect();
+    assert_close(&fold.tried, &fractions);
+    assert_eq!(fold.cases.len(), plain.len());
+    for (&(l, x, tally), &(pl, px)) in fold.cases.iter().zip(&plain) {
+        assert_eq!(l, pl);
+        assert!((x - px).abs() < 1e-12, "{x} against {px}");
+        assert_eq!(tally.accepted, 1);
+    }
+}
+
+/// Hints on another branch (the equilibria near `x = -2`, where `x - x^3/3 = mu lambda`
+/// also holds for small loads) converge there, fail the branch test and are forgotten:
+/// the cases are the plain run's, each after one wasted attempt.
+#[test]
+fn hints_off_the_branch_are_forgotten() {
+    let plain = plain_cases(0.5);
+    let mut fold = Fold::new(0.5);
+    fold.hints = vec![-1.9; STEPS as usize];
+    follow(&mut fold, 0.0, STEPS, &limits(), None).unwrap();
+    assert_eq!(fold.cases.len(), plain.len());
+    for (&(_, x, _), &(_, px)) in fold.cases.iter().zip(&plain) {
+        assert!((x - px).abs() < 1e-12, "{x} against {px}");
+    }
+    // Each case tried its hint first.
+    assert!(fold.tried.len() >= 2 * STEPS as usize, "{:?}", fold.tried);
+}
+
+/// Hints past the fold (`mu = 1`: the branch ends at `lambda = 2/3`; hints at `x = 1.2`,
+/// where the indicator has changed sign) are rejected as crossings: the path still ends
+/// at the critical point, as it does without them.
+#[test]
+fn hints_past_a_critical_point_do_not_hide_it() {
+    let mut plain = Fold::new(1.0);
+    let want = follow(&mut plain, 0.0, STEPS, &limits(), None).unwrap_err();
+    let mut fold = Fold::new(1.0);
+    fold.hints = vec![1.2; STEPS as usize];
+    let got = follow(&mut fold, 0.0, STEPS, &limits(), None).unwrap_err();
+    assert!(matches!(got.0, Stop::Critical), "{got:?}");
+    assert!((got.1 - want.1).abs() < 1e-6, "{got:?} against {want:?}");
+    assert_eq!(fold.cases.len(), plain.cases.len());
 }

@@ -10,7 +10,7 @@ use nalgebra::{DMatrix, DVector};
 
 use crate::cancel::CancelToken;
 use crate::eval::Baseline;
-use crate::prb::{PrbMatrix, PrbSolver, SolverLimits, CELLS_PER_ROW};
+use crate::prb::{PrbMatrix, PrbRow, PrbSolver, SolverLimits, WarmStart, CELLS_PER_ROW};
 
 use super::Parameterisation;
 
@@ -84,6 +84,39 @@ pub struct CantileverTarget<'a> {
     case_scale: f64,
     /// `J` of errors exactly at the accuracy targets (0: no floor).
     target_objective: f64,
+    /// The last trial model's equilibria, the next one's warm start.
+    warm: RefCell<Warm>,
+}
+
+/// A trial model near the last one (every finite cell within this relative change) starts
+/// each case from the last one's equilibrium of it: a polish's steps are this small but its
+/// first few, and a swarm's particles are further apart.
+const WARM_CHANGE: f64 = 0.25;
+
+/// The last trial model a target solved, and its equilibria path by path, to warm-start the
+/// next one.
+#[derive(Debug, Default)]
+struct Warm {
+    rows: Vec<PrbRow>,
+    starts: Vec<WarmStart>,
+}
+
+impl Warm {
+    /// Whether `matrix` is near enough the last model for its warm start; `matrix` is the
+    /// last model from now on.
+    fn next(&mut self, matrix: &PrbMatrix) -> bool {
+        let rows = matrix.rows();
+        let close = |a: f64, b: f64| {
+            a == b || (a.is_finite() && b.is_finite() && (a - b).abs() <= WARM_CHANGE * b.abs())
+        };
+        let near = rows.len() == self.rows.len()
+            && rows.iter().zip(&self.rows).all(|(a, b)| {
+                close(a.gamma, b.gamma) && close(a.k_theta, b.k_theta) && close(a.k_ex, b.k_ex)
+            });
+        self.rows.clear();
+        self.rows.extend_from_slice(rows);
+        near
+    }
 }
 
 impl<'a> CantileverTarget<'a> {
@@ -94,6 +127,7 @@ impl<'a> CantileverTarget<'a> {
             angle_scale: angle_weight.sqrt(),
             case_scale: 1.0 / (baseline.case_count().max(1) as f64).sqrt(),
             target_objective: 0.0,
+            warm: RefCell::default(),
         }
     }
 
@@ -143,8 +177,11 @@ impl Target for CantileverTarget<'_> {
             self.case_scale,
             self.angle_scale * self.case_scale,
         ];
-        let _ = self.baseline.follow(
+        let mut warm = self.warm.borrow_mut();
+        let near = warm.next(matrix);
+        let _ = self.baseline.follow_warm(
             &solver,
+            Some((&mut warm.starts, near)),
             |b, sol| {
                 let raw = [
                     (sol.tip.a - b.tip.a) * scales[0],

@@ -198,7 +198,7 @@ impl PrbSolver {
         self.segments(q, ws.theta_cum, ws.length);
         let (mut a, mut b) = (0.0, 0.0);
         for j in 0..n {
-            let (s, c) = ws.theta_cum[j].sin_cos();
+            let (s, c) = crate::trig::sin_cos(ws.theta_cum[j]);
             a += ws.length[j] * c;
             b += ws.length[j] * s;
         }
@@ -219,7 +219,7 @@ impl PrbSolver {
         let (mut x, mut y) = (0.0, 0.0);
         pts.push([x, y]);
         for i in 0..n {
-            let (s, c) = theta_cum[i].sin_cos();
+            let (s, c) = crate::trig::sin_cos(theta_cum[i]);
             x += length[i] * c;
             y += length[i] * s;
             pts.push([x, y]);
@@ -236,7 +236,7 @@ impl PrbSolver {
         self.segments(q, ws.theta_cum, ws.length);
         let (mut a, mut b) = (0.0, 0.0);
         for j in 0..n {
-            let (s, c) = ws.theta_cum[j].sin_cos();
+            let (s, c) = crate::trig::sin_cos(ws.theta_cum[j]);
             ws.sin[j] = s;
             ws.cos[j] = c;
             ws.axial[j] = load.alpha_x * c + load.alpha_y * s;
@@ -292,6 +292,39 @@ impl PrbSolver {
             b,
             phi: ws.theta_cum[n - 1],
         }
+    }
+
+    /// The tip `tip` of the configuration [`PrbSolver::residual`] last saw, moved to first
+    /// order by the Newton update `q -= ws.step` made since: `tip - T step`, with `T` the
+    /// tip's Jacobian there. The rest is the update's square, so for Newton's last update
+    /// (below 1e-13) this is the updated configuration's tip to rounding, without its sines
+    /// and cosines. Overwrites the workspace's suffix sums.
+    pub(super) fn tip_moved(&self, tip: TipPose, ws: Parts<'_>) -> TipPose {
+        let n = self.gamma.len();
+        // Suffix sums of the segments' projections: d(a, b)/d(theta_i) turns everything
+        // beyond joint i.
+        let (mut sa, mut sb) = (0.0, 0.0);
+        for j in (0..n).rev() {
+            sa -= ws.length[j] * ws.sin[j];
+            sb += ws.length[j] * ws.cos[j];
+            ws.suffix_q[j] = sa;
+            ws.suffix_n[j] = sb;
+        }
+        let (mut a, mut b, mut phi) = (tip.a, tip.b, tip.phi);
+        for (dof, &d) in self.dofs.iter().zip(ws.step.iter()) {
+            match *dof {
+                Dof::Theta(i) => {
+                    a -= ws.suffix_q[i] * d;
+                    b -= ws.suffix_n[i] * d;
+                    phi -= d;
+                }
+                Dof::Delta(i) => {
+                    a -= ws.cos[i] * d;
+                    b -= ws.sin[i] * d;
+                }
+            }
+        }
+        TipPose { a, b, phi }
     }
 
     /// The chain linearised at `q` under `load` (for solvers that take `q` and the load as

@@ -15,4 +15,4 @@ pub use matrix::{
     Column, MatrixError, PrbMatrix, PrbRow, GAMMA_SUM_TOL, MAX_SEGMENTS, MAX_SPRING, MU_SUM_TOL,
 };
 pub use modes::{ModesError, TipBody};
-pub use path::{PrbCase, PrbError, PrbSolution};
+pub use path::{PrbCase, PrbError, PrbSolution, WarmStart};

@@ -123,6 +123,55 @@ struct Point {
     tip: TipPose,
     /// The tip the predictor expected (of the attempt that found this point).
     predicted: TipPose,
+    /// Whether the prediction was a [`WarmStart`]'s.
+    hinted: bool,
+}
+
+/// A hinted attempt converges in at most this many Newton iterations: from a neighbouring
+/// model's equilibrium Newton's updates shrink quadratically from the first (the 20-case 3R
+/// fit's polish takes three or four), and one that needs more is followed from the last case
+/// instead.
+const HINT_ITERATIONS: u32 = 5;
+/// A hinted attempt lands within this of the hint's tip (units of L, radians): a trial model
+/// a fit's step away moves its tips by less (the 3R fit's first polish step, by about 0.02),
+/// and an equilibrium on another branch (a buckled or snapped-through shape) lies further.
+const HINT_RADIUS: f64 = 0.05;
+
+/// The equilibria along one load path of a neighbouring chain with the same degrees of
+/// freedom (a fit's previous trial model), case by case: the first guesses of a warm-started
+/// path ([`PrbSolver::follow_with`]), each corrected at its own case in one step from the
+/// case before. A hint that does not hold (Newton needs more than [`HINT_ITERATIONS`], or
+/// lands more than [`HINT_RADIUS`] from the hint's tip, or off the followed branch) is
+/// forgotten, and that case is followed by continuation as without one, so a warm start
+/// changes the cost of a path, not which equilibria it reports.
+#[derive(Debug, Clone, Default)]
+pub struct WarmStart {
+    /// Degrees of freedom of the chain the equilibria belong to.
+    m: usize,
+    /// The cases' configurations, `m` each.
+    q: Vec<f64>,
+    tips: Vec<TipPose>,
+}
+
+impl WarmStart {
+    /// Forgets every case, keeping the storage, for a chain of `m` degrees of freedom.
+    pub fn clear(&mut self, m: usize) {
+        self.m = m;
+        self.q.clear();
+        self.tips.clear();
+    }
+
+    /// Adds the next case.
+    pub fn push(&mut self, case: &PrbCase<'_>) {
+        self.q.extend_from_slice(case.q);
+        self.tips.push(case.tip);
+    }
+
+    /// Case `k` (from 0) for a chain of `m` degrees of freedom.
+    fn get(&self, k: usize, m: usize) -> Option<(&[f64], TipPose)> {
+        let tip = *self.tips.get(k)?;
+        (m == self.m).then(|| (&self.q[k * m..(k + 1) * m], tip))
+    }
 }
 
 /// One load curve of one chain in progress.
@@ -133,6 +182,8 @@ struct PrbPath<'a, F, V> {
     load_at: F,
     visit: V,
     ws: Workspace,
+    /// First guesses for the cases, if warm-started.
+    warm: Option<&'a WarmStart>,
 }
 
 impl PrbSolver {
@@ -143,6 +194,7 @@ impl PrbSolver {
         end: Load,
         steps: u32,
         load_at: impl Fn(f64) -> Load,
+        warm: Option<&WarmStart>,
         visit: impl FnMut(PrbCase<'_>),
     ) -> Result<(), PrbError> {
         if !end.is_finite() {
@@ -160,12 +212,14 @@ impl PrbSolver {
             load_at,
             visit,
             ws: Workspace::new(self.gamma.len(), m),
+            warm,
         };
         let start = Point {
             load: Load::default(),
             q: vec![0.0; m],
             tip: TipPose::STRAIGHT,
             predicted: TipPose::STRAIGHT,
+            hinted: false,
         };
         continuation::follow(&mut path, start, steps, &limits, None)
     }
@@ -185,12 +239,12 @@ impl PrbSolver {
                 return Err(Failure::Diverged);
             }
             let tip = self.residual(load, q, ws);
-            let ws = ws.parts();
-            ws.step.copy_from_slice(ws.res);
-            if !cholesky_solve(ws.jac, ws.step, m) {
+            let parts = ws.parts();
+            parts.step.copy_from_slice(parts.res);
+            if !cholesky_solve(parts.jac, parts.step, m) {
                 return Err(Failure::NotPositiveDefinite);
             }
-            let biggest = ws.step.iter().fold(0.0_f64, |acc, v| acc.max(v.abs()));
+            let biggest = parts.step.iter().fold(0.0_f64, |acc, v| acc.max(v.abs()));
             if !biggest.is_finite() {
                 return Err(Failure::Diverged);
             }
@@ -199,12 +253,15 @@ impl PrbSolver {
             } else {
                 1.0
             };
-            for (qi, si) in q.iter_mut().zip(ws.step.iter()) {
+            for (qi, si) in q.iter_mut().zip(parts.step.iter()) {
                 *qi -= scale * si;
             }
             if biggest <= NEWTON_TOL {
-                // The last update moved nothing by more than NEWTON_TOL: the tip stands.
-                return Ok((tip, iteration));
+                // The last update moved nothing by more than NEWTON_TOL: the tip moves
+                // with it to first order (the rest is its square, below rounding), so the
+                // tip is the converged configuration's however small or large the last
+                // update was (from a warm start's hint, up to NEWTON_TOL).
+                return Ok((self.tip_moved(tip, parts), iteration));
             }
         }
         Err(Failure::Diverged)
@@ -224,9 +281,20 @@ where
     fn tangent(&self, start: &Point, _step: f64, trial: &mut Point) {
         trial.q.copy_from_slice(&start.q);
         trial.tip = start.tip;
+        trial.hinted = false;
+    }
+
+    /// The warm start's equilibrium of the same case.
+    fn hint(&mut self, case: u32, trial: &mut Point) -> Option<u32> {
+        let (q, tip) = self.warm?.get(case as usize - 1, trial.q.len())?;
+        trial.q.copy_from_slice(q);
+        trial.tip = tip;
+        trial.hinted = true;
+        Some(HINT_ITERATIONS)
     }
 
     fn secant(&self, last: &Point, before: &Point, t: f64, trial: &mut Point) {
+        trial.hinted = false;
         for ((q, q1), q0) in trial.q.iter_mut().zip(&last.q).zip(&before.q) {
             *q = q1 + t * (q1 - q0);
         }
@@ -267,6 +335,7 @@ where
         let jump = trial.tip.max_diff(prev_tip);
         let off_prediction = trial.tip.max_diff(&trial.predicted);
         if jump > MAX_TIP_JUMP
+            || (trial.hinted && off_prediction > HINT_RADIUS)
             || (history.before().is_some()
                 && off_prediction > 0.15 + 0.5 * trial.predicted.max_diff(prev_tip))
         {

@@ -25,7 +25,7 @@
 use crate::beam::Load;
 
 use super::chain::PrbSolver;
-use super::path::{PrbCase, PrbError, PrbSolution};
+use super::path::{PrbCase, PrbError, PrbSolution, WarmStart};
 
 impl PrbSolver {
     /// Solves one load by continuation from the unloaded chain.
@@ -53,7 +53,29 @@ impl PrbSolver {
         steps: u32,
         visit: impl FnMut(PrbCase<'_>),
     ) -> Result<(), PrbError> {
-        self.follow_with(end, steps.max(1), |lambda| end.scaled(lambda), visit)
+        self.follow_with(end, steps.max(1), |lambda| end.scaled(lambda), None, visit)
+    }
+
+    /// As [`Self::solve_path_with`] (or [`Self::solve_rows_with`], given `rows`), each case
+    /// first tried from `warm`'s equilibrium of the same case (see [`WarmStart`]).
+    pub fn solve_warm_with(
+        &self,
+        end: Load,
+        steps: u32,
+        rows: Option<&[Load]>,
+        warm: &WarmStart,
+        visit: impl FnMut(PrbCase<'_>),
+    ) -> Result<(), PrbError> {
+        match rows {
+            Some(rows) => self.rows_with(rows, Some(warm), visit),
+            None => self.follow_with(
+                end,
+                steps.max(1),
+                |lambda| end.scaled(lambda),
+                Some(warm),
+                visit,
+            ),
+        }
     }
 
     /// Follows the loads of `rows` in order, from the unloaded chain (measured data, DESIGN
@@ -63,6 +85,16 @@ impl PrbSolver {
     pub fn solve_rows_with(
         &self,
         rows: &[Load],
+        visit: impl FnMut(PrbCase<'_>),
+    ) -> Result<(), PrbError> {
+        self.rows_with(rows, None, visit)
+    }
+
+    /// The work of [`Self::solve_rows_with`], warm-started or not.
+    fn rows_with(
+        &self,
+        rows: &[Load],
+        warm: Option<&WarmStart>,
         visit: impl FnMut(PrbCase<'_>),
     ) -> Result<(), PrbError> {
         let Some(&last) = rows.last() else {
@@ -97,6 +129,6 @@ impl PrbSolver {
                 beta: from.beta + t * (to.beta - from.beta),
             }
         };
-        self.follow_with(last, n as u32, at, visit)
+        self.follow_with(last, n as u32, at, warm, visit)
     }
 }

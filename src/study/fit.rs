@@ -424,7 +424,12 @@ mod tests {
         let at = param.decode(&p0).unwrap();
         assert!(target.residuals_with_cells(&at, &mut r, Some(&mut cells)));
         target.residuals(&at, &mut plain);
-        assert_eq!(r, plain);
+        // The same to rounding: a cantilever's second evaluation of the model is
+        // warm-started from its first.
+        assert_eq!(r.len(), plain.len());
+        for (a, b) in r.iter().zip(&plain) {
+            assert!((a - b).abs() <= 1e-14, "{a} against {b}");
+        }
         let mut analytic = nalgebra::DMatrix::zeros(0, 0);
         param.chain_rule(&p0, &cells, r.len(), &mut analytic);
         let mut error = 0.0_f64;

@@ -1,9 +1,11 @@
-//! `sin` and `cos` of one angle together, for the shooting's right-hand side.
+//! `sin` and `cos` of one angle together, for the beam shooting's right-hand side and the PRB
+//! chain's kinematics.
 //!
 //! A profile of `prbfit solve` on 1000 elastica cases put a fifth of the time in the C
 //! library's `sincos`, which is general (any argument, correctly rounded in most cases) and
-//! called through the dynamic linker. The beam's section angles are moderate (a full loop is
-//! `2 pi`; the largest a solve meets are a few hundred radians), so this reduces the argument
+//! called through the dynamic linker; a profile of the 20-case 3R fit at draft, 14 %. The
+//! beam's section angles and a chain's joint angles are moderate (a full loop is `2 pi`; the
+//! largest a solve meets are a few hundred radians), so this reduces the argument
 //! by `pi/2` in two parts (Cody and Waite) and evaluates the classic fdlibm minimax kernels on
 //! `[-pi/4, pi/4]` (error below one unit in the last place there), inline. Arguments beyond
 //! [`FAST_RANGE`], and non-finite ones, go to the standard library.
