@@ -222,15 +222,17 @@ impl Baseline {
         if let Some((starts, _)) = warm.as_mut() {
             starts.resize_with(self.paths.len(), WarmStart::default);
         }
-        let m = solver.dof_count();
+        let dofs = solver.dof_count();
+        // The storage of the warm start each path replaces, for the next path's.
+        let mut spare = WarmStart::default();
         let mut start = 0;
         for (i, path) in self.paths.iter().enumerate() {
             let end = (start + path.steps as usize).min(self.solutions.len());
             let beam = &self.solutions[start..end];
             start = end;
             let mut reached = 0;
-            let mut fresh = WarmStart::default();
-            fresh.clear(m);
+            let mut fresh = std::mem::take(&mut spare);
+            fresh.clear(dofs);
             let mut on_case = |case: PrbCase<'_>| {
                 if let Some(b) = beam.get(reached) {
                     visit(b, &case);
@@ -253,7 +255,7 @@ impl Baseline {
                 },
             };
             if let Some((starts, _)) = warm.as_mut() {
-                starts[i] = fresh;
+                spare = std::mem::replace(&mut starts[i], fresh);
             }
             if let Err(source) = outcome {
                 let missed = &beam[reached.min(beam.len())..];

@@ -411,3 +411,61 @@ fn a_warm_start_does_not_pass_a_critical_point() {
         );
     }
 }
+
+/// Measured rows (a specimen's polyline of loads) warm-started from a neighbouring model's
+/// equilibria at the same rows: the same tips as the rows followed from rest, to 1e-10.
+#[test]
+fn a_warm_start_on_measured_rows_keeps_the_equilibria() {
+    let su = PrbMatrix::parse("0.10,inf,inf; 0.35,3.51,inf; 0.40,2.99,inf; 0.15,2.58,inf").unwrap();
+    let rows = [
+        Load::new(0.0, 1.0, 0.0),
+        Load::new(-0.5, 2.5, 0.3),
+        Load::new(-1.0, 3.0, 1.0),
+        Load::new(-1.5, 2.0, 1.5),
+    ];
+    let solve = |solver: &PrbSolver, warm: Option<&WarmStart>| {
+        let mut tips = Vec::new();
+        let mut next = WarmStart::default();
+        next.clear(solver.dof_count());
+        let mut visit = |c: PrbCase<'_>| {
+            tips.push(c.tip);
+            next.push(&c);
+        };
+        match warm {
+            Some(w) => solver.solve_warm_with(rows[3], 4, Some(&rows), w, &mut visit),
+            None => solver.solve_rows_with(&rows, &mut visit),
+        }
+        .unwrap();
+        (tips, next)
+    };
+    let (_, warm) = solve(&PrbSolver::new(&springs_scaled(&su, 1.05), C_E), None);
+    let solver = PrbSolver::new(&su, C_E);
+    let (plain, _) = solve(&solver, None);
+    let (warmed, _) = solve(&solver, Some(&warm));
+    assert_eq!(plain.len(), 4);
+    for (p, w) in plain.iter().zip(&warmed) {
+        assert!(p.max_diff(w) < 1e-10, "{w:?} against {p:?}");
+    }
+}
+
+/// A hint from another branch is forgotten even when it is an equilibrium of the model: the
+/// 1R tilted past its buckling load follows the branch bent one way from rest; a warm start
+/// holding the mirror branch (bent the other way, an equilibrium of the same chain under the
+/// mirrored tilt) lands far from the followed step, and the path reports the plain
+/// equilibria.
+#[test]
+fn a_hint_on_another_branch_is_forgotten() {
+    let m = PrbMatrix::parse("0.15,inf,inf; 0.85,2.2525,inf").unwrap();
+    let solver = PrbSolver::new(&m, C_E);
+    let critical = 2.2525 / 0.85;
+    let end = Load::new(-1.5 * critical, 0.01, 0.0);
+    let (plain, _) = warm_path(&solver, end, 4, None);
+    let mirrored = Load::new(-1.5 * critical, -0.01, 0.0);
+    let (_, warm) = warm_path(&solver, mirrored, 4, None);
+    let (warmed, _) = warm_path(&solver, end, 4, Some(&warm));
+    let (plain, warmed) = (plain.unwrap(), warmed.unwrap());
+    assert!(plain.last().unwrap().0.phi > 0.5, "{plain:?}");
+    for ((p, _), (w, _)) in plain.iter().zip(&warmed) {
+        assert!(p.max_diff(w) < 1e-10, "{w:?} against {p:?}");
+    }
+}

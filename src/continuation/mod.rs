@@ -39,9 +39,9 @@
 //! - **warm start**: a problem may offer, for each case, a prediction from outside the path
 //!   ([`PathProblem::hint`]: the same case of a fit's previous trial model). The driver tries
 //!   it first, in one step to the case and with few Newton iterations, under the same tests;
-//!   one that fails them is forgotten and the case is followed as without it, so a hint
-//!   changes what a path costs, not which equilibrium it reports (to the corrector's
-//!   tolerance).
+//!   one that fails them is forgotten and the case is followed as without it. An accepted
+//!   hint is a step of the path like any other, so it is as safe as the problem's branch
+//!   test makes a one-step attempt (see the PRB chain's below).
 //!
 //! # Why each problem's numbers differ
 //! Each problem passes its own [`Limits`], the numbers it was tuned and tested with; the
@@ -420,9 +420,13 @@ pub trait PathProblem {
     /// `trial`, and the Newton iterations its correction may take: the same case of a
     /// neighbouring problem already solved (a fit's previous trial model, whose equilibria
     /// move little with its parameters). The driver tries it first, in one step from the
-    /// last accepted point to the case; a hint whose correction does not converge in those
-    /// iterations, or fails the tests, is forgotten, and the case is followed as without
-    /// one. `None` (the default): no hint.
+    /// last accepted point to the case, under the same tests as any attempt; a hint whose
+    /// correction does not converge in those iterations, or fails the tests, is forgotten,
+    /// and the case is followed as without one. The hint's attempt and iterations count
+    /// against the case's budget ([`Limits`]). Like any one-step attempt, it cannot see a
+    /// critical point between the cases that the tests do not show at the case itself: the
+    /// problem's branch test must be strict enough for the hints it gives. `None` (the
+    /// default): no hint.
     fn hint(&mut self, case: u32, trial: &mut Self::Point) -> Option<u32> {
         let _ = (case, trial);
         None
@@ -468,6 +472,10 @@ pub fn follow<P: PathProblem>(
         };
         problem.begin_case(&history);
         if let Some(newton_iterations) = problem.hint(k, &mut trial) {
+            if cancel.is_some_and(CancelToken::is_cancelled) {
+                return Err(problem.stop(Stop::Cancelled, history.last.lambda, &effort));
+            }
+            let from = history.last.lambda;
             let mut hinted = Effort {
                 newton_iterations: newton_iterations.min(limits.newton_iterations),
                 ..effort
@@ -475,19 +483,26 @@ pub fn follow<P: PathProblem>(
             hinted.attempts += 1;
             let verdict = match problem.correct(target, &history, &mut trial, &mut hinted) {
                 Corrected::Converged(iterations) => {
-                    Some((iterations, judge(problem, limits.order, &history, &trial)))
+                    tally.iterations += iterations;
+                    Some(judge(problem, limits.order, &history, &trial))
                 }
                 Corrected::Stop(e) => return Err(e),
                 Corrected::Critical | Corrected::Failed(_) => None,
             };
-            // The hint's work counts as the case's, accepted or not.
+            // The hint's work counts against the case's budget, accepted or not.
             effort.attempts = hinted.attempts;
             effort.iterations = hinted.iterations;
-            if let Some((iterations, Verdict::Accepted)) = verdict {
-                tally.iterations += iterations;
-                tally.accepted += 1;
+            if let Some(Verdict::Accepted) = verdict {
+                // Accepted as a step of the path: the step grows as after any other, so a
+                // case followed later without a hint starts from a step that reaches it.
+                let cap = problem.step_cap(&history.last.point, &trial, target - from);
                 problem.accepted(&trial);
                 history.accept(target, &mut trial);
+                tally.accepted += 1;
+                if limits.growth == Growth::Always || !rejected {
+                    dlam = (2.0 * dlam).min(cap).min(limits.max_step);
+                }
+                rejected = false;
                 problem.report(target, &mut history.last.point, tally, &mut effort);
                 continue;
             }

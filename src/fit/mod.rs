@@ -323,7 +323,7 @@ fn search_in(
     let mut scouted: Vec<lm::LmResult> = Vec::new();
     for round in 0..2 {
         // A polish continues where its scout stopped, with the scout's last evaluation.
-        let starts: Vec<(DVector<f64>, Option<lm::Evaluation>)> = if round == 0 {
+        let starts: Vec<(DVector<f64>, Option<lm::Evaluated>)> = if round == 0 {
             std::mem::take(&mut candidates)
                 .into_iter()
                 .map(|p| (p, None))

@@ -299,17 +299,8 @@ impl PrbSolver {
     /// tip's Jacobian there. The rest is the update's square, so for Newton's last update
     /// (below 1e-13) this is the updated configuration's tip to rounding, without its sines
     /// and cosines. Overwrites the workspace's suffix sums.
-    pub(super) fn tip_moved(&self, tip: TipPose, ws: Parts<'_>) -> TipPose {
-        let n = self.gamma.len();
-        // Suffix sums of the segments' projections: d(a, b)/d(theta_i) turns everything
-        // beyond joint i.
-        let (mut sa, mut sb) = (0.0, 0.0);
-        for j in (0..n).rev() {
-            sa -= ws.length[j] * ws.sin[j];
-            sb += ws.length[j] * ws.cos[j];
-            ws.suffix_q[j] = sa;
-            ws.suffix_n[j] = sb;
-        }
+    pub(super) fn tip_moved(&self, tip: TipPose, mut ws: Parts<'_>) -> TipPose {
+        self.turn_suffixes(&mut ws);
         let (mut a, mut b, mut phi) = (tip.a, tip.b, tip.phi);
         for (dof, &d) in self.dofs.iter().zip(ws.step.iter()) {
             match *dof {
@@ -325,6 +316,19 @@ impl PrbSolver {
             }
         }
         TipPose { a, b, phi }
+    }
+
+    /// `d(a, b)/d(theta_i)` for every joint `i` into the workspace's suffix sums
+    /// (`suffix_q`, `suffix_n`), from the sines, cosines and lengths [`PrbSolver::residual`]
+    /// last left: turning joint `i` turns every segment beyond it.
+    fn turn_suffixes(&self, ws: &mut Parts<'_>) {
+        let (mut sa, mut sb) = (0.0, 0.0);
+        for j in (0..self.gamma.len()).rev() {
+            sa -= ws.length[j] * ws.sin[j];
+            sb += ws.length[j] * ws.cos[j];
+            ws.suffix_q[j] = sa;
+            ws.suffix_n[j] = sb;
+        }
     }
 
     /// The chain linearised at `q` under `load` (for solvers that take `q` and the load as
@@ -357,20 +361,10 @@ impl PrbSolver {
     /// [`PrbSolver::linearise`] into storage from [`PrbSolver::linearised`], allocating
     /// nothing (a mechanism's Newton iteration calls it for every chain at every step).
     pub fn linearise_into(&self, load: Load, q: &[f64], out: &mut Linearised) {
-        let n = self.gamma.len();
         let m = self.dofs.len();
         out.tip = self.residual(load, q, &mut out.work);
-        let ws = out.work.parts();
-        // Suffix sums of the segments' projections: d(a, b)/d(theta_i) turns everything
-        // beyond joint i.
-        let (mut sa, mut sb) = (0.0, 0.0);
-        for j in (0..n).rev() {
-            let (s, c) = (ws.sin[j], ws.cos[j]);
-            sa -= ws.length[j] * s;
-            sb += ws.length[j] * c;
-            ws.suffix_q[j] = sa;
-            ws.suffix_n[j] = sb;
-        }
+        let mut ws = out.work.parts();
+        self.turn_suffixes(&mut ws);
         for (c, dof) in self.dofs.iter().enumerate() {
             let (da, db, dphi) = match *dof {
                 Dof::Theta(i) => (ws.suffix_q[i], ws.suffix_n[i], 1.0),

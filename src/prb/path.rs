@@ -123,8 +123,14 @@ struct Point {
     tip: TipPose,
     /// The tip the predictor expected (of the attempt that found this point).
     predicted: TipPose,
-    /// Whether the prediction was a [`WarmStart`]'s.
+    /// Whether the prediction was a [`WarmStart`]'s (every predictor clears it).
     hinted: bool,
+    /// With `hinted`, the warm start's tip at the case before (the unloaded tip before the
+    /// first): the step the neighbouring chain took to this case is `predicted - this`.
+    hint_before: TipPose,
+    /// With `hinted`, the tip continuation's secant predicts at this case (none before there
+    /// are two accepted points), which the landing must meet as continuation's own would.
+    continued: Option<TipPose>,
 }
 
 /// A hinted attempt converges in at most this many Newton iterations: from a neighbouring
@@ -132,18 +138,26 @@ struct Point {
 /// fit's polish takes three or four), and one that needs more is followed from the last case
 /// instead.
 const HINT_ITERATIONS: u32 = 5;
-/// A hinted attempt lands within this of the hint's tip (units of L, radians): a trial model
-/// a fit's step away moves its tips by less (the 3R fit's first polish step, by about 0.02),
-/// and an equilibrium on another branch (a buckled or snapped-through shape) lies further.
+/// A hinted attempt lands within this of the hint's tip, and its step from the case before
+/// differs from the neighbouring chain's step between the same cases by at most this (units
+/// of L, radians): a trial model a fit's step away moves its tips by less (the 3R fit's first
+/// polish step, by about 0.02), and a step that snaps through a fold between the cases, where
+/// the neighbouring chain did not, differs from that chain's by the snap. A hinted landing
+/// must also meet continuation's own branch test against the secant's prediction, so a hint
+/// on another stable branch (the 1R buckled the other way) is forgotten where continuation
+/// would follow its own (`tests/prb_model.rs`). As for any one-step attempt (continuation
+/// also steps a whole case when it can), a fold whose snap is smaller than these is not
+/// seen.
 const HINT_RADIUS: f64 = 0.05;
 
 /// The equilibria along one load path of a neighbouring chain with the same degrees of
 /// freedom (a fit's previous trial model), case by case: the first guesses of a warm-started
 /// path ([`PrbSolver::follow_with`]), each corrected at its own case in one step from the
 /// case before. A hint that does not hold (Newton needs more than [`HINT_ITERATIONS`], or
-/// lands more than [`HINT_RADIUS`] from the hint's tip, or off the followed branch) is
-/// forgotten, and that case is followed by continuation as without one, so a warm start
-/// changes the cost of a path, not which equilibria it reports.
+/// lands off the hint or off the followed branch: see [`HINT_RADIUS`]) is forgotten, and that
+/// case is followed by continuation as without one. The equilibria reported are the plain
+/// path's to rounding wherever the tests tell the branches apart (a proptest over random
+/// chains and loads, a buckling load, a hint on the mirror branch); only the cost differs.
 #[derive(Debug, Clone, Default)]
 pub struct WarmStart {
     /// Degrees of freedom of the chain the equilibria belong to.
@@ -220,6 +234,8 @@ impl PrbSolver {
             tip: TipPose::STRAIGHT,
             predicted: TipPose::STRAIGHT,
             hinted: false,
+            hint_before: TipPose::STRAIGHT,
+            continued: None,
         };
         continuation::follow(&mut path, start, steps, &limits, None)
     }
@@ -286,7 +302,14 @@ where
 
     /// The warm start's equilibrium of the same case.
     fn hint(&mut self, case: u32, trial: &mut Point) -> Option<u32> {
-        let (q, tip) = self.warm?.get(case as usize - 1, trial.q.len())?;
+        let warm = self.warm?;
+        let m = trial.q.len();
+        let k = case as usize - 1;
+        let (q, tip) = warm.get(k, m)?;
+        trial.hint_before = match k {
+            0 => TipPose::STRAIGHT,
+            _ => warm.get(k - 1, m)?.1,
+        };
         trial.q.copy_from_slice(q);
         trial.tip = tip;
         trial.hinted = true;
@@ -309,11 +332,25 @@ where
     fn correct(
         &mut self,
         lambda: f64,
-        _history: &History<Point>,
+        history: &History<Point>,
         trial: &mut Point,
         effort: &mut Effort,
     ) -> Corrected<Stall, PrbError> {
         trial.predicted = trial.tip;
+        trial.continued = if trial.hinted {
+            history.before().map(|before| {
+                let last = history.last();
+                let t = (lambda - last.lambda) / (last.lambda - before.lambda);
+                let (p1, p0) = (&last.point.tip, &before.point.tip);
+                TipPose {
+                    a: p1.a + t * (p1.a - p0.a),
+                    b: p1.b + t * (p1.b - p0.b),
+                    phi: p1.phi + t * (p1.phi - p0.phi),
+                }
+            })
+        } else {
+            None
+        };
         trial.load = (self.load_at)(lambda);
         match self
             .solver
@@ -329,15 +366,29 @@ where
         }
     }
 
-    /// The tip may not jump, nor (once there is a secant) land far from the prediction.
+    /// The tip may not jump, nor (once there is a secant) land far from the prediction. A
+    /// hinted landing must also meet the hint ([`HINT_RADIUS`]) and, once there is a secant,
+    /// continuation's own test against the secant's prediction: it is accepted only where
+    /// continuation would accept it, had its Newton landed there.
     fn on_branch(&self, history: &History<Point>, trial: &Point) -> Result<(), Stall> {
         let prev_tip = &history.last().point.tip;
         let jump = trial.tip.max_diff(prev_tip);
+        let off = |predicted: &TipPose| {
+            trial.tip.max_diff(predicted) > 0.15 + 0.5 * predicted.max_diff(prev_tip)
+        };
         let off_prediction = trial.tip.max_diff(&trial.predicted);
+        let off_hinted_step = || {
+            let (t, h) = (&trial.tip, &trial.predicted);
+            let (p, b) = (prev_tip, &trial.hint_before);
+            ((t.a - p.a) - (h.a - b.a))
+                .abs()
+                .max(((t.b - p.b) - (h.b - b.b)).abs())
+                .max(((t.phi - p.phi) - (h.phi - b.phi)).abs())
+        };
         if jump > MAX_TIP_JUMP
-            || (trial.hinted && off_prediction > HINT_RADIUS)
-            || (history.before().is_some()
-                && off_prediction > 0.15 + 0.5 * trial.predicted.max_diff(prev_tip))
+            || (trial.hinted && (off_prediction > HINT_RADIUS || off_hinted_step() > HINT_RADIUS))
+            || trial.continued.as_ref().is_some_and(off)
+            || (history.before().is_some() && off(&trial.predicted))
         {
             return Err(Stall::Jumped);
         }
