@@ -152,10 +152,12 @@ const HINT_RADIUS: f64 = 0.05;
 
 /// The equilibria along one load path of a neighbouring chain with the same degrees of
 /// freedom (a fit's previous trial model), case by case: the first guesses of a warm-started
-/// path ([`PrbSolver::follow_with`]), each corrected at its own case in one step from the
-/// case before. A hint that does not hold (Newton needs more than [`HINT_ITERATIONS`], or
-/// lands off the hint or off the followed branch: see [`HINT_RADIUS`]) is forgotten, and that
-/// case is followed by continuation as without one. The equilibria reported are the plain
+/// path ([`PrbSolver::solve_warm_with`]), each corrected at its own case in one step from
+/// the case before. A hint that does not hold is forgotten, and that case is followed by
+/// continuation as without one: Newton needs more than five iterations from it, or lands
+/// more than 0.05 (units of L, radians) from the hint's tip, or by a step more than 0.05 from
+/// the neighbouring chain's step between the same cases, or where continuation's own branch
+/// test against its secant would not accept it. The equilibria reported are the plain
 /// path's to rounding wherever the tests tell the branches apart (a proptest over random
 /// chains and loads, a buckling load, a hint on the mirror branch); only the cost differs.
 #[derive(Debug, Clone, Default)]
