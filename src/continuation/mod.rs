@@ -475,7 +475,6 @@ pub fn follow<P: PathProblem>(
             if cancel.is_some_and(CancelToken::is_cancelled) {
                 return Err(problem.stop(Stop::Cancelled, history.last.lambda, &effort));
             }
-            let from = history.last.lambda;
             let mut hinted = Effort {
                 newton_iterations: newton_iterations.min(limits.newton_iterations),
                 ..effort
@@ -495,14 +494,16 @@ pub fn follow<P: PathProblem>(
             if let Some(Verdict::Accepted) = verdict {
                 // Accepted as a step of the path: the step grows as after any other, so a
                 // case followed later without a hint starts from a step that reaches it.
-                let cap = problem.step_cap(&history.last.point, &trial, target - from);
-                problem.accepted(&trial);
-                history.accept(target, &mut trial);
+                accept_step(
+                    problem,
+                    limits,
+                    &mut history,
+                    &mut trial,
+                    target,
+                    &mut dlam,
+                    &mut rejected,
+                );
                 tally.accepted += 1;
-                if limits.growth == Growth::Always || !rejected {
-                    dlam = (2.0 * dlam).min(cap).min(limits.max_step);
-                }
-                rejected = false;
                 problem.report(target, &mut history.last.point, tally, &mut effort);
                 continue;
             }
@@ -545,14 +546,16 @@ pub fn follow<P: PathProblem>(
                         Verdict::Rejected(f) => Failure::Problem(f),
                         Verdict::Crossed => Failure::Crossed,
                         Verdict::Accepted => {
-                            let cap = problem.step_cap(&history.last.point, &trial, lambda - from);
-                            problem.accepted(&trial);
-                            history.accept(lambda, &mut trial);
+                            accept_step(
+                                problem,
+                                limits,
+                                &mut history,
+                                &mut trial,
+                                lambda,
+                                &mut dlam,
+                                &mut rejected,
+                            );
                             tally.accepted += 1;
-                            if limits.growth == Growth::Always || !rejected {
-                                dlam = (2.0 * dlam).min(cap).min(limits.max_step);
-                            }
-                            rejected = false;
                             if lambda >= target {
                                 problem.report(lambda, &mut history.last.point, tally, &mut effort);
                                 break;
@@ -585,6 +588,29 @@ pub fn follow<P: PathProblem>(
         }
     }
     Ok(())
+}
+
+/// Accepts the converged `trial` at `lambda`, a step from the last accepted point: the
+/// problem sees it, the history keeps it, and the next step `dlam` grows as the limits allow
+/// (after every success, or only after two in a row: `rejected` says whether the last
+/// attempt was) up to the problem's cap.
+fn accept_step<P: PathProblem>(
+    problem: &mut P,
+    limits: &Limits,
+    history: &mut History<P::Point>,
+    trial: &mut P::Point,
+    lambda: f64,
+    dlam: &mut f64,
+    rejected: &mut bool,
+) {
+    let taken = lambda - history.last.lambda;
+    let cap = problem.step_cap(&history.last.point, trial, taken);
+    problem.accepted(trial);
+    history.accept(lambda, trial);
+    if limits.growth == Growth::Always || !*rejected {
+        *dlam = (2.0 * *dlam).min(cap).min(limits.max_step);
+    }
+    *rejected = false;
 }
 
 /// The prediction at `lambda` from the accepted points (see the module docs).

@@ -284,14 +284,9 @@ mod tests {
     ) -> (Vec<f64>, Vec<f64>) {
         let n = m + p;
         let (mut a, mut b) = (vec![0.0; n * n], vec![0.0; n * n]);
+        let k = super::super::spd_test_matrix(k, m);
         for i in 0..m {
-            for j in 0..m {
-                let mut v = if i == j { m as f64 } else { 0.0 };
-                for t in 0..m {
-                    v += k[i * m + t] * k[j * m + t];
-                }
-                a[i * n + j] = v;
-            }
+            a[i * n..i * n + m].copy_from_slice(&k[i * m..(i + 1) * m]);
             b[i * n + i] = masses[i];
             for r in 0..p {
                 a[i * n + m + r] = c[r * m + i];

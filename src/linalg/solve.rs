@@ -329,16 +329,7 @@ mod tests {
         fn solvers_invert_spd_systems(entries in proptest::collection::vec(-1.0..1.0f64, 16),
                                       b in proptest::collection::vec(-1.0..1.0f64, 4)) {
             let n = 4;
-            let mut a = vec![0.0; n * n];
-            for i in 0..n {
-                for j in 0..n {
-                    let mut v = if i == j { n as f64 } else { 0.0 };
-                    for k in 0..n {
-                        v += entries[i * n + k] * entries[j * n + k];
-                    }
-                    a[i * n + j] = v;
-                }
-            }
+            let a = super::super::spd_test_matrix(&entries, n);
             for solver in [cholesky_solve as fn(&mut [f64], &mut [f64], usize) -> bool, solve_dense] {
                 let mut m = a.clone();
                 let mut x = b.clone();
