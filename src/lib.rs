@@ -5,7 +5,8 @@
 //! The library is the numerical core and its files; the binary's command line (`cli`), the
 //! terminal UI ([`tui`]) and the Python module (`python/`) are front ends over one problem, [`study`]. Bottom up (a
 //! module uses only those before it; `tests/layering.rs` checks it):
-//! - [`cancel`], [`text`], [`linalg`]: a cancel token, safe text, small dense solvers;
+//! - [`cancel`], [`text`], [`linalg`]: a cancel token, safe text, small dense solvers (and,
+//!   private, `trig`'s inline sine and cosine and `cpu`'s choice of instructions);
 //! - [`continuation`]: the one path-following driver of the beam, PRB and mechanism
 //!   solvers;
 //! - [`beam`]: the large-deflection baseline beam (DESIGN §2);
@@ -30,6 +31,7 @@
 pub mod beam;
 pub mod cancel;
 pub mod continuation;
+mod cpu;
 pub mod eval;
 pub mod export;
 pub mod fea;

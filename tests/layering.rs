@@ -6,8 +6,9 @@
 use std::path::Path;
 
 /// Bottom first; each module may use those before it. `cli` is the binary and sits on top.
-const LAYERS: [&str; 21] = [
+const LAYERS: [&str; 22] = [
     "cancel",
+    "cpu",
     "continuation",
     "text",
     "trig",

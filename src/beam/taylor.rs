@@ -63,7 +63,43 @@ fn order_for(tol: f64) -> usize {
 
 /// [`super::shoot`]'s integration of one segment, by Taylor series: same inputs, same
 /// state layout and samples, same failures.
+///
+/// Built twice (see [`crate::cpu`]): with AVX2 and FMA where the processor has them, for the
+/// baseline otherwise; both give the same bits.
 pub(crate) fn integrate<const N: usize>(
+    model: &BeamModel,
+    force: TipForce,
+    segment: Segment,
+    settings: ShotSettings,
+    shape: Option<Samples<'_>>,
+    meter: &mut Meter<'_>,
+) -> Result<(State<N>, u32), ShotFailure> {
+    #[cfg(target_arch = "x86_64")]
+    if crate::cpu::wide() {
+        // SAFETY: `wide` has just checked that this processor has AVX2 and FMA, the only
+        // features `integrate_wide` enables.
+        return unsafe { integrate_wide::<N>(model, force, segment, settings, shape, meter) };
+    }
+    integrate_any::<N>(model, force, segment, settings, shape, meter)
+}
+
+/// [`integrate`] compiled with AVX2 and FMA.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+fn integrate_wide<const N: usize>(
+    model: &BeamModel,
+    force: TipForce,
+    segment: Segment,
+    settings: ShotSettings,
+    shape: Option<Samples<'_>>,
+    meter: &mut Meter<'_>,
+) -> Result<(State<N>, u32), ShotFailure> {
+    integrate_any::<N>(model, force, segment, settings, shape, meter)
+}
+
+/// [`integrate`]'s body, inlined into each of its builds.
+#[inline(always)]
+fn integrate_any<const N: usize>(
     model: &BeamModel,
     force: TipForce,
     segment: Segment,
@@ -181,6 +217,7 @@ struct Step {
 
 /// Appends the samples inside `step` (from `*next`) with, if asked, their sensitivities `which`
 /// (three, or six for N = 12; weights their tolerances), and advances `*next`.
+#[inline(always)]
 fn sample_step<const N: usize, const B: usize>(
     z: &[[f64; MAX_ORDER + 1]; N],
     which: [usize; B],
@@ -271,6 +308,7 @@ const SAMPLE_TERM: f64 = 1e-2;
 /// it, every term of each of `which` at the step's end is below [`SAMPLE_TERM`] of its
 /// (looser, relative) tolerance. They need fewer orders than the state, whose samples take
 /// the step's own.
+#[inline(always)]
 fn sensitivity_order<const N: usize, const M: usize>(
     z: &[[f64; MAX_ORDER + 1]; N],
     which: [usize; M],
@@ -581,5 +619,93 @@ mod tests {
                 check::<12>(model, force, inner);
             }
         }
+    }
+
+    /// The AVX2 build of the integrator gives the baseline build's bits: end states, step
+    /// counts, samples and their sensitivities, for every state size, on the elastica and a
+    /// plate, at a tight and a loose tolerance.
+    #[cfg(target_arch = "x86_64")]
+    #[test]
+    fn both_builds_give_the_same_bits() {
+        if !crate::cpu::wide() {
+            eprintln!("this processor has no AVX2 and FMA: only the baseline build runs here");
+            return;
+        }
+        let elastica = BeamModel::elastica();
+        let plate = BeamModel::new(30.0, 0.3, None, Effects::NONE.with_plane_strain(true)).unwrap();
+        let cancel = CancelToken::new();
+        fn run<const N: usize>(
+            wide: bool,
+            model: &BeamModel,
+            force: TipForce,
+            segment: Segment,
+            settings: ShotSettings,
+            cancel: &CancelToken,
+        ) -> (Vec<u64>, u32) {
+            let mut points = Vec::new();
+            let mut sens = Vec::new();
+            let shape = Some(Samples {
+                points: &mut points,
+                count: 41,
+                sensitivities: Some(&mut sens),
+            });
+            let mut meter = Meter::new(u64::MAX / 4, model, cancel);
+            let (u, steps) = if wide {
+                // SAFETY: `cpu::wide` said this processor has AVX2 and FMA.
+                unsafe { integrate_wide::<N>(model, force, segment, settings, shape, &mut meter) }
+            } else {
+                integrate_any::<N>(model, force, segment, settings, shape, &mut meter)
+            }
+            .unwrap();
+            let mut values = u.to_vec();
+            values.extend(points.iter().flat_map(|p| [p.s, p.x, p.y, p.psi]));
+            values.extend(sens.iter().flatten());
+            (values.iter().map(|v| v.to_bits()).collect(), steps)
+        }
+        let mut compared = 0;
+        for model in [&elastica, &plate] {
+            for (ax, ay, m0) in [
+                (0.0, 3.0, 1.2),
+                (-7.0, 7.0, -2.5),
+                (2.0, -1.0, 6.0),
+                (-20.0, 1.0, 9.0),
+            ] {
+                let force = TipForce {
+                    alpha_x: ax,
+                    alpha_y: ay,
+                };
+                let whole = Segment {
+                    s_start: 0.0,
+                    s_end: 1.0,
+                    psi: 0.0,
+                    moment: m0,
+                    origin: (0.0, 0.0),
+                };
+                let inner = Segment {
+                    s_start: 0.25,
+                    s_end: 0.75,
+                    psi: 0.4,
+                    moment: m0,
+                    origin: (0.1, 0.2),
+                };
+                for tol in [1e-12, 1e-9, 1e-5] {
+                    let mut settings = settings(tol);
+                    settings.variational_tol = 1e-6;
+                    let same = [
+                        run::<4>(true, model, force, whole, settings, &cancel)
+                            == run::<4>(false, model, force, whole, settings, &cancel),
+                        run::<8>(true, model, force, whole, settings, &cancel)
+                            == run::<8>(false, model, force, whole, settings, &cancel),
+                        run::<12>(true, model, force, inner, settings, &cancel)
+                            == run::<12>(false, model, force, inner, settings, &cancel),
+                        run::<16>(true, model, force, whole, settings, &cancel)
+                            == run::<16>(false, model, force, whole, settings, &cancel),
+                    ];
+                    assert_eq!(same, [true; 4], "loads ({ax}, {ay}, {m0}), tol {tol}");
+                    compared += 4;
+                }
+            }
+        }
+        assert_eq!(compared, 96);
     }
 }
