@@ -36,9 +36,9 @@ pub(super) fn starts(
     if let Ok(default) = PrbMatrix::from_topology(&topology) {
         points.push(param.encode(&default));
     }
-    for model in published::all() {
-        if model.prb.topology() == topology {
-            points.push(param.encode(&model.prb));
+    for prb in published::matrices() {
+        if prb.topology() == topology {
+            points.push(param.encode(prb));
         }
     }
     let (mut lower, mut upper) = param.search_box(&p_start);
