@@ -6,6 +6,7 @@
 use super::model::BeamModel;
 use super::newton::{segment_count, Chain, NewtonFailure, NewtonScratch};
 use super::shoot::{Meter, ShotFailure};
+use super::stress::StressScratch;
 use super::{BeamSolution, BeamSolver, Convergence, Load, ShapePoint, SolveError, TipPose};
 use crate::continuation::{
     Corrected, Crossing, Effort, Growth, Halving, History, Limits, PathProblem, Predictor, Stop,
@@ -93,6 +94,8 @@ pub(super) struct BeamPath<'a> {
     cases: Vec<BeamSolution>,
     /// Newton's storage, reused from case to case.
     scratch: NewtonScratch,
+    /// The stress search's storage, likewise.
+    stress: StressScratch,
     /// With a wide section's plane strain: the plate fraction of each case `k / steps`
     /// (`k = 1..=steps`), which the model takes at the case and linearly in between
     /// ([`BeamPath::solver_at`]); `None`: the solver's own model throughout.
@@ -151,6 +154,7 @@ impl BeamSolver {
             peak_direction: 0.0,
             cases: Vec::with_capacity(steps as usize),
             scratch: NewtonScratch::default(),
+            stress: StressScratch::default(),
             plate,
         };
         let start = PathPoint::unloaded(segment_count(&self.model, end));
@@ -429,7 +433,9 @@ impl PathProblem for BeamPath<'_> {
     /// keeps none.
     fn report(&mut self, lambda: f64, point: &mut PathPoint, tally: Tally, _effort: &mut Effort) {
         let load = self.end.scaled(lambda);
-        let stress = self.solver.max_stress(load, point.tip, &point.shape);
+        let stress = self
+            .solver
+            .max_stress_with(load, point.tip, &point.shape, &mut self.stress);
         let solution = BeamSolution {
             load,
             tip: point.tip,

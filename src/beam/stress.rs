@@ -46,6 +46,16 @@ pub struct Stress {
     pub at: f64,
 }
 
+/// Storage for [`BeamSolver::max_stress`]'s per-point values, kept along a path so that each
+/// case allocates nothing.
+#[derive(Debug, Default, Clone)]
+pub(crate) struct StressScratch {
+    values: Vec<f64>,
+    forces: Vec<f64>,
+    matters: Vec<bool>,
+    slopes: Vec<Option<f64>>,
+}
+
 /// How close to the peak the search on the beam goes, units of L.
 const PEAK_TOL: f64 = 1e-10;
 /// The most short shots spent on one interior peak.
@@ -121,7 +131,18 @@ impl BeamSolver {
     /// where it is; `None` without a shape (measured data has none) or where the material
     /// law has no state. See the module's docs for the method.
     pub fn max_stress(&self, load: Load, tip: TipPose, shape: &[ShapePoint]) -> Option<Stress> {
-        self.max_stress_pruned(load, tip, shape, true)
+        self.max_stress_pruned(load, tip, shape, true, &mut StressScratch::default())
+    }
+
+    /// [`BeamSolver::max_stress`] in storage kept from case to case (a path's cases).
+    pub(crate) fn max_stress_with(
+        &self,
+        load: Load,
+        tip: TipPose,
+        shape: &[ShapePoint],
+        scratch: &mut StressScratch,
+    ) -> Option<Stress> {
+        self.max_stress_pruned(load, tip, shape, true, scratch)
     }
 
     /// [`BeamSolver::max_stress`], with (`prune`) or without the bound that spares the far
@@ -132,7 +153,15 @@ impl BeamSolver {
         tip: TipPose,
         shape: &[ShapePoint],
         prune: bool,
+        scratch: &mut StressScratch,
     ) -> Option<Stress> {
+        let StressScratch {
+            values,
+            forces,
+            matters,
+            slopes,
+        } = scratch;
+        values.clear();
         let model = &self.model;
         let force = TipForce {
             alpha_x: load.alpha_x,
@@ -162,9 +191,8 @@ impl BeamSolver {
             let n = force.alpha_x * cs + force.alpha_y * sn;
             (c_e * n.abs() + bend * moment(p).abs(), n)
         };
-        let mut values = Vec::with_capacity(shape.len());
         if model.effects.poisson {
-            let mut forces = Vec::with_capacity(shape.len());
+            forces.clear();
             for p in shape {
                 let (v, n) = exact(p);
                 values.push(v);
@@ -179,7 +207,7 @@ impl BeamSolver {
                 _ => (0.0, f64::INFINITY),
             };
             let top = values.iter().copied().fold(0.0, f64::max);
-            for ((v, &n), p) in values.iter_mut().zip(&forces).zip(shape) {
+            for ((v, &n), p) in values.iter_mut().zip(forces.iter()).zip(shape) {
                 if *v * hi >= top * lo {
                     *v = model.fibre_stress(n, moment(p))?;
                 } else {
@@ -203,14 +231,13 @@ impl BeamSolver {
             values.extend(shape.iter().map(|p| bend * moment(p).abs()));
             let top = values.iter().copied().fold(0.0, f64::max);
             let last = values.len().checked_sub(1)?;
-            let matters: Vec<bool> = (0..=last)
-                .map(|i| {
-                    let hi = values[i] + axial_bound;
-                    let left = if i == 0 { 0.0 } else { values[i - 1] };
-                    let right = if i == last { 0.0 } else { values[i + 1] };
-                    hi >= top || (hi >= 0.5 * top && hi >= left.max(right))
-                })
-                .collect();
+            matters.clear();
+            matters.extend((0..=last).map(|i| {
+                let hi = values[i] + axial_bound;
+                let left = if i == 0 { 0.0 } else { values[i - 1] };
+                let right = if i == last { 0.0 } else { values[i + 1] };
+                hi >= top || (hi >= 0.5 * top && hi >= left.max(right))
+            }));
             for (i, p) in shape.iter().enumerate() {
                 if matters[i.saturating_sub(1)] || matters[i] || matters[(i + 1).min(last)] {
                     values[i] = exact(p).0;
@@ -225,7 +252,8 @@ impl BeamSolver {
         }
         let mut best_s = shape[best_i].s;
         let last = values.len() - 1;
-        let mut slopes: Vec<Option<f64>> = vec![None; values.len()];
+        slopes.clear();
+        slopes.resize(values.len(), None);
         let mut slope = |i: usize| -> Option<f64> {
             if slopes[i].is_none() {
                 let p = &shape[i];
@@ -388,8 +416,9 @@ mod tests {
             let solver = BeamSolver::new(model, resolution).unwrap();
             let load = Load::new(ax, ay, beta);
             if let Ok(sol) = solver.solve(load) {
-                let pruned = solver.max_stress_pruned(load, sol.tip, &sol.shape, true);
-                let exact = solver.max_stress_pruned(load, sol.tip, &sol.shape, false);
+                let mut scratch = StressScratch::default();
+                let pruned = solver.max_stress_pruned(load, sol.tip, &sol.shape, true, &mut scratch);
+                let exact = solver.max_stress_pruned(load, sol.tip, &sol.shape, false, &mut scratch);
                 prop_assert!(exact.is_some());
                 prop_assert_eq!(pruned, exact);
             }
