@@ -584,38 +584,51 @@ mod tests {
         }
     }
 
+    /// The two plain-bending models: the elastica and a plate (plane strain, L/t = 30).
+    fn plain_models() -> [BeamModel; 2] {
+        [
+            BeamModel::elastica(),
+            BeamModel::new(30.0, 0.3, None, Effects::NONE.with_plane_strain(true)).unwrap(),
+        ]
+    }
+
+    /// The whole beam from its clamp, and an inner segment, both starting with the moment
+    /// `m0`.
+    fn whole_and_inner(m0: f64) -> (Segment, Segment) {
+        let whole = Segment {
+            s_start: 0.0,
+            s_end: 1.0,
+            psi: 0.0,
+            moment: m0,
+            origin: (0.0, 0.0),
+        };
+        let inner = Segment {
+            s_start: 0.25,
+            s_end: 0.75,
+            psi: 0.4,
+            moment: m0,
+            origin: (0.1, 0.2),
+        };
+        (whole, inner)
+    }
+
     #[test]
     fn taylor_shots_match_a_fine_runge_kutta_reference() {
-        let elastica = BeamModel::elastica();
-        let plate = BeamModel::new(30.0, 0.3, None, Effects::NONE.with_plane_strain(true)).unwrap();
         let loads = [
             (0.0, 3.0, 1.2),
             (-7.0, 7.0, -2.5),
             (2.0, -1.0, 6.0),
             (0.0, 0.0, 2.0),
         ];
-        for model in [&elastica, &plate] {
+        for model in &plain_models() {
             for &(ax, ay, m0) in &loads {
                 let force = TipForce {
                     alpha_x: ax,
                     alpha_y: ay,
                 };
-                let whole = Segment {
-                    s_start: 0.0,
-                    s_end: 1.0,
-                    psi: 0.0,
-                    moment: m0,
-                    origin: (0.0, 0.0),
-                };
+                let (whole, inner) = whole_and_inner(m0);
                 check::<8>(model, force, whole);
                 check::<16>(model, force, whole);
-                let inner = Segment {
-                    s_start: 0.25,
-                    s_end: 0.75,
-                    psi: 0.4,
-                    moment: m0,
-                    origin: (0.1, 0.2),
-                };
                 check::<12>(model, force, inner);
             }
         }
@@ -631,8 +644,6 @@ mod tests {
             eprintln!("this processor has no AVX2 and FMA: only the baseline build runs here");
             return;
         }
-        let elastica = BeamModel::elastica();
-        let plate = BeamModel::new(30.0, 0.3, None, Effects::NONE.with_plane_strain(true)).unwrap();
         let cancel = CancelToken::new();
         fn run<const N: usize>(
             wide: bool,
@@ -663,7 +674,7 @@ mod tests {
             (values.iter().map(|v| v.to_bits()).collect(), steps)
         }
         let mut compared = 0;
-        for model in [&elastica, &plate] {
+        for model in &plain_models() {
             for (ax, ay, m0) in [
                 (0.0, 3.0, 1.2),
                 (-7.0, 7.0, -2.5),
@@ -674,20 +685,7 @@ mod tests {
                     alpha_x: ax,
                     alpha_y: ay,
                 };
-                let whole = Segment {
-                    s_start: 0.0,
-                    s_end: 1.0,
-                    psi: 0.0,
-                    moment: m0,
-                    origin: (0.0, 0.0),
-                };
-                let inner = Segment {
-                    s_start: 0.25,
-                    s_end: 0.75,
-                    psi: 0.4,
-                    moment: m0,
-                    origin: (0.1, 0.2),
-                };
+                let (whole, inner) = whole_and_inner(m0);
                 for tol in [1e-12, 1e-9, 1e-5] {
                     let mut settings = settings(tol);
                     settings.variational_tol = 1e-6;
