@@ -41,8 +41,8 @@
 //! differences it reaches 2.7e-7 (frequencies within 4e-5), and 5.5e-8 to 7.3e-8 with base
 //! steps of 3e-8 to 1e-6.
 //!
-//! The normal equations are summed here, in the residuals' order, so a fit gives the same
-//! bits on every processor; nalgebra's product handed them to
+//! The normal equations are summed here, in the residuals' order, so they come out the same
+//! on every processor; nalgebra's product handed them to
 //! `matrixmultiply`, whose kernel (and order of summation) is chosen by the processor's
 //! features at run time, and whose first call enumerated them all (26-33 us of `cpuid` traps
 //! on a virtual machine, a tenth of the 20-case 3R fit's own time in the command).
