@@ -9,8 +9,8 @@
 //! the root moment (the tip's compliance). The map has no folds, so a beam held by a
 //! mechanism past its own load-controlled limit point is as regular as any other.
 
-use super::shoot::{Meter, Samples, Segment, ShotFailure, TipForce};
-use super::shot::{root_shot, shoot};
+use super::shoot::{Meter, Samples, ShotFailure, TipForce};
+use super::shot::root_shot;
 use super::{BeamSolver, Load, ShapePoint, SolveError, TipPose};
 use crate::cancel::CancelToken;
 
@@ -139,13 +139,6 @@ impl BeamSolver {
         let mut meter = Meter::new(self.budget.rk_steps, &self.model, &cancel);
         let mut settings = self.settings(load);
         settings.moment_scale = load.magnitude();
-        let segment = Segment {
-            s_start: 0.0,
-            s_end: 1.0,
-            psi: 0.0,
-            moment: m0,
-            origin: (0.0, 0.0),
-        };
         let mut points = Vec::with_capacity(self.resolution.shape_points);
         let samples = Samples {
             points: &mut points,
@@ -153,15 +146,8 @@ impl BeamSolver {
             sensitivities: None,
         };
         let force = TipForce { alpha_x, alpha_y };
-        shoot::<8>(
-            &self.model,
-            force,
-            segment,
-            settings,
-            Some(samples),
-            &mut meter,
-        )
-        .map_err(|e| shot_error(e, load, &meter))?;
+        root_shot::<8>(&self.model, force, m0, settings, Some(samples), &mut meter)
+            .map_err(|e| shot_error(e, load, &meter))?;
         Ok(points)
     }
 }

@@ -263,6 +263,17 @@ pub(crate) struct Segment {
 }
 
 impl Segment {
+    /// The whole beam from its clamp (at the origin, along +x) with the root moment `moment`.
+    pub(crate) fn from_clamp(moment: f64) -> Segment {
+        Segment {
+            s_start: 0.0,
+            s_end: 1.0,
+            psi: 0.0,
+            moment,
+            origin: (0.0, 0.0),
+        }
+    }
+
     /// The state a shot of this segment starts from: `psi` and `M` given, positions zero
     /// (they are increments), the sensitivities the identity (slot 5, `dM/dM`, unless `N = 4`,
     /// the state alone; and slot 8, `dpsi/dpsi`, when `N = 12`).

@@ -50,12 +50,12 @@ pub(crate) fn root_shot<const N: usize>(
     shape: Option<Samples<'_>>,
     meter: &mut Meter<'_>,
 ) -> Result<(State<N>, u32), ShotFailure> {
-    let segment = Segment {
-        s_start: 0.0,
-        s_end: 1.0,
-        psi: 0.0,
-        moment,
-        origin: (0.0, 0.0),
-    };
-    integrate::<N>(model, force, segment, settings, shape, meter)
+    integrate::<N>(
+        model,
+        force,
+        Segment::from_clamp(moment),
+        settings,
+        shape,
+        meter,
+    )
 }

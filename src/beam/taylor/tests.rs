@@ -1,0 +1,265 @@
+//! The Taylor integrator's tests: against a fine Runge-Kutta reference, against the
+//! Dormand-Prince shots' samples, and its two builds against each other.
+
+use super::*;
+use crate::beam::shoot::rhs;
+use crate::beam::{BeamModel, Effects};
+use crate::cancel::CancelToken;
+
+fn settings(tol: f64) -> ShotSettings {
+    ShotSettings {
+        tol,
+        variational_tol: 1e-12,
+        moment_scale: 1.0,
+        h0: 0.1,
+        max_steps: 200_000,
+    }
+}
+
+/// Classical RK4 on the same right-hand side with a tiny fixed step: an independent
+/// reference (global error about 1e-14 at 4000 steps on these loads).
+fn rk4<const N: usize>(model: &BeamModel, force: TipForce, u0: State<N>, len: f64) -> State<N> {
+    let steps = 4000;
+    let h = len / steps as f64;
+    let f = |u: &State<N>| rhs(model, force, u).unwrap();
+    let mut u = u0;
+    for _ in 0..steps {
+        let k1 = f(&u);
+        let k2 = f(&std::array::from_fn(|i| u[i] + 0.5 * h * k1[i]));
+        let k3 = f(&std::array::from_fn(|i| u[i] + 0.5 * h * k2[i]));
+        let k4 = f(&std::array::from_fn(|i| u[i] + h * k3[i]));
+        u = std::array::from_fn(|i| u[i] + h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]));
+    }
+    u
+}
+
+fn check<const N: usize>(model: &BeamModel, force: TipForce, segment: Segment) {
+    let cancel = CancelToken::new();
+    let mut meter = Meter::new(u64::MAX / 4, model, &cancel);
+    let (u, steps) =
+        integrate::<N>(model, force, segment, settings(1e-12), None, &mut meter).unwrap();
+    let mut u0: State<N> = [0.0; N];
+    u0[0] = segment.psi;
+    u0[1] = segment.moment;
+    u0[5] = 1.0;
+    if N == 12 {
+        u0[8] = 1.0;
+    }
+    let reference = rk4(model, force, u0, segment.s_end - segment.s_start);
+    for i in 0..N {
+        assert!(
+            (u[i] - reference[i]).abs() <= 1e-10 * (1.0 + reference[i].abs()),
+            "N = {N}, component {i}: Taylor {} vs RK4 {} ({steps} steps)",
+            u[i],
+            reference[i]
+        );
+    }
+}
+
+/// The samples and their sensitivities (summed to fewer orders) against the
+/// Dormand-Prince shot's, both at tol 1e-12: the shape to 1e-10, the sensitivities to the
+/// production variational tolerance's 1e-6 (relative), whose truncation they carry.
+#[test]
+fn taylor_samples_match_the_runge_kutta_shots() {
+    let model = BeamModel::elastica();
+    let cancel = CancelToken::new();
+    let force = TipForce {
+        alpha_x: -2.0,
+        alpha_y: 4.0,
+    };
+    let mut settings = settings(1e-12);
+    settings.variational_tol = 1e-6;
+    settings.moment_scale = 4.5;
+    for (segment, columns) in [
+        (
+            Segment {
+                s_start: 0.0,
+                s_end: 0.5,
+                psi: 0.0,
+                moment: 2.5,
+                origin: (0.0, 0.0),
+            },
+            3,
+        ),
+        (
+            Segment {
+                s_start: 0.5,
+                s_end: 1.0,
+                psi: 0.9,
+                moment: 1.1,
+                origin: (0.45, 0.2),
+            },
+            6,
+        ),
+    ] {
+        let run = |taylor: bool| {
+            let mut points = Vec::new();
+            let mut sens = Vec::new();
+            let samples = Samples {
+                points: &mut points,
+                count: 41,
+                sensitivities: Some(&mut sens),
+            };
+            let mut meter = Meter::new(u64::MAX / 4, &model, &cancel);
+            let shape = Some(samples);
+            if columns == 3 && taylor {
+                integrate::<8>(&model, force, segment, settings, shape, &mut meter).unwrap();
+            } else if columns == 3 {
+                crate::beam::shoot::integrate::<8>(
+                    &model, force, segment, settings, shape, &mut meter,
+                )
+                .unwrap();
+            } else if taylor {
+                integrate::<12>(&model, force, segment, settings, shape, &mut meter).unwrap();
+            } else {
+                crate::beam::shoot::integrate::<12>(
+                    &model, force, segment, settings, shape, &mut meter,
+                )
+                .unwrap();
+            }
+            (points, sens)
+        };
+        let (points, sens) = run(true);
+        let (ref_points, ref_sens) = run(false);
+        // Root and 20 samples on the first half; the second's 20 after its start.
+        assert_eq!(points.len(), if columns == 3 { 21 } else { 20 });
+        assert_eq!(points.len(), ref_points.len());
+        for (a, b) in points.iter().zip(&ref_points) {
+            assert_eq!(a.s, b.s);
+            let diff = (a.x - b.x)
+                .abs()
+                .max((a.y - b.y).abs())
+                .max((a.psi - b.psi).abs());
+            assert!(diff <= 1e-10, "sample at s = {}: {a:?} vs {b:?}", a.s);
+        }
+        for (a, b) in sens.iter().zip(&ref_sens) {
+            for m in 0..6 {
+                let tol = 1e-6 * (1.0 + b[m].abs());
+                assert!(
+                    (a[m] - b[m]).abs() <= tol,
+                    "sensitivity {m}: {a:?} vs {b:?}"
+                );
+                if m >= columns {
+                    assert_eq!(a[m], 0.0);
+                }
+            }
+        }
+    }
+}
+
+/// The two plain-bending models: the elastica and a plate (plane strain, L/t = 30).
+fn plain_models() -> [BeamModel; 2] {
+    [
+        BeamModel::elastica(),
+        BeamModel::new(30.0, 0.3, None, Effects::NONE.with_plane_strain(true)).unwrap(),
+    ]
+}
+
+/// The whole beam from its clamp, and an inner segment, both starting with the moment
+/// `m0`.
+fn whole_and_inner(m0: f64) -> (Segment, Segment) {
+    let whole = Segment::from_clamp(m0);
+    let inner = Segment {
+        s_start: 0.25,
+        s_end: 0.75,
+        psi: 0.4,
+        moment: m0,
+        origin: (0.1, 0.2),
+    };
+    (whole, inner)
+}
+
+#[test]
+fn taylor_shots_match_a_fine_runge_kutta_reference() {
+    let loads = [
+        (0.0, 3.0, 1.2),
+        (-7.0, 7.0, -2.5),
+        (2.0, -1.0, 6.0),
+        (0.0, 0.0, 2.0),
+    ];
+    for model in &plain_models() {
+        for &(ax, ay, m0) in &loads {
+            let force = TipForce {
+                alpha_x: ax,
+                alpha_y: ay,
+            };
+            let (whole, inner) = whole_and_inner(m0);
+            check::<8>(model, force, whole);
+            check::<16>(model, force, whole);
+            check::<12>(model, force, inner);
+        }
+    }
+}
+
+/// The AVX2 build of the integrator gives the baseline build's bits: end states, step
+/// counts, samples and their sensitivities, for every state size, on the elastica and a
+/// plate, at a tight and a loose tolerance.
+#[cfg(target_arch = "x86_64")]
+#[test]
+fn both_builds_give_the_same_bits() {
+    if !crate::cpu::wide() {
+        eprintln!("this processor has no AVX2 and FMA: only the baseline build runs here");
+        return;
+    }
+    let cancel = CancelToken::new();
+    fn run<const N: usize>(
+        wide: bool,
+        model: &BeamModel,
+        force: TipForce,
+        segment: Segment,
+        settings: ShotSettings,
+        cancel: &CancelToken,
+    ) -> (Vec<u64>, u32) {
+        let mut points = Vec::new();
+        let mut sens = Vec::new();
+        let shape = Some(Samples {
+            points: &mut points,
+            count: 41,
+            sensitivities: Some(&mut sens),
+        });
+        let mut meter = Meter::new(u64::MAX / 4, model, cancel);
+        let (u, steps) = if wide {
+            // SAFETY: `cpu::wide` said this processor has AVX2 and FMA.
+            unsafe { integrate_wide::<N>(model, force, segment, settings, shape, &mut meter) }
+        } else {
+            integrate_any::<N>(model, force, segment, settings, shape, &mut meter)
+        }
+        .unwrap();
+        let mut values = u.to_vec();
+        values.extend(points.iter().flat_map(|p| [p.s, p.x, p.y, p.psi]));
+        values.extend(sens.iter().flatten());
+        (values.iter().map(|v| v.to_bits()).collect(), steps)
+    }
+    let mut compared = 0;
+    for model in &plain_models() {
+        for (ax, ay, m0) in [
+            (0.0, 3.0, 1.2),
+            (-7.0, 7.0, -2.5),
+            (2.0, -1.0, 6.0),
+            (-20.0, 1.0, 9.0),
+        ] {
+            let force = TipForce {
+                alpha_x: ax,
+                alpha_y: ay,
+            };
+            let (whole, inner) = whole_and_inner(m0);
+            for tol in [1e-12, 1e-9, 1e-5] {
+                let mut settings = settings(tol);
+                settings.variational_tol = 1e-6;
+                let same = [
+                    run::<4>(true, model, force, whole, settings, &cancel)
+                        == run::<4>(false, model, force, whole, settings, &cancel),
+                    run::<8>(true, model, force, whole, settings, &cancel)
+                        == run::<8>(false, model, force, whole, settings, &cancel),
+                    run::<12>(true, model, force, inner, settings, &cancel)
+                        == run::<12>(false, model, force, inner, settings, &cancel),
+                    run::<16>(true, model, force, whole, settings, &cancel)
+                        == run::<16>(false, model, force, whole, settings, &cancel),
+                ];
+                assert_eq!(same, [true; 4], "loads ({ax}, {ay}, {m0}), tol {tol}");
+                compared += 4;
+            }
+        }
+    }
+    assert_eq!(compared, 96);
+}
