@@ -4,8 +4,11 @@
 //! definiteness (Cholesky succeeds), tested inside every Newton iteration; and what a path
 //! hands back ([`PrbSolution`], [`PrbCase`], [`PrbError`]).
 //!
-//! Newton stops when no update moves a joint by more than `1e-13` (radians, units of L), so
-//! an accepted configuration is exact to rounding.
+//! Newton stops when no update moves a joint by more than `1e-13` (radians, units of L), or
+//! when the update it has just made is in the quadratic regime (below `1e-7`) and the last
+//! two updates predict the next below `1e-14`, so an accepted configuration is exact to
+//! rounding. The prediction saves the iteration that would only confirm it (the 20-case 3R
+//! fit of `benches/scipy`: 241 -> 223 us in-process, with the same evaluations and `J`).
 
 use crate::beam::{Load, TipPose};
 use crate::continuation::{self, Corrected, Effort, History, Limits, PathProblem, Stop, Tally};
@@ -92,6 +95,10 @@ impl PrbCase<'_> {
 
 /// Newton stops when the update is below this (radians, units of L).
 const NEWTON_TOL: f64 = 1e-13;
+/// Updates below this (radians, units of L) are in Newton's quadratic regime, where the next
+/// update is predicted from the last two; its square (what the tip's linear update from the
+/// last configuration leaves out) is 1e-14.
+const QUADRATIC_FROM: f64 = 1e-7;
 /// No Newton update turns a joint by more than this (radians).
 const MAX_TURN: f64 = 0.5;
 /// No accepted step moves the tip by more than this (units of L, radians).
@@ -252,6 +259,8 @@ impl PrbSolver {
         effort: &mut Effort,
     ) -> Result<(TipPose, u32), Failure> {
         let m = self.dofs.len();
+        // The previous update's size, for the convergence estimate.
+        let mut previous = f64::INFINITY;
         for iteration in 1..=effort.newton_limit() {
             if !effort.spend_iteration() {
                 return Err(Failure::Diverged);
@@ -274,11 +283,18 @@ impl PrbSolver {
             for (qi, si) in q.iter_mut().zip(parts.step.iter()) {
                 *qi -= scale * si;
             }
-            if biggest <= NEWTON_TOL {
-                // The last update moved nothing by more than NEWTON_TOL: the tip moves
-                // with it to first order (the rest is its square, below rounding), so the
+            // Quadratic convergence, `d_(k+1) = C d_k^2` with `C = d_k / d_(k-1)^2` from the
+            // last two updates, predicts the next update; below a tenth of NEWTON_TOL it
+            // would move nothing, so this one is the last.
+            let converged = biggest <= NEWTON_TOL
+                || (biggest <= QUADRATIC_FROM
+                    && biggest * biggest * biggest <= 0.1 * NEWTON_TOL * previous * previous);
+            previous = biggest;
+            if converged {
+                // The last update moved nothing by more than QUADRATIC_FROM: the tip moves
+                // with it to first order (the rest is its square, 1e-14 at most), so the
                 // tip is the converged configuration's however small or large the last
-                // update was (from a warm start's hint, up to NEWTON_TOL).
+                // update was.
                 return Ok((self.tip_moved(tip, parts), iteration));
             }
         }
