@@ -128,11 +128,8 @@ pub fn flexure_meshes(
             Mesh::for_tapered_beam(along, &f.beam, section, taper)
         })
         .collect::<Result<Vec<Mesh>, MeshError>>()?;
-    let bricks: u64 = meshes
-        .iter()
-        .map(|m| u64::from(m.along) * u64::from(m.through) * u64::from(m.across))
-        .sum();
-    if bricks > MAX_BRICKS {
+    let bricks: u128 = meshes.iter().map(Mesh::bricks).sum();
+    if bricks > u128::from(MAX_BRICKS) {
         return Err(MeshError(format!(
             "density {n} makes {bricks} elements over the {} flexures, more than the \
              {MAX_BRICKS} allowed: choose a smaller density",

@@ -245,8 +245,8 @@ impl Mesh {
                 Section::PlaneStress | Section::PlaneStrain => 1,
             },
         };
-        let bricks = u64::from(mesh.along) * u64::from(mesh.through) * u64::from(mesh.across);
-        if bricks > MAX_BRICKS {
+        let bricks = mesh.bricks();
+        if bricks > u128::from(MAX_BRICKS) {
             return Err(MeshError(format!(
                 "density {n} makes {} x {} x {} = {bricks} elements, more than the {MAX_BRICKS} \
                  allowed: choose a smaller density",
@@ -254,6 +254,13 @@ impl Mesh {
             )));
         }
         Ok(mesh)
+    }
+}
+
+impl Mesh {
+    /// Its number of bricks, counted where no density can overflow it (three `u32` factors).
+    pub fn bricks(&self) -> u128 {
+        u128::from(self.along) * u128::from(self.through) * u128::from(self.across)
     }
 }
 
@@ -425,6 +432,24 @@ mod tests {
         assert_eq!((m.along, m.through, m.across), (16, 4, 1));
         assert!(Mesh::for_beam(1, &scene.beam, Section::PlaneStress).is_err());
         assert!(Mesh::for_beam(100_000, &stubby, Section::Solid).is_err());
+    }
+
+    #[test]
+    fn a_density_whose_brick_count_would_wrap_is_refused_with_the_true_count() {
+        // 209715200 x 2097152 x 20971520 is 125 x 2^66: in u64 it wrapped to exactly 0 bricks,
+        // which passed the limit and aborted on a 1.6e17-byte allocation.
+        let beam = Scene::builtin().beam; // L / t0 = 100, w0 / L = 0.2
+        let err = Mesh::for_beam(209_715_200, &beam, Section::Solid).unwrap_err();
+        let m = Mesh {
+            along: 209_715_200,
+            through: 2_097_152,
+            across: 20_971_520,
+        };
+        assert!(
+            err.to_string().contains(&format!("= {} elements", m.bricks())),
+            "{err}"
+        );
+        assert!(m.bricks() > u128::from(u64::MAX));
     }
 
     #[test]
