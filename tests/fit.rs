@@ -180,6 +180,50 @@ fn fits_never_return_nan() {
     }
 }
 
+/// A heavy weight is a heavy weight, not a cliff: each residual's cap grows with its weight
+/// (a fixed cap flattened every angle residual of `angle_weight = 1e6`, and the polish ended
+/// 1600 times above its start with the angles ten times worse than at weight 1). On the
+/// built-in scene, L-R-R at draft, weights 1 to 1e6: every fit ends at or below its start,
+/// and a heavier angle weight never leaves a larger rms angle error (the part of `J` it
+/// weighs: at two optima of `J_pos + w J_ang`, the one of the larger `w` has the smaller
+/// `J_ang`).
+#[test]
+fn heavy_angle_weights_trade_position_for_angle() {
+    let scene = Scene::builtin();
+    let study = Study::as_given(&scene, Sampling::Fidelity(Fidelity::Draft)).unwrap();
+    let start = PrbMatrix::from_topology("L-R-R").unwrap();
+    let mut lighter = f64::INFINITY;
+    for w in [1.0, 1e2, 1e4, 1e6] {
+        let options = FitOptions {
+            fidelity: Fidelity::Draft,
+            angle_weight: w,
+            seed: 1,
+        };
+        let r = study
+            .fit(&start, &options, &mut |_| {}, &CancelToken::new())
+            .unwrap();
+        let f = &r.figures;
+        eprintln!(
+            "angle_weight {w:e}: J {:.4e} (start {:.4e}), rms pos {:.3e}, rms ang {:.3e}",
+            f.objective, r.start_objective, f.rms_pos_err, f.rms_ang_err
+        );
+        // J of the result and of the start are sums in different orders: allow round-off.
+        assert!(
+            f.objective <= r.start_objective * (1.0 + 1e-12),
+            "w {w}: {} vs {}",
+            f.objective,
+            r.start_objective
+        );
+        // Draft stops once a step gains less than 1e-5 of J: allow that much of the optimum.
+        assert!(
+            f.rms_ang_err <= lighter * (1.0 + 1e-5),
+            "w {w}: rms angle error {} above {lighter} at the lighter weight",
+            f.rms_ang_err
+        );
+        lighter = f.rms_ang_err;
+    }
+}
+
 /// A matrix with every cell pinned has nothing to fit; an optimum cannot be improved; both
 /// say so.
 #[test]

@@ -446,7 +446,8 @@ mod tests {
             across: 20_971_520,
         };
         assert!(
-            err.to_string().contains(&format!("= {} elements", m.bricks())),
+            err.to_string()
+                .contains(&format!("= {} elements", m.bricks())),
             "{err}"
         );
         assert!(m.bricks() > u128::from(u64::MAX));

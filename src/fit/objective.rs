@@ -14,9 +14,13 @@ use crate::prb::{PrbMatrix, PrbRow, PrbSolver, SolverLimits, WarmStart, CELLS_PE
 
 use super::Parameterisation;
 
-/// A residual given to each component of a case the PRB model cannot reach, and the cap on
-/// every residual. With three components per case it adds 3 to `J` per missed case: far above
-/// any usable model (J below 1e-2), yet finite.
+/// A residual of unit weight given to each component of a case the PRB model cannot reach,
+/// and the cap on every residual of unit weight: a weighted component's is `PENALTY
+/// sqrt(weight)`, so that the cap bounds the same error whatever the weight (an error of
+/// `sqrt(n)` L or rad over `n` cases, useless in any model). With unit weights a missed case
+/// adds 3 to `J`: far above any usable model (J below 1e-2), yet finite. (A cap that did not
+/// grow with the weight flattened every residual of a heavily weighted component, and the
+/// polish, seeing no slope, wandered: `angle_weight = 1e6` ended at 1600 times its start.)
 pub const PENALTY: f64 = 1.0;
 
 /// Trial models give up on a load path once continuation needs steps below this fraction of
@@ -61,6 +65,9 @@ pub trait Target {
         out: &mut Vec<f64>,
         cells: Option<&mut Vec<f64>>,
     ) -> bool;
+    /// Fills `out` (cleared) with the residuals of a model that reaches no case: each its
+    /// cap, the weighted [`PENALTY`].
+    fn missed_all(&self, out: &mut Vec<f64>);
     /// The `J` at which a target's errors are `fraction` of its accuracy targets: the polish
     /// stops once `J` is this low, where what it could still gain is that small a part of
     /// what the user asked for. 0 (the default): the polish stops on its tolerances alone.
@@ -140,9 +147,23 @@ impl<'a> CantileverTarget<'a> {
     }
 }
 
+impl CantileverTarget<'_> {
+    /// The caps of a case's three residuals (position, position, angle).
+    fn caps(&self) -> [f64; 3] {
+        [PENALTY, PENALTY, PENALTY * self.angle_scale]
+    }
+}
+
 impl Target for CantileverTarget<'_> {
     fn len(&self) -> usize {
         3 * self.baseline.case_count()
+    }
+
+    fn missed_all(&self, out: &mut Vec<f64>) {
+        out.clear();
+        for _ in 0..self.baseline.case_count() {
+            out.extend_from_slice(&self.caps());
+        }
     }
 
     fn objective_floor(&self, fraction: f64) -> f64 {
@@ -177,6 +198,7 @@ impl Target for CantileverTarget<'_> {
             self.case_scale,
             self.angle_scale * self.case_scale,
         ];
+        let caps = self.caps();
         let mut warm = self.warm.borrow_mut();
         let near = warm.next(matrix);
         let _ = self.baseline.follow_warm(
@@ -195,7 +217,8 @@ impl Target for CantileverTarget<'_> {
                 });
                 for (k, &r) in raw.iter().enumerate() {
                     let row = known.then(|| &sensitivity[k * width..(k + 1) * width]);
-                    push_residual(out, cells.as_deref_mut(), r, row, (scales[k], 1.0), width);
+                    let scale = (scales[k], 1.0);
+                    push_residual(out, cells.as_deref_mut(), r, row, scale, caps[k], width);
                 }
             },
             |missed, _| {
@@ -203,7 +226,7 @@ impl Target for CantileverTarget<'_> {
                 let mut state = state.borrow_mut();
                 let (out, cells) = &mut *state;
                 for _ in missed {
-                    out.extend_from_slice(&[PENALTY; 3]);
+                    out.extend_from_slice(&caps);
                 }
                 if let Some(cells) = cells.as_deref_mut() {
                     cells.extend(std::iter::repeat_n(0.0, 3 * width * missed.len()));
@@ -215,23 +238,24 @@ impl Target for CantileverTarget<'_> {
     }
 }
 
-/// Appends the residual `r` to `out`, capped at [`PENALTY`] (so that failing to reach a case
-/// is never better than reaching it badly), and, with `cells`, its derivative: the row
-/// `derivative` (`width` cells) times `scale` over `over` (the residual's own scaling), or
-/// zeros where it is unknown or the residual is capped (flat there), as
-/// [`Target::residuals_with_cells`] promises.
+/// Appends the residual `r` to `out`, capped at `cap` (its component's weighted
+/// [`PENALTY`], so that failing to reach a case is never better than reaching it badly), and,
+/// with `cells`, its derivative: the row `derivative` (`width` cells) times `scale` over
+/// `over` (the residual's own scaling), or zeros where it is unknown or the residual is capped
+/// (flat there), as [`Target::residuals_with_cells`] promises.
 pub(crate) fn push_residual(
     out: &mut Vec<f64>,
     cells: Option<&mut Vec<f64>>,
     r: f64,
     derivative: Option<&[f64]>,
     (scale, over): (f64, f64),
+    cap: f64,
     width: usize,
 ) {
-    out.push(r.clamp(-PENALTY, PENALTY));
+    out.push(r.clamp(-cap, cap));
     if let Some(cells) = cells {
         match derivative {
-            Some(d) if r.abs() < PENALTY => cells.extend(d.iter().map(|v| v * scale / over)),
+            Some(d) if r.abs() < cap => cells.extend(d.iter().map(|v| v * scale / over)),
             _ => cells.extend(std::iter::repeat_n(0.0, width)),
         }
     }
@@ -275,8 +299,7 @@ impl<'a> Objective<'a> {
                     return false;
                 }
                 self.evaluations.set(self.evaluations.get() + 1);
-                out.clear();
-                out.resize(self.target.len(), PENALTY);
+                self.target.missed_all(out);
                 true
             }
         }

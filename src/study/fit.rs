@@ -202,6 +202,9 @@ struct ModesTarget<'a> {
     body: crate::prb::TipBody,
     /// `sqrt(w_omega / N)`.
     scale: f64,
+    /// The cap of a frequency's residual, `PENALTY sqrt(w_omega)` (a ratio error of
+    /// `sqrt(N)`, [`PENALTY`]).
+    cap: f64,
     /// `J` of frequency errors exactly at `max_freq_err`: `w_omega max_freq_err^2`.
     target_objective: f64,
     /// The last statics residuals and the statics cells (gamma, k_theta, k_ex per row) they
@@ -226,6 +229,7 @@ impl<'a> ModesTarget<'a> {
             beam: truth.omega[..n].to_vec(),
             body: truth.body,
             scale: (w / n as f64).sqrt(),
+            cap: PENALTY * w.sqrt(),
             target_objective: w * study.scene().accuracy.max_freq_err.powi(2),
             last_statics: std::cell::RefCell::new((Vec::new(), Vec::new())),
         })
@@ -235,6 +239,11 @@ impl<'a> ModesTarget<'a> {
 impl Target for ModesTarget<'_> {
     fn len(&self) -> usize {
         self.statics.len() + self.beam.len()
+    }
+
+    fn missed_all(&self, out: &mut Vec<f64>) {
+        self.statics.missed_all(out);
+        out.extend(std::iter::repeat_n(self.cap, self.beam.len()));
     }
 
     /// The nearer of the statics' floor and frequency errors at `fraction` of
@@ -276,8 +285,8 @@ impl Target for ModesTarget<'_> {
             .prb_frequencies(matrix, self.body)
             .unwrap_or_default();
         for (i, b) in self.beam.iter().enumerate() {
-            out.push(model.get(i).map_or(PENALTY, |m| {
-                (self.scale * (m / b - 1.0)).clamp(-PENALTY, PENALTY)
+            out.push(model.get(i).map_or(self.cap, |m| {
+                (self.scale * (m / b - 1.0)).clamp(-self.cap, self.cap)
             }));
         }
         false
@@ -297,6 +306,9 @@ struct MechanismTarget<'a> {
     /// angle) and prescribed (reaction), over `sqrt(n)`.
     loaded_scale: [f64; 3],
     prescribed_scale: f64,
+    /// The caps of those residuals: [`PENALTY`] times the `sqrt` of each weight.
+    loaded_cap: [f64; 3],
+    prescribed_cap: f64,
     cases: usize,
     /// `J` of errors exactly at the accuracy targets, per kind of error the scene has: the
     /// smallest of `max_pos_err^2` (some position loaded), `w max_ang_err^2` (the angle
@@ -327,8 +339,23 @@ impl<'a> MechanismTarget<'a> {
             reaction_scale,
             loaded_scale: [per_case, per_case, angle_weight.sqrt() * per_case],
             prescribed_scale: force_weight.sqrt() * per_case,
+            loaded_cap: [PENALTY, PENALTY, PENALTY * angle_weight.sqrt()],
+            prescribed_cap: PENALTY * force_weight.sqrt(),
             cases,
             target_objective,
+        })
+    }
+}
+
+impl MechanismTarget<'_> {
+    /// The caps of one case's three residuals on `drive`.
+    fn caps(&self, drive: &Drive) -> [f64; 3] {
+        std::array::from_fn(|c| {
+            if drive.coordinates[c].is_prescribed() {
+                self.prescribed_cap
+            } else {
+                self.loaded_cap[c]
+            }
         })
     }
 }
@@ -336,6 +363,15 @@ impl<'a> MechanismTarget<'a> {
 impl Target for MechanismTarget<'_> {
     fn len(&self) -> usize {
         3 * self.cases
+    }
+
+    fn missed_all(&self, out: &mut Vec<f64>) {
+        out.clear();
+        for (drive, exact) in self.mechanism.drives.iter().zip(self.exact) {
+            for _ in exact {
+                out.extend_from_slice(&self.caps(drive));
+            }
+        }
     }
 
     /// Errors at `fraction` of the nearest accuracy target: `fraction^2` times the `J` of
@@ -372,10 +408,10 @@ impl Target for MechanismTarget<'_> {
                             .and_then(|_| solver.case_sensitivity(p, width));
                         for (c, err) in errors.iter().enumerate() {
                             let prescribed = drive.coordinates[c].is_prescribed();
-                            let scale = if prescribed {
-                                self.prescribed_scale
+                            let (scale, cap) = if prescribed {
+                                (self.prescribed_scale, self.prescribed_cap)
                             } else {
-                                self.loaded_scale[c]
+                                (self.loaded_scale[c], self.loaded_cap[c])
                             };
                             // The error's derivative: the pose's, or the reaction's over
                             // its scale (as `signed_errors` divides it).
@@ -388,12 +424,16 @@ impl Target for MechanismTarget<'_> {
                                 None => (None, 1.0),
                             };
                             let r = err * scale;
-                            push_residual(out, cells.as_deref_mut(), r, row, (scale, over), width);
+                            let scales = (scale, over);
+                            push_residual(out, cells.as_deref_mut(), r, row, scales, cap, width);
                         }
                     }
                 }
                 _ => {
-                    out.extend(std::iter::repeat_n(PENALTY, 3 * exact.len()));
+                    let caps = self.caps(drive);
+                    for _ in exact {
+                        out.extend_from_slice(&caps);
+                    }
                     if let Some(cells) = cells.as_deref_mut() {
                         cells.extend(std::iter::repeat_n(0.0, 3 * width * exact.len()));
                     }
