@@ -240,6 +240,35 @@ fn flags_obey_the_scene_rules_and_numbers_print_bounded() {
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
+    // A modulus near f64::MAX overflowed every stress to infinity (JSON null): refused.
+    let stiff = |e: &str| {
+        format!(
+            "[beam]\nlength = 0.05\nwidth = 0.01\nthickness = 0.0005\nyoungs_modulus = {e}\n\
+             poisson_ratio = 0.3\n[[loads]]\nalpha_y = 2\nsteps = 2\n"
+        )
+    };
+    let p = dir.write("stiff.toml", &stiff("1e308"));
+    let out = prbfit(&["solve", "--scene", &p]);
+    assert_input_error(
+        &out,
+        &[":5", "beam.youngs_modulus", "at most 1e13", "1e308"],
+    );
+    // One within the limit but absurd for a stress in MPa prints bounded, in the table and
+    // in the limits line.
+    let p = dir.write(
+        "stiffish.toml",
+        &stiff("1e13").replacen(
+            "poisson_ratio = 0.3\n",
+            "poisson_ratio = 0.3\nallowable_stress = 1e20\n",
+            1,
+        ),
+    );
+    let out = prbfit(&["solve", "--scene", &p]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{text}");
+    assert!(text.contains("allowable stress 1e14 MPa"), "{text}");
+    let longest = text.split_whitespace().map(str::len).max().unwrap_or(0);
+    assert!(longest < 20, "a number printed unbounded: {text}");
 }
 
 #[test]

@@ -323,6 +323,18 @@ fn bad_data_files_name_file_line_and_column() {
             format!("{head}one,0,1,0,0.9,0.3,0.4\n"),
             &["d.csv:2:1", "not a path number"],
         ),
+        // Finite but far past any beam's reach (a unit slip, a corrupt file): refused at the
+        // field, before it overflows what is derived from it.
+        (
+            "an enormous load",
+            format!("{head}{good}1,0,1e308,0,0.8,0.5,0.78\n"),
+            &["d.csv:3:5", "alpha_y", "1e308 is beyond the 1e9"],
+        ),
+        (
+            "an enormous angle",
+            format!("{head}1,0,1,0,0.9,0.3,1e300\n"),
+            &["d.csv:2:17", "phi", "1e300 is beyond the 1e9"],
+        ),
         // The scene's limits (docs/cli.md, "Limits") hold for rows too, refused at the row
         // that passes them: 10000 steps a path, 100000 cases in all.
         (

@@ -474,6 +474,11 @@ fn bad_mechanism_data_name_file_line_and_column() {
             &["d.csv:2:3", "dy", "not a finite number"],
         ),
         (
+            "an enormous motion, blamed on its own line",
+            format!("{head}{good}0,1e308,0,-1.3,1.3,0\n"),
+            &["d.csv:3:3", "dy", "1e308", "is beyond the 1e9"],
+        ),
+        (
             "too many fields",
             format!("{head}0,0.0015,0,-0.71,0.71,0,7\n"),
             &["d.csv:2:", "7 fields", "6 columns"],

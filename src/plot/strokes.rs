@@ -213,8 +213,12 @@ fn digits(range: [f64; 2]) -> usize {
     }
 }
 
-/// A tick label with `digits` decimals, a round-off `-0` printed as `0`.
+/// A tick label with `digits` decimals, a round-off `-0` printed as `0`; from 1e6 up, in
+/// scientific form (an absurd modulus's stresses label as `8.5e21`, never as 22 digits).
 fn tick(v: f64, digits: usize) -> String {
+    if v.abs() >= 1e6 {
+        return crate::text::bounded_prec(v, 6);
+    }
     let text = format!("{v:.digits$}");
     match text.strip_prefix('-') {
         Some(rest) if rest.chars().all(|c| c == '0' || c == '.') => rest.to_string(),
@@ -233,6 +237,8 @@ mod tests {
         assert_eq!(tick(-1e-17, 2), "0.00");
         assert_eq!(tick(-0.25, 2), "-0.25");
         assert_eq!(tick(15.0, 0), "15");
+        assert_eq!(tick(8.475471848539104e21, 0), "8.47547e21");
+        assert_eq!(tick(-2.5e6, 3), "-2.5e6");
     }
 
     #[test]

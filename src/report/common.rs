@@ -14,6 +14,23 @@ pub fn num(x: f64) -> String {
     crate::text::bounded(x)
 }
 
+/// A stress in Pa as MPa with `decimals` decimals, in bounded width: plainly below 1e6 MPa,
+/// else scientific to as many significant digits (an absurd modulus's stresses print as
+/// `8.47547e21`, never as 22 digits and a point).
+pub fn mpa(pa: f64, decimals: usize) -> String {
+    fixed(pa / 1e6, decimals)
+}
+
+/// `v` with `decimals` decimals, in bounded width: plainly below 1e6 in magnitude, else
+/// scientific to as many significant digits.
+pub fn fixed(v: f64, decimals: usize) -> String {
+    if v.abs() < 1e6 {
+        format!("{v:.decimals$}")
+    } else {
+        crate::text::bounded_prec(v, decimals + 6)
+    }
+}
+
 /// Text that came from a file (a scene's name), safe to print on a terminal.
 pub fn safe(s: &str) -> std::borrow::Cow<'_, str> {
     crate::text::sanitize_terminal(s)

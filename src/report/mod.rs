@@ -32,7 +32,7 @@ use crate::prb::PrbMatrix;
 use crate::scene::{Scene, SceneError};
 use crate::study::{resolve_effects, EffectsDecision, Sampling, Study};
 
-pub use common::{frequency_lines, met, num, safe, DecisionLine, TruthInfo, TruthLine};
+pub use common::{fixed, frequency_lines, met, mpa, num, safe, DecisionLine, TruthInfo, TruthLine};
 
 /// Why a command produced no report.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]

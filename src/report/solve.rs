@@ -26,7 +26,9 @@ use crate::study::{EffectsDecision, Sampling};
 use super::stage::{
     count, drive_line, refuse_flag, tidy, units_line, DriveInfo, LOADS_ARE_DRIVES, LOAD_NAMES,
 };
-use super::{num, resolve_scene, safe, Control, DecisionLine, Progress, ReportError, Result};
+use super::{
+    fixed, mpa, num, resolve_scene, safe, Control, DecisionLine, Progress, ReportError, Result,
+};
 
 /// `solve`'s arguments (the CLI's flags).
 #[derive(Debug, Clone, PartialEq)]
@@ -148,7 +150,7 @@ pub struct OneLoad {
 /// A stress in Pa as text: MPa, with its place along the flexure.
 fn stress_text(pa: Option<f64>, at: Option<f64>) -> String {
     match (pa, at) {
-        (Some(pa), Some(at)) => format!("{:.4} MPa at s/L = {at:.4}", pa / 1e6),
+        (Some(pa), Some(at)) => format!("{} MPa at s/L = {at:.4}", mpa(pa, 4)),
         _ => "unknown".to_string(),
     }
 }
@@ -173,9 +175,9 @@ impl fmt::Display for OneLoad {
         match (self.allowable_stress, self.max_stress) {
             (Some(a), Some(s)) => writeln!(
                 f,
-                " ({:.1} % of the allowable {:.4} MPa{})",
-                100.0 * s / a,
-                a / 1e6,
+                " ({} % of the allowable {} MPa{})",
+                fixed(100.0 * s / a, 1),
+                mpa(a, 4),
                 if s >= a { ": PAST IT" } else { "" }
             )?,
             _ => writeln!(f)?,
@@ -246,8 +248,7 @@ impl fmt::Display for SceneCases {
                 c.tip.a,
                 c.tip.b,
                 c.tip.phi,
-                c.max_stress
-                    .map_or("-".into(), |s| format!("{:.3}", s / 1e6)),
+                c.max_stress.map_or("-".into(), |s| mpa(s, 3)),
                 c.max_stress_at.map_or("-".into(), |s| format!("{s:.3}")),
                 c.iterations,
                 if c.past_stroke_limit == Some(true) {
@@ -428,8 +429,8 @@ fn worst_stress(c: &StageCase) -> String {
         .filter_map(|(i, f)| f.max_stress.map(|s| (i, s)))
         .max_by(|a, b| a.1.total_cmp(&b.1));
     match worst {
-        Some((i, s)) if c.flexures.len() > 1 => format!("{:.3} ({})", s / 1e6, i + 1),
-        Some((_, s)) => format!("{:.3}", s / 1e6),
+        Some((i, s)) if c.flexures.len() > 1 => format!("{} ({})", mpa(s, 3), i + 1),
+        Some((_, s)) => mpa(s, 3),
         None => "-".into(),
     }
 }
@@ -452,8 +453,8 @@ impl fmt::Display for LimitsLine<'_> {
             .collect();
         writeln!(
             f,
-            "stroke limits (allowable stress {:.4} MPa): {}",
-            allowable / 1e6,
+            "stroke limits (allowable stress {} MPa): {}",
+            mpa(allowable, 4),
             parts.join(", ")
         )
     }

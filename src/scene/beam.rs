@@ -127,7 +127,8 @@ impl BeamSpec {
         .with_width_ratio(self.width / self.thickness)
     }
 
-    /// Checks the beam's rules: sizes, modulus and an allowable stress finite and `> 0`, `1 <= L/t0 <=`
+    /// Checks the beam's rules: sizes, modulus (at most [`MAX_MODULUS`](super::MAX_MODULUS))
+    /// and an allowable stress finite and `> 0`, `1 <= L/t0 <=`
     /// [`MAX_SLENDERNESS`](crate::beam::MAX_SLENDERNESS) (named by `thickness`), `nu` in
     /// `[0, 0.5)`, a given shear coefficient and density `> 0`, effects that go together. Keys are the
     /// beam's own (`thickness`); a scene puts them under `beam`, a flexure under its table.
@@ -137,7 +138,7 @@ impl BeamSpec {
         check("width", rules::positive(self.width))?;
         check("thickness", rules::positive(self.thickness))?;
         check("thickness", rules::slenderness(self.thickness, self.length))?;
-        check("youngs_modulus", rules::positive(self.youngs_modulus))?;
+        check("youngs_modulus", rules::modulus(self.youngs_modulus))?;
         check("poisson_ratio", rules::poisson_ratio(self.poisson_ratio))?;
         if let Some(k) = self.shear_coefficient {
             check("shear_coefficient", rules::positive(k))?;

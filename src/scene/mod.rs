@@ -35,7 +35,7 @@ pub use drive::{Coordinate, Drive, DrivePath, COORDINATE_KEYS};
 pub use error::{RuleError, SceneError};
 pub use load::LoadPath;
 pub use mechanism::{Attach, Flexure, Mechanism};
-pub use rules::{MAX_CASES, MAX_STEPS};
+pub use rules::{MAX_CASES, MAX_MODULUS, MAX_STEPS};
 pub use settings::{Accuracy, Body, FitSettings};
 
 use serde::{Deserialize, Serialize};

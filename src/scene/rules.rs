@@ -27,6 +27,24 @@ pub fn positive(v: f64) -> Result<(), String> {
         .ok_or_else(|| format!("must be a finite number > 0, got {}", bounded(v)))
 }
 
+/// The stiffest Young's modulus a scene may give, Pa: ten times diamond's (about 1.2e12 Pa),
+/// the stiffest solid. A larger one is a unit slip (GPa written as Pa twice over), and one
+/// near `f64::MAX` overflows every stress it scales to infinity.
+pub const MAX_MODULUS: f64 = 1e13;
+
+/// A Young's modulus: finite, `> 0` and at most [`MAX_MODULUS`] Pa.
+pub fn modulus(v: f64) -> Result<(), String> {
+    positive(v)?;
+    if v > MAX_MODULUS {
+        return Err(format!(
+            "must be at most {MAX_MODULUS:e} Pa (ten times diamond's, the stiffest solid; \
+             the scene is in SI units), got {}",
+            bounded(v)
+        ));
+    }
+    Ok(())
+}
+
 /// Poisson's ratio: in `[0, 0.5)`.
 pub fn poisson_ratio(v: f64) -> Result<(), String> {
     (v.is_finite() && (0.0..0.5).contains(&v))

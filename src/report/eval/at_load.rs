@@ -11,7 +11,7 @@ use crate::prb::PrbSolver;
 use crate::scene::Scene;
 
 use super::super::stage::{refuse_flag, LOADS_ARE_DRIVES};
-use super::super::{num, safe, Control, ReportError, Result};
+use super::super::{mpa, num, safe, Control, ReportError, Result};
 use super::{named_models, EvalArgs, OneOrMany};
 
 /// A model at one load.
@@ -85,11 +85,11 @@ impl fmt::Display for AtLoadReport {
             ) {
                 writeln!(
                     f,
-                    "{} stress: PRB {:.1} MPa at s/L {pa:.3}, beam {:.1} MPa at s/L {ba:.3}; \
+                    "{} stress: PRB {} MPa at s/L {pa:.3}, beam {} MPa at s/L {ba:.3}; \
                      error {e:.2e} of the beam's",
                     safe(&r.model),
-                    p / 1e6,
-                    b / 1e6
+                    mpa(p, 1),
+                    mpa(b, 1)
                 )?;
             }
         }

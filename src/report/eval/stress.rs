@@ -15,6 +15,8 @@ use serde::Serialize;
 
 use crate::mech::figures::JudgedCase;
 
+use super::super::mpa;
+
 /// One flexure's stress figures of a model over the scene (Pa).
 #[derive(Debug, Clone, Serialize)]
 pub struct StressFigures {
@@ -95,12 +97,12 @@ impl fmt::Display for StressLines<'_> {
             };
             writeln!(
                 f,
-                "{}{which} stress: PRB {:.1} MPa at s/L {:.3}, beam {:.1} MPa at s/L {:.3} \
+                "{}{which} stress: PRB {} MPa at s/L {:.3}, beam {} MPa at s/L {:.3} \
                  (largest over the cases); max error {:.2e} of the beam's largest",
                 self.model,
-                s.prb_max_stress / 1e6,
+                mpa(s.prb_max_stress, 1),
                 s.prb_max_stress_at,
-                s.beam_max_stress / 1e6,
+                mpa(s.beam_max_stress, 1),
                 s.beam_max_stress_at,
                 s.max_stress_err
             )?;

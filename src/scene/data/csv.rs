@@ -5,6 +5,13 @@
 
 use super::super::error::SceneError;
 
+/// The largest magnitude a measured value may have once nondimensional (units of L, radians,
+/// `E I0/L^2`, `E I0/L`): a tip a billion lengths away, a load a billion times the beam's
+/// scale, is a file in the wrong units or a corrupt one, and numbers near `f64::MAX` would
+/// overflow everything derived from them (`x = 1e308` ended in "a result is not a finite number", with
+/// no line).
+pub const MAX_MEASURED: f64 = 1e9;
+
 /// A field as an error message quotes it: terminal-safe, at most 40 characters.
 pub(super) fn shown(field: &str) -> String {
     let safe = crate::text::sanitize_terminal(field);
@@ -50,6 +57,37 @@ pub(super) struct Fields {
 }
 
 impl<'a> Csv<'a> {
+    /// The field `v` (at `line`, `column`, of column `name`) made nondimensional by `factor`
+    /// (1 for a column already so), which must be at most [`MAX_MEASURED`] in magnitude.
+    pub(super) fn scaled(
+        &self,
+        line: usize,
+        column: usize,
+        name: &str,
+        v: f64,
+        factor: f64,
+    ) -> Result<f64, SceneError> {
+        let scaled = v * factor;
+        if scaled.abs() <= MAX_MEASURED {
+            return Ok(scaled);
+        }
+        let as_nondimensional = if factor == 1.0 {
+            String::new()
+        } else {
+            format!(" ({} nondimensional)", crate::text::bounded(scaled))
+        };
+        Err(self.fail(
+            line,
+            column,
+            Some(name),
+            format!(
+                "{}{as_nondimensional} is beyond the {MAX_MEASURED:e} a measured value may be \
+                 (in units of L, radians, E I0/L^2 or E I0/L): check the file's units",
+                crate::text::bounded(v)
+            ),
+        ))
+    }
+
     pub(super) fn fail(
         &self,
         line: usize,

@@ -196,10 +196,15 @@ pub fn parse_stage_csv(
         // Per coordinate, the measured pose and load columns: (value, column, index).
         let mut measured: [[Option<(f64, usize, usize)>; 2]; 3] = [[None; 2]; 3];
         for (k, (c, v)) in columns.iter().zip(&f.values).enumerate() {
+            // Every value within reach once nondimensional (kept in SI here).
+            let checked = |i: usize, pose: bool| {
+                csv.scaled(line_no, at[k], names[k], *v, factor(i, pose))
+                    .map(|_| *v)
+            };
             match *c {
-                StageColumn::Input(i, _) => input[i] = *v,
+                StageColumn::Input(i, _) => input[i] = checked(i, prescribed[i])?,
                 StageColumn::Measured(i, pose) => {
-                    measured[i][usize::from(!pose)] = Some((*v, at[k], k));
+                    measured[i][usize::from(!pose)] = Some((checked(i, pose)?, at[k], k));
                 }
                 StageColumn::Path => {}
             }

@@ -162,13 +162,14 @@ pub fn parse_csv(
     let path_column = columns.iter().position(|c| *c == Column::Path);
     let mut paths: Vec<(i64, Vec<MeasuredRow>)> = Vec::new();
     for (line_no, line) in rows {
-        let (f, _) = csv.row(line_no, line, &names, path_column)?;
+        let (f, at) = csv.row(line_no, line, &names, path_column)?;
         let mut load = [0.0; 3];
         let mut tip = [0.0; 3];
-        for (c, v) in columns.iter().zip(&f.values) {
+        for (k, (c, &v)) in columns.iter().zip(&f.values).enumerate() {
+            let scaled = |factor| csv.scaled(line_no, at[k], names[k], v, factor);
             match *c {
-                Column::Load(i, _) => load[i] = v * if i == 2 { moment } else { force },
-                Column::Tip(i, _) => tip[i] = if i == 2 { *v } else { v * length },
+                Column::Load(i, _) => load[i] = scaled(if i == 2 { moment } else { force })?,
+                Column::Tip(i, _) => tip[i] = scaled(if i == 2 { 1.0 } else { length })?,
                 Column::Path => {}
             }
         }
