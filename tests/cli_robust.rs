@@ -271,6 +271,64 @@ fn flags_obey_the_scene_rules_and_numbers_print_bounded() {
     assert!(longest < 20, "a number printed unbounded: {text}");
 }
 
+/// Finite but absurd magnitudes are refused at their line and key (exit 2), before any work:
+/// a load or drive past 1e9 nondimensional (alpha 1e308 ran two seconds to give up at 1e-303
+/// of its path, exit 1), a mechanism point far beyond its flexures (a stage point at 1e300 m
+/// was blamed on "three or more clamped flexures"), a flexure turned 1e300 degrees (was
+/// accepted).
+#[test]
+fn absurd_magnitudes_are_refused_at_their_key() {
+    let dir = Scratch::new("absurd");
+    let builtin = prbfit::scene::DEFAULT_SCENE_TOML;
+    let stage = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/assets/scenes/parallel-stage.toml"
+    ))
+    .unwrap();
+    let cases: [(&str, String, &[&str]); 5] = [
+        (
+            "load",
+            builtin.replacen("alpha_y = 5.0", "alpha_y = 1e308", 1),
+            &["loads[1].alpha_y", "1e308 is beyond the 1e9"],
+        ),
+        (
+            "drive",
+            stage.replacen("fy = 20.0", "fy = 1e308", 1),
+            &["drives[1].fy", "1e308", "nondimensional) is beyond the 1e9"],
+        ),
+        (
+            "drive in range in newtons, not nondimensional",
+            stage.replacen("fy = 20.0", "fy = 1e11", 1),
+            &["drives[1].fy", "1e11 (1.2e10 nondimensional)"],
+        ),
+        (
+            "stage point",
+            stage.replacen("point = [0.05, 0.0]", "point = [1e300, 0.0]", 1),
+            &[
+                "stage.point",
+                "1e300 m from flexure 1's root",
+                "1e4 lengths",
+            ],
+        ),
+        (
+            "angle",
+            stage.replacen("angle_deg = 0.0", "angle_deg = 1e300", 1),
+            &["flexures[1].angle_deg", "from -360 to 360 degrees", "1e300"],
+        ),
+    ];
+    // The flag as the scene's key.
+    assert_input_error(
+        &prbfit(&["solve", "--load", "0,1e308,0"]),
+        &["--load", "alpha_y", "1e308 is beyond the 1e9"],
+    );
+    for (name, text, expected) in cases {
+        assert_ne!(text, builtin, "{name}: the replacement missed");
+        assert_ne!(text, stage, "{name}: the replacement missed");
+        let p = dir.write(&format!("{}.toml", name.replace(' ', "-")), &text);
+        assert_input_error(&prbfit(&["solve", "--scene", &p]), expected);
+    }
+}
+
 #[test]
 fn messages_say_what_is_wrong_once() {
     let dir = Scratch::new("msgs");

@@ -74,7 +74,7 @@ pub struct SolveArgs {
     #[command(flatten)]
     pub common: Common,
     /// One tip load, nondimensional: alpha_x, alpha_y, beta.
-    #[arg(long, value_name = "AX,AY,BETA", value_parser = Load::parse, allow_hyphen_values = true)]
+    #[arg(long, value_name = "AX,AY,BETA", value_parser = load_arg, allow_hyphen_values = true)]
     pub load: Option<Load>,
     /// Beam effects: a comma-separated list of shear, extension, poisson, plane_strain; or
     /// none; or all (shear, extension, poisson).
@@ -110,7 +110,7 @@ pub struct EvalArgs {
     #[arg(long, value_name = "NAME_OR_FILE")]
     pub model: Vec<String>,
     /// Judge one tip load instead of the scene's cases.
-    #[arg(long, value_name = "AX,AY,BETA", value_parser = Load::parse, allow_hyphen_values = true)]
+    #[arg(long, value_name = "AX,AY,BETA", value_parser = load_arg, allow_hyphen_values = true)]
     pub load: Option<Load>,
     /// Baseline integrator tolerance.
     #[arg(long, value_name = "TOL", allow_negative_numbers = true, default_value_t = Resolution::default().tol)]
@@ -139,7 +139,7 @@ pub struct ModesArgs {
     pub count: usize,
     /// About the equilibrium under one tip load (cantilever scenes) instead of the unloaded
     /// one.
-    #[arg(long, value_name = "AX,AY,BETA", value_parser = Load::parse, allow_hyphen_values = true, conflicts_with = "cases")]
+    #[arg(long, value_name = "AX,AY,BETA", value_parser = load_arg, allow_hyphen_values = true, conflicts_with = "cases")]
     pub load: Option<Load>,
     /// About every case of the scene's load paths or drives.
     #[arg(long)]
@@ -309,4 +309,18 @@ pub struct FeaArgs {
     /// Time limit of each CalculiX run (one per load or drive path), seconds.
     #[arg(long, value_name = "SECONDS", default_value_t = 900)]
     pub timeout: u64,
+}
+
+/// `--load AX,AY,BETA`: three finite numbers, each within the scene rules' reach
+/// ([`prbfit::scene::MAX_NONDIMENSIONAL`]), as a scene's `[[loads]]` must be.
+fn load_arg(text: &str) -> Result<Load, String> {
+    let load = Load::parse(text)?;
+    for (name, v) in [
+        ("alpha_x", load.alpha_x),
+        ("alpha_y", load.alpha_y),
+        ("beta", load.beta),
+    ] {
+        prbfit::scene::rules::reachable(v, v).map_err(|m| format!("{name} {m}"))?;
+    }
+    Ok(load)
 }

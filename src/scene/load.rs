@@ -24,14 +24,16 @@ impl LoadPath {
         (1..=self.steps).map(move |k| self.end.scaled(k as f64 / self.steps as f64))
     }
 
-    /// Checks the path's rules: finite components (`alpha_x`, `alpha_y`, `beta`), an end
+    /// Checks the path's rules: finite components (`alpha_x`, `alpha_y`, `beta`) of at most
+    /// [`MAX_NONDIMENSIONAL`](super::MAX_NONDIMENSIONAL), an end
     /// load that is not zero (the path as a whole), `steps` from 1 to
     /// [`MAX_STEPS`](super::MAX_STEPS). A scene puts the keys under `loads[i]`.
     pub fn validate(&self) -> Result<(), RuleError> {
         let check = |key: &str, r: Result<(), String>| r.map_err(|m| RuleError::new(key, m));
-        check("alpha_x", rules::finite(self.end.alpha_x))?;
-        check("alpha_y", rules::finite(self.end.alpha_y))?;
-        check("beta", rules::finite(self.end.beta))?;
+        let e = self.end;
+        check("alpha_x", rules::reachable(e.alpha_x, e.alpha_x))?;
+        check("alpha_y", rules::reachable(e.alpha_y, e.alpha_y))?;
+        check("beta", rules::reachable(e.beta, e.beta))?;
         rules::nonzero(&self.end).map_err(RuleError::whole)?;
         rules::steps(i64::from(self.steps)).map_err(|m| RuleError::new("steps", m))?;
         Ok(())

@@ -14,7 +14,7 @@ use std::f64::consts::TAU;
 use serde::{Deserialize, Serialize};
 
 use super::beam::BeamSpec;
-use super::drive::{Coordinate, Drive, DrivePath};
+use super::drive::{Coordinate, Drive, DrivePath, COORDINATE_KEYS};
 use super::error::RuleError;
 use super::rules;
 
@@ -69,12 +69,12 @@ impl Flexure {
         }
     }
 
-    /// Checks the flexure's rules: a finite `root` and `angle_deg`, its beam's rules
+    /// Checks the flexure's rules: a finite `root`, `angle_deg` within a turn, its beam's rules
     /// ([`BeamSpec::validate`]: its overrides are keys of the flexure's own table) and a
     /// finite coupler end (`link_to`). A scene puts the keys under `flexures[i]`.
     pub fn validate(&self) -> Result<(), RuleError> {
         rules::point(self.root).map_err(|m| RuleError::new("root", m))?;
-        rules::finite(self.angle).map_err(|m| RuleError::new("angle_deg", m))?;
+        rules::direction(self.angle).map_err(|m| RuleError::new("angle_deg", m))?;
         self.beam.validate()?;
         if let Attach::Link { to } = self.attach {
             rules::point(to).map_err(|m| RuleError::new("link_to", m))?;
@@ -177,6 +177,7 @@ impl Mechanism {
             f.validate().map_err(|e| e.under(&flexure_key(i)))?;
         }
         rules::point(self.stage_point).map_err(|m| RuleError::new("stage.point", m))?;
+        self.within_reach()?;
         let scale = self.flexures.first().map_or(1.0, |f| f.beam.length);
         // A zero-length coupler is no coupler.
         for (i, f) in self.flexures.iter().enumerate() {
@@ -213,10 +214,56 @@ impl Mechanism {
             }
         }
         for (i, d) in self.drives.iter().enumerate() {
-            d.validate()
-                .map_err(|e| e.under(&format!("drives[{}]", i + 1)))?;
+            let under = |e: RuleError| e.under(&format!("drives[{}]", i + 1));
+            d.validate().map_err(under)?;
+            if d.rows.is_empty() {
+                let scaled = self.nondimensional(d);
+                for ((c, n), (dk, lk)) in d.coordinates.iter().zip(scaled).zip(COORDINATE_KEYS) {
+                    let key = if c.is_prescribed() { dk } else { lk };
+                    rules::reachable(c.value(), n.value())
+                        .map_err(|m| under(RuleError::new(key, m)))?;
+                }
+            }
         }
         Ok(())
+    }
+
+    /// Every point of the mechanism (roots, coupler ends, the stage point) within
+    /// [`MAX_SPAN`] lengths of its longest flexure from flexure 1's root: a mechanism larger
+    /// than that is a unit slip (a point in millimetres among metres), and one at 1e300 m
+    /// breaks every moment arm. Keyed as the file writes the point.
+    fn within_reach(&self) -> Result<(), RuleError> {
+        let Some(first) = self.flexures.first() else {
+            return Ok(());
+        };
+        let longest = self
+            .flexures
+            .iter()
+            .map(|f| f.beam.length)
+            .fold(0.0_f64, f64::max);
+        let reach = MAX_SPAN * longest;
+        let check = |key: String, p: [f64; 2]| {
+            let d = dist(p, first.root);
+            if d <= reach {
+                return Ok(());
+            }
+            Err(RuleError::new(
+                key,
+                format!(
+                    "{} m from flexure 1's root, beyond the {MAX_SPAN:e} lengths of the longest \
+                     flexure ({} m) a mechanism may span: the scene is in metres",
+                    crate::text::bounded(d),
+                    crate::text::bounded(longest)
+                ),
+            ))
+        };
+        for (i, f) in self.flexures.iter().enumerate() {
+            check(format!("{}.root", flexure_key(i)), f.root)?;
+            if let Attach::Link { to } = f.attach {
+                check(format!("{}.link_to", flexure_key(i)), to)?;
+            }
+        }
+        check("stage.point".into(), self.stage_point)
     }
 
     /// The mechanism with the stage point at `p`; couplers whose stage end sat on the old
@@ -276,6 +323,9 @@ impl Mechanism {
 }
 
 /// Flexure `i`'s (from 0) table as a key: `flexures[i + 1]`.
+/// How many lengths of its longest flexure a mechanism may span ([`Mechanism::validate`]).
+pub const MAX_SPAN: f64 = 1e4;
+
 fn flexure_key(i: usize) -> String {
     format!("flexures[{}]", i + 1)
 }

@@ -34,8 +34,8 @@ pub use beam::{BeamSpec, EffectsChoice};
 pub use drive::{Coordinate, Drive, DrivePath, COORDINATE_KEYS};
 pub use error::{RuleError, SceneError};
 pub use load::LoadPath;
-pub use mechanism::{Attach, Flexure, Mechanism};
-pub use rules::{MAX_CASES, MAX_MODULUS, MAX_STEPS};
+pub use mechanism::{Attach, Flexure, Mechanism, MAX_SPAN};
+pub use rules::{MAX_CASES, MAX_MODULUS, MAX_NONDIMENSIONAL, MAX_STEPS};
 pub use settings::{Accuracy, Body, FitSettings};
 
 use serde::{Deserialize, Serialize};

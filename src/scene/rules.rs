@@ -45,6 +45,40 @@ pub fn modulus(v: f64) -> Result<(), String> {
     Ok(())
 }
 
+/// The largest magnitude a load (nondimensional `alpha`, `beta`), a drive's end
+/// (nondimensional: units of flexure 1's `L`, radians, `E I0/L^2`, `E I0/L`) or a data file's
+/// value may have: the solvers follow loads past 1e8 (slowly: a third of a second a case),
+/// and a number near `f64::MAX` overflows what is derived from it, or runs the continuation
+/// for seconds to give up at 1e-303 of the path.
+pub const MAX_NONDIMENSIONAL: f64 = 1e9;
+
+/// A finite load or drive component within [`MAX_NONDIMENSIONAL`] once nondimensional: `v`
+/// as given, `scaled` as the solvers see it.
+pub fn reachable(v: f64, scaled: f64) -> Result<(), String> {
+    finite(v)?;
+    if scaled.abs() > MAX_NONDIMENSIONAL {
+        let shown = if v == scaled {
+            String::new()
+        } else {
+            format!(" ({} nondimensional)", bounded(scaled))
+        };
+        return Err(format!(
+            "{}{shown} is beyond the {MAX_NONDIMENSIONAL:e} prbfit follows (in units of L, \
+             radians, E I0/L^2 or E I0/L): check the units",
+            bounded(v)
+        ));
+    }
+    Ok(())
+}
+
+/// A direction in radians, given in degrees: within a turn either way.
+pub fn direction(radians: f64) -> Result<(), String> {
+    let deg = radians.to_degrees();
+    (deg.is_finite() && deg.abs() <= 360.0)
+        .then_some(())
+        .ok_or_else(|| format!("must be from -360 to 360 degrees, got {}", bounded(deg)))
+}
+
 /// Poisson's ratio: in `[0, 0.5)`.
 pub fn poisson_ratio(v: f64) -> Result<(), String> {
     (v.is_finite() && (0.0..0.5).contains(&v))

@@ -4,13 +4,14 @@
 //! `file:line:column`.
 
 use super::super::error::SceneError;
+use super::super::rules::MAX_NONDIMENSIONAL;
 
 /// The largest magnitude a measured value may have once nondimensional (units of L, radians,
-/// `E I0/L^2`, `E I0/L`): a tip a billion lengths away, a load a billion times the beam's
-/// scale, is a file in the wrong units or a corrupt one, and numbers near `f64::MAX` would
-/// overflow everything derived from them (`x = 1e308` ended in "a result is not a finite number", with
-/// no line).
-pub const MAX_MEASURED: f64 = 1e9;
+/// `E I0/L^2`, `E I0/L`): a scene's loads' ([`MAX_NONDIMENSIONAL`]). A tip a billion
+/// lengths away is a file in the wrong units or a corrupt one, and numbers near `f64::MAX`
+/// overflow everything derived from them (`x = 1e308` ended in "a result is not a finite
+/// number", with no line).
+pub const MAX_MEASURED: f64 = MAX_NONDIMENSIONAL;
 
 /// A field as an error message quotes it: terminal-safe, at most 40 characters.
 pub(super) fn shown(field: &str) -> String {
