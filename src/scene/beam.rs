@@ -90,7 +90,7 @@ impl BeamSpec {
 
     /// `L / t0`.
     pub fn slenderness(&self) -> f64 {
-        self.length / self.thickness
+        rules::slenderness_of(self.length, self.thickness)
     }
 
     /// `kappa` in use: the given one or Cowper's.

@@ -105,6 +105,17 @@ pub fn point(p: [f64; 2]) -> Result<(), String> {
     p.into_iter().try_for_each(finite)
 }
 
+/// `L / t0`, the upper limit itself for a quotient within rounding above it: 0.05 m over
+/// 5e-8 m is 1e6 and one unit in the last place, and a beam of exactly the limit is allowed.
+pub fn slenderness_of(length: f64, thickness: f64) -> f64 {
+    let s = length / thickness;
+    if s > MAX_SLENDERNESS && s <= MAX_SLENDERNESS * (1.0 + 4.0 * f64::EPSILON) {
+        MAX_SLENDERNESS
+    } else {
+        s
+    }
+}
+
 /// The thickness against the length: `1 <= L/t0 <= MAX_SLENDERNESS`.
 pub fn slenderness(thickness: f64, length: f64) -> Result<(), String> {
     if thickness > length {
@@ -115,10 +126,10 @@ pub fn slenderness(thickness: f64, length: f64) -> Result<(), String> {
             bounded(length)
         ));
     }
-    if length / thickness > MAX_SLENDERNESS {
+    let s = slenderness_of(length, thickness);
+    if s > MAX_SLENDERNESS {
         return Err(format!(
-            "slenderness L/t0 = {:e} is beyond the {MAX_SLENDERNESS:e} prbfit models",
-            length / thickness
+            "slenderness L/t0 = {s:e} is beyond the {MAX_SLENDERNESS:e} prbfit models"
         ));
     }
     Ok(())
@@ -168,6 +179,15 @@ pub fn nonzero(end: &Load) -> Result<(), String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_beam_of_exactly_the_slenderness_limit_is_allowed() {
+        // 0.05 / 5e-8 rounds to one unit in the last place above 1e6.
+        assert!(0.05 / 5e-8 > MAX_SLENDERNESS);
+        assert!(slenderness(5e-8, 0.05).is_ok());
+        assert_eq!(slenderness_of(0.05, 5e-8), MAX_SLENDERNESS);
+        assert!(slenderness(4.99e-8, 0.05).is_err());
+    }
 
     #[test]
     fn rules_say_what_is_allowed() {
