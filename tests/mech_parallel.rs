@@ -227,6 +227,19 @@ fn rigid_axial_prb_models_on_three_flexures_are_indeterminate() {
     let su = PrbMatrix::parse("0.1,inf,inf; 0.35,3.51,inf; 0.40,2.99,inf; 0.15,2.58,inf").unwrap();
     let e = prb::solve(&m, &su, TOL).unwrap_err();
     assert!(matches!(&e, MechError::Indeterminate { .. }), "{e:?}");
+    // So is a chain with a prismatic joint but one revolute joint: the cure named is the
+    // chain it lacks, not the joint it has.
+    let rp = PrbMatrix::parse("0.2,inf,inf; 0.8,2.5,2000").unwrap();
+    let e = prb::solve(&m, &rp, TOL).unwrap_err();
+    assert!(matches!(&e, MechError::Indeterminate { .. }), "{e:?}");
+    let text = e.to_string();
+    assert!(
+        text.contains("two revolute ones at least (L-R-RP, L-RP-RP-RP)"),
+        "{text}"
+    );
+    // Such a chain solves: a fitted shape of L-RP-RP-RP.
+    let rp3 = PrbMatrix::parse("0.1,inf,inf; 0.35,3.5,2000; 0.4,3.0,2000; 0.15,2.6,2000").unwrap();
+    assert!(prb::solve(&m, &rp3, TOL).is_ok());
 }
 
 proptest! {

@@ -181,7 +181,9 @@ pub enum MechError {
          without moving it, so how a load divides among them is undetermined (three or more \
          clamped flexures in parallel do this along their axes when none can stretch). Give \
          them axial compliance: the `extension` effect in `[beam] effects` (or the flexures' \
-         own tables) for the beam, a prismatic (P) joint for a PRB model",
+         own tables) for the beam; for a PRB model, chains whose tips can move every way the \
+         clamp holds them: a prismatic joint and two revolute ones at least (L-R-RP, \
+         L-RP-RP-RP)",
         list_flexures(flexures)
     )]
     Indeterminate {
