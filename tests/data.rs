@@ -667,6 +667,9 @@ fn rebased_rows_are_the_rows_read_with_the_other_beam() {
     let nd = "alpha_x,alpha_y,beta,a,b,phi\n0,1,0,0.9,0.3,0.5\n0,2,0,0.8,0.5,0.8\n";
     let on_a = truth(nd, &a);
     assert_eq!(on_a.units, Units::Nondimensional);
+    // A spreadsheet's byte-order mark changes nothing (it made `\u{feff}alpha_x` an unknown
+    // column).
+    assert_eq!(truth(&format!("\u{feff}{nd}"), &a), on_a);
     assert_eq!(on_a.rebased(&a, &b).unwrap(), on_a);
 
     // Row 2 grows on a long beam (its force counts with L^2, the moment with L) and shrinks

@@ -104,14 +104,18 @@ impl<'a> Csv<'a> {
         }
     }
 
-    /// The header (its line and fields) and the data lines (numbered from 1), skipping
-    /// blank and `#` lines; an empty file is an error naming `known`, the columns.
+    /// The header (its line and fields) and the data lines (numbered from 1), skipping a
+    /// leading byte-order mark and blank and `#` lines; an empty file is an error naming
+    /// `known`, the columns.
     #[allow(clippy::type_complexity)]
     pub(super) fn split<'t>(
         &self,
         text: &'t str,
         known: &str,
     ) -> Result<(usize, Vec<(usize, &'t str)>, Vec<(usize, &'t str)>), SceneError> {
+        // The byte-order mark a spreadsheet writes first is no part of the first column's
+        // name (its columns count from after it, as an editor shows them).
+        let text = text.strip_prefix('\u{feff}').unwrap_or(text);
         let mut lines = text
             .lines()
             .enumerate()
