@@ -344,9 +344,13 @@ fn compressed_flexure_is_not_load_stable() {
 
 /// A clamped-clamped flexure pushed along its axis (extension on, `L / t0 = 100`): it
 /// shortens by `alpha c_e` (`c_e = 1 / (12 (L/t0)^2)`) until the Euler load of the
-/// clamped-clamped column, `alpha = 4 pi^2`, at `dx = -4 pi^2 c_e = -3.29e-4`, where the
-/// straight shape bifurcates. The solver must stop there, not carry on along the straight,
-/// unstable branch.
+/// clamped-clamped column, where the straight shape bifurcates. For the extensible beam of
+/// DESIGN §2 that load solves `(1 - c_e alpha) alpha = 4 pi^2` (the bending equation
+/// linearised about the straight shortened column, `psi'' = -(1 + eps) alpha psi` with
+/// `eps = -c_e alpha`): `alpha = 39.4914`, 3.3e-4 above `4 pi^2`, at `dx = -c_e alpha =
+/// -3.29e-4`. The solver must stop there, not carry on along the straight, unstable branch;
+/// it bisects the sign change of its Jacobian's determinant, so it reports the last regular
+/// point within about twice its smallest step (1e-6 of the path) before the bifurcation.
 #[test]
 fn clamped_flexure_pushed_past_euler_reports_the_bifurcation() {
     let mut f = flexure([0.0, 0.0], Attach::Clamped);
@@ -363,11 +367,14 @@ fn clamped_flexure_pushed_past_euler_reports_the_bifurcation() {
         12,
     );
     let e = exact_cases(&m).unwrap_err();
-    let critical = 4.0 * std::f64::consts::PI.powi(2) / (12.0 * 100.0 * 100.0) / 6e-4;
+    let c_e = 1.0 / (12.0 * 100.0 * 100.0);
+    let x = 16.0 * std::f64::consts::PI.powi(2) * c_e;
+    let alpha = (1.0 - (1.0 - x).sqrt()) / (2.0 * c_e);
+    let critical = c_e * alpha / 6e-4;
     match e {
         MechError::Critical { drive: 1, fraction } => {
             assert!(
-                fraction < critical && fraction >= critical - 1.0 / 12.0 - 1e-12,
+                fraction < critical && fraction >= critical - 4e-6,
                 "stopped at {fraction}, critical at {critical}"
             );
         }

@@ -117,6 +117,40 @@ fn a_cantilever_judges_as_its_one_flexure_mechanism() {
     }
 }
 
+/// Past buckling the two paths follow the same stable branch: a load tilted 0.01 from an
+/// axial push of twice the 3R chains' buckling load, in four steps. The mechanism's path
+/// stopped at the first sign change of its Jacobian's determinant, so a secant step that
+/// landed on the unstable branch beside the stable one ended it at 0.25 ("a critical
+/// point"), where the chain's own path went on (`prbfit modes --load -5,0.01,0` gave the 3R
+/// no frequencies while `eval --load` solved it); it now bisects, as the chain does.
+#[test]
+fn past_buckling_the_one_flexure_mechanism_follows_the_chain() {
+    let resolution = Resolution::with_tol(1e-10);
+    let mut s = scene("default");
+    s.beam.effects = EffectsChoice::Fixed(Effects::NONE);
+    s.loads.truncate(1);
+    s.loads[0].end = prbfit::beam::Load::new(-5.0, 0.01, 0.0);
+    s.loads[0].steps = 4;
+    let cantilever = Study::new(&s, Sampling::Every(resolution)).unwrap();
+    let mechanism = Study::new(&as_mechanism(&s), Sampling::Every(resolution)).unwrap();
+    for model in ["su-3r", "chen-3r"] {
+        let m = prbfit::io::ModelFile::load(model).unwrap().prb;
+        let tip = cantilever.judge(&m).unwrap();
+        let stage = mechanism.judge(&m).unwrap();
+        assert!(tip.unfollowed.is_empty(), "{model}: {:?}", tip.unfollowed);
+        assert!(
+            stage.unfollowed.is_empty(),
+            "{model}: {:?}",
+            stage.unfollowed
+        );
+        figures_agree(
+            &format!("{model} past buckling"),
+            &tip.figures,
+            &stage.figures,
+        );
+    }
+}
+
 #[test]
 fn a_cantilever_fits_as_its_one_flexure_mechanism() {
     for (name, s) in cases().into_iter().take(3) {

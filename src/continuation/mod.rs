@@ -73,7 +73,12 @@
 //!   the smallest step is 1e-6 (1e-3), and 200 rejected attempts end a case that only
 //!   crawls. Its Newton converges on both sides of a fold and the determinant's sign is read
 //!   off the converged point, after the branch test (a jump may land where the sign means
-//!   nothing): a sign change ends the path at once ([`Crossing::Stop`]). It offers no warm
+//!   nothing): a sign change is bisected ([`Crossing::Bisect`]), as the beam's unstable
+//!   landing is. Ending the path at the first sign change instead stopped a cantilever's
+//!   3R, followed as the one-flexure mechanism, near an imperfect bifurcation (`alpha =
+//!   (-5, 0.01, 0)` in four steps: a secant step landed on the unstable branch beside the
+//!   stable one) where the chain's own path, with smaller steps, went on: the two must
+//!   agree (`tests/mech.rs`). It offers no warm
 //!   start: on the parallel stage (10 cases) a fit's previous trial saved no iteration over
 //!   the secant (31 and 31), and its Newton stops at its residual tolerance, so a hinted case
 //!   lands anywhere within it, not where continuation lands: the fit target's differenced

@@ -164,10 +164,12 @@ impl<M: FlexureModel> MechSolver<M> {
             snap: 1e-12,
             halving: Halving::Step,
             growth: Growth::AfterTwoSuccesses,
-            // A jump is rejected before the determinant's sign is read; a sign change ends
-            // the path at once (Newton converges on both sides of a fold).
+            // A jump is rejected before the determinant's sign is read; a sign change is
+            // bisected (Newton converges on both sides of a fold, and a long secant step
+            // near an imperfect bifurcation can land on the unstable branch beside the
+            // stable one, which a shorter step follows).
             order: TestOrder::BranchFirst,
-            crossing: Crossing::Stop,
+            crossing: Crossing::Bisect,
             predictor: Predictor::Secant,
             newton_iterations: self.max_newton,
             attempts_per_case: None,
