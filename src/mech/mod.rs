@@ -182,8 +182,8 @@ pub enum MechError {
          clamped flexures in parallel do this along their axes when none can stretch). Give \
          them axial compliance: the `extension` effect in `[beam] effects` (or the flexures' \
          own tables) for the beam; for a PRB model, chains whose tips can move every way the \
-         clamp holds them: a prismatic joint and two revolute ones at least (L-R-RP, \
-         L-RP-RP-RP)",
+         clamp holds them: two revolute joints at least, and a prismatic one for three or more \
+         flexures in parallel (L-R-RP, L-RP-RP-RP)",
         list_flexures(flexures)
     )]
     Indeterminate {
