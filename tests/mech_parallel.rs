@@ -234,7 +234,7 @@ fn rigid_axial_prb_models_on_three_flexures_are_indeterminate() {
     assert!(matches!(&e, MechError::Indeterminate { .. }), "{e:?}");
     let text = e.to_string();
     assert!(
-        text.contains("two revolute ones at least (L-R-RP, L-RP-RP-RP)"),
+        text.contains("two revolute joints at least, and a prismatic one for three or more"),
         "{text}"
     );
     // Such a chain solves: a fitted shape of L-RP-RP-RP.
