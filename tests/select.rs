@@ -112,6 +112,51 @@ fn auto_dropped_effects_are_small_on_every_scene() {
     }
 }
 
+/// A long select shows each ladder fit's progress between its rows (a fit on 100000 cases
+/// left the progress line standing for a minute): every fitted row's topology reports, in
+/// ladder order, before its row, and its last report's best `J` is at least the row's.
+#[test]
+fn select_reports_each_fits_progress_before_its_row() {
+    let study = Study::as_given(&scene("default"), Sampling::Fidelity(Fidelity::Draft)).unwrap();
+    let events = std::cell::RefCell::new(Vec::<(String, bool, f64)>::new());
+    let sel = study
+        .select_with_progress(
+            Fidelity::Draft,
+            &CancelToken::new(),
+            &mut |row| {
+                let j = row.figures.objective;
+                events.borrow_mut().push((row.name.clone(), true, j));
+            },
+            &mut |topology, fit| {
+                events
+                    .borrow_mut()
+                    .push((topology.to_string(), false, fit.best_objective));
+            },
+        )
+        .unwrap();
+    let events = events.into_inner();
+    let fitted: Vec<&str> = sel
+        .rows
+        .iter()
+        .filter(|r| !r.published)
+        .map(|r| r.name.as_str())
+        .collect();
+    assert!(fitted.len() >= 3, "{fitted:?}");
+    for name in fitted {
+        let row_at = events.iter().position(|e| e.1 && e.0 == name).unwrap();
+        let last_fit = events[..row_at]
+            .iter()
+            .rposition(|e| !e.1 && e.0 == name)
+            .unwrap_or_else(|| panic!("{name}: no progress before its row"));
+        assert!(
+            events[last_fit].2 >= events[row_at].2 * (1.0 - 1e-12),
+            "{name}: progress J {} below the row's {}",
+            events[last_fit].2,
+            events[row_at].2
+        );
+    }
+}
+
 /// The chosen model meets the targets and every simpler rung does not; where nothing meets
 /// them the closest is named.
 #[test]

@@ -156,6 +156,15 @@ pub enum Progress<'a> {
         /// The last model judged.
         last: &'a str,
     },
+    /// `select`: the ladder's fit of `topology` under way, `done` models judged before it.
+    SelectFit {
+        /// Models judged so far.
+        done: usize,
+        /// The topology being fitted.
+        topology: &'a str,
+        /// Its fit's progress.
+        fit: &'a FitProgress<'a>,
+    },
     /// `fea`: load path `path` of `paths` solved by CalculiX.
     Fea {
         /// The path solved, from 1.
@@ -172,7 +181,7 @@ impl Progress<'_> {
             Progress::Truth { .. } => "solving the truth",
             Progress::Solving { .. } => "solving",
             Progress::Fit(_) => "fitting",
-            Progress::Select { .. } => "selecting",
+            Progress::Select { .. } | Progress::SelectFit { .. } => "selecting",
             Progress::Fea { .. } => "fea",
         }
     }
@@ -193,6 +202,15 @@ impl fmt::Display for Progress<'_> {
                 p.phase, p.iteration, p.evaluations, p.best_objective
             ),
             Progress::Select { done, last } => write!(f, "{done} models judged, last {last}"),
+            Progress::SelectFit {
+                done,
+                topology,
+                fit,
+            } => write!(
+                f,
+                "{done} models judged; fitting {topology}: {}",
+                Progress::Fit(fit)
+            ),
             Progress::Fea { path, paths } => write!(f, "load path {path}/{paths} solved"),
         }
     }

@@ -242,16 +242,28 @@ pub fn select(scene: &Scene, args: &SelectArgs, ctl: &mut Control<'_>) -> Result
     } else {
         (study, None)
     };
-    let progress = &mut *ctl.progress;
-    let mut done = 0;
+    // Rows and fits report through one sink, so they share the progress line.
+    let progress = std::cell::RefCell::new(&mut *ctl.progress);
+    let done = std::cell::Cell::new(0);
     let selection = study
-        .select(args.fidelity, &ctl.cancel, &mut |row| {
-            done += 1;
-            progress(&Progress::Select {
-                done,
-                last: &row.name,
-            });
-        })
+        .select_with_progress(
+            args.fidelity,
+            &ctl.cancel,
+            &mut |row| {
+                done.set(done.get() + 1);
+                (progress.borrow_mut())(&Progress::Select {
+                    done: done.get(),
+                    last: &row.name,
+                });
+            },
+            &mut |topology, fit| {
+                (progress.borrow_mut())(&Progress::SelectFit {
+                    done: done.get(),
+                    topology,
+                    fit,
+                });
+            },
+        )
         .map_err(|e| ReportError::failed(&e))?;
     let mut out = SelectOutput::new(
         selection,

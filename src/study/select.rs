@@ -10,7 +10,7 @@ use std::time::Instant;
 use serde::Serialize;
 
 use crate::beam::Effects;
-use crate::fit::{CancelToken, Fidelity, FitOptions};
+use crate::fit::{CancelToken, Fidelity, FitOptions, FitProgress};
 use crate::mech::figures::Figures;
 use crate::prb::published;
 use crate::prb::PrbMatrix;
@@ -198,6 +198,22 @@ impl Study {
         cancel: &CancelToken,
         on_row: &mut dyn FnMut(&Rung),
     ) -> Result<Selection, FitError> {
+        self.select_with_progress(fidelity, cancel, on_row, &mut |_, _| {})
+    }
+
+    /// [`Study::select`], with each ladder fit's progress (its topology and the fit's
+    /// [`FitProgress`], at the fit's own pace) to `on_fit`: a fit on many cases runs for
+    /// minutes between two rows.
+    ///
+    /// # Errors
+    /// As [`Study::select`].
+    pub fn select_with_progress(
+        &self,
+        fidelity: Fidelity,
+        cancel: &CancelToken,
+        on_row: &mut dyn FnMut(&Rung),
+        on_fit: &mut dyn FnMut(&str, &FitProgress),
+    ) -> Result<Selection, FitError> {
         let accuracy = self.scene().accuracy;
         let mut rows = Vec::new();
         let mut unfollowed = Vec::new();
@@ -211,7 +227,8 @@ impl Study {
                 seed: 1,
             };
             let t0 = Instant::now();
-            let report = match self.fit(&ladder_start(topology), &options, &mut |_| {}, cancel) {
+            let mut progress = |p: &FitProgress| on_fit(topology, p);
+            let report = match self.fit(&ladder_start(topology), &options, &mut progress, cancel) {
                 Ok(report) => report,
                 Err(FitError::NoFeasibleModel(e)) => {
                     let what = match self.case_form() {
