@@ -349,6 +349,19 @@ fn messages_say_what_is_wrong_once() {
         &out,
         &["--prb", "row 2", "k_theta", "at most 1e12", "1e308"],
     );
+    // A gamma sum of 1e308 (or 1e-300) is quoted bounded, not in 309 digits.
+    for (prb, sum) in [("1e308,2,inf", "1e308"), ("1e-300,2,inf", "1e-300")] {
+        let out = prbfit(&["eval", "--prb", prb]);
+        assert_input_error(
+            &out,
+            &["gammas must sum to 1", &format!("they sum to {sum} (")],
+        );
+        assert!(
+            out.stderr.len() < 200,
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
     // A load past the Euler load: the cause is said once, not twice.
     let out = prbfit(&["eval", "--model", "su-3r", "--load", "-30,0,0"]);
     let err = String::from_utf8_lossy(&out.stderr);

@@ -177,6 +177,16 @@ pub struct PrbMatrix {
     pub(super) rows: Vec<PrbRow>,
 }
 
+/// A sum as an error quotes it: every digit that tells it from 1 (Rust's shortest form,
+/// `0.8999999999999999`) where that is short, bounded (`1e308`, `1e-300`) where it is not.
+fn shortest_bounded(sum: f64) -> String {
+    if (1e-4..1e6).contains(&sum.abs()) {
+        sum.to_string()
+    } else {
+        bounded(sum)
+    }
+}
+
 /// What is wrong with a matrix; rows and columns are 1-based, as a user counts them.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum MatrixError {
@@ -254,13 +264,21 @@ pub enum MatrixError {
         value: f64,
     },
     /// The mus do not sum to 1 within [`MU_SUM_TOL`].
-    #[error("the mus must sum to 1, they sum to {sum} (off by {:.3e})", sum - 1.0)]
+    #[error(
+        "the mus must sum to 1, they sum to {} (off by {:.3e})",
+        shortest_bounded(*sum),
+        sum - 1.0
+    )]
     MuSum {
         /// The sum of the mus found.
         sum: f64,
     },
     /// The gammas do not sum to 1 within [`GAMMA_SUM_TOL`].
-    #[error("the gammas must sum to 1, they sum to {sum} (off by {:.3e})", sum - 1.0)]
+    #[error(
+        "the gammas must sum to 1, they sum to {} (off by {:.3e})",
+        shortest_bounded(*sum),
+        sum - 1.0
+    )]
     GammaSum {
         /// The sum of the gammas found.
         sum: f64,
