@@ -9,7 +9,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::mech::figures::Figures;
 use crate::prb::{published, PrbMatrix};
-use crate::scene::{BeamSpec, Scene, SceneError};
+use crate::scene::{rules, BeamSpec, RuleError, Scene, SceneError};
 use crate::si::{load_range, si_model, LoadRange, SiModel};
 
 /// A PRB model file. Unknown keys are allowed (richer exports carry more), but what is
@@ -151,6 +151,12 @@ impl ModelFile {
     }
 
     fn check(&self, origin: &str) -> Result<(), SceneError> {
+        self.check_records().map_err(|e| SceneError {
+            origin: origin.to_string(),
+            line: None,
+            key: Some(e.key),
+            message: e.message,
+        })?;
         if let Some(topology) = &self.topology {
             let actual = self.prb.topology();
             if *topology != actual {
@@ -160,6 +166,33 @@ impl ModelFile {
                     key: Some("topology".into()),
                     message: format!("says {topology} but the matrix is {actual}"),
                 });
+            }
+        }
+        Ok(())
+    }
+
+    /// The file's own account of itself (`[fit]`, `[si]`, `[load_range]`): nothing computes
+    /// with it, but a NaN or a negative length there is a corrupt or hand-broken file, and is
+    /// refused like one in the matrix.
+    fn check_records(&self) -> Result<(), RuleError> {
+        if let Some(fit) = &self.fit {
+            check_fit(fit).map_err(|e| e.under("fit"))?;
+        }
+        if let Some(si) = &self.si {
+            check_si(si).map_err(|e| e.under("si"))?;
+        }
+        if let Some(r) = &self.load_range {
+            for (key, pair) in [
+                ("alpha_x", r.alpha_x),
+                ("alpha_y", r.alpha_y),
+                ("beta", r.beta),
+                ("fx", r.fx),
+                ("fy", r.fy),
+                ("mz", r.mz),
+            ] {
+                for v in pair {
+                    rules::finite(v).map_err(|m| RuleError::new(key, m).under("load_range"))?;
+                }
             }
         }
         Ok(())
@@ -262,6 +295,71 @@ impl From<published::PublishedModel> for ModelFile {
 #[error("the model cannot be written: {0}")]
 pub struct ModelFileError(pub String);
 
+/// A fit record's weights and figures: finite and `>= 0`.
+fn check_fit(fit: &FitRecord) -> Result<(), RuleError> {
+    let f = &fit.figures;
+    let mut numbers = vec![
+        ("angle_weight", fit.angle_weight),
+        ("rms_pos_err", f.rms_pos_err),
+        ("max_pos_err", f.max_pos_err),
+        ("rms_ang_err", f.rms_ang_err),
+        ("max_ang_err", f.max_ang_err),
+        ("objective", f.objective),
+    ];
+    for (key, v) in [
+        ("rms_force_err", f.rms_force_err),
+        ("max_force_err", f.max_force_err),
+        ("max_tip_err", f.max_tip_err),
+    ] {
+        numbers.extend(v.map(|v| (key, v)));
+    }
+    if let Some(m) = &fit.mechanism {
+        numbers.push(("force_weight", m.force_weight));
+    }
+    for (key, v) in numbers {
+        rules::non_negative(v).map_err(|m| RuleError::new(key, m))?;
+    }
+    if let Some(m) = &fit.mechanism {
+        for (i, si) in m.flexure_si.iter().enumerate() {
+            check_si(si).map_err(|e| e.under(&format!("flexure_si[{}]", i + 1)))?;
+        }
+    }
+    Ok(())
+}
+
+/// A model in SI: sizes and modulus finite and `> 0`, each segment's length and given springs
+/// too, its mass and inertia and the bodies' finite and `>= 0`.
+fn check_si(si: &SiModel) -> Result<(), RuleError> {
+    for (key, v) in [
+        ("beam_length", si.beam_length),
+        ("width", si.width),
+        ("thickness", si.thickness),
+        ("youngs_modulus", si.youngs_modulus),
+    ] {
+        rules::positive(v).map_err(|m| RuleError::new(key, m))?;
+    }
+    for (i, seg) in si.segments.iter().enumerate() {
+        let at = |e: RuleError| e.under(&format!("segments[{}]", i + 1));
+        rules::positive(seg.length).map_err(|m| at(RuleError::new("length", m)))?;
+        for (key, v) in [("k_theta", seg.k_theta), ("k_ex", seg.k_ex)] {
+            if let Some(v) = v {
+                rules::positive(v).map_err(|m| at(RuleError::new(key, m)))?;
+            }
+        }
+        for (key, v) in [("mass", seg.mass), ("inertia", seg.inertia)] {
+            if let Some(v) = v {
+                rules::non_negative(v).map_err(|m| at(RuleError::new(key, m)))?;
+            }
+        }
+    }
+    for (key, body) in [("tip", si.tip), ("stage", si.stage)] {
+        if let Some(b) = body {
+            b.validate().map_err(|e| e.under(key))?;
+        }
+    }
+    Ok(())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -341,6 +439,45 @@ mod tests {
         assert_eq!(ModelFile::from_toml_str(&text, "t").unwrap(), file);
         let back: ModelFile = serde_json::from_str(&file.to_json().unwrap()).unwrap();
         assert_eq!(back, file);
+    }
+
+    /// The records a file carries about itself are checked like its matrix: a NaN figure, a
+    /// negative SI length, a non-finite load range are refused by key (they were accepted).
+    #[test]
+    fn broken_records_are_refused_by_key() {
+        let scene = Scene::builtin();
+        let m = PrbMatrix::parse("0.15,inf,inf; 0.85,2.2525,inf").unwrap();
+        let good = ModelFile::fitted(&m, &scene, "normal", &figures());
+        let text = good.to_toml().unwrap();
+        assert_eq!(ModelFile::from_toml_str(&text, "m.toml").unwrap(), good);
+        let objective = format!(
+            "objective = {:?}",
+            good.fit.as_ref().unwrap().figures.objective
+        );
+        assert!(text.contains(&objective), "{text}");
+        let beam_length = format!("beam_length = {:?}", scene.beam.length);
+        assert!(text.contains(&beam_length), "{text}");
+        for (broken, key, words) in [
+            (
+                text.replacen(&objective, "objective = nan", 1),
+                "fit.objective",
+                "finite number >= 0, got NaN",
+            ),
+            (
+                text.replacen(&beam_length, "beam_length = -1.0", 1),
+                "si.beam_length",
+                "finite number > 0, got -1",
+            ),
+            (
+                text.replacen("alpha_y = [0.0, ", "alpha_y = [inf, ", 1),
+                "load_range.alpha_y",
+                "finite number, got inf",
+            ),
+        ] {
+            let err = ModelFile::from_toml_str(&broken, "m.toml").unwrap_err();
+            assert_eq!(err.key.as_deref(), Some(key), "{err}");
+            assert!(err.to_string().contains(words), "{err}");
+        }
     }
 
     #[test]
