@@ -381,7 +381,7 @@ fn export_and_selection_run_on_the_mechanism() {
     assert!(app.shown.select.is_some());
     let id = job.id;
     worker.submit(job.clone());
-    let mut rows = 0;
+    let (mut rows, mut fitting) = (0, 0);
     loop {
         let msg = worker
             .messages
@@ -390,14 +390,20 @@ fn export_and_selection_run_on_the_mechanism() {
         assert_eq!(msg.id(), id);
         let done = matches!(msg, WorkerMsg::SelectDone { .. });
         rows += usize::from(matches!(msg, WorkerMsg::SelectRow { .. }));
+        let fit = matches!(msg, WorkerMsg::SelectFitting { .. });
         assert!(!matches!(msg, WorkerMsg::Failed { .. }), "{msg:?}");
         app.on_worker(msg);
+        // Between rows, the ladder's fit shows in the status bar as any fit does.
+        if fit {
+            fitting += 1;
+            assert!(matches!(app.jobs.activity, Activity::Fitting(_)));
+        }
         if done {
             break;
         }
     }
     let view = app.shown.select.clone().unwrap();
-    assert!(!view.running && rows > 0);
+    assert!(!view.running && rows > 0 && fitting > 0);
     // The slider-crank's simplest model meeting its targets is a fitted 1R.
     let chosen = view.chosen.expect("a model meets the targets");
     assert_eq!(view.rows[chosen].topology, "L-R");

@@ -75,6 +75,10 @@ impl App {
                 self.shown.selection_stopped();
                 true
             }
+            WorkerMsg::SelectFitting { status, .. } => {
+                self.jobs.activity = Activity::Fitting(status);
+                true
+            }
             WorkerMsg::SelectRow { id, row } => {
                 self.shown.take_row(id, *row);
                 true

@@ -122,6 +122,14 @@ pub enum WorkerMsg {
         /// Why, for the user.
         message: String,
     },
+    /// A selection's ladder fit under way (between two rows, which a fit on many cases may
+    /// keep apart for minutes).
+    SelectFitting {
+        /// The job.
+        id: u64,
+        /// How far that fit has got (its time since the selection started).
+        status: FitStatus,
+    },
     /// One row of a selection, as soon as it is fitted.
     SelectRow {
         /// The job.
@@ -158,6 +166,7 @@ impl WorkerMsg {
             | WorkerMsg::Done { id, .. }
             | WorkerMsg::Compared { id, .. }
             | WorkerMsg::Failed { id, .. }
+            | WorkerMsg::SelectFitting { id, .. }
             | WorkerMsg::SelectRow { id, .. }
             | WorkerMsg::SelectDone { id, .. }
             | WorkerMsg::Exported { id, .. } => *id,

@@ -157,13 +157,28 @@ pub(super) fn run_job(
 
 /// The selection table, row by row, then the trade-off measurements.
 fn run_selection(job: &Job, study: &Study, send: &dyn Fn(WorkerMsg)) -> Result<(), String> {
+    let t0 = Instant::now();
     let selection = study
-        .select(job.fidelity, &job.cancel, &mut |row| {
-            send(WorkerMsg::SelectRow {
-                id: job.id,
-                row: Box::new(row.clone()),
-            });
-        })
+        .select_with_progress(
+            job.fidelity,
+            &job.cancel,
+            &mut |row| {
+                send(WorkerMsg::SelectRow {
+                    id: job.id,
+                    row: Box::new(row.clone()),
+                });
+            },
+            &mut |_, fit| {
+                send(WorkerMsg::SelectFitting {
+                    id: job.id,
+                    status: FitStatus {
+                        iteration: fit.iteration,
+                        evaluations: fit.evaluations,
+                        seconds: t0.elapsed().as_secs_f64(),
+                    },
+                });
+            },
+        )
         .map_err(|e| format!("selection: {e}"))?;
     // The trade-off measures a cantilever beam's resolution and its load sampling, which a
     // mechanism and measured data do not have (the CLI's `tradeoff` refuses them too).
