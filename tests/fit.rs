@@ -224,6 +224,56 @@ fn heavy_angle_weights_trade_position_for_angle() {
     }
 }
 
+/// A fit cancelled inside its swarm, under a heavy weight, returns the best model it
+/// evaluated: no worse than its start, and as good as the best its progress reported. A
+/// cancelled particle has no J and can be no best (it was scored a flat 1000, which beat every
+/// real J once a heavy weight put them above it; the fit then returned a particle never
+/// evaluated, whose J was six times the best it had reported).
+#[test]
+fn a_fit_cancelled_in_its_swarm_returns_the_best_it_evaluated() {
+    let scene = Scene::builtin();
+    let study = Study::as_given(&scene, Sampling::Fidelity(Fidelity::Precise)).unwrap();
+    // Heavy enough that every J the swarm meets is above the old flat 1000.
+    let options = FitOptions {
+        fidelity: Fidelity::Precise,
+        angle_weight: 1e8,
+        seed: 1,
+    };
+    for reports in [1, 2] {
+        let cancel = CancelToken::new();
+        let (mut seen, mut best_reported) = (0, f64::INFINITY);
+        let r = study
+            .fit(
+                &PrbMatrix::from_topology("L-R-R-R-R").unwrap(),
+                &options,
+                &mut |p| {
+                    if p.phase == "swarm" {
+                        best_reported = best_reported.min(p.best_objective);
+                        seen += 1;
+                        if seen >= reports {
+                            cancel.cancel();
+                        }
+                    }
+                },
+                &cancel,
+            )
+            .unwrap();
+        assert_eq!(r.stop, StopReason::Cancelled, "after {reports} reports");
+        // J of the result and of the start, or as reported, are sums in different orders:
+        // allow round-off.
+        let j = r.figures.objective;
+        assert!(
+            j <= r.start_objective * (1.0 + 1e-12),
+            "cancelled after {reports} reports: J {j} above its start {}",
+            r.start_objective
+        );
+        assert!(
+            j <= best_reported * (1.0 + 1e-9),
+            "cancelled after {reports} reports: J {j} above the best reported, {best_reported}"
+        );
+    }
+}
+
 /// A matrix with every cell pinned has nothing to fit; an optimum cannot be improved; both
 /// say so.
 #[test]

@@ -9,7 +9,7 @@ use nalgebra::DVector;
 use rand::rngs::StdRng;
 use rand::{Rng, SeedableRng};
 
-use super::objective::{Objective, PENALTY};
+use super::objective::Objective;
 use super::progress::Tracker;
 use super::starts::Starts;
 
@@ -25,9 +25,14 @@ impl CostFunction for SwarmCost<'_, '_, '_, '_> {
     type Output = f64;
 
     fn cost(&self, p: &Self::Param) -> Result<f64, argmin::core::Error> {
-        // Cancelled: a flat penalty, returned at once, lets the swarm run out its few
-        // remaining iterations in microseconds.
-        let j = self.objective.value(p).unwrap_or(PENALTY * 1e3);
+        // Cancelled: no J, so nothing for the tracker, and an infinite cost (as a start-up
+        // particle that cannot be evaluated gets) that no real one loses to: the swarm runs
+        // out its few remaining iterations in microseconds, and no cancelled particle becomes
+        // its best. (A flat 1000 did, once heavy weights put real J above it: a cancelled
+        // fit then returned a particle never evaluated.)
+        let Some(j) = self.objective.value(p) else {
+            return Ok(f64::INFINITY);
+        };
         let evaluations = self.objective.evaluations();
         let iteration = (evaluations / self.particles as u64) as u32;
         self.tracker
