@@ -61,11 +61,14 @@ fn load_arg(value: Option<&Bound<'_, PyAny>>) -> PyResult<Option<Load>> {
     for x in [alpha_x, alpha_y, beta] {
         finite("load", x)?;
     }
-    Ok(Some(Load {
+    let load = Load {
         alpha_x,
         alpha_y,
         beta,
-    }))
+    };
+    // The CLI's `--load` rule: each component within the scene rules' reach.
+    prbfit::scene::rules::single_load(&load).map_err(|m| errors::input("load", m))?;
+    Ok(Some(load))
 }
 
 /// A model argument: a `Matrix` or matrix text goes as a matrix (`--prb`), any other text

@@ -218,6 +218,9 @@ def test_modes_arguments_are_checked_naming_them():
         (lambda: sc.modes(count=-2), ["count", "at least 1"]),
         (lambda: sc.modes(load=(0, 1, 0), cases=True), ["--load and --cases"]),
         (lambda: sc.modes(load=(0, float("nan"), 0)), ["load", "finite"]),
+        # The CLI's --load limit: refused at once, not followed for seconds to a late failure.
+        (lambda: sc.modes(load=(0, 1e308, 0)), ["load", "alpha_y", "beyond the 1e9"]),
+        (lambda: sc.solve(load=(-1e10, 0, 0)), ["load", "alpha_x", "beyond the 1e9"]),
         (lambda: sc.modes([[1.0]]), ["models[0]"]),
         (lambda: mech.modes(load=(0, 1, 0)), ["--load"]),
         (lambda: prbfit.Scene.load(STEEL).modes(), ["beam.density", "density = 7850.0"]),

@@ -315,12 +315,6 @@ pub struct FeaArgs {
 /// ([`prbfit::scene::MAX_NONDIMENSIONAL`]), as a scene's `[[loads]]` must be.
 fn load_arg(text: &str) -> Result<Load, String> {
     let load = Load::parse(text)?;
-    for (name, v) in [
-        ("alpha_x", load.alpha_x),
-        ("alpha_y", load.alpha_y),
-        ("beta", load.beta),
-    ] {
-        prbfit::scene::rules::reachable(v, v).map_err(|m| format!("{name} {m}"))?;
-    }
+    prbfit::scene::rules::single_load(&load)?;
     Ok(load)
 }

@@ -71,6 +71,19 @@ pub fn reachable(v: f64, scaled: f64) -> Result<(), String> {
     Ok(())
 }
 
+/// A single tip load given outside a scene (`--load`, Python's `load=`): each component
+/// [`reachable`], as a scene's `[[loads]]` must be; the message names the component.
+pub fn single_load(load: &Load) -> Result<(), String> {
+    for (name, v) in [
+        ("alpha_x", load.alpha_x),
+        ("alpha_y", load.alpha_y),
+        ("beta", load.beta),
+    ] {
+        reachable(v, v).map_err(|m| format!("{name} {m}"))?;
+    }
+    Ok(())
+}
+
 /// A direction in radians, given in degrees: within a turn either way.
 pub fn direction(radians: f64) -> Result<(), String> {
     let deg = radians.to_degrees();
