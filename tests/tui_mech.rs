@@ -398,6 +398,10 @@ fn export_and_selection_run_on_the_mechanism() {
             fitting += 1;
             assert!(matches!(app.jobs.activity, Activity::Fitting(_)));
         }
+        // A row ends its fit: the status does not freeze on it.
+        if matches!(app.jobs.activity, Activity::Fitting(_)) {
+            assert!(fit, "still fitting after a message that was no fit's");
+        }
         if done {
             break;
         }

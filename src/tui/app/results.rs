@@ -81,6 +81,9 @@ impl App {
             }
             WorkerMsg::SelectRow { id, row } => {
                 self.shown.take_row(id, *row);
+                // That row's fit is over: "working" until the next one reports (the published
+                // rows and the trade-off have no fit to show).
+                self.jobs.activity = Activity::Waiting;
                 true
             }
             WorkerMsg::SelectDone {
