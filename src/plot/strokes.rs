@@ -122,9 +122,9 @@ fn panel<DB: DrawingBackend>(
         .y_label_area_size(80)
         .build_cartesian_2d(xb[0]..xb[1], yb[0]..yb[1])
         .map_err(drawing)?;
-    let (x_digits, y_digits) = (digits(xb), digits(yb));
-    let x_format = move |v: &f64| tick(*v, x_digits);
-    let y_format = move |v: &f64| tick(*v, y_digits);
+    let (x_axis, y_axis) = (Axis::of(xb), Axis::of(yb));
+    let x_format = move |v: &f64| tick(*v, x_axis);
+    let y_format = move |v: &f64| tick(*v, y_axis);
     ctx.configure_mesh()
         .x_label_formatter(&x_format)
         .y_label_formatter(&y_format)
@@ -213,12 +213,44 @@ fn digits(range: [f64; 2]) -> usize {
     }
 }
 
-/// A tick label with `digits` decimals, a round-off `-0` printed as `0`; from 1e6 up, in
-/// scientific form (an absurd modulus's stresses label as `8.5e21`, never as 22 digits).
-fn tick(v: f64, digits: usize) -> String {
-    if v.abs() >= 1e6 {
-        return crate::text::bounded_prec(v, 6);
+/// How an axis labels its ticks, chosen once for the axis.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Axis {
+    /// Decimals of a plain label ([`digits`]).
+    digits: usize,
+    /// Every label in scientific form: the axis reaches 1e6 (an absurd modulus's stresses
+    /// label as `8.5e21`, never as 22 digits; a heavy flexure's reactions as `8e5, 1e6,
+    /// 1.2e6`, not `800000, 1e6, 1.2e6`).
+    scientific: bool,
+}
+
+impl Axis {
+    fn of(range: [f64; 2]) -> Axis {
+        Axis {
+            digits: digits(range),
+            scientific: range[0].abs().max(range[1].abs()) >= 1e6,
+        }
     }
+}
+
+/// A tick label on `axis`: plain with its decimals, a round-off `-0` printed as `0`, or
+/// scientific.
+fn tick(v: f64, axis: Axis) -> String {
+    if axis.scientific {
+        if v == 0.0 {
+            return "0".into();
+        }
+        // Six significant digits, trailing zeros dropped: `6e5`, `1.2e6`, `8.47547e21`.
+        let text = format!("{v:.5e}");
+        let (mantissa, exponent) = text.split_once('e').unwrap_or((&text, "0"));
+        let mantissa = if mantissa.contains('.') {
+            mantissa.trim_end_matches('0').trim_end_matches('.')
+        } else {
+            mantissa
+        };
+        return format!("{mantissa}e{exponent}");
+    }
+    let digits = axis.digits;
     let text = format!("{v:.digits$}");
     match text.strip_prefix('-') {
         Some(rest) if rest.chars().all(|c| c == '0' || c == '.') => rest.to_string(),
@@ -234,11 +266,25 @@ mod tests {
     fn ticks_have_enough_digits_and_no_negative_zero() {
         assert_eq!(digits([0.0, 35.0]), 0);
         assert_eq!(digits([-0.8, 0.05]), 2);
-        assert_eq!(tick(-1e-17, 2), "0.00");
-        assert_eq!(tick(-0.25, 2), "-0.25");
-        assert_eq!(tick(15.0, 0), "15");
-        assert_eq!(tick(8.475471848539104e21, 0), "8.47547e21");
-        assert_eq!(tick(-2.5e6, 3), "-2.5e6");
+        let plain = |digits| Axis {
+            digits,
+            scientific: false,
+        };
+        assert_eq!(tick(-1e-17, plain(2)), "0.00");
+        assert_eq!(tick(-0.25, plain(2)), "-0.25");
+        assert_eq!(tick(15.0, plain(0)), "15");
+        // An axis that reaches 1e6 labels every tick alike.
+        let big = Axis::of([0.0, 1.3e6]);
+        assert!(big.scientific);
+        let labels: Vec<String> = [6e5, 8e5, 1e6, 1.2e6]
+            .iter()
+            .map(|&v| tick(v, big))
+            .collect();
+        assert_eq!(labels, ["6e5", "8e5", "1e6", "1.2e6"]);
+        let huge = Axis::of([0.0, 1e22]);
+        assert_eq!(tick(8.475471848539104e21, huge), "8.47547e21");
+        assert_eq!(tick(-2.5e6, Axis::of([-3e6, 0.0])), "-2.5e6");
+        assert!(!Axis::of([0.0, 999_999.0]).scientific);
     }
 
     #[test]
