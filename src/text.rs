@@ -123,6 +123,18 @@ pub fn bounded(x: f64) -> String {
 /// unit of the last printed digit. The width is at most `sig + 7` characters (sign, point,
 /// and `e-308`).
 pub fn bounded_prec(x: f64, sig: usize) -> String {
+    format_prec(x, sig, false)
+}
+
+/// `x` rounded to `sig` significant digits as [`bounded_prec`] writes a number outside its
+/// plain range, whatever its size: `6e5`, `1.2e6`, `-2.5e-3` (zero, NaN and the infinities as
+/// there). For labels that must share one form (a plot axis's ticks).
+pub fn scientific_prec(x: f64, sig: usize) -> String {
+    format_prec(x, sig, true)
+}
+
+/// [`bounded_prec`], or with `scientific` its scientific form for every size.
+fn format_prec(x: f64, sig: usize, scientific: bool) -> String {
     if x.is_nan() {
         return "NaN".into();
     }
@@ -143,7 +155,7 @@ pub fn bounded_prec(x: f64, sig: usize) -> String {
     let digits = digits.trim_end_matches('0');
     let digits = if digits.is_empty() { "0" } else { digits };
     let sign = if x < 0.0 { "-" } else { "" };
-    if (-4..6).contains(&exp) {
+    if !scientific && (-4..6).contains(&exp) {
         if exp < 0 {
             let zeros = "0".repeat((-exp - 1) as usize);
             format!("{sign}0.{zeros}{digits}")

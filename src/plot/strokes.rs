@@ -237,18 +237,8 @@ impl Axis {
 /// scientific.
 fn tick(v: f64, axis: Axis) -> String {
     if axis.scientific {
-        if v == 0.0 {
-            return "0".into();
-        }
         // Six significant digits, trailing zeros dropped: `6e5`, `1.2e6`, `8.47547e21`.
-        let text = format!("{v:.5e}");
-        let (mantissa, exponent) = text.split_once('e').unwrap_or((&text, "0"));
-        let mantissa = if mantissa.contains('.') {
-            mantissa.trim_end_matches('0').trim_end_matches('.')
-        } else {
-            mantissa
-        };
-        return format!("{mantissa}e{exponent}");
+        return crate::text::scientific_prec(v, 6);
     }
     let digits = axis.digits;
     let text = format!("{v:.digits$}");
