@@ -52,8 +52,8 @@ pub fn modulus(v: f64) -> Result<(), String> {
 /// for seconds to give up at 1e-303 of the path.
 pub const MAX_NONDIMENSIONAL: f64 = 1e9;
 
-/// A finite load or drive component within [`MAX_NONDIMENSIONAL`] once nondimensional: `v`
-/// as given, `scaled` as the solvers see it.
+/// A finite load, drive component or measured value within [`MAX_NONDIMENSIONAL`] once
+/// nondimensional: `v` as given, `scaled` as the solvers see it.
 pub fn reachable(v: f64, scaled: f64) -> Result<(), String> {
     finite(v)?;
     if scaled.abs() > MAX_NONDIMENSIONAL {

@@ -4,14 +4,7 @@
 //! `file:line:column`.
 
 use super::super::error::SceneError;
-use super::super::rules::MAX_NONDIMENSIONAL;
-
-/// The largest magnitude a measured value may have once nondimensional (units of L, radians,
-/// `E I0/L^2`, `E I0/L`): a scene's loads' ([`MAX_NONDIMENSIONAL`]). A tip a billion
-/// lengths away is a file in the wrong units or a corrupt one, and numbers near `f64::MAX`
-/// overflow everything derived from them (`x = 1e308` ended in "a result is not a finite
-/// number", with no line).
-pub const MAX_MEASURED: f64 = MAX_NONDIMENSIONAL;
+use super::super::rules;
 
 /// A field as an error message quotes it: terminal-safe, at most 40 characters.
 pub(super) fn shown(field: &str) -> String {
@@ -59,7 +52,10 @@ pub(super) struct Fields {
 
 impl<'a> Csv<'a> {
     /// The field `v` (at `line`, `column`, of column `name`) made nondimensional by `factor`
-    /// (1 for a column already so), which must be at most [`MAX_MEASURED`] in magnitude.
+    /// (1 for a column already so), within the reach a scene's loads have
+    /// ([`rules::reachable`]): a tip a billion lengths away is a file in the wrong units or a
+    /// corrupt one, and numbers near `f64::MAX` overflow everything derived from them
+    /// (`x = 1e308` ended in "a result is not a finite number", with no line).
     pub(super) fn scaled(
         &self,
         line: usize,
@@ -69,24 +65,8 @@ impl<'a> Csv<'a> {
         factor: f64,
     ) -> Result<f64, SceneError> {
         let scaled = v * factor;
-        if scaled.abs() <= MAX_MEASURED {
-            return Ok(scaled);
-        }
-        let as_nondimensional = if factor == 1.0 {
-            String::new()
-        } else {
-            format!(" ({} nondimensional)", crate::text::bounded(scaled))
-        };
-        Err(self.fail(
-            line,
-            column,
-            Some(name),
-            format!(
-                "{}{as_nondimensional} is beyond the {MAX_MEASURED:e} a measured value may be \
-                 (in units of L, radians, E I0/L^2 or E I0/L): check the file's units",
-                crate::text::bounded(v)
-            ),
-        ))
+        rules::reachable(v, scaled).map_err(|m| self.fail(line, column, Some(name), m))?;
+        Ok(scaled)
     }
 
     pub(super) fn fail(
