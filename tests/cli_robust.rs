@@ -426,7 +426,8 @@ fn interrupt_after(mut child: std::process::Child, wait: Duration) -> std::proce
 }
 
 /// Ctrl-C stops a long fit at its next check (issue 24: long fits can be cancelled): the best
-/// matrix so far is printed with its own figures, marked cancelled, saved where `-o` says, and
+/// matrix so far is printed with its own figures, marked cancelled, saved where `-o` says
+/// (the file marked as stopped early, so nothing reading it takes it for a finished fit), and
 /// the status is the shell's 130 for SIGINT.
 #[test]
 fn ctrl_c_stops_a_long_fit_with_its_best_so_far() {
@@ -464,6 +465,16 @@ fn ctrl_c_stops_a_long_fit_with_its_best_so_far() {
     assert_eq!(
         stderr.trim(),
         "prbfit: interrupted (Ctrl-C): the best so far is above"
+    );
+    assert!(
+        stdout.contains("(marked stopped early: the best so far)"),
+        "{stdout}"
+    );
+    let saved = std::fs::read_to_string(&model).unwrap();
+    assert!(saved.contains("stopped_early = \"cancelled\""), "{saved}");
+    assert!(
+        saved.contains("(stopped early: cancelled; the best so far)"),
+        "{saved}"
     );
     // The saved model is whole: eval reads it back and judges it.
     succeeded(&prbfit(&["eval", "--model", &model]));

@@ -902,3 +902,55 @@ fn fea_compares_like_with_like() {
     let b = |r: &serde_json::Value| r["cases"][0]["fea"]["b"].as_f64().unwrap();
     assert!((b(&solid) - b(&narrow)).abs() > 1e-2);
 }
+
+/// Cancelling stops CalculiX (the Python module's Ctrl-C, the CLI's): a run whose token is
+/// cancelled kills `ccx` at its next poll, and a `fea` cancelled after its first path writes
+/// no CSV (its decks, written before any run, stay), where every path's run used to go on to
+/// its end (26 s for the steel flexure scene at mesh 30) and the CSV was written.
+#[test]
+fn a_cancelled_fea_stops_ccx_and_writes_no_csv() {
+    use prbfit::fea::CcxError;
+    use prbfit::fit::CancelToken;
+    use prbfit::report::{fea::FeaArgs, Control, Progress};
+
+    let Some(ccx) = ccx() else { return };
+    // Two load paths: one run each.
+    let text = format!("{SLENDER}[[loads]]\nalpha_y = 1.0\nsteps = 1\n");
+    let scene = Scene::from_toml_str(&text, "two paths").unwrap();
+    let mesh = Mesh::for_beam(10, &scene.beam, Section::PlaneStress).unwrap();
+    let decks = fea::scene_decks(&scene, &mesh, Section::PlaneStress, Taper::UNIFORM).unwrap();
+    let cancelled = CancelToken::new();
+    cancelled.cancel();
+    assert!(matches!(
+        ccx.with_cancel(&cancelled)
+            .run(&decks[0], Duration::from_secs(600)),
+        Err(CcxError::Cancelled)
+    ));
+
+    let dir = Scratch::new("fea-cancel");
+    let output = dir.file("out.csv");
+    let mut args = FeaArgs::new(output.clone().into());
+    args.mesh = 10;
+    args.section = Some(Section::PlaneStress);
+    let cancel = CancelToken::new();
+    let on_path = cancel.clone();
+    let mut paths_done = 0;
+    let mut progress = |p: &Progress<'_>| {
+        if let Progress::Fea { path, .. } = p {
+            paths_done = *path;
+            on_path.cancel();
+        }
+    };
+    let mut ctl = Control {
+        cancel,
+        progress: &mut progress,
+    };
+    let result = prbfit::report::fea::fea(&scene, &args, &mut ctl);
+    assert!(result.is_err(), "a cancelled FEA reported a result");
+    assert_eq!(paths_done, 1, "the paths after the cancel were run");
+    assert!(
+        !std::path::Path::new(&output).exists(),
+        "a cancelled FEA wrote its CSV"
+    );
+    assert!(dir.path().join("out-path1.inp").exists());
+}

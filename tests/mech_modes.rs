@@ -8,6 +8,7 @@ mod common;
 
 use prbfit::beam::modes::ModeSettings;
 use prbfit::beam::{Effects, Resolution};
+use prbfit::fit::CancelToken;
 use prbfit::mech::modes::{drive_modes, held_by, mech_modes, MechMass};
 use prbfit::scene::{Attach, BeamSpec, Coordinate, Drive, EffectsChoice, Flexure, Mechanism};
 
@@ -248,7 +249,12 @@ fn a_mechanisms_mode_shapes_pair_the_beams_and_the_prb_models() {
     let pairs = study.mode_shapes(&su);
     assert_eq!(pairs.len(), 3, "{pairs:?}");
     let reported = study
-        .modes(std::slice::from_ref(&su), Equilibria::Unloaded, 3)
+        .modes(
+            std::slice::from_ref(&su),
+            Equilibria::Unloaded,
+            3,
+            &CancelToken::new(),
+        )
         .unwrap();
     let model = reported[0].models[0].as_ref().unwrap();
     for (k, pair) in pairs.iter().enumerate() {
@@ -373,7 +379,12 @@ fn a_data_scenes_mode_shapes_are_the_nominal_beams() {
     let pairs = study.mode_shapes(&su);
     assert_eq!(pairs.len(), 3);
     let reported = study
-        .modes(std::slice::from_ref(&su), Equilibria::Unloaded, 3)
+        .modes(
+            std::slice::from_ref(&su),
+            Equilibria::Unloaded,
+            3,
+            &CancelToken::new(),
+        )
         .unwrap();
     let model = reported[0].models[0].as_ref().unwrap();
     for (k, pair) in pairs.iter().enumerate() {
@@ -408,7 +419,12 @@ fn a_coupled_flexure_rings_with_its_slider_held() {
     // Su's 3R has three joints, the coupler takes one: two modes to pair with the beam's.
     assert_eq!(pairs.len(), 2);
     let reported = study
-        .modes(std::slice::from_ref(&su), Equilibria::Unloaded, 3)
+        .modes(
+            std::slice::from_ref(&su),
+            Equilibria::Unloaded,
+            3,
+            &CancelToken::new(),
+        )
         .unwrap();
     let model = reported[0].models[0].as_ref().unwrap();
     for (k, pair) in pairs.iter().enumerate() {
@@ -466,8 +482,12 @@ fn a_mechanisms_data_hold_what_their_drive_prescribes() {
     let driven = Study::new(&driven, Sampling::Every(Resolution::with_tol(1e-8))).unwrap();
     let su = prbfit::prb::published::by_name("su-3r").unwrap().prb;
     let at = Equilibria::Unloaded;
-    let a = &rig.modes(std::slice::from_ref(&su), at, 3).unwrap()[0];
-    let b = &driven.modes(std::slice::from_ref(&su), at, 3).unwrap()[0];
+    let a = &rig
+        .modes(std::slice::from_ref(&su), at, 3, &CancelToken::new())
+        .unwrap()[0];
+    let b = &driven
+        .modes(std::slice::from_ref(&su), at, 3, &CancelToken::new())
+        .unwrap()[0];
     for (x, y) in a.beam.omega.iter().zip(&b.beam.omega) {
         assert!(
             rel(*x, *y) < 1e-12,

@@ -14,6 +14,7 @@ use prbfit::beam::modes::{
     ModeSettings, TipBody,
 };
 use prbfit::beam::{BeamModel, BeamSolver, Effects, Load, SolveError};
+use prbfit::fit::CancelToken;
 
 fn rel(a: f64, b: f64) -> f64 {
     (a - b).abs() / b.abs()
@@ -624,7 +625,9 @@ fn the_scenes_modes_are_the_beams_and_the_chains() {
             Load::new(-1.0, 0.5, 0.2),
         ),
     ] {
-        let found = study.modes(std::slice::from_ref(&su), at, 3).unwrap();
+        let found = study
+            .modes(std::slice::from_ref(&su), at, 3, &CancelToken::new())
+            .unwrap();
         assert_eq!(found.len(), 1);
         let solver = BeamSolver::new(model, Default::default()).unwrap();
         let m0 = solver.solve(load).unwrap().root_moment;

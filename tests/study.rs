@@ -313,3 +313,47 @@ fn a_cancelled_mechanism_truth_and_its_effects_decision_stop() {
         Err(prbfit::study::StudyError::Cancelled)
     ));
 }
+
+/// The modes about every case stop when cancelled (the Python module's Ctrl-C, the CLI's):
+/// between equilibria, and inside each model's following of the drives, where a parallel
+/// stage of 2 x 10000 cases used to run its 9 s to the end whatever the token said.
+#[test]
+fn cancelled_modes_and_model_following_stop() {
+    use prbfit::mech::{prb, MechError};
+    use prbfit::study::modes::{Equilibria, StudyModesError};
+
+    let mut stage = scene("parallel-stage");
+    stage.beam.density = Some(7850.0);
+    for f in &mut stage.mechanism.as_mut().unwrap().flexures {
+        f.beam.density = Some(7850.0);
+    }
+    let study = Study::as_given(&stage, Sampling::Fidelity(Fidelity::Draft)).unwrap();
+    let su = prbfit::prb::published::by_name("su-3r").unwrap().prb;
+    let mechanism = study.mechanism();
+    // Not cancelled: every drive followed, and the modes found about every case.
+    let followed = prb::follow(mechanism, &su, 1e-9, &CancelToken::new());
+    assert!(followed.failures.iter().all(Option::is_none));
+    assert!(followed.drives.iter().all(|d| !d.is_empty()));
+    let all = study
+        .modes(
+            std::slice::from_ref(&su),
+            Equilibria::Cases,
+            2,
+            &CancelToken::new(),
+        )
+        .unwrap();
+    assert_eq!(all.len(), study.case_count());
+
+    let cancel = CancelToken::new();
+    cancel.cancel();
+    let followed = prb::follow(mechanism, &su, 1e-9, &cancel);
+    assert!(followed
+        .failures
+        .iter()
+        .all(|f| matches!(f, Some(MechError::Cancelled))));
+    assert!(followed.drives.iter().all(Vec::is_empty));
+    assert!(matches!(
+        study.modes(std::slice::from_ref(&su), Equilibria::Cases, 2, &cancel),
+        Err(StudyModesError::Cancelled)
+    ));
+}

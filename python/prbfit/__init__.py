@@ -17,6 +17,13 @@ subclasses of ``Error``, with the CLI's messages. Long calls release the GIL; Ct
 them.
 """
 
+try:
+    # The results' arrays are numpy's: without it the first array would fail deep inside the
+    # core, so an install without numpy is refused here, at the import.
+    import numpy as _numpy  # noqa: F401
+except ImportError as _e:
+    raise ImportError(f"prbfit needs numpy (pip install numpy): {_e}") from _e
+
 from ._prbfit import (
     Calibration,
     Error,

@@ -2,8 +2,9 @@
 //! errors that name them.
 
 use numpy::{PyArray2, PyArrayMethods};
+use pyo3::exceptions::PyOverflowError;
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyList};
+use pyo3::types::{PyBool, PyDict, PyList};
 use pyo3::IntoPyObjectExt;
 use serde_json::Value;
 
@@ -99,3 +100,56 @@ where
 }
 
 use pyo3::conversion::FromPyObjectOwned;
+
+/// A whole number for `argument` from `min` to `max`: a Python int (or anything with
+/// `__index__`, a numpy integer), or a float with no fractional part (a row of a float
+/// array); anything else is bad input naming the argument, where PyO3's own conversion raised
+/// an `OverflowError` that named nothing for an int out of its type's range.
+pub fn whole<T>(argument: &str, value: &Bound<'_, PyAny>, min: T, max: T) -> PyResult<T>
+where
+    T: TryFrom<i128> + Into<i128> + Copy + std::fmt::Display,
+{
+    let ty = value
+        .get_type()
+        .name()
+        .map(|n| n.to_string())
+        .unwrap_or_else(|_| "?".into());
+    let out_of_range = || {
+        let text = value.str().map(|s| s.to_string()).unwrap_or_default();
+        let shown = if text.chars().count() > 24 {
+            format!(
+                "{}... ({} digits)",
+                text.chars().take(12).collect::<String>(),
+                text.len()
+            )
+        } else {
+            text
+        };
+        errors::input(
+            argument,
+            format!("{shown}: must be a whole number from {min} to {max}"),
+        )
+    };
+    if value.is_instance_of::<PyBool>() {
+        return Err(errors::input(argument, "expected a whole number, got bool"));
+    }
+    let n: i128 = match value.extract::<i128>() {
+        Ok(n) => n,
+        Err(e) if e.is_instance_of::<PyOverflowError>(value.py()) => return Err(out_of_range()),
+        Err(_) => match value.extract::<f64>() {
+            // An integral float within i128's range converts exactly.
+            Ok(x) if x.is_finite() && x.fract() == 0.0 && x.abs() < 1e38 => x as i128,
+            Ok(_) => return Err(out_of_range()),
+            Err(_) => {
+                return Err(errors::input(
+                    argument,
+                    format!("expected a whole number, got {ty}"),
+                ))
+            }
+        },
+    };
+    if n < min.into() || n > max.into() {
+        return Err(out_of_range());
+    }
+    T::try_from(n).map_err(|_| out_of_range())
+}

@@ -26,6 +26,17 @@ impl Matrix {
             return Ok(m.get().inner.clone());
         }
         if let Ok(text) = value.extract::<String>() {
+            // A published model's name where a matrix is wanted: say so, and where it goes.
+            if let Some(p) = prbfit::prb::published::by_name(text.trim()) {
+                return Err(errors::input(
+                    argument,
+                    format!(
+                        "\"{text}\" is a published model's name, not a matrix: give its matrix \
+                         (\"{}\"), or name it where a model is asked for (eval, modes, export)",
+                        p.prb.to_text()
+                    ),
+                ));
+            }
             return PrbMatrix::parse(&text)
                 .map_err(|e| errors::input(argument, format!("\"{text}\": {e}")));
         }

@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use std::str::FromStr;
 
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyList, PyTuple};
+use pyo3::types::{PyDict, PyList, PyString, PyTuple};
 
 use prbfit::beam::{Effects, Load};
 use prbfit::fea::{Section, Taper};
@@ -15,7 +15,7 @@ use prbfit::prb::PrbMatrix;
 use prbfit::report::{self, Control, ReportError};
 use prbfit::scene::{EffectsChoice, LoadPath};
 
-use crate::convert::{extract, finite};
+use crate::convert::{extract, finite, whole};
 use crate::edit;
 use crate::errors;
 use crate::matrix::Matrix;
@@ -82,10 +82,27 @@ fn model_arg(argument: &str, v: &Bound<'_, PyAny>) -> PyResult<ModelArg> {
     if let Ok(text) = v.extract::<String>() {
         return Ok(match PrbMatrix::parse(&text) {
             Ok(_) => ModelArg::Matrix(text),
+            // Matrix text with a mistake in it (no published name has a comma, and no file
+            // of that name exists): the matrix's own message, not a missing file's.
+            Err(_) if text.contains(',') && !std::path::Path::new(&text).exists() => {
+                ModelArg::Matrix(text)
+            }
             Err(_) => ModelArg::Named(text),
         });
     }
+    // A model file as a path object (`pathlib.Path`, anything `os.fspath` takes).
+    if !v.is_instance_of::<PyString>() && v.hasattr("__fspath__")? {
+        let path: PathBuf = extract(argument, v, "a model file's path")?;
+        return Ok(ModelArg::Named(path.display().to_string()));
+    }
     Ok(ModelArg::Matrix(Matrix::from_any(argument, v)?.to_text()))
+}
+
+/// The scene a command runs on: a copy, so that the borrow of the Python object ends before
+/// the work starts, and the scene can be edited (by another thread, or from a fit's progress
+/// callback) while the command runs on the scene as it was.
+fn snapshot(slf: PyRef<'_, Scene>) -> prbfit::scene::Scene {
+    slf.inner.clone()
 }
 
 impl Scene {
@@ -323,11 +340,28 @@ impl Scene {
         let mut loads = Vec::with_capacity(items.len());
         for (i, item) in items.iter().enumerate() {
             let arg = format!("loads[{}]", i + 1);
-            let (alpha_x, alpha_y, beta, steps): (f64, f64, f64, u32) =
+            // A tuple, a list or an array row of four.
+            let parts: Vec<Bound<'_, PyAny>> =
                 extract(&arg, item, "(alpha_x, alpha_y, beta, steps)")?;
-            for x in [alpha_x, alpha_y, beta] {
-                finite(&arg, x)?;
-            }
+            let [x, y, b, n] = parts.as_slice() else {
+                return Err(errors::input(
+                    &arg,
+                    format!(
+                        "expected (alpha_x, alpha_y, beta, steps), got {} items",
+                        parts.len()
+                    ),
+                ));
+            };
+            let number = |key: &str, v: &Bound<'_, PyAny>| {
+                let at = format!("{arg}.{key}");
+                finite(&at, extract::<f64>(&at, v, "a number")?)
+            };
+            let (alpha_x, alpha_y, beta) = (
+                number("alpha_x", x)?,
+                number("alpha_y", y)?,
+                number("beta", b)?,
+            );
+            let steps = whole::<u32>(&format!("{arg}.steps"), n, 1, u32::MAX)?;
             loads.push(LoadPath {
                 end: Load {
                     alpha_x,
@@ -392,7 +426,7 @@ impl Scene {
     #[pyo3(signature = (load = None, *, effects = None, slenderness = None, nu = None, kappa = None, tol = None, shape = false))]
     #[allow(clippy::too_many_arguments)]
     fn solve(
-        &self,
+        slf: PyRef<'_, Self>,
         py: Python<'_>,
         load: Option<&Bound<'_, PyAny>>,
         effects: Option<String>,
@@ -411,7 +445,7 @@ impl Scene {
             tol: tol.unwrap_or(report::solve::SolveArgs::default().tol),
             shape,
         };
-        let scene = &self.inner;
+        let scene = &snapshot(slf);
         let r = run(py, None, |ctl: &mut Control<'_>| {
             report_of(&report::solve::solve(scene, &args, ctl)?)
         })?;
@@ -424,7 +458,7 @@ impl Scene {
     /// and `--prb`.
     #[pyo3(signature = (*models, load = None, tol = None))]
     fn eval(
-        &self,
+        slf: PyRef<'_, Self>,
         py: Python<'_>,
         models: &Bound<'_, PyTuple>,
         load: Option<&Bound<'_, PyAny>>,
@@ -443,7 +477,7 @@ impl Scene {
                 ModelArg::Named(n) => args.model.push(n),
             }
         }
-        let scene = &self.inner;
+        let scene = &snapshot(slf);
         let r = run(py, None, |ctl: &mut Control<'_>| {
             report_of(&report::eval::eval(scene, &args, ctl)?)
         })?;
@@ -456,19 +490,24 @@ impl Scene {
     /// `(alpha_x, alpha_y, beta)` of a cantilever, or every case (`cases=True`). Needs the
     /// scene's `[beam] density`. Named models and files come first, then matrices, as the
     /// CLI orders `--model` and `--prb`.
-    #[pyo3(signature = (*models, count = 3, load = None, cases = false, tol = None))]
+    #[pyo3(
+        signature = (*models, count = None, load = None, cases = false, tol = None),
+        text_signature = "($self, *models, count=3, load=None, cases=False, tol=None)"
+    )]
     fn modes(
-        &self,
+        slf: PyRef<'_, Self>,
         py: Python<'_>,
         models: &Bound<'_, PyTuple>,
-        count: i64,
+        count: Option<&Bound<'_, PyAny>>,
         load: Option<&Bound<'_, PyAny>>,
         cases: bool,
         tol: Option<f64>,
     ) -> PyResult<Py<PyAny>> {
         let mut args = report::modes::ModesArgs {
-            count: usize::try_from(count)
-                .map_err(|_| errors::input("count", format!("{count}: ask for at least 1 mode")))?,
+            count: match count {
+                Some(v) => whole::<u32>("count", v, 1, u32::MAX)? as usize,
+                None => 3,
+            },
             load: load_arg(load)?,
             cases,
             ..Default::default()
@@ -482,7 +521,7 @@ impl Scene {
                 ModelArg::Named(n) => args.model.push(n),
             }
         }
-        let scene = &self.inner;
+        let scene = &snapshot(slf);
         let r = run(py, None, |ctl: &mut Control<'_>| {
             report_of(&report::modes::modes(scene, &args, ctl)?)
         })?;
@@ -493,19 +532,26 @@ impl Scene {
     /// fixed cells, or the scene's own) fitted to the truth. `progress(dict)` is called as
     /// the search goes (phase, iteration, evaluations, best_objective, best, seconds);
     /// `output` saves the model file (.toml or .json).
-    #[pyo3(signature = (topology = None, *, matrix = None, fidelity = "normal", seed = 1, output = None, force = false, progress = None))]
+    #[pyo3(
+        signature = (topology = None, *, matrix = None, fidelity = "normal", seed = None, output = None, force = false, progress = None),
+        text_signature = "($self, topology=None, *, matrix=None, fidelity='normal', seed=1, output=None, force=False, progress=None)"
+    )]
     #[allow(clippy::too_many_arguments)]
     fn fit(
-        &self,
+        slf: PyRef<'_, Self>,
         py: Python<'_>,
         topology: Option<String>,
         matrix: Option<&Bound<'_, PyAny>>,
         fidelity: &str,
-        seed: u64,
+        seed: Option<&Bound<'_, PyAny>>,
         output: Option<PathBuf>,
         force: bool,
         progress: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Py<PyAny>> {
+        let seed = match seed {
+            Some(v) => whole::<u64>("seed", v, 0, u64::MAX)?,
+            None => 1,
+        };
         if topology.is_some() && matrix.is_some() {
             return Err(errors::input(
                 "topology",
@@ -527,7 +573,7 @@ impl Scene {
             output,
             force,
         };
-        let scene = &self.inner;
+        let scene = &snapshot(slf);
         let r = run(py, progress, |ctl: &mut Control<'_>| {
             report_of(&report::fit::fit(scene, &args, ctl)?)
         })?;
@@ -538,12 +584,17 @@ impl Scene {
     /// targets chosen; `within_stroke` judges only the cases up to each path's stroke limit
     /// (where the stress first reaches the scene's allowable stress).
     #[pyo3(signature = (fidelity = "normal", *, within_stroke = false))]
-    fn select(&self, py: Python<'_>, fidelity: &str, within_stroke: bool) -> PyResult<Py<PyAny>> {
+    fn select(
+        slf: PyRef<'_, Self>,
+        py: Python<'_>,
+        fidelity: &str,
+        within_stroke: bool,
+    ) -> PyResult<Py<PyAny>> {
         let args = report::select::SelectArgs {
             fidelity: self::fidelity(fidelity)?,
             within_stroke,
         };
-        let scene = &self.inner;
+        let scene = &snapshot(slf);
         let r = run(py, None, |ctl: &mut Control<'_>| {
             report_of(&report::select::select(scene, &args, ctl)?)
         })?;
@@ -553,11 +604,11 @@ impl Scene {
     /// `prbfit calibrate`: one beam parameter (`youngs_modulus` or `thickness`) fitted to a
     /// data scene's measurements.
     #[pyo3(signature = (param = "youngs_modulus"))]
-    fn calibrate(&self, py: Python<'_>, param: &str) -> PyResult<Py<PyAny>> {
+    fn calibrate(slf: PyRef<'_, Self>, py: Python<'_>, param: &str) -> PyResult<Py<PyAny>> {
         let args = report::calibrate::CalibrateArgs {
             param: param.to_string(),
         };
-        let scene = &self.inner;
+        let scene = &snapshot(slf);
         let r = run(py, None, |ctl: &mut Control<'_>| {
             report_of(&report::calibrate::calibrate_scene(scene, &args, ctl)?)
         })?;
@@ -571,7 +622,7 @@ impl Scene {
     #[pyo3(signature = (model = None, output = None, *, format = None, force = false, density = None, fidelity = "normal"))]
     #[allow(clippy::too_many_arguments)]
     fn export(
-        &self,
+        slf: PyRef<'_, Self>,
         py: Python<'_>,
         model: Option<&Bound<'_, PyAny>>,
         output: Option<PathBuf>,
@@ -597,7 +648,7 @@ impl Scene {
         args.force = force;
         args.density = density;
         args.fidelity = self::fidelity(fidelity)?;
-        let scene = &self.inner;
+        let scene = &snapshot(slf);
         let r = run(py, None, |ctl: &mut Control<'_>| {
             report_of(&report::export::export(scene, &args, ctl)?)
         })?;
@@ -611,29 +662,36 @@ impl Scene {
     /// are in the CSV, marked), as the CLI exits 1. `section` (`plane-stress`,
     /// `plane-strain`, `solid`): None takes the scene's (solid when its beam keeps plane
     /// strain, else plane-stress).
-    #[pyo3(signature = (output, *, mesh = 40, section = None, taper = 1.0, deck = None, force = false, timeout = 900))]
+    #[pyo3(
+        signature = (output, *, mesh = None, section = None, taper = 1.0, deck = None, force = false, timeout = None),
+        text_signature = "($self, output, *, mesh=40, section=None, taper=1.0, deck=None, force=False, timeout=900)"
+    )]
     #[allow(clippy::too_many_arguments)]
     fn fea(
-        &self,
+        slf: PyRef<'_, Self>,
         py: Python<'_>,
         output: PathBuf,
-        mesh: u32,
+        mesh: Option<&Bound<'_, PyAny>>,
         section: Option<&str>,
         taper: f64,
         deck: Option<PathBuf>,
         force: bool,
-        timeout: u64,
+        timeout: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Py<PyAny>> {
         let mut args = report::fea::FeaArgs::new(output);
-        args.mesh = mesh;
+        if let Some(v) = mesh {
+            args.mesh = whole::<u32>("mesh", v, 1, u32::MAX)?;
+        }
         args.section = section
             .map(|s| Section::from_str(s).map_err(|e| errors::input("section", e)))
             .transpose()?;
         args.taper = Taper::from_str(&format!("{taper}")).map_err(|e| errors::input("taper", e))?;
         args.deck = deck;
         args.force = force;
-        args.timeout = timeout;
-        let scene = &self.inner;
+        if let Some(v) = timeout {
+            args.timeout = whole::<u64>("timeout", v, 1, u64::MAX)?;
+        }
+        let scene = &snapshot(slf);
         let r = run(py, None, |ctl: &mut Control<'_>| {
             if scene.mechanism.is_none() {
                 return report_of(&report::fea::fea(scene, &args, ctl)?);

@@ -3,6 +3,7 @@ argument, numpy arrays, progress callbacks, cancellation, the GIL released."""
 
 import _thread
 import math
+import os
 import re
 import threading
 
@@ -214,8 +215,11 @@ def test_modes_arguments_are_checked_naming_them():
     sc = prbfit.Scene.load(REPO / "assets/scenes/ringing-flexure.toml")
     mech = prbfit.Scene.load(REPO / "assets/scenes/parallel-stage.toml").with_beam(density=7850.0)
     for call, words in [
-        (lambda: sc.modes(count=0), ["--count 0"]),
-        (lambda: sc.modes(count=-2), ["count", "at least 1"]),
+        (lambda: sc.modes(count=0), ["count: 0", "from 1"]),
+        (lambda: sc.modes(count=-2), ["count: -2", "from 1"]),
+        # PyO3's own conversion raised an OverflowError naming nothing.
+        (lambda: sc.modes(count=10**30), ["count: ", "31 digits", "from 1"]),
+        (lambda: sc.modes(count="3"), ["count", "whole number, got str"]),
         (lambda: sc.modes(load=(0, 1, 0), cases=True), ["--load and --cases"]),
         (lambda: sc.modes(load=(0, float("nan"), 0)), ["load", "finite"]),
         # The CLI's --load limit: refused at once, not followed for seconds to a late failure.
@@ -256,6 +260,83 @@ def test_load_paths_and_matrix_edits():
     assert "matrix" in str(e.value)
     sc.matrix = None
     assert sc.matrix is None
+
+
+def test_load_paths_from_lists_and_array_rows():
+    sc = prbfit.Scene.builtin()
+    # Lists, and the rows of a float array (steps 5.0, a whole number), as tuples are.
+    sc.loads = [[0, 1.0, 0, 4]]
+    assert sc.loads == [(0.0, 1.0, 0.0, 4)]
+    sc.loads = np.array([[0.0, 1.0, 0.0, 5.0], [0.0, 0.0, 1.0, 3.0]])
+    assert sc.loads == [(0.0, 1.0, 0.0, 5), (0.0, 0.0, 1.0, 3)]
+    for bad, words in [
+        ([(0, 1.0, 0, 5.5)], ["loads[1].steps: 5.5", "whole number"]),
+        ([(0, 1.0, 0, -1)], ["loads[1].steps: -1"]),
+        ([(0, 1.0, 0, True)], ["loads[1].steps", "got bool"]),
+        ([(0, "x", 0, 4)], ["loads[1].alpha_y", "a number"]),
+        ([(0, 1.0, 0, 4, 5)], ["loads[1]", "got 5 items"]),
+    ]:
+        with pytest.raises(prbfit.InputError) as e:
+            sc.loads = bad
+        for w in words:
+            assert w in str(e.value), (w, str(e.value))
+    assert len(sc.loads) == 2
+
+
+def test_whole_number_arguments_are_checked_naming_them():
+    sc = prbfit.Scene.builtin()
+    # Each was an OverflowError or a TypeError from PyO3's conversion, some naming nothing.
+    for call, words in [
+        (lambda: sc.fea("x.csv", mesh=-1), ["mesh: -1", "from 1 to 4294967295"]),
+        (lambda: sc.fea("x.csv", mesh=2**40), ["mesh: 1099511627776"]),
+        (lambda: sc.fea("x.csv", timeout=-1), ["timeout: -1"]),
+        (lambda: sc.fit("L-R", seed=-1), ["seed: -1", "from 0"]),
+        (lambda: sc.fit("L-R", seed=2.5), ["seed: 2.5"]),
+    ]:
+        with pytest.raises(prbfit.InputError) as e:
+            call()
+        for w in words:
+            assert w in str(e.value), (w, str(e.value))
+    # The defaults the signatures show.
+    assert "seed=1" in prbfit.Scene.fit.__text_signature__
+    assert "mesh=40" in prbfit.Scene.fea.__text_signature__
+
+
+def test_models_by_path_and_matrix_text_with_a_mistake():
+    sc = prbfit.Scene.load(STEEL)
+    by_name = sc.eval("su-3r").to_dict()
+    by_path = sc.eval(REPO / "assets" / "models" / "su-3r.toml").to_dict()
+    assert by_path["prb"] == by_name["prb"] and by_path["objective"] == by_name["objective"]
+    # Matrix text with a missing entry: the matrix's own message, not a missing file's.
+    with pytest.raises(prbfit.InputError) as e:
+        sc.eval("0.1,inf,inf; 0.9,2.2")
+    assert "row 2: expected 3 entries" in str(e.value), str(e.value)
+    # A published name where a matrix is wanted says so, with the matrix to give.
+    with pytest.raises(prbfit.InputError) as e:
+        sc.matrix = "su-3r"
+    assert "published model's name, not a matrix" in str(e.value), str(e.value)
+    assert "0.1,inf,inf; 0.35,3.51,inf" in str(e.value)
+
+
+def test_a_scene_can_be_edited_while_a_call_runs_on_it():
+    # A call runs on the scene as it was when called; an edit meanwhile (another thread, a
+    # fit's progress callback) applies to later calls, where it raised "Already borrowed".
+    sc = prbfit.Scene.load(STEEL)
+    before = sc.solve().to_dict()
+    edits = []
+
+    def edit(_):
+        if not edits:
+            sc.set_beam(thickness=6e-4)
+            edits.append(sc.beam["thickness"])
+
+    f = sc.fit("L-R-R", fidelity="draft", progress=edit)
+    assert edits == [6e-4]
+    # The fit ran on the 0.3 mm beam: its truth is the unedited scene's.
+    unedited = prbfit.Scene.load(STEEL).fit("L-R-R", fidelity="draft")
+    assert f.to_dict()["prb"] == unedited.to_dict()["prb"]
+    assert sc.beam["thickness"] == 6e-4
+    assert sc.solve().to_dict()["cases"] != before["cases"]
 
 
 def test_command_arguments_are_checked_naming_them():
@@ -335,6 +416,29 @@ def test_ctrl_c_cancels_a_long_call():
             sc.fit("L-R-R-R-R", fidelity="precise")
     finally:
         timer.cancel()
+
+
+def test_ctrl_c_stops_calculix_and_no_csv_is_written(tmp_path):
+    # The steel flexure at mesh 30: its seven CalculiX runs take about 26 s, so the interrupt
+    # comes during the first. It used to wait for all of them and write the CSV.
+    import shutil
+
+    if shutil.which("ccx") is None:
+        if os.environ.get("CI"):
+            pytest.fail("ccx (CalculiX) is not installed")
+        pytest.skip("ccx (CalculiX) is not installed")
+    sc = prbfit.Scene.load(STEEL)
+    out = tmp_path / "fea.csv"
+    timer = threading.Timer(1.0, _thread.interrupt_main)
+    timer.start()
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            sc.fea(out, mesh=30)
+    finally:
+        timer.cancel()
+    assert not out.exists(), "an interrupted FEA wrote its CSV"
+    # The decks, written before CalculiX ran, stay: they are whole.
+    assert (tmp_path / "fea-path1.inp").exists()
 
 
 def test_two_threads_fit_at_once():

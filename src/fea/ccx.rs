@@ -1,6 +1,7 @@
 //! Running CalculiX: find `ccx` on the `PATH`, run a deck in a fresh temporary directory
 //! under a time limit, and hand back its `.dat` output.
 
+use crate::cancel::CancelToken;
 use std::fs;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
@@ -35,6 +36,9 @@ pub enum CcxError {
         /// The limit.
         seconds: u64,
     },
+    /// The run was cancelled, and `ccx` stopped.
+    #[error("cancelled")]
+    Cancelled,
     /// `ccx` reported an error or exited with a failure status.
     #[error("ccx failed (exit status {status}): {message}")]
     Failed {
@@ -55,10 +59,12 @@ pub struct CcxFailure {
 }
 
 /// A CalculiX solver executable.
-#[derive(Debug, Clone, PartialEq, Eq)]
+#[derive(Debug, Clone)]
 pub struct Ccx {
     /// The executable.
     pub program: PathBuf,
+    /// A run stops ([`CcxError::Cancelled`], `ccx` killed) soon after this is cancelled.
+    cancel: CancelToken,
 }
 
 /// What one run printed and wrote.
@@ -79,8 +85,18 @@ impl Ccx {
         std::env::split_paths(&path)
             .map(|dir| dir.join("ccx"))
             .find(|p| is_executable(p))
-            .map(|program| Ccx { program })
+            .map(|program| Ccx {
+                program,
+                cancel: CancelToken::new(),
+            })
             .ok_or(CcxError::NotInstalled)
+    }
+
+    /// This executable, its runs stopped ([`CcxError::Cancelled`]) within a poll (20 ms)
+    /// of `cancel` being cancelled.
+    pub fn with_cancel(mut self, cancel: &CancelToken) -> Ccx {
+        self.cancel = cancel.clone();
+        self
     }
 
     /// Runs `deck` in a new temporary directory (removed afterwards), stopping `ccx` after
@@ -135,6 +151,11 @@ impl Ccx {
         let status = loop {
             match child.try_wait() {
                 Ok(Some(status)) => break status,
+                Ok(None) if self.cancel.is_cancelled() => {
+                    let _ = child.kill();
+                    let _ = child.wait();
+                    return Err(CcxError::Cancelled);
+                }
                 Ok(None) if t0.elapsed() > timeout => {
                     let _ = child.kill();
                     let _ = child.wait();

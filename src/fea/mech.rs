@@ -44,7 +44,7 @@ use std::time::Duration;
 use serde::Serialize;
 
 use super::deck::{material, modelled_width, node_set, Slab, STEP_HEAD};
-use super::{dat, Ccx, Mesh, MeshError, Section, Taper, MAX_BRICKS};
+use super::{dat, Ccx, CcxError, Mesh, MeshError, Section, Taper, MAX_BRICKS};
 use crate::scene::{Attach, Coordinate, Drive, DrivePath, Mechanism, COORDINATE_KEYS};
 
 /// The springs of a pin or a coupler are this many times as stiff as their flexure's
@@ -423,6 +423,16 @@ pub fn solve_mechanism(
         let started = std::time::Instant::now();
         let (dat, failure) = match ccx.run_partial(&deck, timeout) {
             Ok(o) => (o.dat, None),
+            // Cancelled: no path after this one is run, and the caller discards the run.
+            Err(f) if matches!(f.error, CcxError::Cancelled) => {
+                run.failures.push(MechFeaFailure {
+                    path,
+                    case: 1,
+                    cases: cases.len(),
+                    message: f.error.to_string(),
+                });
+                break;
+            }
             Err(f) => (f.dat, Some(f.error.to_string())),
         };
         let seconds = started.elapsed().as_secs_f64();

@@ -50,6 +50,10 @@ pub struct FitRecord {
     pub scene: String,
     /// The fidelity preset.
     pub fidelity: String,
+    /// Why the fit stopped before it finished (`cancelled`: Ctrl-C), if it did: the matrix
+    /// and figures are then the best found so far, not a finished fit's.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stopped_early: Option<String>,
     /// `w` in J.
     pub angle_weight: f64,
     /// The figures on the scene: §4's five, with a mechanism's reaction figures where some
@@ -259,6 +263,7 @@ impl ModelFile {
             fit: Some(FitRecord {
                 scene: scene.name.clone(),
                 fidelity: fidelity.to_string(),
+                stopped_early: None,
                 angle_weight: scene.fit.angle_weight,
                 figures: *figures,
                 truth: scene.truth.as_ref().map(|t| TruthRecord {
@@ -271,6 +276,21 @@ impl ModelFile {
                 created: super::files::utc_timestamp(),
             }),
         }
+    }
+}
+
+impl ModelFile {
+    /// This fitted model's record marked as stopped before its fit finished (`why`:
+    /// `cancelled`), in its title and its fit record, so that nothing reading the file takes
+    /// the best matrix so far for a finished fit.
+    pub fn stopped_early(mut self, why: &str) -> ModelFile {
+        if let Some(fit) = &mut self.fit {
+            fit.stopped_early = Some(why.to_string());
+        }
+        if let Some(title) = &mut self.title {
+            title.push_str(&format!(" (stopped early: {why}; the best so far)"));
+        }
+        self
     }
 }
 

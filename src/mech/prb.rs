@@ -13,6 +13,7 @@
 //! Jacobian singular in the unloaded pose, reported as [`MechError::Immobile`].
 
 use crate::beam::{BeamModel, Load, Stress};
+use crate::cancel::CancelToken;
 use crate::linalg::lu_solve;
 use std::cell::RefCell;
 
@@ -171,13 +172,26 @@ pub struct Followed {
 /// `matrix` in every flexure of `mechanism`, along each drive (through a measured drive's
 /// rows), each chain's stress estimated ([`PrbSolver::max_stress`]); where it stops at a critical point (or finds no equilibrium) after `k` cases, the
 /// drive's first `k` cases are solved again as a drive of their own (the same cases).
-pub fn follow(mechanism: &Mechanism, matrix: &PrbMatrix, tol: f64) -> Followed {
-    let solver = solver(mechanism, matrix, tol);
+///
+/// Stops soon after `cancel` is cancelled: the drive it was on ends there
+/// ([`MechError::Cancelled`]), and the drives after it are not followed.
+pub fn follow(
+    mechanism: &Mechanism,
+    matrix: &PrbMatrix,
+    tol: f64,
+    cancel: &CancelToken,
+) -> Followed {
+    let solver = solver(mechanism, matrix, tol).with_cancel(cancel);
     let mut out = Followed {
         drives: Vec::with_capacity(mechanism.drives.len()),
         failures: Vec::with_capacity(mechanism.drives.len()),
     };
     for (i, d) in mechanism.drives.iter().enumerate() {
+        if cancel.is_cancelled() {
+            out.drives.push(Vec::new());
+            out.failures.push(Some(MechError::Cancelled));
+            continue;
+        }
         let path = mechanism.drive_path(d);
         let steps = path.steps.max(1);
         match solver.solve_path(&path, i + 1) {

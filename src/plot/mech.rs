@@ -18,6 +18,7 @@
 //! ([`crate::mech::MechError::Immobile`]), and is listed in [`Figure::unfollowed`].
 
 use crate::beam::Resolution;
+use crate::cancel::CancelToken;
 use crate::mech::prb::{follow, Followed};
 use crate::mech::MechCase;
 use crate::scene::{Drive, Mechanism, Scene, COORDINATE_KEYS};
@@ -174,7 +175,7 @@ pub fn figure_from(
     }
     let followed: Vec<Followed> = models
         .iter()
-        .map(|m| follow(mechanism, &m.matrix, tol))
+        .map(|m| follow(mechanism, &m.matrix, tol, &CancelToken::new()))
         .collect();
 
     let mut unfollowed = Vec::new();

@@ -8,6 +8,7 @@ use std::time::{Duration, Instant};
 use serde::Serialize;
 
 use crate::beam::{BeamModel, Load, Resolution, TipPose};
+use crate::cancel::CancelToken;
 use crate::eval::Baseline;
 use crate::fea::{self, Ccx, CcxError, FeaCase, FeaError, Mesh, Section, Taper};
 use crate::io::files::{check_target, write_atomic};
@@ -172,13 +173,14 @@ pub(super) fn write_decks(
     args: &FeaArgs,
     deck_files: &[PathBuf],
     decks: &[String],
+    cancel: &CancelToken,
 ) -> Result<(Vec<String>, Ccx)> {
     for (file, text) in deck_files.iter().zip(decks) {
         write_atomic(file, text.as_bytes(), args.force)?;
     }
     let deck_names: Vec<String> = deck_files.iter().map(|d| d.display().to_string()).collect();
     let ccx = match Ccx::find() {
-        Ok(c) => c,
+        Ok(c) => c.with_cancel(cancel),
         Err(e @ CcxError::NotInstalled) => {
             return Err(ReportError::solve(format!(
                 "{e}; the deck was written to {}",
@@ -258,7 +260,7 @@ pub fn fea(scene: &Scene, args: &FeaArgs, ctl: &mut Control<'_>) -> Result<FeaRe
     let deck_files = deck_targets(args, n)?;
     let decks =
         fea::scene_decks(scene, &mesh, section, args.taper).map_err(|e| ReportError::failed(&e))?;
-    let (deck_names, ccx) = write_decks(args, &deck_files, &decks)?;
+    let (deck_names, ccx) = write_decks(args, &deck_files, &decks, &ctl.cancel)?;
     let mut ccx_seconds = 0.0;
     let progress = &mut *ctl.progress;
     let fea_cases = fea::solve_scene(

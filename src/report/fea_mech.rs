@@ -244,7 +244,7 @@ pub fn fea_mechanism(
     let n = mechanism.drives.len();
     let deck_files = deck_targets(args, n)?;
     let decks = mech::mechanism_decks(mechanism, &meshes, section, args.taper);
-    let (deck_names, ccx) = write_decks(args, &deck_files, &decks)?;
+    let (deck_names, ccx) = write_decks(args, &deck_files, &decks, &ctl.cancel)?;
     let progress = &mut *ctl.progress;
     let run = mech::solve_mechanism(
         mechanism,
@@ -255,6 +255,10 @@ pub fn fea_mechanism(
         Duration::from_secs(args.timeout),
         &mut |path, _| progress(&Progress::Fea { path, paths: n }),
     );
+    // A cancelled run writes no CSV: its paths are cut short, and the caller discards it.
+    if ctl.cancel.is_cancelled() {
+        return Err(ReportError::solve("cancelled: no CSV was written"));
+    }
     write_atomic(
         &args.output,
         mech::mechanism_csv(mechanism, &run, args.taper).as_bytes(),

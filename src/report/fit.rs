@@ -100,6 +100,19 @@ impl fmt::Display for FitOutput {
 }
 
 impl FitOutput {
+    /// The model file written, and whether it holds a fit stopped before it finished.
+    fn saved_line(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match (&self.saved, self.stop_reason) {
+            (Some(path), StopReason::Cancelled) => writeln!(
+                f,
+                "saved {} (marked stopped early: the best so far)",
+                safe(path)
+            ),
+            (Some(path), _) => writeln!(f, "saved {}", safe(path)),
+            (None, _) => Ok(()),
+        }
+    }
+
     /// The fitted model's frequency target line, when the scene judges frequencies.
     fn frequency_line(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         frequency_lines(
@@ -145,9 +158,7 @@ impl FitOutput {
             self.seconds * 1e3,
             self.baseline_seconds * 1e3
         )?;
-        if let Some(path) = &self.saved {
-            writeln!(f, "saved {}", safe(path))?;
-        }
+        self.saved_line(f)?;
         Ok(())
     }
 
@@ -184,9 +195,7 @@ impl FitOutput {
             met(self.meets_targets)
         )?;
         self.frequency_line(f)?;
-        if let Some(path) = &self.saved {
-            writeln!(f, "saved {}", safe(path))?;
-        }
+        self.saved_line(f)?;
         let truth = if self.truth.is_some() {
             "against the measured data".to_string()
         } else {
@@ -258,6 +267,11 @@ pub fn fit(scene: &Scene, args: &FitArgs, ctl: &mut Control<'_>) -> Result<FitOu
     let figures = report.figures;
     if let (Some(path), Some(format)) = (&args.output, format) {
         let model = ModelFile::fitted(&report.matrix, scene, &args.fidelity.to_string(), &figures);
+        // Ctrl-C keeps the best so far (the CLI prints it too), marked as such.
+        let model = match report.stop {
+            StopReason::Cancelled => model.stopped_early("cancelled"),
+            _ => model,
+        };
         let text = match format {
             Format::Json => model.to_json(),
             _ => model.to_toml(),

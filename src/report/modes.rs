@@ -185,7 +185,7 @@ pub fn modes(scene: &Scene, args: &ModesArgs, ctl: &mut Control<'_>) -> Result<M
     let study = study(scene, Sampling::Every(resolution), ctl)?;
     let matrices: Vec<PrbMatrix> = named.iter().map(|(_, m)| m.clone()).collect();
     let found = study
-        .modes(&matrices, at, args.count)
+        .modes(&matrices, at, args.count, &ctl.cancel)
         .map_err(modes_error)?;
     let scene = study.scene();
     let max_freq_err = scene.accuracy.max_freq_err;

@@ -623,7 +623,7 @@ pub fn solve(scene: &Scene, args: &SolveArgs, ctl: &mut Control<'_>) -> Result<S
             cases: cases.len(),
         });
         let sols = solver
-            .solve_path(path.end, path.steps)
+            .solve_path_cancellable(path.end, path.steps, &ctl.cancel)
             .map_err(|e| ReportError::failed_in(format!("load path {} of the scene", i + 1), &e))?;
         let n = sols.len().max(1) as f64;
         let fraction = |k: usize| (k + 1) as f64 / n;

@@ -461,7 +461,8 @@ impl Study {
                 }
             }
             None if partial => {
-                let followed = prb::follow(&self.mechanism, matrix, self.prb_tol());
+                let followed =
+                    prb::follow(&self.mechanism, matrix, self.prb_tol(), &CancelToken::new());
                 let mut judged = crate::mech::figures::compare_followed(
                     &self.mechanism.drives,
                     &followed.drives,

@@ -23,6 +23,7 @@ use serde::Serialize;
 
 use crate::beam::modes::{FrequencyScale, ModeSettings, ModesError, MAX_MODES};
 use crate::beam::{BeamSolver, Load};
+use crate::cancel::CancelToken;
 use crate::mech::modes::{held_by, mech_modes, MechMass};
 use crate::mech::prb_modes::prb_modes;
 use crate::mech::{exact, prb, MechCase, MechError};
@@ -118,6 +119,9 @@ pub enum StudyModesError {
     /// The truth's modes failed.
     #[error(transparent)]
     Modes(#[from] ModesError),
+    /// Cancelled before every equilibrium's modes were found.
+    #[error("cancelled")]
+    Cancelled,
 }
 
 impl StudyModesError {
@@ -152,11 +156,15 @@ impl Study {
 
     /// The first `count` natural frequencies of the truth and of each of `models` about the
     /// equilibria `at` (module docs).
+    ///
+    /// Stops with [`StudyModesError::Cancelled`] soon after `cancel` is cancelled (between
+    /// equilibria: each costs one eigenproblem per model and the truth's).
     pub fn modes(
         &self,
         models: &[PrbMatrix],
         at: Equilibria,
         count: usize,
+        cancel: &CancelToken,
     ) -> Result<Vec<EquilibriumModes>, StudyModesError> {
         if count == 0 {
             return Err(StudyModesError::NoModes);
@@ -233,7 +241,7 @@ impl Study {
                 let beam = mech_modes(&mech, &mass, [false; 3], Some(&case), &settings)?.omega;
                 let models = models
                     .iter()
-                    .map(|m| compare(&beam, last_case_modes(&mech, m, stage)))
+                    .map(|m| compare(&beam, last_case_modes(&mech, m, stage, cancel)))
                     .collect();
                 Ok(vec![EquilibriumModes {
                     path: None,
@@ -255,12 +263,15 @@ impl Study {
                 };
                 let followed: Vec<prb::Followed> = models
                     .iter()
-                    .map(|m| prb::follow(&self.mechanism, m, PRB_TOL))
+                    .map(|m| prb::follow(&self.mechanism, m, PRB_TOL, cancel))
                     .collect();
                 let mut out = Vec::new();
                 for (d, (drive, cases)) in self.mechanism.drives.iter().zip(truth).enumerate() {
                     let held = held_by(drive);
                     for (k, case) in cases.iter().enumerate() {
+                        if cancel.is_cancelled() {
+                            return Err(StudyModesError::Cancelled);
+                        }
                         let beam =
                             mech_modes(&self.mechanism, &mass, held, Some(case), &settings)?.omega;
                         let models = models
@@ -315,8 +326,9 @@ fn last_case_modes(
     mechanism: &Mechanism,
     matrix: &PrbMatrix,
     stage: TipBody,
+    cancel: &CancelToken,
 ) -> Result<Vec<f64>, String> {
-    let followed = prb::follow(mechanism, matrix, PRB_TOL);
+    let followed = prb::follow(mechanism, matrix, PRB_TOL, cancel);
     let steps = mechanism
         .drives
         .first()
