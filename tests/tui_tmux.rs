@@ -129,8 +129,10 @@ fn edit_a_cell_and_see_the_errors_change() {
     }
 }
 
-/// The terminal comes back as it was (stty settings compared before and after) when the UI
-/// quits and when it is killed with SIGTERM.
+/// The terminal comes back as it was (stty settings compared before and after, the alternate
+/// screen left, the cursor shown) when the UI quits and when it is killed with SIGTERM or
+/// SIGINT (which left it raw, on the alternate screen, the cursor hidden), and the exit
+/// status is the shell's for each: 0, 143, 130.
 #[test]
 fn terminal_is_restored_on_quit_and_on_sigterm() {
     if !have_tmux("terminal_is_restored_on_quit_and_on_sigterm") {
@@ -154,14 +156,17 @@ fn terminal_is_restored_on_quit_and_on_sigterm() {
     ])
     .unwrap();
     let bin = env!("CARGO_BIN_EXE_prbfit");
-    for (round, how) in ["quit", "sigterm"].iter().enumerate() {
+    for (round, (how, status)) in [("quit", 0), ("sigterm", 143), ("sigint", 130)]
+        .iter()
+        .enumerate()
+    {
         let before = dir.join(format!("before{round}"));
         let after = dir.join(format!("after{round}"));
         // The shell prints the mark only after the UI has exited (the typed command line
-        // shows the arithmetic, not its value).
-        let mark = format!("RESTORE-DONE-{}", 100 + round);
+        // shows the arithmetic, not its value), with the UI's exit status.
+        let mark = format!("RESTORE-DONE-{}-{status}", 100 + round);
         let line = format!(
-            "stty -g > {}; {bin}; stty -g > {}; echo RESTORE-DONE-$((100+{round}))",
+            "stty -g > {}; {bin}; s=$?; stty -g > {}; echo RESTORE-DONE-$((100+{round}))-$s",
             before.display(),
             after.display()
         );
@@ -180,13 +185,27 @@ fn terminal_is_restored_on_quit_and_on_sigterm() {
                 .unwrap();
             let pid = String::from_utf8_lossy(&out.stdout).trim().to_string();
             assert!(!pid.is_empty(), "the UI's pid");
-            let ok = Command::new("kill").args(["-TERM", &pid]).status().unwrap();
+            let signal = if *how == "sigterm" { "-TERM" } else { "-INT" };
+            let ok = Command::new("kill").args([signal, &pid]).status().unwrap();
             assert!(ok.success());
         }
         wait_for(&session, "the shell after the UI", |s| s.contains(&mark));
         let b = std::fs::read_to_string(&before).unwrap();
         let a = std::fs::read_to_string(&after).unwrap();
         assert_eq!(a, b, "{how}: terminal settings after differ from before");
+        let screen = tmux(&[
+            "display",
+            "-p",
+            "-t",
+            &session,
+            "#{alternate_on} #{cursor_flag}",
+        ])
+        .unwrap();
+        assert_eq!(
+            screen.trim(),
+            "0 1",
+            "{how}: the alternate screen left and the cursor shown"
+        );
     }
     let _ = tmux(&["kill-session", "-t", &session]);
     std::fs::remove_dir_all(&dir).unwrap();

@@ -45,6 +45,18 @@ fn parse_matrix(flag: &str, text: &str) -> Result<PrbMatrix> {
 }
 
 /// Parses the command line and runs the command; the process's exit status.
+/// The exit status of a UI ended by a signal (128 + its number), if `e` is that.
+#[cfg(feature = "tui")]
+fn signalled(e: &anyhow::Error) -> Option<u8> {
+    e.downcast_ref::<prbfit::tui::Signalled>()
+        .and_then(|s| u8::try_from(128 + s.number).ok())
+}
+
+#[cfg(not(feature = "tui"))]
+fn signalled(_: &anyhow::Error) -> Option<u8> {
+    None
+}
+
 pub fn run() -> ExitCode {
     // The matches are kept beside the parsed flags: `plot` needs the order in which its
     // repeatable --model and --prb were given, which the derived struct loses.
@@ -73,6 +85,13 @@ pub fn run() -> ExitCode {
     match outcome {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) if e.downcast_ref::<output::StdoutClosed>().is_some() => ExitCode::SUCCESS,
+        Err(e) if signalled(&e).is_some() => {
+            let _ = std::io::Write::write_all(
+                &mut std::io::stderr(),
+                format!("prbfit: {e}\n").as_bytes(),
+            );
+            ExitCode::from(signalled(&e).unwrap_or(1))
+        }
         Err(e) if e.downcast_ref::<output::Interrupted>().is_some() => {
             let _ = std::io::Write::write_all(
                 &mut std::io::stderr(),
@@ -192,7 +211,10 @@ fn tui(path: Option<PathBuf>) -> Result<()> {
         Some(p) => Scene::from_file(p)?,
         None => Scene::builtin(),
     };
-    prbfit::tui::run(scene, path).map_err(|e| bad(format!("{e:#}")))
+    prbfit::tui::run(scene, path).map_err(|e| match e.downcast::<prbfit::tui::Signalled>() {
+        Ok(signalled) => signalled.into(),
+        Err(e) => bad(format!("{e:#}")),
+    })
 }
 
 #[cfg(not(feature = "tui"))]

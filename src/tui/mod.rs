@@ -19,8 +19,8 @@
 //! - [`ui`]: drawing, one file per panel, snapshot-tested;
 //! - this module: the terminal and the event loop.
 //!
-//! The terminal is restored on quit, on error, on SIGTERM and SIGHUP, and on a panic of the UI
-//! thread (a panic hook);
+//! The terminal is restored on quit, on error, on SIGINT, SIGQUIT, SIGTERM and SIGHUP (the
+//! process then exits with 128 + the signal), and on a panic of the UI thread (a panic hook);
 //! a panic inside the worker is caught there and shown as a message, and the UI goes on.
 //! With `PRBFIT_TRACE=FILE` the loop writes timings (edit to redrawn chart, edit to the
 //! job's final chart, frame draws) and peak memory to FILE, for measuring.
@@ -204,15 +204,28 @@ fn event_loop(
     app: &mut App,
     trace_path: Option<&Path>,
 ) -> Result<()> {
+    // SIGINT and SIGQUIT (sent by `kill` or a supervisor: in raw mode Ctrl-C is a key),
     // SIGTERM (kill) and SIGHUP (the terminal closed) end the loop like a quit, so the
-    // terminal is restored on the way out instead of being left in raw mode. A second one
-    // while the first is being handled ends the process at once.
+    // terminal is restored on the way out instead of being left in raw mode; the process then
+    // exits with the shell's status for the signal. A second one while the first is being
+    // handled ends the process at once, with the same status.
+    use signal_hook::consts::{SIGHUP, SIGINT, SIGQUIT, SIGTERM};
     let stop = Arc::new(AtomicBool::new(false));
-    for signal in [signal_hook::consts::SIGTERM, signal_hook::consts::SIGHUP] {
-        signal_hook::flag::register_conditional_shutdown(signal, 1, stop.clone())
+    let mut received = Vec::new();
+    for (signal, name) in [
+        (SIGINT, "SIGINT"),
+        (SIGQUIT, "SIGQUIT"),
+        (SIGTERM, "SIGTERM"),
+        (SIGHUP, "SIGHUP"),
+    ] {
+        let this = Arc::new(AtomicBool::new(false));
+        signal_hook::flag::register_conditional_shutdown(signal, 128 + signal, stop.clone())
             .context("cannot install the signal handlers")?;
         signal_hook::flag::register(signal, stop.clone())
             .context("cannot install the signal handlers")?;
+        signal_hook::flag::register(signal, this.clone())
+            .context("cannot install the signal handlers")?;
+        received.push((signal, name, this));
     }
     let worker = Worker::spawn().context("cannot start the worker thread")?;
     let input = Input::spawn().context("cannot start the input thread")?;
@@ -221,7 +234,24 @@ fn event_loop(
     // deadline is left behind as the process ends.
     worker.shutdown(worker::SHUTDOWN_DEADLINE);
     input.shutdown();
-    result
+    result?;
+    match received
+        .iter()
+        .find(|(_, _, got)| got.load(Ordering::Relaxed))
+    {
+        Some(&(number, name, _)) => Err(Signalled { number, name }.into()),
+        None => Ok(()),
+    }
+}
+
+/// The UI ended on a signal (SIGINT, SIGQUIT, SIGTERM, SIGHUP), the terminal restored: the
+/// process exits with the shell's status for it, 128 + the signal's number.
+#[derive(Debug, thiserror::Error)]
+#[error("the terminal UI ended on {name}")]
+pub struct Signalled {
+    /// The signal's number.
+    pub number: i32,
+    name: &'static str,
 }
 
 fn run_loop(
