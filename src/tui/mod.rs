@@ -281,6 +281,9 @@ fn run_loop(
         if stop.load(Ordering::Relaxed) || !terminal_alive() {
             break;
         }
+        if let Ok(size) = terminal.size() {
+            app.too_small = ui::too_small(size.width, size.height);
+        }
         if redraw {
             let t0 = Instant::now();
             if !draw(terminal, app)? {
@@ -380,12 +383,15 @@ fn execute_command(app: &mut App, worker: &Worker, cmd: Command, trace: &mut Opt
 
 /// Carries out a command: the file side effects here (save, open; an export's target is
 /// checked), jobs returned for the worker. A save or an export over an existing file asks
-/// "overwrite? (y/n)" first, except a save to the scene's own file, which is what saving is.
+/// "overwrite? (y/n)" first, except a save to the scene's own file once the UI has saved it
+/// there, which is what saving is; the first save over a file opened as written (by hand,
+/// with comments) asks, saying that its layout and comments go.
 pub fn run_command(app: &mut App, cmd: Command, now: Instant) -> Option<Job> {
     match cmd {
         Command::Submit(job) => return Some(job),
         Command::SaveScene { path, overwrite } => {
-            let overwrite = overwrite || app.edit.scene_path.as_deref() == Some(path.as_path());
+            let own = app.edit.scene_path.as_deref() == Some(path.as_path());
+            let overwrite = overwrite || (own && app.edit.saved_here);
             let mut scene = app.edit.scene_to_save();
             // A data scene names its file relative to the scene file: from elsewhere, the
             // same file by another path.
@@ -398,10 +404,19 @@ pub fn run_command(app: &mut App, cmd: Command, now: Instant) -> Option<Job> {
                     app.edit.scene.truth = scene.truth;
                     app.saved(path);
                 }
-                Err(WriteError::Exists(_)) => app.ask_overwrite(Command::SaveScene {
-                    path,
-                    overwrite: true,
-                }),
+                Err(WriteError::Exists(_)) => {
+                    if own {
+                        app.set_info(format!(
+                            "{}: saving rewrites the file as prbfit writes scenes, without its \
+                             comments and layout",
+                            path.display()
+                        ));
+                    }
+                    app.ask_overwrite(Command::SaveScene {
+                        path,
+                        overwrite: true,
+                    })
+                }
                 Err(e) => app.set_error(format!("not saved: {}", worker::write_error(e))),
             }
         }

@@ -295,6 +295,13 @@ pub fn save_data_scene(
         overwrite: false,
     };
     assert!(prbfit::tui::run_command(app, cmd, now).is_none());
+    // The first save over the file the scene was opened from asks first: yes.
+    if app.prompt.is_some() {
+        let answer = app.on_key(key(KeyCode::Char('y')), now);
+        for cmd in answer {
+            assert!(prbfit::tui::run_command(app, cmd, now).is_none());
+        }
+    }
     assert!(!app.unsaved(), "{:?}", app.message);
     let text = std::fs::read_to_string(path).expect("the saved scene");
     let expect = format!(

@@ -6,6 +6,7 @@
 use std::path::PathBuf;
 use std::time::Instant;
 
+use crate::format::Format;
 use crate::io::ModelFile;
 use crate::prb::published::NAMES as PUBLISHED;
 use crate::prb::PrbMatrix;
@@ -75,9 +76,16 @@ impl App {
     }
 
     /// The export job for `path` (replacing the file when `overwrite`), with the links'
-    /// density: the scene's `[beam] density`, else the one typed at the prompt.
+    /// density: the scene's `[beam] density`, else, for a robot format, the one typed at the
+    /// prompt; else none (a model file without masses, as the CLI writes it).
     pub fn export_job(&mut self, path: PathBuf, overwrite: bool) -> Job {
-        let density = self.edit.scene.beam.density.unwrap_or(self.export_density);
+        let robot = Format::from_path(&path).is_some_and(super::dialog::has_masses);
+        let density = self
+            .edit
+            .scene
+            .beam
+            .density
+            .or(robot.then_some(self.export_density));
         self.job(JobKind::Export {
             path,
             density,
@@ -87,7 +95,7 @@ impl App {
 
     /// The scene was replaced (opened from a file). Nothing is unsaved after an open. A
     /// scene with its own model (`[prb] matrix`) brings it, judged as saved (`r` fits it);
-    /// without one the model being worked on stays.
+    /// without one the model starts again from Su's 3R, fitted, as at start-up.
     pub fn set_scene(&mut self, scene: Scene, path: PathBuf, now: Instant) {
         let brought = self.edit.open(scene, path);
         self.shown.clear_result();

@@ -54,6 +54,10 @@ pub struct Editing {
     pub scene: Scene,
     /// Where it was read from or last saved to.
     pub scene_path: Option<PathBuf>,
+    /// Whether the UI has saved the scene at `scene_path` itself (then saving there again
+    /// is just saving); a file opened as written by hand is asked about first, as saving
+    /// rewrites it in prbfit's layout without its comments.
+    pub saved_here: bool,
     /// The scene changed since it was last saved.
     pub scene_dirty: bool,
     /// The PRB matrix being edited.
@@ -78,6 +82,16 @@ pub struct Editing {
     next_published: usize,
 }
 
+/// The model a scene without its own starts from: Su's 3R (or an L-R-R-R matrix).
+fn start_matrix() -> PrbMatrix {
+    #[allow(clippy::expect_used)]
+    ModelFile::load("su-3r").map(|m| m.prb).unwrap_or_else(|_| {
+        // "L-R-R-R" is a constant the topology parser accepts (a test builds every topology
+        // of the ladder), so this cannot fail.
+        PrbMatrix::from_topology("L-R-R-R").expect("valid topology")
+    })
+}
+
 impl Editing {
     /// Editing `scene`, starting from its own model (`[prb] matrix`) if it has one, else
     /// from Su's 3R model (or an L-R-R-R matrix). The model lives in [`Editing::matrix`];
@@ -85,18 +99,12 @@ impl Editing {
     pub fn new(mut scene: Scene, scene_path: Option<PathBuf>) -> Editing {
         let from_scene = scene.prb.take();
         let model_from_scene = from_scene.is_some();
-        #[allow(clippy::expect_used)]
-        let matrix = from_scene.unwrap_or_else(|| {
-            ModelFile::load("su-3r").map(|m| m.prb).unwrap_or_else(|_| {
-                // "L-R-R-R" is a constant the topology parser accepts (a test builds every
-                // topology of the ladder), so this cannot fail.
-                PrbMatrix::from_topology("L-R-R-R").expect("valid topology")
-            })
-        });
+        let matrix = from_scene.unwrap_or_else(start_matrix);
         Editing {
             scene,
             scene_path,
             scene_dirty: false,
+            saved_here: false,
             matrix,
             model_dirty: false,
             model_from_scene,
@@ -199,23 +207,24 @@ impl Editing {
     /// The scene was written to `path`: nothing is unsaved any more.
     pub fn saved(&mut self, path: PathBuf) {
         self.scene_path = Some(path);
+        self.saved_here = true;
         self.scene_dirty = false;
         self.model_dirty = false;
     }
 
     /// The scene was replaced (opened from `path`): nothing is unsaved, the cursors start
     /// again. A scene with its own model (`[prb] matrix`) brings it; returns whether it did.
+    /// One without starts from Su's 3R, as `prbfit tui FILE` does: what an opened scene shows
+    /// does not depend on the scene open before it (a 1R kept from it cannot follow a parallel
+    /// stage; its pinned mass column went with another beam's gammas).
     pub fn open(&mut self, mut scene: Scene, path: PathBuf) -> bool {
-        let brought = match scene.prb.take() {
-            Some(m) => {
-                self.matrix = m;
-                self.matrix_state.clamp(self.matrix.len());
-                true
-            }
-            None => false,
-        };
+        let from_scene = scene.prb.take();
+        let brought = from_scene.is_some();
+        self.matrix = from_scene.unwrap_or_else(start_matrix);
+        self.matrix_state.clamp(self.matrix.len());
         self.scene = scene;
         self.scene_path = Some(path);
+        self.saved_here = false;
         self.scene_dirty = false;
         self.model_dirty = false;
         self.loads_state.row = 0;

@@ -20,6 +20,20 @@ impl App {
         }
         let ctrl_c =
             key.code == KeyCode::Char('c') && key.modifiers.contains(KeyModifiers::CONTROL);
+        if self.too_small {
+            // Only the "too small" note is drawn: no key acts on what cannot be seen, but q
+            // and Ctrl-C (the note says so) and the answer to a question the note shows.
+            let question = self.prompt.as_ref().is_some_and(|(k, _)| k.is_question());
+            let quit = ctrl_c || key.code == KeyCode::Char('q');
+            if question {
+                return self.prompt_key(key, ctrl_c, now);
+            }
+            if !quit || self.prompt.is_some() || self.edit.editing.is_some() {
+                return Vec::new();
+            }
+            self.request_quit();
+            return Vec::new();
+        }
         if self.prompt.is_some() {
             return self.prompt_key(key, ctrl_c, now);
         }

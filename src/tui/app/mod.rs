@@ -72,6 +72,10 @@ pub struct App {
     export_path: Option<PathBuf>,
     /// The write waiting for "overwrite? (y/n)".
     overwrite: Option<Command>,
+    /// The terminal is below the UI's minimum size, so only the "too small" note is drawn
+    /// (set by the event loop from the terminal's size): keys then do only what the note
+    /// says ([`App::on_key`]).
+    pub too_small: bool,
 }
 
 impl App {
@@ -92,6 +96,7 @@ impl App {
             message_from_worker: false,
             export_path: None,
             overwrite: None,
+            too_small: false,
         }
     }
 

@@ -69,6 +69,10 @@ impl App {
                 true
             }
             WorkerMsg::Failed { message, .. } => {
+                // The figures and charts shown were judged on the scene and matrix before
+                // this job's edit: shown beside its failure, they would pass for its own.
+                self.shown.clear_result();
+                self.shown.report = None;
                 self.set_error(message.clone());
                 self.message_from_worker = true;
                 self.jobs.activity = Activity::Failed(message);

@@ -76,7 +76,8 @@ impl Shown {
         wanted
     }
 
-    /// Nothing of the last scene is shown (another scene was opened).
+    /// Nothing of the last scene is shown (another scene was opened, or the job answering an
+    /// edit failed).
     pub fn clear_result(&mut self) {
         self.result = None;
         self.compared = None;

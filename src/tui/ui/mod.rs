@@ -46,11 +46,23 @@ pub use parts::{
     equal_aspect_bounds, Palette, MEASURED_COLOR, MEASURED_MARKER, MIN_HEIGHT, MIN_WIDTH,
 };
 
+/// Whether a terminal of `width` x `height` is below the UI's minimum (only the "too small"
+/// note is drawn).
+pub fn too_small(width: u16, height: u16) -> bool {
+    width < MIN_WIDTH || height < MIN_HEIGHT
+}
+
 /// Draws the whole screen.
 pub fn draw(frame: &mut Frame, app: &App) {
     let area = frame.area();
-    if area.width < MIN_WIDTH || area.height < MIN_HEIGHT {
-        overlays::draw_too_small(frame, area);
+    if too_small(area.width, area.height) {
+        // The question asked (quit with unsaved work, overwrite) stays visible.
+        let question = app
+            .prompt
+            .as_ref()
+            .filter(|(k, _)| k.is_question())
+            .map(|(k, _)| k.question());
+        overlays::draw_too_small(frame, area, question);
         return;
     }
     let status_view = status::View::new(app);

@@ -51,14 +51,18 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View) {
     }
 }
 
-/// The note drawn instead of the UI below the minimum size.
-pub fn draw_too_small(frame: &mut Frame, area: Rect) {
-    let note = Paragraph::new(format!(
+/// The note drawn instead of the UI below the minimum size, with the question asked, if
+/// any (keys act on nothing else there).
+pub fn draw_too_small(frame: &mut Frame, area: Rect, question: Option<&str>) {
+    let mut text = format!(
         "Terminal too small: {}x{}. prbfit needs at least {MIN_WIDTH}x{MIN_HEIGHT}. \
          Enlarge the window, or press q to quit.",
         area.width, area.height
-    ))
-    .wrap(Wrap { trim: true });
+    );
+    if let Some(q) = question {
+        text = format!("{q}\n{text}");
+    }
+    let note = Paragraph::new(text).wrap(Wrap { trim: true });
     frame.render_widget(note, area);
 }
 

@@ -287,6 +287,11 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View) {
     let pal = view.pal;
     let mut spans = match view.figures {
         Some(f) => figure_spans(f, &view.accuracy, pal),
+        None if matches!(view.activity, Activity::Failed(_)) => {
+            vec![Span::raw(
+                " no figures: the last edit's job failed (the message says why)  ",
+            )]
+        }
         None => vec![Span::raw(" no model judged yet  ")],
     };
     let activity = match view.activity {

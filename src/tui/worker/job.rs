@@ -22,8 +22,10 @@ pub enum JobKind {
     Export {
         /// The file.
         path: PathBuf,
-        /// The links' density (kg/m^3), for the masses of the robot formats.
-        density: f64,
+        /// The links' density (kg/m^3) for their masses: the scene's, else the one typed for
+        /// a robot format (MJCF, URDF, SDF); none for a model file or CSV of a scene without
+        /// one (no masses, as the CLI writes it).
+        density: Option<f64>,
         /// Replace the file if it exists (the user said so).
         overwrite: bool,
     },

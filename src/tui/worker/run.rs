@@ -203,7 +203,7 @@ fn export_file(
     job: &Job,
     study: &Study,
     path: &std::path::Path,
-    density: f64,
+    density: Option<f64>,
     overwrite: bool,
 ) -> Result<(), String> {
     let (name, formats) = match study.case_form() {
@@ -217,7 +217,7 @@ fn export_file(
         Format::from_path(path).ok_or_else(|| format!("{}: use {formats}", path.display()))?;
     let name = format!("{}-{name}", job.matrix.topology().to_lowercase());
     let text = study
-        .export(&name, &job.matrix, format, Some(density))
+        .export(&name, &job.matrix, format, density)
         .map_err(|e| e.to_string())?;
     crate::io::files::write_atomic(path, text.as_bytes(), overwrite).map_err(write_error)
 }
