@@ -71,7 +71,7 @@ pub fn draw(frame: &mut Frame, app: &App) {
         .constraints([
             Constraint::Length(1),
             Constraint::Min(10),
-            Constraint::Length(status::height(&status_view)),
+            Constraint::Length(status::height(&status_view, area.width)),
             Constraint::Length(1),
         ])
         .split(area);

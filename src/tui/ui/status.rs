@@ -9,10 +9,10 @@
 
 use std::borrow::Cow;
 
-use ratatui::layout::Rect;
+use ratatui::layout::{Constraint, Direction, Layout, Rect};
 use ratatui::style::{Color, Modifier, Style};
 use ratatui::text::{Line, Span};
-use ratatui::widgets::Paragraph;
+use ratatui::widgets::{Paragraph, Wrap};
 use ratatui::Frame;
 
 use crate::fit::Fidelity;
@@ -208,10 +208,67 @@ impl<'a> View<'a> {
 
 /// How many lines [`draw`] takes: the figures, the compared model's (when comparing), the
 /// data's (on a data scene), the frequencies (with a density), the message.
-pub fn height(view: &View) -> u16 {
-    2 + u16::from(view.compare.is_some())
+pub fn height(view: &View, width: u16) -> u16 {
+    figure_lines(view) + message_lines(view, width)
+}
+
+/// The lines above the message: the figures and the activity, and the compared model's, the
+/// data's and the frequencies' lines when shown.
+fn figure_lines(view: &View) -> u16 {
+    1 + u16::from(view.compare.is_some())
         + u16::from(view.data.is_some())
         + u16::from(view.modes.is_some())
+}
+
+/// The message's lines at `width`: wrapped, so its end (usually the part saying why) is not
+/// cut at the terminal's edge, up to [`MAX_MESSAGE_LINES`]; one (kept blank) without one.
+fn message_lines(view: &View, width: u16) -> u16 {
+    let Some((m, _)) = view.message else {
+        return 1;
+    };
+    let text = format!(" {}", sanitize_terminal(m));
+    let lines = wrapped_lines(&text, usize::from(width.max(1)));
+    u16::try_from(lines.clamp(1, MAX_MESSAGE_LINES)).unwrap_or(1)
+}
+
+/// How many lines `text` takes wrapped at word boundaries to `width` columns (a word longer
+/// than a line is broken), as the message's paragraph wraps it.
+fn wrapped_lines(text: &str, width: usize) -> usize {
+    let (mut lines, mut used) = (1, 0);
+    for word in text.split(' ') {
+        let w = word.chars().count();
+        // The space before the word, unless it starts a line.
+        let need = if used == 0 { w } else { used + 1 + w };
+        if need <= width {
+            used = need;
+        } else if w <= width {
+            lines += 1;
+            used = w;
+        } else {
+            // On lines of its own, broken at the width.
+            lines += usize::from(used > 0) + (w - 1) / width;
+            used = w - (w - 1) / width * width;
+        }
+    }
+    lines
+}
+
+/// At most this many lines of message.
+const MAX_MESSAGE_LINES: usize = 3;
+
+#[cfg(test)]
+mod tests {
+    use super::wrapped_lines;
+
+    #[test]
+    fn wrapped_lines_count_words_to_the_width() {
+        assert_eq!(wrapped_lines(" short", 20), 1);
+        // " aaaa bbbb" in 5 columns: " aaaa" then "bbbb".
+        assert_eq!(wrapped_lines(" aaaa bbbb", 5), 2);
+        assert_eq!(wrapped_lines(" aaaa bbbb", 10), 1);
+        // A word longer than a line, broken: 12 characters in 5 columns after " x".
+        assert_eq!(wrapped_lines(" x abcdefghijkl", 5), 4);
+    }
 }
 
 /// `J | pos ..% PASS<.. | ang ..deg PASS<.. | ` for figures `f` against `acc`; a
@@ -326,17 +383,23 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View) {
     if let Some(m) = view.modes {
         lines.push(modes_line(m, &view.accuracy, pal));
     }
+    let parts = Layout::default()
+        .direction(Direction::Vertical)
+        .constraints([Constraint::Length(figure_lines(view)), Constraint::Min(1)])
+        .split(area);
+    frame.render_widget(Paragraph::new(lines), parts[0]);
     if let Some((m, tone)) = view.message {
         let style = match tone {
             Tone::Error => pal.fg(Color::Red),
             Tone::Info => Style::default(),
         };
-        lines.push(Line::from(Span::styled(
+        let message = Paragraph::new(Line::from(Span::styled(
             format!(" {}", sanitize_terminal(m)),
             style,
-        )));
+        )))
+        .wrap(Wrap { trim: false });
+        frame.render_widget(message, parts[1]);
     }
-    frame.render_widget(Paragraph::new(lines), area);
 }
 
 /// ` data FILE sha256 HASH · beam vs data: J .. | pos .. | ang .. |`: which data the
