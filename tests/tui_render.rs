@@ -12,6 +12,7 @@ use prbfit::tui::app::{Activity, App, EditTarget, Judged, Panel, PromptKind, Tex
 use prbfit::tui::ui::draw;
 use prbfit::tui::worker::model_view;
 use ratatui::backend::TestBackend;
+use ratatui::crossterm::event::{KeyCode, KeyEvent};
 use ratatui::style::Color;
 use ratatui::Terminal;
 
@@ -92,6 +93,32 @@ fn help_overlay() {
     let mut app = judged_app();
     app.help = true;
     insta::assert_snapshot!("help_120x40", render(&app, 120, 40).backend());
+}
+
+/// At 80x24 the help does not hold every key: it says so in its title and scrolls (any key
+/// used to close it, with 23 of its keys out of reach), its wrapped descriptions indented
+/// under themselves.
+#[test]
+fn help_scrolls_where_it_does_not_fit() {
+    let t0 = std::time::Instant::now();
+    let mut app = judged_app();
+    app.help = true;
+    let text = format!("{}", render(&app, 80, 24).backend());
+    assert!(text.contains("up/down, PgUp/PgDn scroll"), "{text}");
+    assert!(!text.contains("Ctrl-W"), "{text}");
+    for _ in 0..4 {
+        app.on_key(KeyEvent::from(KeyCode::PageDown), t0);
+    }
+    assert!(app.help, "scrolling keeps the help open");
+    let text = format!("{}", render(&app, 80, 24).backend());
+    assert!(text.contains("Ctrl-W"), "{text}");
+    // No description line starts at the border: a wrapped part is under its description.
+    for line in text.lines().filter(|l| l.contains('│')) {
+        let inner = line.split('│').nth(1).unwrap_or("");
+        assert!(inner.is_empty() || inner.starts_with(' '), "{line}");
+    }
+    app.on_key(KeyEvent::from(KeyCode::Char('x')), t0);
+    assert!(!app.help && app.help_scroll == 0);
 }
 
 #[test]

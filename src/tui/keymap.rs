@@ -261,7 +261,7 @@ const ALL: Scope = Scope::PANELS;
 pub const KEYMAP: &[Entry] = &[
     Entry {
         keys: "?, F1",
-        does: "this help (any key closes it)",
+        does: "this help (the arrows and page keys scroll it, any other key closes it)",
         scope: ALL,
         bindings: &[ch('?', Action::Help), code(KeyCode::F(1), Action::Help)],
         hints: &[hint("? keys", ALL)],

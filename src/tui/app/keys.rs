@@ -46,8 +46,23 @@ impl App {
             return Vec::new();
         }
         if self.help {
-            // Any key closes the help.
-            self.help = false;
+            // The arrows (and j, k, the page keys) scroll the help; any other key closes it.
+            match key.code {
+                KeyCode::Down | KeyCode::Char('j') => {
+                    self.help_scroll = self.help_scroll.saturating_add(1);
+                }
+                KeyCode::PageDown | KeyCode::Char(' ') => {
+                    self.help_scroll = self.help_scroll.saturating_add(10);
+                }
+                KeyCode::Up | KeyCode::Char('k') => {
+                    self.help_scroll = self.help_scroll.saturating_sub(1);
+                }
+                KeyCode::PageUp => self.help_scroll = self.help_scroll.saturating_sub(10),
+                _ => {
+                    self.help = false;
+                    self.help_scroll = 0;
+                }
+            }
             return Vec::new();
         }
         if self.shown.selection_open() {

@@ -56,6 +56,8 @@ pub struct App {
     pub prompt: Option<(PromptKind, TextBox)>,
     /// The help overlay is shown.
     pub help: bool,
+    /// The help's first line shown (it scrolls where the terminal is too low for every key).
+    pub help_scroll: u16,
     /// The last message.
     pub message: Option<(String, Tone)>,
     /// The loop should end.
@@ -88,6 +90,7 @@ impl App {
             shown: Shown::default(),
             prompt: None,
             help: false,
+            help_scroll: 0,
             message: None,
             quit: false,
             mono: false,

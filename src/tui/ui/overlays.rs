@@ -18,6 +18,8 @@ use super::parts::{centered, Palette, MIN_HEIGHT, MIN_WIDTH};
 pub struct View {
     /// Show the help.
     pub help: bool,
+    /// The help's first line shown (clamped to its length when drawn).
+    pub help_scroll: u16,
     /// An open prompt: its question and the text typed so far with the cursor drawn in
     /// (none for a yes/no question).
     pub prompt: Option<(&'static str, Option<String>)>,
@@ -30,6 +32,7 @@ impl View {
     pub fn new(app: &App) -> View {
         View {
             help: app.help,
+            help_scroll: app.help_scroll,
             prompt: app.prompt.as_ref().map(|(kind, tb)| {
                 (
                     kind.question(),
@@ -44,7 +47,7 @@ impl View {
 /// Draws the help, then the prompt, over whatever is in `area`.
 pub fn draw(frame: &mut Frame, area: Rect, view: &View) {
     if view.help {
-        draw_help(frame, area, view.pal);
+        draw_help(frame, area, view.help_scroll, view.pal);
     }
     if let Some((question, text)) = &view.prompt {
         draw_prompt(frame, area, question, text.as_deref(), view.pal);
@@ -66,25 +69,60 @@ pub fn draw_too_small(frame: &mut Frame, area: Rect, question: Option<&str>) {
     frame.render_widget(note, area);
 }
 
-fn draw_help(frame: &mut Frame, area: Rect, pal: Palette) {
-    let rect = centered(area, 106, KEYMAP.len() as u16 + 2);
+fn draw_help(frame: &mut Frame, area: Rect, scroll: u16, pal: Palette) {
+    // The keys' column, then each description wrapped under itself (a wrapped line used to
+    // start at the border, under the keys).
+    const KEYS: usize = 28;
+    let width = area.width.min(106);
+    let room = usize::from(width.saturating_sub(2))
+        .saturating_sub(KEYS)
+        .max(10);
+    let mut lines: Vec<Line> = Vec::new();
+    for e in KEYMAP {
+        for (i, part) in wrap_words(e.does, room).into_iter().enumerate() {
+            let keys = if i == 0 { e.keys } else { "" };
+            lines.push(Line::from(vec![
+                Span::styled(format!(" {keys:<27}"), pal.fg(Color::Cyan)),
+                Span::raw(part),
+            ]));
+        }
+    }
+    let total = lines.len() as u16;
+    let rect = centered(area, width, total + 2);
+    let shown = rect.height.saturating_sub(2);
+    let scroll = scroll.min(total.saturating_sub(shown));
+    let title = if shown < total {
+        format!(
+            " Keys {}-{} of {} lines · up/down, PgUp/PgDn scroll · any other key closes ",
+            scroll + 1,
+            (scroll + shown).min(total),
+            total
+        )
+    } else {
+        " Keys ".to_string()
+    };
     frame.render_widget(Clear, rect);
-    let lines: Vec<Line> = KEYMAP
-        .iter()
-        .map(|e| {
-            Line::from(vec![
-                Span::styled(format!(" {:<27}", e.keys), pal.fg(Color::Cyan)),
-                Span::raw(e.does),
-            ])
-        })
-        .collect();
-    let block = Block::default().borders(Borders::ALL).title(" Keys ");
-    frame.render_widget(
-        Paragraph::new(lines)
-            .block(block)
-            .wrap(Wrap { trim: false }),
-        rect,
-    );
+    let block = Block::default().borders(Borders::ALL).title(title);
+    frame.render_widget(Paragraph::new(lines).block(block).scroll((scroll, 0)), rect);
+}
+
+/// `text` in lines of at most `width` characters, broken between words (a word longer than
+/// a line on a line of its own).
+fn wrap_words(text: &str, width: usize) -> Vec<String> {
+    let mut out = Vec::new();
+    let mut line = String::new();
+    for word in text.split_whitespace() {
+        let len = line.chars().count();
+        if len > 0 && len + 1 + word.chars().count() > width {
+            out.push(std::mem::take(&mut line));
+        }
+        if !line.is_empty() {
+            line.push(' ');
+        }
+        line.push_str(word);
+    }
+    out.push(line);
+    out
 }
 
 fn draw_prompt(frame: &mut Frame, area: Rect, question: &str, text: Option<&str>, pal: Palette) {
