@@ -256,18 +256,17 @@ fn wrapped_lines(text: &str, width: usize) -> usize {
 /// At most this many lines of message.
 const MAX_MESSAGE_LINES: usize = 3;
 
-#[cfg(test)]
-mod tests {
-    use super::wrapped_lines;
-
-    #[test]
-    fn wrapped_lines_count_words_to_the_width() {
-        assert_eq!(wrapped_lines(" short", 20), 1);
-        // " aaaa bbbb" in 5 columns: " aaaa" then "bbbb".
-        assert_eq!(wrapped_lines(" aaaa bbbb", 5), 2);
-        assert_eq!(wrapped_lines(" aaaa bbbb", 10), 1);
-        // A word longer than a line, broken: 12 characters in 5 columns after " x".
-        assert_eq!(wrapped_lines(" x abcdefghijkl", 5), 4);
+/// `value` and `target` at `sig` significant digits, or more where the two would read the
+/// same although they differ (`ang 1.15deg FAIL<1.15` for 1.1459 against 1.1459156): digits
+/// are added until they read apart, up to ten.
+fn against(value: f64, target: f64, sig: usize) -> (String, String) {
+    let mut digits = sig;
+    loop {
+        let (v, t) = (trim_number(value, digits), trim_number(target, digits));
+        if v != t || value == target || digits >= 10 {
+            return (v, t);
+        }
+        digits += 1;
     }
 }
 
@@ -279,42 +278,31 @@ fn figure_spans(f: FigureLine, acc: &Accuracy, pal: Palette) -> Vec<Span<'static
     let (shown, partial, f) = (f.shown, f.partial, f.figures);
     let (objective, pos, ang, force) = (f.objective, f.max_pos_err, f.max_ang_err, f.max_force());
     let mut spans = vec![Span::raw(format!(" J {objective:.3e} | "))];
-    let mut figure = |name: &str, value: String, ok: bool, target: String| {
-        spans.push(Span::raw(format!("{name} {value} ")));
-        spans.push(verdict(ok));
-        spans.push(Span::raw(format!("<{target} | ")));
+    // Each figure against its target at three significant digits, or as many more as it
+    // takes for the two not to read the same.
+    let mut figure = |name: &str, value: f64, target: f64, scale: f64, unit: &str| {
+        let (v, t) = against(value * scale, target * scale, 3);
+        spans.push(Span::raw(format!("{name} {v}{unit} ")));
+        spans.push(verdict(value <= target));
+        spans.push(Span::raw(format!("<{t} | ")));
     };
     if shown[0] {
-        figure(
-            "force",
-            format!("{}%", trim_number(force * 100.0, 3)),
-            force <= acc.max_force_err,
-            trim_number(acc.max_force_err * 100.0, 3),
-        );
+        figure("force", force, acc.max_force_err, 100.0, "%");
     }
     if shown[1] {
-        figure(
-            "pos",
-            format!("{}%L", trim_number(pos * 100.0, 3)),
-            pos <= acc.max_pos_err,
-            trim_number(acc.max_pos_err * 100.0, 3),
-        );
+        figure("pos", pos, acc.max_pos_err, 100.0, "%L");
     }
     if shown[2] {
         figure(
             "ang",
-            format!("{}deg", trim_number(ang.to_degrees(), 3)),
-            ang <= acc.max_ang_err,
-            trim_number(acc.max_ang_err.to_degrees(), 3),
+            ang,
+            acc.max_ang_err,
+            180.0 / std::f64::consts::PI,
+            "deg",
         );
     }
     if let Some(e) = f.max_freq_err {
-        figure(
-            "freq",
-            format!("{}%", trim_number(e * 100.0, 3)),
-            e <= acc.max_freq_err,
-            trim_number(acc.max_freq_err * 100.0, 3),
-        );
+        figure("freq", e, acc.max_freq_err, 100.0, "%");
     }
     if let Some(p) = partial {
         // The figures above are over the followed cases only: never a pass for the model.
@@ -512,4 +500,30 @@ pub fn draw_hints(frame: &mut Frame, area: Rect, view: &HintsView) {
         )),
         area,
     );
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{against, wrapped_lines};
+
+    #[test]
+    fn wrapped_lines_count_words_to_the_width() {
+        assert_eq!(wrapped_lines(" short", 20), 1);
+        // " aaaa bbbb" in 5 columns: " aaaa" then "bbbb".
+        assert_eq!(wrapped_lines(" aaaa bbbb", 5), 2);
+        assert_eq!(wrapped_lines(" aaaa bbbb", 10), 1);
+        // A word longer than a line, broken: 12 characters in 5 columns after " x".
+        assert_eq!(wrapped_lines(" x abcdefghijkl", 5), 4);
+    }
+
+    #[test]
+    fn a_figure_and_its_target_never_read_the_same_unless_equal() {
+        // 1.999e-2 rad against 0.02 rad, in degrees: "1.15" and "1.15" at three digits.
+        let deg = 180.0 / std::f64::consts::PI;
+        let (v, t) = against(1.999e-2 * deg, 0.02 * deg, 3);
+        assert_ne!(v, t);
+        assert_eq!((v.as_str(), t.as_str()), ("1.145", "1.146"));
+        assert_eq!(against(0.5, 1.0, 3), ("0.5".into(), "1".into()));
+        assert_eq!(against(2.0, 2.0, 3), ("2".into(), "2".into()));
+    }
 }
