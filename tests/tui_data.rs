@@ -57,6 +57,10 @@ fn a_data_scene_opens_and_fits_against_its_rows_as_the_cli_does() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("needs a terminal"), "{err}");
     assert!(!err.contains("data scene"), "{err}");
+    // `--scene FILE`, as every other command takes the scene (it was an unknown argument).
+    let out = prbfit(&["tui", "--scene", strip().to_str().unwrap()]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("needs a terminal"), "{err}");
 
     // The open prompt, over the built-in scene.
     let t0 = Instant::now();

@@ -54,6 +54,9 @@ pub enum Command {
     Tui {
         /// Scene file (TOML); default: the built-in scene.
         scene: Option<PathBuf>,
+        /// The scene file, given as every other command takes it (the same as SCENE).
+        #[arg(long = "scene", value_name = "FILE", conflicts_with = "scene")]
+        scene_flag: Option<PathBuf>,
     },
 }
 

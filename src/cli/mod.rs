@@ -79,7 +79,7 @@ pub fn run() -> ExitCode {
         Some(Command::Calibrate(args)) => commands::calibrate(args),
         Some(Command::Fea(args)) => commands::fea(args),
         Some(Command::Modes(args)) => commands::modes(args),
-        Some(Command::Tui { scene }) => tui(scene),
+        Some(Command::Tui { scene, scene_flag }) => tui(scene.or(scene_flag)),
         None => tui(None),
     };
     match outcome {
