@@ -119,6 +119,7 @@ fn stale_results_are_dropped() {
         truth: truth.clone(),
         model: Box::new(view.clone()),
         status: FitStatus {
+            phase: "polish",
             iteration: 3,
             evaluations: 10,
             seconds: 0.01,
@@ -133,6 +134,7 @@ fn stale_results_are_dropped() {
         truth,
         model: Box::new(view),
         status: FitStatus {
+            phase: "polish",
             iteration: 1,
             evaluations: 5,
             seconds: 0.01,

@@ -286,6 +286,7 @@ fn mechanism_results_follow_the_newest_job() {
         truth: truth.clone(),
         model: Box::new(model.clone()),
         status: FitStatus {
+            phase: "polish",
             iteration: 1,
             evaluations: 2,
             seconds: 0.0,
@@ -390,7 +391,7 @@ fn export_and_selection_run_on_the_mechanism() {
         assert_eq!(msg.id(), id);
         let done = matches!(msg, WorkerMsg::SelectDone { .. });
         rows += usize::from(matches!(msg, WorkerMsg::SelectRow { .. }));
-        let fit = matches!(msg, WorkerMsg::SelectFitting { .. });
+        let fit = matches!(msg, WorkerMsg::Fitting { .. });
         assert!(!matches!(msg, WorkerMsg::Failed { .. }), "{msg:?}");
         app.on_worker(msg);
         // Between rows, the ladder's fit shows in the status bar as any fit does.

@@ -56,7 +56,7 @@ pub use crate::fidelity::Fidelity;
 pub(crate) use objective::push_residual;
 pub use objective::PENALTY;
 pub use param::{ParamError, Parameterisation};
-pub use progress::{FitProgress, PROGRESS_INTERVAL};
+pub use progress::{FitProgress, HEARTBEAT, PROGRESS_INTERVAL};
 
 use objective::Objective;
 pub use objective::{CantileverTarget, Target};

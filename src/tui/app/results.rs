@@ -79,7 +79,7 @@ impl App {
                 self.shown.selection_stopped();
                 true
             }
-            WorkerMsg::SelectFitting { status, .. } => {
+            WorkerMsg::Fitting { status, .. } => {
                 self.jobs.activity = Activity::Fitting(status);
                 true
             }

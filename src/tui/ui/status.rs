@@ -342,7 +342,13 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View) {
     let activity = match view.activity {
         Activity::Idle => "idle".to_string(),
         Activity::Waiting => "working...".to_string(),
-        Activity::Fitting(s) => format!("fitting it {} · {:.0} ms", s.iteration, s.seconds * 1e3),
+        Activity::Fitting(s) => format!(
+            "fitting · {} it {} · {} evals · {:.0} ms",
+            s.phase,
+            s.iteration,
+            s.evaluations,
+            s.seconds * 1e3
+        ),
         Activity::Done {
             seconds,
             stop,

@@ -69,6 +69,9 @@ impl Cancellable for Job {
 /// How far a fit has got.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FitStatus {
+    /// The search's phase (`start`, `swarm`, `polish`): its iterations count from 0 again
+    /// in each.
+    pub phase: &'static str,
     /// Optimiser iterations so far.
     pub iteration: u32,
     /// Objective evaluations so far.
@@ -124,12 +127,13 @@ pub enum WorkerMsg {
         /// Why, for the user.
         message: String,
     },
-    /// A selection's ladder fit under way (between two rows, which a fit on many cases may
-    /// keep apart for minutes).
-    SelectFitting {
+    /// A fit under way with no new model to show: a selection's ladder fit (between two
+    /// rows, which a fit on many cases may keep apart for minutes), or a fit searching on
+    /// without a better model (its heartbeat, [`crate::fit::HEARTBEAT`]).
+    Fitting {
         /// The job.
         id: u64,
-        /// How far that fit has got (its time since the selection started).
+        /// How far that fit has got (its time since the job started).
         status: FitStatus,
     },
     /// One row of a selection, as soon as it is fitted.
@@ -168,7 +172,7 @@ impl WorkerMsg {
             | WorkerMsg::Done { id, .. }
             | WorkerMsg::Compared { id, .. }
             | WorkerMsg::Failed { id, .. }
-            | WorkerMsg::SelectFitting { id, .. }
+            | WorkerMsg::Fitting { id, .. }
             | WorkerMsg::SelectRow { id, .. }
             | WorkerMsg::SelectDone { id, .. }
             | WorkerMsg::Exported { id, .. } => *id,

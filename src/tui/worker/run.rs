@@ -123,28 +123,37 @@ pub(super) fn run_job(
         send(done(start?, None));
         return Ok(());
     }
-    let progress = |model: ModelView, iteration, evaluations| WorkerMsg::Progress {
+    let status = |phase, iteration, evaluations| FitStatus {
+        phase,
+        iteration,
+        evaluations,
+        seconds: t0.elapsed().as_secs_f64(),
+    };
+    let progress = |model: ModelView, status| WorkerMsg::Progress {
         id: job.id,
         truth: truth.clone(),
         model: Box::new(model),
-        status: FitStatus {
-            iteration,
-            evaluations,
-            seconds: t0.elapsed().as_secs_f64(),
-        },
+        status,
         compare: compare.clone(),
     };
     if let Ok(model) = start {
-        send(progress(model, 0, 0));
+        send(progress(model, status("start", 0, 0)));
     }
     let options = FitOptions {
         fidelity: job.fidelity,
         angle_weight: job.scene.fit.angle_weight,
         seed: 1,
     };
+    // A better model is judged and shown; a heartbeat (no better model) moves the status.
     let mut on_progress = |p: &FitProgress| {
-        if let Ok(model) = model_view(study, p.best) {
-            send(progress(model, p.iteration, p.evaluations));
+        let now = status(p.phase, p.iteration, p.evaluations);
+        if !p.improved {
+            send(WorkerMsg::Fitting {
+                id: job.id,
+                status: now,
+            });
+        } else if let Ok(model) = model_view(study, p.best) {
+            send(progress(model, now));
         }
     };
     let report = study
@@ -169,9 +178,10 @@ fn run_selection(job: &Job, study: &Study, send: &dyn Fn(WorkerMsg)) -> Result<(
                 });
             },
             &mut |_, fit| {
-                send(WorkerMsg::SelectFitting {
+                send(WorkerMsg::Fitting {
                     id: job.id,
                     status: FitStatus {
+                        phase: fit.phase,
                         iteration: fit.iteration,
                         evaluations: fit.evaluations,
                         seconds: t0.elapsed().as_secs_f64(),
