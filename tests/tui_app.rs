@@ -462,12 +462,24 @@ fn selection_view() {
     use prbfit::tui::worker::JobKind;
     let t0 = Instant::now();
     let mut app = app();
+    // Cancelled: the view says it stopped, not that it is done (it said "done").
+    app.on_key(key(KeyCode::Char('S')), t0);
+    app.on_key(key(KeyCode::Char('c')), t0);
+    let view = app.shown.select.as_ref().unwrap();
+    assert!(!view.running && view.stopped);
+    let backend = ratatui::backend::TestBackend::new(120, 40);
+    let mut terminal = ratatui::Terminal::new(backend).unwrap();
+    terminal.draw(|f| prbfit::tui::ui::draw(f, &app)).unwrap();
+    let screen = format!("{}", terminal.backend());
+    assert!(screen.contains("Model selection (stopped"), "{screen}");
+    app.on_key(key(KeyCode::Esc), t0);
     let cmds = app.on_key(key(KeyCode::Char('S')), t0);
     let Some(Command::Submit(job)) = cmds.into_iter().next() else {
         panic!("a job")
     };
     assert_eq!(job.kind, JobKind::Select);
     assert!(app.shown.select.as_ref().unwrap().running);
+    assert!(!app.shown.select.as_ref().unwrap().stopped);
 
     let scene = Scene::builtin();
     let study = Study::as_given(&scene, Sampling::Fidelity(Fidelity::Draft)).unwrap();

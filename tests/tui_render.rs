@@ -231,6 +231,7 @@ fn selection_view_120x40() {
             ),
         ],
         running: false,
+        stopped: false,
     });
     insta::assert_snapshot!("select_120x40", render(&app, 120, 40).backend());
     // The selection view on its own.

@@ -108,9 +108,10 @@ impl Shown {
         self.select.as_ref().is_some_and(|v| v.running)
     }
 
-    /// The open selection's job ended (done, failed, stopped).
+    /// The open selection's job ended before its selection was made (failed, stopped).
     pub fn selection_stopped(&mut self) {
         if let Some(v) = &mut self.select {
+            v.stopped |= v.running;
             v.running = false;
         }
     }

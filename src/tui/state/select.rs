@@ -24,6 +24,9 @@ pub struct SelectState {
     pub selected: usize,
     /// The job still runs.
     pub running: bool,
+    /// The job ended before its selection was made (cancelled, or failed): the rows are
+    /// those fitted by then, and nothing is chosen.
+    pub stopped: bool,
     /// The models tried that cannot follow the scene, once known.
     pub unfollowed: Vec<Unfollowed>,
 }
@@ -39,6 +42,7 @@ impl SelectState {
             knobs: Vec::new(),
             selected: 0,
             running: true,
+            stopped: false,
             unfollowed: Vec::new(),
         }
     }

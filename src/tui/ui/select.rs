@@ -92,6 +92,8 @@ pub fn draw(frame: &mut Frame, area: Rect, v: &View<'_>) {
         } else {
             "fitting / measuring the trade-off..."
         }
+    } else if view.stopped {
+        "stopped: the rows fitted before it, nothing chosen"
     } else {
         "done"
     };
