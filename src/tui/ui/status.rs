@@ -32,7 +32,7 @@ use super::parts::{Palette, MEASURED_COLOR};
 pub struct TitleView<'a> {
     /// The scene's name (from its file: sanitized when drawn).
     pub name: &'a str,
-    /// The scene has unsaved changes.
+    /// Something is unsaved: the scene or the model worked on (what q and o ask about).
     pub dirty: bool,
     /// The fidelity.
     pub fidelity: Fidelity,
@@ -47,7 +47,8 @@ impl<'a> TitleView<'a> {
     pub fn new(app: &'a App) -> TitleView<'a> {
         TitleView {
             name: &app.edit.scene.name,
-            dirty: app.edit.scene_dirty,
+            // The scene's or the model's: what q and o ask about.
+            dirty: app.unsaved(),
             fidelity: app.jobs.fidelity,
             live: app.jobs.live,
             pal: Palette { mono: app.mono },
