@@ -1046,6 +1046,30 @@ fn keys_act_on_nothing_hidden_while_the_terminal_is_too_small() {
     assert!(app.quit);
 }
 
+/// A length that breaks the slenderness rule is refused naming the length, the field edited
+/// (it named `beam.thickness`, the scene file's key for the rule).
+#[test]
+fn a_length_past_the_slenderness_limit_is_refused_naming_the_length() {
+    use prbfit::tui::app::EditTarget;
+    use prbfit::tui::state::beam::BeamField;
+    let mut app = app();
+    let before = app.edit.scene.beam.length;
+    let e = app
+        .edit
+        .apply_edit(&EditTarget::Beam(BeamField::Length), "1000")
+        .unwrap_err();
+    assert!(
+        e.starts_with("beam.length (against the thickness): slenderness"),
+        "{e}"
+    );
+    assert_eq!(app.edit.scene.beam.length, before);
+    let e = app
+        .edit
+        .apply_edit(&EditTarget::Beam(BeamField::Thickness), "1")
+        .unwrap_err();
+    assert!(e.starts_with("beam.thickness:"), "{e}");
+}
+
 /// Saving over the file a scene was opened from asks first when the UI did not write it
 /// (the save rewrites it in prbfit's layout: a hand-written file's comments went without a
 /// word); once the UI has saved there, saving there again just saves.

@@ -280,7 +280,14 @@ impl Editing {
                 if self.loads_state.hold == Hold::Force && !self.is_data() {
                     scene.loads = held_forces(&scene.loads, &self.scene.beam, &scene.beam);
                 }
-                self.take_scene(scene)?;
+                // The slenderness rule is the scene file's thickness key's; a length edit
+                // breaks it too, and the message names what was edited.
+                self.take_scene(scene).map_err(|e| match field {
+                    BeamField::Length => {
+                        e.replacen("beam.thickness:", "beam.length (against the thickness):", 1)
+                    }
+                    _ => e,
+                })?;
             }
             EditTarget::Mech(field) if self.is_mech_data() && field.drive().is_some() => {
                 return Err(data::drives_read_only(&self.scene));
