@@ -244,6 +244,26 @@ fn selection_view_120x40() {
             &select_panel::View::new(&app).unwrap()
         ))
     );
+    // Narrow: the timings go, then the degrees of freedom, and what is left keeps its width
+    // (squeezed, J lost its exponent, every topology read "L-R-" and the marker went).
+    let rows = app.shown.select.as_ref().unwrap().rows.clone();
+    for (w, h, timings, dof) in [(80, 24, false, true), (60, 20, false, false)] {
+        let text = format!("{}", render(&app, w, h).backend());
+        assert_eq!(text.contains("us/case"), timings, "{text}");
+        assert_eq!(text.contains("dof"), dof, "{text}");
+        // The rows the table shows (it scrolls to the selected row when short).
+        let shown: Vec<_> = rows
+            .iter()
+            .filter(|r| text.contains(&format!("│{:<11}", r.name)))
+            .collect();
+        assert!(shown.len() >= 5, "{text}");
+        for r in shown {
+            let j = format!("{:.3e}", r.figures.objective);
+            assert!(text.contains(&j), "{j} at {w}: {text}");
+            assert!(text.contains(&r.topology), "{} at {w}: {text}", r.topology);
+        }
+        assert!(text.contains("<- c"), "{text}");
+    }
 }
 
 /// Renders one panel's `draw` into a `w` x `h` buffer.

@@ -109,15 +109,26 @@ pub fn draw(frame: &mut Frame, area: Rect, v: &View<'_>) {
         .split(area);
     let acc = &v.accuracy;
     let (headers, column_widths) = columns(mechanism);
-    let header = Row::new(
-        ["model", "topology", "dof"]
-            .iter()
-            .chain(headers)
-            .chain(&["us/case", "fit ms", "targets"])
-            .copied()
-            .collect::<Vec<_>>(),
-    )
-    .style(Style::default().add_modifier(Modifier::BOLD));
+    // Where the table is narrower than its columns, the timings go first, then the degrees
+    // of freedom, so the figures, the topologies and the verdict keep their width (squeezed,
+    // J lost its exponent and the 3R, 4R and 5R all read "L-R-").
+    let figures_width: u16 = column_widths.iter().map(|w| w + 1).sum();
+    let room = area.width.saturating_sub(2);
+    let full = 11 + 1 + 11 + 1 + 5 + figures_width + 9 + 8 + 18;
+    let timings = room >= full;
+    let dof = room >= full - 17;
+    let header_cells: Vec<&str> = ["model", "topology"]
+        .into_iter()
+        .chain(dof.then_some("dof"))
+        .chain(headers.iter().copied())
+        .chain(if timings {
+            vec!["us/case", "fit ms"]
+        } else {
+            vec![]
+        })
+        .chain(["targets"])
+        .collect();
+    let header = Row::new(header_cells).style(Style::default().add_modifier(Modifier::BOLD));
     let rows: Vec<Row> = view
         .rows
         .iter()
@@ -139,24 +150,29 @@ pub fn draw(frame: &mut Frame, area: Rect, v: &View<'_>) {
             let mut cells = vec![
                 Cell::from(sanitize_terminal(&r.name).into_owned()),
                 Cell::from(r.topology.clone()),
-                Cell::from(r.dof.to_string()),
             ];
+            if dof {
+                cells.push(Cell::from(r.dof.to_string()));
+            }
             cells.extend(cells_of(&r.figures, mechanism).into_iter().map(Cell::from));
-            cells.extend([
-                Cell::from(format!("{:.2}", r.eval_seconds_per_case * 1e6)),
-                Cell::from(format!("{:.0}", r.fit_seconds * 1e3)),
-                Cell::from(Span::styled(
-                    format!("{verdict}{mark}"),
-                    pal.pass(r.meets_targets),
-                )),
-            ]);
+            if timings {
+                cells.extend([
+                    Cell::from(format!("{:.2}", r.eval_seconds_per_case * 1e6)),
+                    Cell::from(format!("{:.0}", r.fit_seconds * 1e3)),
+                ]);
+            }
+            cells.push(Cell::from(Span::styled(
+                format!("{verdict}{mark}"),
+                pal.pass(r.meets_targets),
+            )));
             Row::new(cells).style(style)
         })
         .collect();
-    let widths: Vec<Constraint> = [11, 11, 4]
+    let widths: Vec<Constraint> = [11, 11]
         .iter()
+        .chain(if dof { &[4][..] } else { &[][..] })
         .chain(column_widths)
-        .chain(&[8, 7])
+        .chain(if timings { &[8, 7][..] } else { &[][..] })
         .map(|&w| Constraint::Length(w))
         .chain(std::iter::once(Constraint::Min(8)))
         .collect();
