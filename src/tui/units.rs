@@ -9,6 +9,11 @@ pub enum Quantity {
     Pressure,
     /// A plain number.
     Plain,
+    /// A fraction, as shown beside it: plain, or in % (a position target in units of L, a
+    /// force target as a fraction of the largest force).
+    Fraction,
+    /// An angle: rad (plain) or deg.
+    Angle,
 }
 
 impl Quantity {
@@ -17,7 +22,7 @@ impl Quantity {
         match self {
             Quantity::Length => "m",
             Quantity::Pressure => "Pa",
-            Quantity::Plain => "",
+            Quantity::Plain | Quantity::Fraction | Quantity::Angle => "",
         }
     }
 }
@@ -49,6 +54,14 @@ pub fn parse_quantity(text: &str, q: Quantity) -> Result<f64, String> {
         (Quantity::Pressure, "kPa") => 1e3,
         (Quantity::Pressure, "MPa") => 1e6,
         (Quantity::Pressure, "GPa") => 1e9,
+        (Quantity::Fraction, "%") => 1e-2,
+        (Quantity::Fraction, "L") => 1.0,
+        (Quantity::Angle, "rad") => 1.0,
+        (Quantity::Angle, "deg" | "°") => std::f64::consts::PI / 180.0,
+        (Quantity::Fraction, u) => {
+            return Err(format!("unknown unit `{u}` (a plain fraction, or %)"))
+        }
+        (Quantity::Angle, u) => return Err(format!("unknown angle unit `{u}` (use rad or deg)")),
         (Quantity::Length, u) => {
             return Err(format!(
                 "unknown length unit `{u}` (use m, cm, mm, um or nm)"
@@ -67,7 +80,7 @@ pub fn parse_quantity(text: &str, q: Quantity) -> Result<f64, String> {
 /// A compact engineering form for display: `50 mm`, `200 GPa`, `0.3`.
 pub fn format_quantity(value: f64, q: Quantity) -> String {
     let (scaled, unit) = match q {
-        Quantity::Plain => return trim_number(value, 6),
+        Quantity::Plain | Quantity::Fraction | Quantity::Angle => return trim_number(value, 6),
         Quantity::Length => {
             let a = value.abs();
             if a >= 1.0 {
@@ -159,6 +172,21 @@ mod tests {
         assert!(parse_quantity("nan", Quantity::Length).is_err());
         assert!(parse_quantity("inf", Quantity::Plain).is_err());
         assert!(parse_quantity("", Quantity::Plain).is_err());
+        // Targets as they are shown: `0.01 L (1%)`, `0.02 rad (1.146 deg)`.
+        assert!(close(
+            parse_quantity("1%", Quantity::Fraction).unwrap(),
+            0.01
+        ));
+        assert!(close(
+            parse_quantity("0.01 L", Quantity::Fraction).unwrap(),
+            0.01
+        ));
+        assert!(close(
+            parse_quantity("1.146 deg", Quantity::Angle).unwrap(),
+            1.146_f64.to_radians()
+        ));
+        assert_eq!(parse_quantity("0.02 rad", Quantity::Angle).unwrap(), 0.02);
+        assert!(parse_quantity("1 mm", Quantity::Fraction).is_err());
     }
 
     #[test]

@@ -99,6 +99,9 @@ impl BeamField {
         match self {
             BeamField::Length | BeamField::Width | BeamField::Thickness => Quantity::Length,
             BeamField::YoungsModulus => Quantity::Pressure,
+            // As shown: `0.01 L (1%)`, `0.05 (5% of max)`, `0.02 rad (1.146 deg)`.
+            BeamField::MaxPosErr | BeamField::MaxForceErr => Quantity::Fraction,
+            BeamField::MaxAngErr => Quantity::Angle,
             _ => Quantity::Plain,
         }
     }
