@@ -59,6 +59,53 @@ impl Report {
     fn __str__(&self) -> String {
         self.text.clone()
     }
+
+    /// The result's class and what identifies it: the scene, the model, `J`, the verdict,
+    /// the cases (the default named only the class and an address).
+    fn __repr__(slf: &Bound<'_, Self>) -> PyResult<String> {
+        let class = slf.get_type().name()?.to_string();
+        let v = &slf.get().value;
+        let mut parts = Vec::new();
+        if let Some(s) = v.get("scene").and_then(Value::as_str) {
+            parts.push(format!("scene {s:?}"));
+        }
+        if let Some(t) = v.get("topology").and_then(Value::as_str) {
+            parts.push(t.to_string());
+        }
+        if let Some(j) = v.get("objective").and_then(Value::as_f64) {
+            parts.push(format!("J {j:.4e}"));
+        }
+        if let Some(m) = v.get("meets_targets").and_then(Value::as_bool) {
+            parts.push(
+                if m {
+                    "meets its targets"
+                } else {
+                    "misses its targets"
+                }
+                .to_string(),
+            );
+        }
+        let cases = v
+            .get("cases")
+            .and_then(|c| c.as_u64().or_else(|| c.as_array().map(|a| a.len() as u64)));
+        if let Some(n) = cases {
+            parts.push(format!("{n} cases"));
+        }
+        Ok(match parts.is_empty() {
+            true => format!("<prbfit.{class}>"),
+            false => format!("<prbfit.{class} {}>", parts.join(", ")),
+        })
+    }
+
+    /// The class's names and the report's keys, each an attribute (tab completion finds
+    /// the figures).
+    fn __dir__(slf: &Bound<'_, Self>) -> PyResult<Vec<String>> {
+        let mut names: Vec<String> = slf.get_type().dir()?.extract()?;
+        names.extend(slf.get().keys());
+        names.sort();
+        names.dedup();
+        Ok(names)
+    }
 }
 
 /// `Scene.solve()`: the baseline beam's tips (or a mechanism's stage) over the scene's cases

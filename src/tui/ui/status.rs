@@ -511,7 +511,7 @@ pub fn draw_hints(frame: &mut Frame, area: Rect, view: &HintsView) {
 
 #[cfg(test)]
 mod tests {
-    use super::{against, wrapped_lines};
+    use crate::tui::ui::status::{against, wrapped_lines};
 
     #[test]
     fn wrapped_lines_count_words_to_the_width() {
