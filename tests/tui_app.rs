@@ -1070,6 +1070,36 @@ fn a_length_past_the_slenderness_limit_is_refused_naming_the_length() {
     assert!(e.starts_with("beam.thickness:"), "{e}");
 }
 
+/// A typed gamma is balanced by another segment's (the gammas sum to 1); the message says
+/// which, and that it was fixed when every gamma was (a pinned gamma changed without a word).
+#[test]
+fn a_typed_gamma_says_which_segment_took_the_difference() {
+    let t0 = Instant::now();
+    let mut app = app();
+    app.edit.matrix = PrbMatrix::parse("0.2!,inf,inf; 0.5!,3,inf; 0.3!,3,inf").unwrap();
+    app.edit.focus = Panel::Matrix;
+    app.edit.matrix_state.row = 0;
+    app.edit.matrix_state.col = 0;
+    edit(&mut app, "0.25", t0);
+    let gammas: Vec<f64> = app.edit.matrix.rows().iter().map(|r| r.gamma).collect();
+    assert_eq!(gammas[0], 0.25);
+    let (m, _) = app.message.clone().unwrap();
+    assert!(
+        m.starts_with("row 3's gamma took the difference: 0.3 -> 0.25"),
+        "{m}"
+    );
+    assert!(m.contains("(fixed"), "{m}");
+    // A free gamma takes it, and no fixed one is said to.
+    app.edit.matrix = PrbMatrix::parse("0.2!,inf,inf; 0.5,3,inf; 0.3!,3,inf").unwrap();
+    edit(&mut app, "0.25", t0);
+    let (m, _) = app.message.clone().unwrap();
+    assert!(
+        m.starts_with("row 2's gamma took the difference: 0.5 -> 0.45"),
+        "{m}"
+    );
+    assert!(!m.contains("fixed"), "{m}");
+}
+
 /// Saving over the file a scene was opened from asks first when the UI did not write it
 /// (the save rewrites it in prbfit's layout: a hand-written file's comments went without a
 /// word); once the UI has saved there, saving there again just saves.

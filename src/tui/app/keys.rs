@@ -7,10 +7,12 @@ use std::time::Instant;
 use ratatui::crossterm::event::{KeyCode, KeyEvent, KeyEventKind, KeyModifiers};
 
 use crate::fit::Fidelity;
+use crate::prb::{Column, PrbMatrix};
 
 use super::super::keymap::{self, Action, Scope};
+use super::super::units::trim_number;
 use super::dialog::{text_action, TextKey};
-use super::{App, Command, PromptKind};
+use super::{App, Command, EditTarget, PromptKind};
 
 impl App {
     /// Handles one key; returns the commands it causes.
@@ -84,6 +86,37 @@ impl App {
         }
     }
 
+    /// A gamma typed into `row` is balanced by another segment's (the gammas sum to 1): say
+    /// which took the difference, and that it was fixed when no gamma was free to.
+    fn say_gamma_donor(&mut self, before: &PrbMatrix, row: usize) {
+        let after = &self.edit.matrix;
+        let donor = (0..after.len()).find(|&i| {
+            i != row
+                && before
+                    .rows()
+                    .get(i)
+                    .zip(after.rows().get(i))
+                    .is_some_and(|(b, a)| b.gamma != a.gamma)
+        });
+        if let (Some(i), Some(b), Some(a)) = (
+            donor,
+            donor.and_then(|i| before.rows().get(i)),
+            donor.and_then(|i| after.rows().get(i)),
+        ) {
+            let fixed = if a.is_free(Column::Gamma) {
+                ""
+            } else {
+                " (fixed: no gamma was free to; f frees one to choose)"
+            };
+            self.set_info(format!(
+                "row {}'s gamma took the difference: {} -> {}{fixed}",
+                i + 1,
+                trim_number(b.gamma, 6),
+                trim_number(a.gamma, 6)
+            ));
+        }
+    }
+
     /// Keys in the text box of the field being edited.
     fn edit_key(&mut self, key: KeyEvent, now: Instant) {
         let Some((_, tb)) = &mut self.edit.editing else {
@@ -93,9 +126,17 @@ impl App {
             TextKey::Action(Action::TextCancel) => self.edit.editing = None,
             TextKey::Action(Action::TextAccept) => {
                 if let Some((target, tb)) = self.edit.editing.take() {
+                    let before = self.edit.matrix.clone();
                     match self.edit.apply_edit(&target, &tb.text) {
                         Ok(()) => {
                             self.clear_message();
+                            if let EditTarget::Cell {
+                                row,
+                                col: Column::Gamma,
+                            } = target
+                            {
+                                self.say_gamma_donor(&before, row);
+                            }
                             self.jobs.changed(now);
                         }
                         Err(e) => self.set_error(format!("rejected: {e} (the old value is kept)")),
