@@ -302,7 +302,10 @@ pub enum MatrixError {
     SingleSegmentGamma,
     /// A gamma edit, with the donor segment taking the difference, gives an invalid matrix
     /// (the donor's length would be <= 0, say).
-    #[error("{source} (segment {donor} would get the rest)")]
+    #[error(
+        "segment {donor} takes up the difference (the column sums to 1), and would break its \
+         rule: {source}"
+    )]
     Rebalance {
         /// 1-based: the segment that would have taken the difference.
         donor: usize,
@@ -536,7 +539,10 @@ mod tests {
         assert!((g.iter().sum::<f64>() - 1.0).abs() < 1e-15);
         // Too much: the donor would go negative, the error names it and nothing changes.
         let err = m.with_gamma(1, 0.9).unwrap_err().to_string();
-        assert!(err.contains("segment 3 would get the rest"), "{err}");
+        assert!(
+            err.starts_with("segment 3 takes up the difference"),
+            "{err}"
+        );
         assert!(matches!(
             PrbMatrix::parse("1,2,inf").unwrap().with_gamma(0, 0.5),
             Err(MatrixError::SingleSegmentGamma)
@@ -569,7 +575,7 @@ mod tests {
             e.contains("mass fraction must be a finite number >= 0"),
             "{e}"
         );
-        assert!(e.contains("segment 2 would get the rest"), "{e}");
+        assert!(e.starts_with("segment 2 takes up the difference"), "{e}");
         assert!(matches!(
             PrbMatrix::parse("0.15,inf,inf,0.2; 0.85,2.2525,inf,0.7"),
             Err(MatrixError::MuSum { .. })
