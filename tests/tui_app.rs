@@ -1089,6 +1089,15 @@ fn a_typed_gamma_says_which_segment_took_the_difference() {
         "{m}"
     );
     assert!(m.contains("(fixed"), "{m}");
+    // A value typed with `!`, as a scene file writes a fixed cell, is set and fixed (it was
+    // refused: "`!`: this value takes no unit").
+    app.edit.matrix_state.row = 1;
+    app.edit.matrix_state.col = 1;
+    edit(&mut app, "3.3!", t0);
+    assert_eq!(app.edit.matrix.rows()[1].k_theta, 3.3);
+    assert!(!app.edit.matrix.rows()[1].is_free(Column::KTheta));
+    app.edit.matrix_state.row = 0;
+    app.edit.matrix_state.col = 0;
     // A free gamma takes it, and no fixed one is said to.
     app.edit.matrix = PrbMatrix::parse("0.2!,inf,inf; 0.5,3,inf; 0.3!,3,inf").unwrap();
     edit(&mut app, "0.25", t0);

@@ -89,7 +89,8 @@ impl MatrixState {
     }
 
     /// `matrix` with the cell at (`row`, `col`) set from `text`. Typing a gamma keeps the
-    /// gammas summing to 1 ([`PrbMatrix::with_gamma`]).
+    /// gammas summing to 1 ([`PrbMatrix::with_gamma`]). A value ending in `!`, as a matrix
+    /// is written in a scene file, also fixes the cell (`f` fixes or frees it too).
     pub fn edited(
         &self,
         matrix: &PrbMatrix,
@@ -98,12 +99,20 @@ impl MatrixState {
         col: Column,
         text: &str,
     ) -> Result<PrbMatrix, String> {
+        let (text, fix) = match text.trim().strip_suffix('!') {
+            Some(value) => (value, true),
+            None => (text, false),
+        };
         let v = self.parse_cell(beam, col, text)?;
-        if col == Column::Gamma && matrix.len() > 1 {
-            matrix.with_gamma(row, v).map_err(|e| e.to_string())
+        let mut edited = if col == Column::Gamma && matrix.len() > 1 {
+            matrix.with_gamma(row, v).map_err(|e| e.to_string())?
         } else {
-            matrix.with_cell(row, col, v).map_err(|e| e.to_string())
+            matrix.with_cell(row, col, v).map_err(|e| e.to_string())?
+        };
+        if fix {
+            edited.set_free(row, col, false);
         }
+        Ok(edited)
     }
 
     /// `matrix` with the selected segment split in two halves; the new one gets a joint.
