@@ -1109,6 +1109,27 @@ fn a_typed_gamma_says_which_segment_took_the_difference() {
     assert!(!m.contains("fixed"), "{m}");
 }
 
+/// A prompt answered with nothing is a cancel, and says so (it left a blank line).
+#[test]
+fn an_empty_answer_to_a_file_prompt_says_nothing_was_done() {
+    let t0 = Instant::now();
+    let mut app = app();
+    for (k, said) in [
+        ('s', "not saved: no file given"),
+        ('o', "not opened: no file given"),
+        ('e', "not exported: no file given"),
+    ] {
+        app.on_key(key(KeyCode::Char(k)), t0);
+        assert!(app.prompt.is_some());
+        for _ in 0..80 {
+            app.on_key(key(KeyCode::Backspace), t0);
+        }
+        assert!(app.on_key(key(KeyCode::Enter), t0).is_empty());
+        assert!(app.prompt.is_none());
+        assert_eq!(app.message.as_ref().unwrap().0, said);
+    }
+}
+
 /// Saving over the file a scene was opened from asks first when the UI did not write it
 /// (the save rewrites it in prbfit's layout: a hand-written file's comments went without a
 /// word); once the UI has saved there, saving there again just saves.

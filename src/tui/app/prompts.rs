@@ -61,6 +61,22 @@ impl App {
                 let text = tb.text.trim().to_string();
                 self.prompt = None;
                 if text.is_empty() {
+                    // Nothing typed is a cancel, said as one (it left a blank line).
+                    let what = match kind {
+                        PromptKind::SaveScene => Some("not saved: no file given"),
+                        PromptKind::OpenScene => Some("not opened: no file given"),
+                        PromptKind::ExportModel | PromptKind::ExportMechanism => {
+                            Some("not exported: no file given")
+                        }
+                        PromptKind::ExportDensity => {
+                            self.export_path = None;
+                            Some("not exported: no density given")
+                        }
+                        _ => None,
+                    };
+                    if let Some(what) = what {
+                        self.set_info(what);
+                    }
                     return Vec::new();
                 }
                 self.clear_message();
