@@ -1044,6 +1044,14 @@ fn keys_act_on_nothing_hidden_while_the_terminal_is_too_small() {
     assert!(screen.contains("quit anyway? (y/n)"), "{screen}");
     app.on_key(key(KeyCode::Char('y')), t0);
     assert!(app.quit);
+
+    // With a text prompt open behind the note, q drops it and quits (it did nothing).
+    let mut app = self::app();
+    app.on_key(key(KeyCode::Char('s')), t0);
+    assert!(matches!(app.prompt, Some((PromptKind::SaveScene, _))));
+    app.too_small = true;
+    app.on_key(key(KeyCode::Char('q')), t0);
+    assert!(app.prompt.is_none() && app.quit);
 }
 
 /// A length that breaks the slenderness rule is refused naming the length, the field edited
@@ -1107,6 +1115,24 @@ fn a_typed_gamma_says_which_segment_took_the_difference() {
         "{m}"
     );
     assert!(!m.contains("fixed"), "{m}");
+    // In the SI view, as the cells show it (the built-in beam is 50 mm long).
+    app.edit.matrix_state.si = true;
+    edit(&mut app, "10 mm", t0);
+    let (m, _) = app.message.clone().unwrap();
+    assert!(
+        m.starts_with("row 2's gamma took the difference: 22.5 mm -> 25 mm"),
+        "{m}"
+    );
+    app.edit.matrix_state.si = false;
+    // A mu too (it changed another row's mu without a word).
+    app.edit.matrix = PrbMatrix::parse("0.2,inf,inf,0.2; 0.5,3,inf,0.5; 0.3,3,inf,0.3").unwrap();
+    app.edit.matrix_state.col = 3;
+    edit(&mut app, "0.4", t0);
+    let (m, _) = app.message.clone().unwrap();
+    assert!(
+        m.starts_with("row 3's mu took the difference: 0.3 -> 0.1"),
+        "{m}"
+    );
 }
 
 /// A prompt answered with nothing is a cancel, and says so (it left a blank line).

@@ -57,10 +57,15 @@ fn a_data_scene_opens_and_fits_against_its_rows_as_the_cli_does() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("needs a terminal"), "{err}");
     assert!(!err.contains("data scene"), "{err}");
-    // `--scene FILE`, as every other command takes the scene (it was an unknown argument).
+    // `--scene FILE`, as every other command takes the scene (it was an unknown argument):
+    // the file is read (a missing one is named), then the terminal is what is missing.
     let out = prbfit(&["tui", "--scene", strip().to_str().unwrap()]);
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("needs a terminal"), "{err}");
+    let out = prbfit(&["tui", "--scene", "no-such-scene.toml"]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("no-such-scene.toml"), "{err}");
+    assert_eq!(out.status.code(), Some(2));
 
     // The open prompt, over the built-in scene.
     let t0 = Instant::now();

@@ -117,6 +117,14 @@ fn help_scrolls_where_it_does_not_fit() {
         let inner = line.split('│').nth(1).unwrap_or("");
         assert!(inner.is_empty() || inner.starts_with(' '), "{line}");
     }
+    // Scrolled past the end, Up moves back at once (it took as many presses as the overshoot).
+    for _ in 0..40 {
+        app.on_key(KeyEvent::from(KeyCode::Down), t0);
+    }
+    let end = app.help_scroll;
+    assert_eq!(end, app.help_scroll_max.get());
+    app.on_key(KeyEvent::from(KeyCode::Up), t0);
+    assert_eq!(app.help_scroll, end - 1);
     app.on_key(KeyEvent::from(KeyCode::Char('x')), t0);
     assert!(!app.help && app.help_scroll == 0);
 }

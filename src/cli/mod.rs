@@ -44,7 +44,6 @@ fn parse_matrix(flag: &str, text: &str) -> Result<PrbMatrix> {
     Ok(report::parse_matrix(flag, text)?)
 }
 
-/// Parses the command line and runs the command; the process's exit status.
 /// The exit status of a UI ended by a signal (128 + its number), if `e` is that.
 #[cfg(feature = "tui")]
 fn signalled(e: &anyhow::Error) -> Option<u8> {
@@ -57,6 +56,7 @@ fn signalled(_: &anyhow::Error) -> Option<u8> {
     None
 }
 
+/// Parses the command line and runs the command; the process's exit status.
 pub fn run() -> ExitCode {
     // The matches are kept beside the parsed flags: `plot` needs the order in which its
     // repeatable --model and --prb were given, which the derived struct loses.

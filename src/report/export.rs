@@ -100,6 +100,11 @@ pub fn export(scene: &Scene, args: &ExportArgs, ctl: &mut Control<'_>) -> Result
     let text = study
         .export(&name, &matrix, format, args.density)
         .map_err(input_error)?;
+    // Cancelled while the model was judged (a mechanism's judge has no token to stop it):
+    // nothing is written.
+    if ctl.cancel.is_cancelled() {
+        return Err(ReportError::solve("cancelled: nothing was written"));
+    }
     write_atomic(&args.output, text.as_bytes(), args.force)?;
     let out = ExportOutput {
         output: args.output.display().to_string(),

@@ -278,20 +278,24 @@ pub fn fea(scene: &Scene, args: &FeaArgs, ctl: &mut Control<'_>) -> Result<FeaRe
     .map_err(|e| {
         ReportError::failed_in(format!("the FEA (decks: {})", deck_names.join(", ")), &e)
     })?;
-    write_atomic(
-        &args.output,
-        fea::csv(&fea_cases, args.taper).as_bytes(),
-        args.force,
-    )?;
-
     let baseline = Baseline::solve(
         beam_model,
         &resolved.loads,
         Resolution::default(),
         &ctl.cancel,
         &mut |_, _| {},
-    )
-    .map_err(|e| ReportError::failed_in("the beam beside the FEA", &e))?;
+    );
+    // Cancelled (in CalculiX's runs or in the beam beside them): no CSV. The FEA's CSV is
+    // written even when the beam beside it fails: it is the FEA's result.
+    if ctl.cancel.is_cancelled() {
+        return Err(ReportError::solve("cancelled: no CSV was written"));
+    }
+    write_atomic(
+        &args.output,
+        fea::csv(&fea_cases, args.taper).as_bytes(),
+        args.force,
+    )?;
+    let baseline = baseline.map_err(|e| ReportError::failed_in("the beam beside the FEA", &e))?;
     let cases = compare(&fea_cases, &baseline, scene.beam.length);
     let max = |f: fn(&Case) -> f64| cases.iter().map(f).fold(0.0, f64::max);
     let report = FeaReport {

@@ -255,7 +255,10 @@ pub fn fea_mechanism(
         Duration::from_secs(args.timeout),
         &mut |path, _| progress(&Progress::Fea { path, paths: n }),
     );
-    // A cancelled run writes no CSV: its paths are cut short, and the caller discards it.
+    let beam = exact::solver(&beam_mechanism, Resolution::default())
+        .and_then(|s| s.with_cancel(&ctl.cancel).solve_all(&beam_mechanism));
+    // A cancelled run (in CalculiX's runs or in the beam mechanism beside them) writes no
+    // CSV: its paths are cut short, and the caller discards it.
     if ctl.cancel.is_cancelled() {
         return Err(ReportError::solve("cancelled: no CSV was written"));
     }
@@ -264,8 +267,6 @@ pub fn fea_mechanism(
         mech::mechanism_csv(mechanism, &run, args.taper).as_bytes(),
         args.force,
     )?;
-
-    let beam = exact::solve(&beam_mechanism, Resolution::default());
     let beam_effects = beam_mechanism
         .flexures
         .first()

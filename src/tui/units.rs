@@ -54,14 +54,13 @@ pub fn parse_quantity(text: &str, q: Quantity) -> Result<f64, String> {
         (Quantity::Pressure, "kPa") => 1e3,
         (Quantity::Pressure, "MPa") => 1e6,
         (Quantity::Pressure, "GPa") => 1e9,
-        (Quantity::Fraction, "%") => 1e-2,
+        (Quantity::Fraction, "%" | "%L") => 1e-2,
         (Quantity::Fraction, "L") => 1.0,
-        (Quantity::Angle, "rad") => 1.0,
-        (Quantity::Angle, "deg" | "°") => std::f64::consts::PI / 180.0,
         (Quantity::Fraction, u) => {
             return Err(format!("unknown unit `{u}` (a plain fraction, or %)"))
         }
-        (Quantity::Angle, u) => return Err(format!("unknown angle unit `{u}` (use rad or deg)")),
+        // Its own rule, shared with the mechanism panel's angles.
+        (Quantity::Angle, _) => return parse_angle(text, false),
         (Quantity::Length, u) => {
             return Err(format!(
                 "unknown length unit `{u}` (use m, cm, mm, um or nm)"
@@ -75,6 +74,22 @@ pub fn parse_quantity(text: &str, q: Quantity) -> Result<f64, String> {
         (Quantity::Plain, u) => return Err(format!("`{u}`: this value takes no unit")),
     };
     Ok(value * factor)
+}
+
+/// An angle typed in radians (`rad`) or degrees (`deg`, `°`), returned in radians; a bare
+/// number is in degrees when `bare_degrees` (the mechanism panel's angles), else in radians
+/// (an accuracy target, shown as `0.02 rad (1.146 deg)`).
+pub fn parse_angle(text: &str, bare_degrees: bool) -> Result<f64, String> {
+    let t = text.trim();
+    let (number, degrees) = if let Some(n) = t.strip_suffix("rad") {
+        (n, false)
+    } else if let Some(n) = t.strip_suffix("deg").or_else(|| t.strip_suffix('°')) {
+        (n, true)
+    } else {
+        (t, bare_degrees)
+    };
+    let v = parse_quantity(number, Quantity::Plain)?;
+    Ok(if degrees { v.to_radians() } else { v })
 }
 
 /// A compact engineering form for display: `50 mm`, `200 GPa`, `0.3`.

@@ -79,18 +79,25 @@ impl App {
     /// density: the scene's `[beam] density`, else, for a robot format, the one typed at the
     /// prompt; else none (a model file without masses, as the CLI writes it).
     pub fn export_job(&mut self, path: PathBuf, overwrite: bool) -> Job {
-        let robot = Format::from_path(&path).is_some_and(super::dialog::has_masses);
+        let typed = self.export_asks_density(&path);
         let density = self
             .edit
             .scene
             .beam
             .density
-            .or(robot.then_some(self.export_density));
+            .or(typed.then_some(self.export_density));
         self.job(JobKind::Export {
             path,
             density,
             overwrite,
         })
+    }
+
+    /// Whether an export to `path` takes the density typed at its prompt: a robot format
+    /// (MJCF, URDF, SDF: their links need masses) of a scene without `[beam] density`.
+    pub(super) fn export_asks_density(&self, path: &std::path::Path) -> bool {
+        Format::from_path(path).is_some_and(super::dialog::has_masses)
+            && self.edit.scene.beam.density.is_none()
     }
 
     /// The scene was replaced (opened from a file). Nothing is unsaved after an open. A

@@ -10,7 +10,6 @@ use crate::fit::Fidelity;
 use crate::prb::{Column, PrbMatrix};
 
 use super::super::keymap::{self, Action, Scope};
-use super::super::units::trim_number;
 use super::dialog::{text_action, TextKey};
 use super::{App, Command, EditTarget, PromptKind};
 
@@ -30,9 +29,15 @@ impl App {
             if question {
                 return self.prompt_key(key, ctrl_c, now);
             }
-            if !quit || self.prompt.is_some() || self.edit.editing.is_some() {
+            if !quit {
                 return Vec::new();
             }
+            // A text prompt or field edit open behind the note is dropped (its text was not
+            // accepted), then quitting asks as it always does.
+            self.prompt = None;
+            self.overwrite = None;
+            self.export_path = None;
+            self.edit.editing = None;
             self.request_quit();
             return Vec::new();
         }
@@ -65,6 +70,7 @@ impl App {
                     self.help_scroll = 0;
                 }
             }
+            self.help_scroll = self.help_scroll.min(self.help_scroll_max.get());
             return Vec::new();
         }
         if self.shown.selection_open() {
@@ -86,35 +92,29 @@ impl App {
         }
     }
 
-    /// A gamma typed into `row` is balanced by another segment's (the gammas sum to 1): say
-    /// which took the difference, and that it was fixed when no gamma was free to.
-    fn say_gamma_donor(&mut self, before: &PrbMatrix, row: usize) {
+    /// A gamma or mu typed into `row` is balanced by another segment's (each column sums to
+    /// 1): say which took the difference, as the panel shows its cells (SI or not), and that
+    /// it was fixed when none was free to.
+    fn say_donor(&mut self, before: &PrbMatrix, row: usize, col: Column) {
         let after = &self.edit.matrix;
-        let donor = (0..after.len()).find(|&i| {
-            i != row
-                && before
-                    .rows()
-                    .get(i)
-                    .zip(after.rows().get(i))
-                    .is_some_and(|(b, a)| b.gamma != a.gamma)
-        });
-        if let (Some(i), Some(b), Some(a)) = (
-            donor,
-            donor.and_then(|i| before.rows().get(i)),
-            donor.and_then(|i| after.rows().get(i)),
-        ) {
-            let fixed = if a.is_free(Column::Gamma) {
-                ""
-            } else {
-                " (fixed: no gamma was free to; f frees one to choose)"
-            };
-            self.set_info(format!(
-                "row {}'s gamma took the difference: {} -> {}{fixed}",
-                i + 1,
-                trim_number(b.gamma, 6),
-                trim_number(a.gamma, 6)
-            ));
-        }
+        let value = |m: &PrbMatrix, i: usize| m.rows().get(i).map(|r| r.get(col));
+        let Some(i) = (0..after.len()).find(|&i| i != row && value(before, i) != value(after, i))
+        else {
+            return;
+        };
+        let (state, beam) = (&self.edit.matrix_state, &self.edit.scene.beam);
+        let was = state.cell_text(before, beam, i, col);
+        let now = state.cell_text(after, beam, i, col);
+        let fixed = if after.rows()[i].is_free(col) {
+            ""
+        } else {
+            " (fixed: none was free to; f frees one to choose)"
+        };
+        self.set_info(format!(
+            "row {}'s {} took the difference: {was} -> {now}{fixed}",
+            i + 1,
+            col.name()
+        ));
     }
 
     /// Keys in the text box of the field being edited.
@@ -132,10 +132,10 @@ impl App {
                             self.clear_message();
                             if let EditTarget::Cell {
                                 row,
-                                col: Column::Gamma,
+                                col: col @ (Column::Gamma | Column::Mu),
                             } = target
                             {
-                                self.say_gamma_donor(&before, row);
+                                self.say_donor(&before, row, col);
                             }
                             self.jobs.changed(now);
                         }

@@ -58,6 +58,9 @@ pub struct App {
     pub help: bool,
     /// The help's first line shown (it scrolls where the terminal is too low for every key).
     pub help_scroll: u16,
+    /// The last first line the help could show when it was last drawn (its lines less those
+    /// that fit): scrolling stops there, so the way back is never dead keys.
+    pub help_scroll_max: std::cell::Cell<u16>,
     /// The last message.
     pub message: Option<(String, Tone)>,
     /// The loop should end.
@@ -91,6 +94,7 @@ impl App {
             prompt: None,
             help: false,
             help_scroll: 0,
+            help_scroll_max: std::cell::Cell::new(u16::MAX),
             message: None,
             quit: false,
             mono: false,

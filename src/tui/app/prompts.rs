@@ -6,11 +6,9 @@ use std::time::Instant;
 
 use ratatui::crossterm::event::{KeyCode, KeyEvent};
 
-use crate::format::Format;
-
 use super::super::keymap::Action;
 use super::super::units::trim_number;
-use super::dialog::{has_masses, parse_density, text_action, TextKey};
+use super::dialog::{parse_density, text_action, TextKey};
 use super::{App, Command, PromptKind};
 
 impl App {
@@ -91,9 +89,7 @@ impl App {
                     // gives it (`[beam] density`).
                     PromptKind::ExportModel | PromptKind::ExportMechanism => {
                         let path = PathBuf::from(text);
-                        if Format::from_path(&path).is_some_and(has_masses)
-                            && self.edit.scene.beam.density.is_none()
-                        {
+                        if self.export_asks_density(&path) {
                             self.export_path = Some(path);
                             let density = trim_number(self.export_density, 6);
                             self.open_prompt(PromptKind::ExportDensity, density);

@@ -71,16 +71,7 @@ pub(super) fn parse_point(text: &str, u: &MechUnits) -> Result<[f64; 2], String>
 
 /// An angle typed in degrees (bare or `deg`) or radians (`rad`), returned in radians.
 pub(super) fn parse_angle(text: &str) -> Result<f64, String> {
-    let t = text.trim();
-    let (number, radians) = if let Some(n) = t.strip_suffix("rad") {
-        (n, true)
-    } else if let Some(n) = t.strip_suffix("deg").or_else(|| t.strip_suffix('°')) {
-        (n, false)
-    } else {
-        (t, false)
-    };
-    let v = parse_quantity(number, Quantity::Plain)?;
-    Ok(if radians { v } else { v.to_radians() })
+    super::super::units::parse_angle(text, true)
 }
 
 /// A coordinate's end value typed in display units (mm, deg, N, N m) or with its own unit,

@@ -11,15 +11,17 @@ use super::super::app::App;
 use super::super::keymap::KEYMAP;
 use crate::text::sanitize_terminal;
 
-use super::parts::{centered, Palette, MIN_HEIGHT, MIN_WIDTH};
+use super::parts::{centered, wrap_words, Palette, MIN_HEIGHT, MIN_WIDTH};
 
 /// What the overlays draw.
 #[derive(Debug, Clone)]
-pub struct View {
+pub struct View<'a> {
     /// Show the help.
     pub help: bool,
     /// The help's first line shown (clamped to its length when drawn).
     pub help_scroll: u16,
+    /// Where the drawn help tells the app how far it can scroll.
+    pub help_scroll_max: &'a std::cell::Cell<u16>,
     /// An open prompt: its question and the text typed so far with the cursor drawn in
     /// (none for a yes/no question).
     pub prompt: Option<(&'static str, Option<String>)>,
@@ -27,12 +29,13 @@ pub struct View {
     pub pal: Palette,
 }
 
-impl View {
+impl<'a> View<'a> {
     /// The overlays of `app`.
-    pub fn new(app: &App) -> View {
+    pub fn new(app: &'a App) -> View<'a> {
         View {
             help: app.help,
             help_scroll: app.help_scroll,
+            help_scroll_max: &app.help_scroll_max,
             prompt: app.prompt.as_ref().map(|(kind, tb)| {
                 (
                     kind.question(),
@@ -45,9 +48,15 @@ impl View {
 }
 
 /// Draws the help, then the prompt, over whatever is in `area`.
-pub fn draw(frame: &mut Frame, area: Rect, view: &View) {
+pub fn draw(frame: &mut Frame, area: Rect, view: &View<'_>) {
     if view.help {
-        draw_help(frame, area, view.help_scroll, view.pal);
+        draw_help(
+            frame,
+            area,
+            view.help_scroll,
+            view.help_scroll_max,
+            view.pal,
+        );
     }
     if let Some((question, text)) = &view.prompt {
         draw_prompt(frame, area, question, text.as_deref(), view.pal);
@@ -69,7 +78,13 @@ pub fn draw_too_small(frame: &mut Frame, area: Rect, question: Option<&str>) {
     frame.render_widget(note, area);
 }
 
-fn draw_help(frame: &mut Frame, area: Rect, scroll: u16, pal: Palette) {
+fn draw_help(
+    frame: &mut Frame,
+    area: Rect,
+    scroll: u16,
+    scroll_max: &std::cell::Cell<u16>,
+    pal: Palette,
+) {
     // The keys' column, then each description wrapped under itself (a wrapped line used to
     // start at the border, under the keys).
     const KEYS: usize = 28;
@@ -90,6 +105,7 @@ fn draw_help(frame: &mut Frame, area: Rect, scroll: u16, pal: Palette) {
     let total = lines.len() as u16;
     let rect = centered(area, width, total + 2);
     let shown = rect.height.saturating_sub(2);
+    scroll_max.set(total.saturating_sub(shown));
     let scroll = scroll.min(total.saturating_sub(shown));
     let title = if shown < total {
         format!(
@@ -104,25 +120,6 @@ fn draw_help(frame: &mut Frame, area: Rect, scroll: u16, pal: Palette) {
     frame.render_widget(Clear, rect);
     let block = Block::default().borders(Borders::ALL).title(title);
     frame.render_widget(Paragraph::new(lines).block(block).scroll((scroll, 0)), rect);
-}
-
-/// `text` in lines of at most `width` characters, broken between words (a word longer than
-/// a line on a line of its own).
-fn wrap_words(text: &str, width: usize) -> Vec<String> {
-    let mut out = Vec::new();
-    let mut line = String::new();
-    for word in text.split_whitespace() {
-        let len = line.chars().count();
-        if len > 0 && len + 1 + word.chars().count() > width {
-            out.push(std::mem::take(&mut line));
-        }
-        if !line.is_empty() {
-            line.push(' ');
-        }
-        line.push_str(word);
-    }
-    out.push(line);
-    out
 }
 
 fn draw_prompt(frame: &mut Frame, area: Rect, question: &str, text: Option<&str>, pal: Palette) {

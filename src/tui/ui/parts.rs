@@ -123,3 +123,53 @@ pub fn equal_aspect_bounds(pts: &[(f64, f64)], area: Rect) -> ([f64; 2], [f64; 2
     let (hx, hy) = (per_dot * dots_x / 2.0, per_dot * dots_y / 2.0);
     ([cx - hx, cx + hx], [cy - hy, cy + hy])
 }
+
+/// `text` in lines of at most `width` characters, broken between words; a word longer than a
+/// line is broken at the width. The help and the message line wrap with it, and the message
+/// line is as high as the lines it gives.
+pub fn wrap_words(text: &str, width: usize) -> Vec<String> {
+    let width = width.max(1);
+    let mut out = Vec::new();
+    let mut line = String::new();
+    for word in text.split(' ').filter(|w| !w.is_empty()) {
+        let (len, w) = (line.chars().count(), word.chars().count());
+        if len > 0 && len + 1 + w > width {
+            out.push(std::mem::take(&mut line));
+        }
+        if !line.is_empty() {
+            line.push(' ');
+        }
+        let mut rest: Vec<char> = word.chars().collect();
+        while line.chars().count() + rest.len() > width {
+            let room = width - line.chars().count();
+            if room == 0 {
+                out.push(std::mem::take(&mut line));
+                continue;
+            }
+            line.extend(rest.drain(..room));
+            out.push(std::mem::take(&mut line));
+        }
+        line.extend(rest);
+    }
+    out.push(line);
+    out
+}
+
+#[cfg(test)]
+mod wrap_tests {
+    use crate::tui::ui::parts::wrap_words;
+
+    #[test]
+    fn words_wrap_to_the_width_and_long_words_break() {
+        assert_eq!(wrap_words("short", 20), vec!["short"]);
+        assert_eq!(wrap_words("aaaa bbbb", 5), vec!["aaaa", "bbbb"]);
+        assert_eq!(wrap_words("aaaa bbbb", 10), vec!["aaaa bbbb"]);
+        assert_eq!(
+            wrap_words("x abcdefghijkl", 5),
+            vec!["x", "abcde", "fghij", "kl"]
+        );
+        assert!(wrap_words("a b c d e f g h", 3)
+            .iter()
+            .all(|l| l.chars().count() <= 3));
+    }
+}

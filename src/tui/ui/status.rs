@@ -12,7 +12,7 @@ use std::borrow::Cow;
 use ratatui::layout::{Constraint, Direction, Layout, Rect};
 use ratatui::style::{Color, Modifier, Style};
 use ratatui::text::{Line, Span};
-use ratatui::widgets::{Paragraph, Wrap};
+use ratatui::widgets::Paragraph;
 use ratatui::Frame;
 
 use crate::fit::Fidelity;
@@ -25,7 +25,7 @@ use super::super::app::{Activity, App, Tone};
 use super::super::keymap;
 use super::super::units::trim_number;
 use super::super::worker::ModelView;
-use super::parts::{Palette, MEASURED_COLOR};
+use super::parts::{wrap_words, Palette, MEASURED_COLOR};
 
 /// What the title line draws.
 #[derive(Debug, Clone)]
@@ -221,37 +221,20 @@ fn figure_lines(view: &View) -> u16 {
         + u16::from(view.modes.is_some())
 }
 
-/// The message's lines at `width`: wrapped, so its end (usually the part saying why) is not
-/// cut at the terminal's edge, up to [`MAX_MESSAGE_LINES`]; one (kept blank) without one.
-fn message_lines(view: &View, width: u16) -> u16 {
+/// The message wrapped to `width` (its end, usually the part saying why, is not cut at the
+/// terminal's edge), at most [`MAX_MESSAGE_LINES`] lines.
+fn message_text(view: &View, width: u16) -> Vec<String> {
     let Some((m, _)) = view.message else {
-        return 1;
+        return Vec::new();
     };
-    let text = format!(" {}", sanitize_terminal(m));
-    let lines = wrapped_lines(&text, usize::from(width.max(1)));
-    u16::try_from(lines.clamp(1, MAX_MESSAGE_LINES)).unwrap_or(1)
+    let mut lines = wrap_words(&sanitize_terminal(m), usize::from(width.max(2)) - 1);
+    lines.truncate(MAX_MESSAGE_LINES);
+    lines
 }
 
-/// How many lines `text` takes wrapped at word boundaries to `width` columns (a word longer
-/// than a line is broken), as the message's paragraph wraps it.
-fn wrapped_lines(text: &str, width: usize) -> usize {
-    let (mut lines, mut used) = (1, 0);
-    for word in text.split(' ') {
-        let w = word.chars().count();
-        // The space before the word, unless it starts a line.
-        let need = if used == 0 { w } else { used + 1 + w };
-        if need <= width {
-            used = need;
-        } else if w <= width {
-            lines += 1;
-            used = w;
-        } else {
-            // On lines of its own, broken at the width.
-            lines += usize::from(used > 0) + (w - 1) / width;
-            used = w - (w - 1) / width * width;
-        }
-    }
-    lines
+/// The message's lines at `width`; one (kept blank) without one.
+fn message_lines(view: &View, width: u16) -> u16 {
+    u16::try_from(message_text(view, width).len().max(1)).unwrap_or(1)
 }
 
 /// At most this many lines of message.
@@ -383,17 +366,16 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View) {
         .constraints([Constraint::Length(figure_lines(view)), Constraint::Min(1)])
         .split(area);
     frame.render_widget(Paragraph::new(lines), parts[0]);
-    if let Some((m, tone)) = view.message {
+    if let Some((_, tone)) = view.message {
         let style = match tone {
             Tone::Error => pal.fg(Color::Red),
             Tone::Info => Style::default(),
         };
-        let message = Paragraph::new(Line::from(Span::styled(
-            format!(" {}", sanitize_terminal(m)),
-            style,
-        )))
-        .wrap(Wrap { trim: false });
-        frame.render_widget(message, parts[1]);
+        let message: Vec<Line> = message_text(view, area.width)
+            .into_iter()
+            .map(|l| Line::from(Span::styled(format!(" {l}"), style)))
+            .collect();
+        frame.render_widget(Paragraph::new(message), parts[1]);
     }
 }
 
@@ -511,17 +493,7 @@ pub fn draw_hints(frame: &mut Frame, area: Rect, view: &HintsView) {
 
 #[cfg(test)]
 mod tests {
-    use crate::tui::ui::status::{against, wrapped_lines};
-
-    #[test]
-    fn wrapped_lines_count_words_to_the_width() {
-        assert_eq!(wrapped_lines(" short", 20), 1);
-        // " aaaa bbbb" in 5 columns: " aaaa" then "bbbb".
-        assert_eq!(wrapped_lines(" aaaa bbbb", 5), 2);
-        assert_eq!(wrapped_lines(" aaaa bbbb", 10), 1);
-        // A word longer than a line, broken: 12 characters in 5 columns after " x".
-        assert_eq!(wrapped_lines(" x abcdefghijkl", 5), 4);
-    }
+    use crate::tui::ui::status::against;
 
     #[test]
     fn a_figure_and_its_target_never_read_the_same_unless_equal() {
