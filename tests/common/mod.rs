@@ -391,3 +391,31 @@ pub fn dense_parallel_stage(mass: f64, inertia: f64) -> String {
         1,
     )
 }
+
+/// Runs an FEA report (`fea` or `fea_mechanism`, given as `run`) on `output` at mesh 10 in
+/// plane stress, cancelling as soon as its first path's CalculiX run is done; returns whether
+/// it reported a result and how many paths it had done.
+pub fn fea_cancelled_after_its_first_path<T, E>(
+    output: &str,
+    run: impl FnOnce(&prbfit::report::fea::FeaArgs, &mut prbfit::report::Control<'_>) -> Result<T, E>,
+) -> (bool, usize) {
+    use prbfit::report::{Control, Progress};
+    let mut args = prbfit::report::fea::FeaArgs::new(output.into());
+    args.mesh = 10;
+    args.section = Some(prbfit::fea::Section::PlaneStress);
+    let cancel = prbfit::fit::CancelToken::new();
+    let on_path = cancel.clone();
+    let mut paths_done = 0;
+    let mut progress = |p: &Progress<'_>| {
+        if let Progress::Fea { path, .. } = p {
+            paths_done = *path;
+            on_path.cancel();
+        }
+    };
+    let mut ctl = Control {
+        cancel,
+        progress: &mut progress,
+    };
+    let reported = run(&args, &mut ctl).is_ok();
+    (reported, paths_done)
+}

@@ -34,9 +34,7 @@ impl App {
             }
             // A text prompt or field edit open behind the note is dropped (its text was not
             // accepted), then quitting asks as it always does.
-            self.prompt = None;
-            self.overwrite = None;
-            self.export_path = None;
+            self.drop_prompt();
             self.edit.editing = None;
             self.request_quit();
             return Vec::new();

@@ -12,6 +12,13 @@ use super::dialog::{parse_density, text_action, TextKey};
 use super::{App, Command, PromptKind};
 
 impl App {
+    /// Closes the open prompt unanswered, with what waited on it (a write, an export path).
+    pub(super) fn drop_prompt(&mut self) {
+        self.prompt = None;
+        self.overwrite = None;
+        self.export_path = None;
+    }
+
     /// Keys while a prompt is open (`ctrl_c`: the key is Ctrl-C).
     pub(super) fn prompt_key(&mut self, key: KeyEvent, ctrl_c: bool, now: Instant) -> Vec<Command> {
         let Some((kind, tb)) = &mut self.prompt else {
@@ -51,10 +58,7 @@ impl App {
             return Vec::new();
         }
         match text_action(&key) {
-            TextKey::Action(Action::TextCancel) => {
-                self.prompt = None;
-                self.export_path = None;
-            }
+            TextKey::Action(Action::TextCancel) => self.drop_prompt(),
             TextKey::Action(Action::TextAccept) => {
                 let text = tb.text.trim().to_string();
                 self.prompt = None;

@@ -97,7 +97,7 @@ fn draw_help(
         for (i, part) in wrap_words(e.does, room).into_iter().enumerate() {
             let keys = if i == 0 { e.keys } else { "" };
             lines.push(Line::from(vec![
-                Span::styled(format!(" {keys:<27}"), pal.fg(Color::Cyan)),
+                Span::styled(format!(" {keys:<w$}", w = KEYS - 1), pal.fg(Color::Cyan)),
                 Span::raw(part),
             ]));
         }

@@ -33,6 +33,13 @@ pub fn columns(mechanism: bool) -> (&'static [&'static str], &'static [u16]) {
     }
 }
 
+/// The widths of the table's model and topology columns, its degrees of freedom, its timings
+/// (us/case, fit ms), and the room its verdict wants (`not met <- closest`).
+const NAMES: [u16; 2] = [11, 11];
+const DOF: [u16; 1] = [4];
+const TIMINGS: [u16; 2] = [8, 7];
+const VERDICT: u16 = 18;
+
 /// A row's cells under [`columns`].
 pub fn cells_of(figures: &Figures, mechanism: bool) -> Vec<String> {
     let mut out = vec![format!("{:.3e}", figures.objective)];
@@ -112,11 +119,12 @@ pub fn draw(frame: &mut Frame, area: Rect, v: &View<'_>) {
     // Where the table is narrower than its columns, the timings go first, then the degrees
     // of freedom, so the figures, the topologies and the verdict keep their width (squeezed,
     // J lost its exponent and the 3R, 4R and 5R all read "L-R-").
-    let figures_width: u16 = column_widths.iter().map(|w| w + 1).sum();
+    // The room a set of columns takes: each width and the space after it.
+    let span = |widths: &[u16]| -> u16 { widths.iter().map(|w| w + 1).sum() };
     let room = area.width.saturating_sub(2);
-    let full = 11 + 1 + 11 + 1 + 5 + figures_width + 9 + 8 + 18;
-    let timings = room >= full;
-    let dof = room >= full - 17;
+    let kept = span(&NAMES) + span(column_widths) + VERDICT;
+    let dof = room >= kept + span(&DOF);
+    let timings = room >= kept + span(&DOF) + span(&TIMINGS);
     let header_cells: Vec<&str> = ["model", "topology"]
         .into_iter()
         .chain(dof.then_some("dof"))
@@ -168,11 +176,11 @@ pub fn draw(frame: &mut Frame, area: Rect, v: &View<'_>) {
             Row::new(cells).style(style)
         })
         .collect();
-    let widths: Vec<Constraint> = [11, 11]
+    let widths: Vec<Constraint> = NAMES
         .iter()
-        .chain(if dof { &[4][..] } else { &[][..] })
+        .chain(if dof { &DOF[..] } else { &[][..] })
         .chain(column_widths)
-        .chain(if timings { &[8, 7][..] } else { &[][..] })
+        .chain(if timings { &TIMINGS[..] } else { &[][..] })
         .map(|&w| Constraint::Length(w))
         .chain(std::iter::once(Constraint::Min(8)))
         .collect();
