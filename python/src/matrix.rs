@@ -44,6 +44,12 @@ impl Matrix {
     }
 }
 
+/// A float32 value as the float64 of its shortest decimal (the digits that read back as the
+/// same float32): `inf` and NaN stay what they are.
+fn single_as_typed(x: f32) -> f64 {
+    x.to_string().parse().unwrap_or(f64::from(x))
+}
+
 /// Rows (a numpy array or a list of lists) as a matrix; `fixed` marks the cells that stay.
 /// A numpy array must be `(N, 3)` or `(N, 4)`; each row of a list has 3 or 4 entries (mixed
 /// widths are the matrix's own error: every row gives a mu or none does).
@@ -65,16 +71,29 @@ fn rows_matrix(
                 ),
             ));
         }
-        let floats = a
-            .call_method1("astype", ("float64",))
-            .map_err(|_| errors::input(argument, "expected an array of numbers"))?;
-        let a: PyReadonlyArray2<'_, f64> = floats
-            .extract()
-            .map_err(|_| errors::input(argument, "expected an array of numbers"))?;
-        let view = a.as_array();
-        (0..shape[0])
-            .map(|i| (0..shape[1]).map(|j| view[[i, j]]).collect())
-            .collect()
+        if let Ok(single) = value.extract::<PyReadonlyArray2<'_, f32>>() {
+            // A float32 entry is read as the decimal it prints as (numpy's repr): 0.1 is
+            // 0.1, not 0.10000000149011612, so gammas that sum to 1 as typed still do.
+            let view = single.as_array();
+            (0..shape[0])
+                .map(|i| {
+                    (0..shape[1])
+                        .map(|j| single_as_typed(view[[i, j]]))
+                        .collect()
+                })
+                .collect()
+        } else {
+            let floats = a
+                .call_method1("astype", ("float64",))
+                .map_err(|_| errors::input(argument, "expected an array of numbers"))?;
+            let a: PyReadonlyArray2<'_, f64> = floats
+                .extract()
+                .map_err(|_| errors::input(argument, "expected an array of numbers"))?;
+            let view = a.as_array();
+            (0..shape[0])
+                .map(|i| (0..shape[1]).map(|j| view[[i, j]]).collect())
+                .collect()
+        }
     } else {
         value.extract::<Vec<Vec<f64>>>().map_err(|_| {
             errors::input(

@@ -38,6 +38,23 @@ def test_matrix_text_numpy_topology_and_fixed_cells():
     assert len(prbfit.Matrix.from_topology("3R")) == 4
 
 
+def test_a_float32_array_is_read_as_its_entries_print():
+    # 0.1, 0.35, 0.4, 0.15 in float32 sum to 1 + 7.5e-9 as float64: past the gamma rule's
+    # 1e-9, they were refused. They are read as the decimals numpy prints.
+    su = "0.1,inf,inf; 0.35,3.51,inf; 0.4,2.99,inf; 0.15,2.58,inf"
+    rows = np.array([[0.1, np.inf, np.inf], [0.35, 3.51, np.inf], [0.4, 2.99, np.inf],
+                     [0.15, 2.58, np.inf]], dtype=np.float32)
+    assert abs(rows[:, 0].astype(np.float64).sum() - 1.0) > 1e-9
+    assert prbfit.Matrix(rows) == prbfit.Matrix.parse(su)
+    sc = prbfit.Scene.builtin()
+    sc.matrix = rows
+    assert sc.matrix == prbfit.Matrix.parse(su)
+    # What is off in float32 is still refused, by the rule's own message.
+    rows[0, 0] = 0.2
+    with pytest.raises(prbfit.InputError, match="gammas must sum to 1"):
+        prbfit.Matrix(rows)
+
+
 def test_matrix_mu_column_is_kept_where_given():
     m = prbfit.Matrix.parse("0.1,inf,inf,0.3; 0.9,2.2,inf,0.7!")
     assert m.has_mu and m.text == "0.1,inf,inf,0.3; 0.9,2.2,inf,0.7!"
