@@ -11,16 +11,18 @@ measured that way. The earlier bars are issue 2's and issue 4's:
 - the stage's "scipy shooting solver" is named but not described: here it is the shooting
   solver a designer writes first, MINPACK's hybrd (`scipy.optimize.fsolve`, its own
   forward-difference Jacobian) on the same four unknowns as parallelogram.py, each residual one
-  `solve_ivp` (DOP853, the same tolerances) of both flexures, each case started from the
-  previous one's solution.
+  `solve_ivp` (DOP853, the same tolerances) of both flexures, each case started from a linear
+  extrapolation of the two before.
 
-Each program here reuses the formulation of the competent job beside it (beam.py, fit3r.py,
+Each program reuses the formulation of the competent job beside it (beam.py, fit3r.py,
 parallelogram.py: the same right-hand sides, analytic Jacobians where the bar allows them, the
 same batched PRB equilibria); only what the bar names differs (a solve from rest, Nelder-Mead,
-fsolve), so each is at least as fast as the program the bar timed. Each is checked against
-prbfit's answers as its job is. `calibrate` prints the figures the bars quote (one solve at
-alpha_y = 3; the whole fit) so a run shows whether this machine and these programs reproduce
-them.
+fsolve). Where a reader of the bar has a choice, the fastest that keeps the answers was taken
+(a review timed the alternatives: 11, 51 or 101 starting nodes; Nelder-Mead's tolerances;
+fsolve's tolerance, difference step and start). The fit is also timed with Nelder-Mead stopped
+as early as the 2 % goal allows, since prbfit's side is its fastest fidelity within 2 %. Each
+is checked against prbfit's answers as its job is. The calibration line of each job gives the
+figure its bar quotes, measured here.
 
 The competent jobs (run.py's table) are the harder yardstick; these are the issue's.
 
@@ -44,15 +46,45 @@ import fit3r
 import parallelogram
 
 
+LOOSE_XATOL = 1e-2  # Nelder-Mead stopped as early as the 2 % goal allows (J +0.8 % here)
+
+
+def max_difference(mine, theirs):
+    """Largest |difference| of two equally long lists of equally long tuples; inf on any NaN
+    or a length mismatch, so that no comparison passes by having nothing to compare."""
+    if len(mine) != len(theirs) or not mine:
+        return math.inf
+    worst = 0.0
+    for u, v in zip(mine, theirs):
+        if len(u) != len(v):
+            return math.inf
+        for a, b in zip(u, v):
+            d = abs(a - b)
+            if not d <= worst:
+                worst = d if d == d else math.inf
+    return worst
+
+
+def check_loads(loads, cases):
+    """prbfit's cases are `loads` (alpha_x, alpha_y, beta), in order."""
+    if len(loads) != len(cases) or any(
+            max(abs(c["load"]["alpha_x"] - l[0]), abs(c["load"]["alpha_y"] - l[1]),
+                abs(c["load"]["beta"] - l[2])) > 1e-12 for l, c in zip(loads, cases)):
+        raise RuntimeError("prbfit's cases are not the scene's loads in order")
+
+
 # --- the beam: every case its own solve, from the straight beam (issue 2's bar) ---
 
+START_NODES = 51  # the fastest cold start of 11, 51 and 101 nodes (101 loses accuracy: 6e-9)
+
+
 def solve_from_rest(load, tol=beam.TOL):
-    """One elastica case by solve_bvp from the straight beam on 11 nodes: the tip (a, b, phi).
+    """One elastica case by solve_bvp from the straight beam on 51 nodes: the tip (a, b, phi).
 
     beam.py's formulation (moment as a state, local boundary conditions, analytic Jacobians);
     only the start differs: the straight beam, not the previous case."""
     ax, ay, beta = load
-    s = np.linspace(0.0, 1.0, 11)
+    s = np.linspace(0.0, 1.0, START_NODES)
     guess = np.vstack([s, np.zeros_like(s), np.zeros_like(s), np.zeros_like(s)])
 
     def rhs(_s, y):
@@ -90,13 +122,14 @@ def beam_job(binary, repeats, prbfit_repeats):
     if len(cases) != n:
         raise RuntimeError(f"prbfit solved {len(cases)} cases, expected {n}")
     loads = [c for p in paths for c in p]
+    check_loads(loads, cases)
     scipy_time, tips = common.best_of(repeats, lambda: [solve_from_rest(c) for c in loads])
-    diff = beam.max_tip_difference(tips, cases)
+    diff = max_difference(tips, [(c["a"], c["b"], c["phi"]) for c in cases])
     one, _ = common.best_of(max(repeats, 10), lambda: solve_from_rest((0.0, 3.0, 0.0)))
     return {
         "job": f"beam, {n} cases (elastica, 4 paths x {beam.STEPS})",
         "prbfit_wall": wall, "prbfit_own": own, "scipy": scipy_time, "goal": 1000,
-        "bar": "issue 2: solve_bvp tol 1e-8, a solve from the straight beam",
+        "bar": f"issue 2: solve_bvp tol 1e-8, a solve from the straight beam on {START_NODES} nodes",
         "calibration": f"one solve at alpha_y = 3: {common.fmt_seconds(one)} (issue 2: about 11 ms)",
         "agreement": f"max tip diff {diff:.1e} L/rad",
         "agree": diff < 1e-6,
@@ -106,22 +139,23 @@ def beam_job(binary, repeats, prbfit_repeats):
 
 # --- the fit: Nelder-Mead on J over warm-started equilibria (issue 4's bar) ---
 
-def nelder_mead_fit(chain, start):
+def nelder_mead_fit(chain, start, xatol=None):
     """scipy.optimize.minimize(method="Nelder-Mead") on J from `start` (matrix text).
 
     The six free cells as fit3r.py's least_squares sees them (g2, g3, g4, k2, k3, k4; g1 the
     rest of 1); J by fit3r's Chain (batched Newton equilibria, warm-started along each path, a
-    finite penalty for a model that cannot follow). Tolerances well below the 2 % the job
-    asks for (J ~ 7e-5 here: fatol 1e-12 is 1.5e-8 of it). Returns (matrix text, J, result)."""
+    finite penalty for a model that cannot follow). scipy's default tolerances (they reach the
+    least-squares optimum's J to four digits), or a looser `xatol`. Returns (matrix text, J,
+    result)."""
     gammas, springs = fit3r.parse_matrix(start)
     x0 = np.array(gammas[1:] + springs)
 
     def unpack(x):
         return [1.0 - x[0] - x[1] - x[2]] + list(x[:3]), list(x[3:])
 
+    options = {} if xatol is None else {"xatol": xatol}
     result = minimize(lambda x: chain.objective(*unpack(x)), x0, method="Nelder-Mead",
-                      options={"xatol": 1e-8, "fatol": 1e-12, "maxfev": 100000,
-                               "maxiter": 100000})
+                      options=options)
     gammas, springs = unpack(result.x)
     return fit3r.matrix_text(gammas, springs), float(result.fun), result
 
@@ -132,24 +166,30 @@ def fit_job(binary, repeats, prbfit_repeats):
         common.elastica_scene(common.DEFAULT_PATHS, fit3r.STEPS,
                               "built-in beam, elastica, 20 cases"), "fit-20.toml")
 
-    def scipy_side():
+    def scipy_side(xatol=None):
         t0 = time.perf_counter()
         tips = beam.solve_all(paths)
         chain = fit3r.Chain(paths, tips)
-        matrix, j, result = nelder_mead_fit(chain, fit3r.SU_3R)
+        matrix, j, result = nelder_mead_fit(chain, fit3r.SU_3R, xatol)
         return time.perf_counter() - t0, matrix, j, result, chain
 
     runs = [scipy_side() for _ in range(repeats)]
     scipy_time = min(r[0] for r in runs)
     _, _, j_nm, result, chain = runs[-1]
+    # The same script stopped as early as the goal allows (a looser xatol, J within 2 %).
+    loose = [scipy_side(LOOSE_XATOL) for _ in range(repeats)]
+    loose_time = min(r[0] for r in loose)
+    j_loose, loose_nfev = loose[-1][2], loose[-1][3].nfev
     # The truth both sides fit to: prbfit's own baseline against scipy's tips.
     _, _, solved = common.run_prbfit(binary, ["solve", "--scene", scene, "--json"], 1)
-    truth_diff = beam.max_tip_difference(
-        [tuple(t) for t in chain.tips.reshape(-1, 3)], solved["cases"])
+    check_loads([c for p in paths for c in p], solved["cases"])
+    truth_diff = max_difference([tuple(t) for t in chain.tips.reshape(-1, 3)],
+                                [(c["a"], c["b"], c["phi"]) for c in solved["cases"]])
     # The optimum the goal is stated at: the competent job's least_squares.
     _, j_opt, _ = fit3r.fit(chain, fit3r.SU_3R)
-    if j_nm > 1.02 * j_opt:
-        raise RuntimeError(f"Nelder-Mead stopped at J {j_nm:.4e}, not within 2 % of {j_opt:.4e}")
+    for j in (j_nm, j_loose):
+        if not j <= 1.02 * j_opt:
+            raise RuntimeError(f"Nelder-Mead stopped at J {j:.4e}, not within 2 % of {j_opt:.4e}")
     tried = []
     for fidelity in ["draft", "normal"]:
         walls, owns = [], []
@@ -174,8 +214,12 @@ def fit_job(binary, repeats, prbfit_repeats):
         "prbfit_wall": chosen["wall"], "prbfit_own": chosen["own"], "scipy": scipy_time,
         "goal": 1000,
         "bar": (f"issue 4: truth (solve_bvp) + Nelder-Mead on J over warm-started equilibria "
-                f"({result.nfev} evaluations)"),
+                f"(scipy's defaults: {result.nfev} evaluations)"),
         "calibration": (f"the whole fit {common.fmt_seconds(scipy_time)} (issue 4: about 6 s); "
+                        f"stopped as early as the goal allows (xatol {LOOSE_XATOL:g}: "
+                        f"{loose_nfev} evaluations, J {100 * (j_loose / j_opt - 1):+.1f} %) "
+                        f"{common.fmt_seconds(loose_time)}, "
+                        f"{loose_time / chosen['own']:.0f}x prbfit {chosen['fidelity']}; "
                         f"prbfit by fidelity: {by}"),
         "agreement": (f"J: least_squares optimum {j_opt:.4e}, Nelder-Mead {j_nm:.4e} "
                       f"({100 * (j_nm / j_opt - 1):+.1f} %), prbfit {chosen['fidelity']} "
@@ -209,16 +253,28 @@ def shoot_once(stage, unknowns, load):
 
 
 def fsolve_drive(stage, end, steps):
-    """Every case of one drive by fsolve, each from the previous case's unknowns."""
-    x = np.zeros(4)
+    """Every case of one drive by fsolve (its default xtol; a difference step of 1e-5 for
+    unknowns of order 1), each from a linear extrapolation of the previous two cases, its pose
+    that of the evaluation at the solution (one more shot only where fsolve's last evaluation
+    was elsewhere)."""
+    prev = prev2 = np.zeros(4)
     poses = []
     for k in range(1, steps + 1):
         load = end * k / steps
-        x, info, ier, msg = fsolve(lambda u: shoot_once(stage, u, load)[0], x, xtol=1e-12,
-                                   full_output=True)
+        last = {}
+
+        def residual(u):
+            eqs, pose = shoot_once(stage, u, load)
+            last["x"], last["pose"] = u.copy(), pose
+            return eqs
+
+        guess = 2.0 * prev - prev2 if k > 1 else prev
+        x, _info, ier, msg = fsolve(residual, guess, epsfcn=1e-10, full_output=True)
         if ier != 1:
             raise RuntimeError(f"fsolve found no equilibrium at drive load {load}: {msg}")
-        poses.append(shoot_once(stage, x, load)[1])
+        poses.append(last["pose"] if np.array_equal(last["x"], x)
+                     else shoot_once(stage, x, load)[1])
+        prev2, prev = prev, x
     return poses
 
 
@@ -234,12 +290,16 @@ def stage_job(binary, repeats, prbfit_repeats):
         repeats, lambda: [p for end in stage.drives for p in fsolve_drive(stage, end, steps)])
     if len(cases) != len(poses):
         raise RuntimeError(f"prbfit solved {len(cases)} cases, expected {len(poses)}")
-    diff = max(max(abs(u - v) for u, v in zip(mine, case["stage"]))
-               for mine, case in zip(poses, cases))
+    loads = [end * k / steps for end in stage.drives for k in range(1, steps + 1)]
+    if not max(float(np.max(np.abs(l - np.array(c["stage_load"])))) for l, c in
+               zip(loads, cases)) <= 1e-9:
+        raise RuntimeError("prbfit's cases are not the drives' loads in order")
+    diff = max_difference(poses, [c["stage"] for c in cases])
     return {
         "job": f"parallel stage, {len(poses)} cases (2 drives x {steps})",
         "prbfit_wall": wall, "prbfit_own": own, "scipy": scipy_time, "goal": 3000,
-        "bar": "the shooting solver: fsolve (hybrd) on 4 unknowns, solve_ivp DOP853 rtol 1e-9",
+        "bar": ("the shooting solver: fsolve (hybrd) on 4 unknowns, solve_ivp DOP853 rtol 1e-9, "
+                "each case from the last two"),
         "calibration": f"{common.fmt_seconds(scipy_time / len(poses))} a case",
         "agreement": f"max stage diff {diff:.1e} L/rad",
         "agree": diff < 1e-6,
