@@ -294,10 +294,31 @@ fn ui_ends_when_its_terminal_is_killed_mid_fit() {
         return;
     }
     let session = format!("prbfit-hangup-fit-{}", std::process::id());
-    let scene = concat!(
+    // The steel flexure with ten times the steps (240 cases): its precise 3R fit lasts
+    // seconds, where the shipped scene's now takes about 0.2 s, shorter than the pane's
+    // polling may see.
+    let dir = std::env::temp_dir().join(format!("prbfit-hangup-fit-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let shipped = std::fs::read_to_string(concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/assets/scenes/steel-flexure.toml"
+    ))
+    .unwrap();
+    let mut text = String::new();
+    for line in shipped.lines() {
+        match line.strip_prefix("steps = ") {
+            Some(steps) => text += &format!("steps = {}0\n", steps.trim()),
+            None => text += &format!("{line}\n"),
+        }
+    }
+    assert!(
+        text.contains("steps = 40"),
+        "the scene's steps were not scaled"
     );
+    let scene_path = dir.join("steel-many.toml");
+    std::fs::write(&scene_path, text).unwrap();
+    let scene = scene_path.to_str().unwrap();
     start_ui(&session, &["tui", scene]);
     wait_for(&session, "the UI", |s| s.contains("PRB matrix"));
     let keys = |k: &[&str]| {
@@ -342,10 +363,11 @@ fn ui_ends_when_its_terminal_is_killed_mid_fit() {
     });
     keys(&["r"]);
     wait_for(&session, "the precise fit running", |s| {
-        s.contains("fitting it") || s.contains("working...")
+        s.contains("fitting ·") || s.contains("working...")
     });
     let pid = ui_pid(&session);
     kill_terminal_and_wait(&session, pid, "mid-fit");
+    let _ = std::fs::remove_dir_all(&dir);
 }
 
 /// Sends keys to the session's pane.
