@@ -1064,7 +1064,7 @@ fn a_length_past_the_slenderness_limit_is_refused_naming_the_length() {
     let before = app.edit.scene.beam.length;
     let e = app
         .edit
-        .apply_edit(&EditTarget::Beam(BeamField::Length), "1000")
+        .apply_edit(&EditTarget::Beam(BeamField::Length), "1000 m")
         .unwrap_err();
     assert!(
         e.starts_with("beam.length (against the thickness): slenderness"),
@@ -1073,9 +1073,48 @@ fn a_length_past_the_slenderness_limit_is_refused_naming_the_length() {
     assert_eq!(app.edit.scene.beam.length, before);
     let e = app
         .edit
-        .apply_edit(&EditTarget::Beam(BeamField::Thickness), "1")
+        .apply_edit(&EditTarget::Beam(BeamField::Thickness), "1 m")
         .unwrap_err();
     assert!(e.starts_with("beam.thickness:"), "{e}");
+}
+
+/// The first key typed replaces the shown `50 mm`, so `45` is typed bare: as SI it would be
+/// a 45 m beam, silently (slenderness 90000 is within the limits). It is refused with both
+/// readings; with a unit, or a bare SI value near the present one, it is taken.
+#[test]
+fn a_bare_number_meant_in_the_shown_unit_is_not_taken_as_metres() {
+    use prbfit::tui::app::EditTarget;
+    use prbfit::tui::state::beam::BeamField;
+    let mut app = app();
+    let length = EditTarget::Beam(BeamField::Length);
+    let before = app.edit.scene.beam.length;
+    assert_eq!(before, 0.05);
+    let e = app.edit.apply_edit(&length, "45").unwrap_err();
+    assert!(
+        e.contains("`45` has no unit, so it is SI: 45 m") && e.contains("`45 mm`"),
+        "{e}"
+    );
+    assert_eq!(app.edit.scene.beam.length, before);
+    app.edit.apply_edit(&length, "45 mm").unwrap();
+    assert_eq!(app.edit.scene.beam.length, 0.045);
+    app.edit.apply_edit(&length, "0.04").unwrap();
+    assert_eq!(app.edit.scene.beam.length, 0.04);
+    let modulus = EditTarget::Beam(BeamField::YoungsModulus);
+    assert!(app.edit.apply_edit(&modulus, "70").is_err());
+    app.edit.apply_edit(&modulus, "70e9").unwrap();
+    assert_eq!(app.edit.scene.beam.youngs_modulus, 70e9);
+    // The matrix's SI view shows gammas in mm too (segment 1 of Su's 3R: 0.1 of 40 mm).
+    app.edit.matrix =
+        PrbMatrix::parse("0.1,inf,inf; 0.35,3.51,inf; 0.4,2.99,inf; 0.15,2.58,inf").unwrap();
+    app.edit.matrix_state.si = true;
+    let gamma = EditTarget::Cell {
+        row: 0,
+        col: prbfit::prb::Column::Gamma,
+    };
+    let e = app.edit.apply_edit(&gamma, "5").unwrap_err();
+    assert!(e.contains("`5` has no unit, so it is SI: 5 m"), "{e}");
+    app.edit.apply_edit(&gamma, "5 mm").unwrap();
+    assert!((app.edit.matrix.rows()[0].gamma - 0.125).abs() < 1e-12);
 }
 
 /// A typed gamma is balanced by another segment's (the gammas sum to 1); the message says

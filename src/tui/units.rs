@@ -94,32 +94,51 @@ pub fn parse_angle(text: &str, bare_degrees: bool) -> Result<f64, String> {
 
 /// A compact engineering form for display: `50 mm`, `200 GPa`, `0.3`.
 pub fn format_quantity(value: f64, q: Quantity) -> String {
-    let (scaled, unit) = match q {
-        Quantity::Plain | Quantity::Fraction | Quantity::Angle => return trim_number(value, 6),
-        Quantity::Length => {
-            let a = value.abs();
-            if a >= 1.0 {
-                (value, "m")
-            } else if a >= 1e-3 {
-                (value * 1e3, "mm")
-            } else {
-                (value * 1e6, "um")
-            }
-        }
-        Quantity::Pressure => {
-            let a = value.abs();
-            if a >= 1e9 {
-                (value * 1e-9, "GPa")
-            } else if a >= 1e6 {
-                (value * 1e-6, "MPa")
-            } else if a >= 1e3 {
-                (value * 1e-3, "kPa")
-            } else {
-                (value, "Pa")
-            }
-        }
+    match shown_unit(value, q) {
+        Some((unit, size)) => format!("{} {unit}", trim_number(value / size, 6)),
+        None => trim_number(value, 6),
+    }
+}
+
+/// The unit [`format_quantity`] shows `value` in, and its size in SI (`None` for a kind
+/// without units).
+fn shown_unit(value: f64, q: Quantity) -> Option<(&'static str, f64)> {
+    let a = value.abs();
+    Some(match q {
+        Quantity::Plain | Quantity::Fraction | Quantity::Angle => return None,
+        Quantity::Length if a >= 1.0 => ("m", 1.0),
+        Quantity::Length if a >= 1e-3 => ("mm", 1e-3),
+        Quantity::Length => ("um", 1e-6),
+        Quantity::Pressure if a >= 1e9 => ("GPa", 1e9),
+        Quantity::Pressure if a >= 1e6 => ("MPa", 1e6),
+        Quantity::Pressure if a >= 1e3 => ("kPa", 1e3),
+        Quantity::Pressure => ("Pa", 1.0),
+    })
+}
+
+/// [`parse_quantity`] of a value typed over `shown` (SI), which the field shows in its unit
+/// (`40 mm`). A bare number is SI, as everywhere; but a bare number that is a plausible
+/// value only in the shown unit (within 100 times `shown` that way, and not in SI) is
+/// refused with both readings, not taken as SI: `45` over `40 mm` would be a 45 m beam.
+pub fn parse_over(text: &str, q: Quantity, shown: f64) -> Result<f64, String> {
+    let v = parse_quantity(text, q)?;
+    let t = text.trim();
+    let bare = t.parse::<f64>().is_ok();
+    let Some((unit, size)) = shown_unit(shown, q) else {
+        return Ok(v);
     };
-    format!("{} {unit}", trim_number(scaled, 6))
+    let near = |x: f64| shown != 0.0 && (0.01..=100.0).contains(&(x / shown).abs());
+    if bare && size != 1.0 && near(v * size) && !near(v) {
+        return Err(format!(
+            "`{t}` has no unit, so it is SI: {}, {} times the present {}; type `{t} {unit}` for \
+             {unit}, or `{t} {}` to mean it",
+            format_quantity(v, q),
+            trim_number(v / shown, 3),
+            format_quantity(shown, q),
+            q.unit()
+        ));
+    }
+    Ok(v)
 }
 
 /// `value` with up to `digits` significant digits, trailing zeros removed.
@@ -150,6 +169,27 @@ pub fn trim_number(value: f64, digits: usize) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_bare_number_that_fits_only_the_shown_unit_asks_for_the_unit() {
+        // 45 over 40 mm: 45 m is 1125 times the present length, 45 mm is near it.
+        let e = parse_over("45", Quantity::Length, 0.04).unwrap_err();
+        assert!(e.contains("`45` has no unit") && e.contains("45 m") && e.contains("1125"));
+        assert!(e.contains("`45 mm`") && e.contains("`45 m`"), "{e}");
+        // Typed with a unit, either way, it is what it says.
+        assert_eq!(parse_over("45 mm", Quantity::Length, 0.04).unwrap(), 0.045);
+        assert_eq!(parse_over("45 m", Quantity::Length, 0.04).unwrap(), 45.0);
+        // A bare SI number near the present value is SI, as documented.
+        assert_eq!(parse_over("0.045", Quantity::Length, 0.04).unwrap(), 0.045);
+        assert_eq!(parse_over("70e9", Quantity::Pressure, 200e9).unwrap(), 70e9);
+        // 70 over 200 GPa reads as 70 Pa: refused; a value shown in the SI unit is never.
+        assert!(parse_over("70", Quantity::Pressure, 200e9).is_err());
+        assert_eq!(parse_over("2", Quantity::Length, 1.5).unwrap(), 2.0);
+        // Far from the present value both ways: SI, as typed (the scene's rules judge it).
+        assert_eq!(parse_over("5e-9", Quantity::Length, 0.04).unwrap(), 5e-9);
+        // No unit to confuse: plain numbers pass through.
+        assert_eq!(parse_over("0.3", Quantity::Plain, 0.29).unwrap(), 0.3);
+    }
 
     #[test]
     fn engineering_input() {

@@ -5,7 +5,7 @@
 use crate::beam::Effects;
 use crate::scene::{EffectsChoice, Scene};
 
-use super::super::units::{format_quantity, parse_quantity, trim_number, Quantity};
+use super::super::units::{format_quantity, parse_over, trim_number, Quantity};
 use super::step;
 
 /// The rows of the beam panel.
@@ -175,7 +175,14 @@ impl BeamField {
                 }
             }
             f => {
-                let v = parse_quantity(text, f.quantity())?;
+                let present = match f {
+                    BeamField::Length => b.length,
+                    BeamField::Width => b.width,
+                    BeamField::Thickness => b.thickness,
+                    BeamField::YoungsModulus => b.youngs_modulus,
+                    _ => 0.0,
+                };
+                let v = parse_over(text, f.quantity(), present)?;
                 match f {
                     BeamField::Length => b.length = v,
                     BeamField::Width => b.width = v,

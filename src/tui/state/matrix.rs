@@ -7,7 +7,7 @@ use crate::prb::{Column, PrbMatrix, PrbRow};
 use crate::scene::BeamSpec;
 use crate::si::column_factor;
 
-use super::super::units::{format_quantity, parse_quantity, trim_number, Quantity};
+use super::super::units::{format_quantity, parse_over, parse_quantity, trim_number, Quantity};
 use super::step;
 
 /// The matrix panel's cursor and display mode.
@@ -72,7 +72,13 @@ impl MatrixState {
 
     /// The nondimensional value typed into a cell (`inf`, a number, or SI input in the SI
     /// view: a length for gamma, N m/rad or N/m for the springs).
-    pub fn parse_cell(&self, beam: &BeamSpec, col: Column, text: &str) -> Result<f64, String> {
+    pub fn parse_cell(
+        &self,
+        beam: &BeamSpec,
+        col: Column,
+        present: f64,
+        text: &str,
+    ) -> Result<f64, String> {
         Ok(match text.trim().to_ascii_lowercase().as_str() {
             "inf" => f64::INFINITY,
             _ if self.si => {
@@ -81,8 +87,9 @@ impl MatrixState {
                 } else {
                     Quantity::Plain
                 };
-                parse_quantity(text, q).map_err(|e| format!("{col}: {e}"))?
-                    / column_factor(beam, col)
+                let factor = column_factor(beam, col);
+                // A bare length meant in the shown mm is refused, not taken as metres.
+                parse_over(text, q, present * factor).map_err(|e| format!("{col}: {e}"))? / factor
             }
             _ => parse_quantity(text, Quantity::Plain).map_err(|e| format!("{col}: {e}"))?,
         })
@@ -103,7 +110,8 @@ impl MatrixState {
             Some(value) => (value, true),
             None => (text, false),
         };
-        let v = self.parse_cell(beam, col, text)?;
+        let present = matrix.rows().get(row).map_or(0.0, |r| r.get(col));
+        let v = self.parse_cell(beam, col, present, text)?;
         let mut edited = if col == Column::Gamma && matrix.len() > 1 {
             matrix.with_gamma(row, v).map_err(|e| e.to_string())?
         } else {
