@@ -50,6 +50,17 @@ fn single_as_typed(x: f32) -> f64 {
     x.to_string().parse().unwrap_or(f64::from(x))
 }
 
+/// A 2-D array's rows, each entry through `value`.
+fn array_rows<T: Copy>(
+    view: numpy::ndarray::ArrayView2<'_, T>,
+    value: impl Fn(T) -> f64,
+) -> Vec<Vec<f64>> {
+    view.rows()
+        .into_iter()
+        .map(|row| row.iter().map(|&x| value(x)).collect())
+        .collect()
+}
+
 /// Rows (a numpy array or a list of lists) as a matrix; `fixed` marks the cells that stay.
 /// A numpy array must be `(N, 3)` or `(N, 4)`; each row of a list has 3 or 4 entries (mixed
 /// widths are the matrix's own error: every row gives a mu or none does).
@@ -74,14 +85,7 @@ fn rows_matrix(
         if let Ok(single) = value.extract::<PyReadonlyArray2<'_, f32>>() {
             // A float32 entry is read as the decimal it prints as (numpy's repr): 0.1 is
             // 0.1, not 0.10000000149011612, so gammas that sum to 1 as typed still do.
-            let view = single.as_array();
-            (0..shape[0])
-                .map(|i| {
-                    (0..shape[1])
-                        .map(|j| single_as_typed(view[[i, j]]))
-                        .collect()
-                })
-                .collect()
+            array_rows(single.as_array(), single_as_typed)
         } else {
             let floats = a
                 .call_method1("astype", ("float64",))
@@ -89,10 +93,7 @@ fn rows_matrix(
             let a: PyReadonlyArray2<'_, f64> = floats
                 .extract()
                 .map_err(|_| errors::input(argument, "expected an array of numbers"))?;
-            let view = a.as_array();
-            (0..shape[0])
-                .map(|i| (0..shape[1]).map(|j| view[[i, j]]).collect())
-                .collect()
+            array_rows(a.as_array(), |x| x)
         }
     } else {
         value.extract::<Vec<Vec<f64>>>().map_err(|_| {

@@ -124,15 +124,19 @@ impl App {
             TextKey::Action(Action::TextCancel) => self.edit.editing = None,
             TextKey::Action(Action::TextAccept) => {
                 if let Some((target, tb)) = self.edit.editing.take() {
-                    let before = self.edit.matrix.clone();
+                    // A gamma or mu typed is balanced by another row's: keep the matrix before
+                    // it, to say which.
+                    let balanced = match target {
+                        EditTarget::Cell {
+                            row,
+                            col: col @ (Column::Gamma | Column::Mu),
+                        } => Some((self.edit.matrix.clone(), row, col)),
+                        _ => None,
+                    };
                     match self.edit.apply_edit(&target, &tb.text) {
                         Ok(()) => {
                             self.clear_message();
-                            if let EditTarget::Cell {
-                                row,
-                                col: col @ (Column::Gamma | Column::Mu),
-                            } = target
-                            {
+                            if let Some((before, row, col)) = balanced {
                                 self.say_donor(&before, row, col);
                             }
                             self.jobs.changed(now);
