@@ -29,36 +29,52 @@ STEPS = 250  # per path: 4 paths x 250 = 1000 cases
 TOL = 1e-8   # solve_bvp's tolerance, as issue 24 measures it
 
 
+def straight(nodes):
+    """The unloaded beam on `nodes` evenly spaced nodes: (mesh, state)."""
+    s = np.linspace(0.0, 1.0, nodes)
+    return s, np.vstack([s, np.zeros_like(s), np.zeros_like(s), np.zeros_like(s)])
+
+
+def solve_case(load, s, guess, tol=TOL):
+    """One elastica case by solve_bvp from the mesh `s` and state `guess`: the solution."""
+    ax, ay, beta = load
+
+    def rhs(_s, y):
+        c, sn = np.cos(y[2]), np.sin(y[2])
+        return np.vstack([c, sn, y[3], ax * sn - ay * c])
+
+    def rhs_jac(_s, y):
+        c, sn = np.cos(y[2]), np.sin(y[2])
+        jac = np.zeros((4, 4, y.shape[1]))
+        jac[0, 2] = -sn
+        jac[1, 2] = c
+        jac[2, 3] = 1.0
+        jac[3, 2] = ax * c + ay * sn
+        return jac
+
+    def bc(ya, yb):
+        return np.array([ya[0], ya[1], ya[2], yb[3] - beta])
+
+    sol = solve_bvp(rhs, bc, s, guess, fun_jac=rhs_jac, bc_jac=BC_JAC, tol=tol,
+                    max_nodes=100000)
+    if sol.status != 0:
+        raise RuntimeError(f"solve_bvp failed at load {load}: {sol.message}")
+    return sol
+
+
+def tip(sol):
+    """The tip (a, b, phi) of a solve_bvp solution."""
+    return sol.y[0, -1], sol.y[1, -1], sol.y[2, -1]
+
+
 def solve_path(loads, tol=TOL):
     """Solves the elastica along one load path by continuation; returns [(a, b, phi)] per case."""
-    s = np.linspace(0.0, 1.0, 11)
-    guess = np.vstack([s, np.zeros_like(s), np.zeros_like(s), np.zeros_like(s)])
+    s, guess = straight(11)
     tips = []
-    for (ax, ay, beta) in loads:
-        def rhs(_s, y, ax=ax, ay=ay):
-            psi = y[2]
-            c, sn = np.cos(psi), np.sin(psi)
-            return np.vstack([c, sn, y[3], ax * sn - ay * c])
-
-        def rhs_jac(_s, y, ax=ax, ay=ay):
-            psi = y[2]
-            c, sn = np.cos(psi), np.sin(psi)
-            jac = np.zeros((4, 4, psi.size))
-            jac[0, 2] = -sn
-            jac[1, 2] = c
-            jac[2, 3] = 1.0
-            jac[3, 2] = ax * c + ay * sn
-            return jac
-
-        def bc(ya, yb, beta=beta):
-            return np.array([ya[0], ya[1], ya[2], yb[3] - beta])
-
-        sol = solve_bvp(rhs, bc, s, guess, fun_jac=rhs_jac, bc_jac=BC_JAC, tol=tol,
-                        max_nodes=100000)
-        if sol.status != 0:
-            raise RuntimeError(f"solve_bvp failed at load {(ax, ay, beta)}: {sol.message}")
+    for load in loads:
+        sol = solve_case(load, s, guess, tol)
         s, guess = sol.x, sol.y
-        tips.append((sol.y[0, -1], sol.y[1, -1], sol.y[2, -1]))
+        tips.append(tip(sol))
     return tips
 
 
@@ -79,32 +95,30 @@ def solve_all(paths):
 
 
 def max_tip_difference(tips, cases):
-    """Largest |difference| in a, b or phi between scipy's tips and prbfit's `solve` cases."""
-    worst = 0.0
-    for (a, b, phi), case in zip(tips, cases):
-        worst = max(worst, abs(a - case["a"]), abs(b - case["b"]), abs(phi - case["phi"]))
-    return worst
+    """Largest |difference| in a, b or phi between scipy's tips and prbfit's `solve` cases
+    (inf if they differ in number, or on NaN)."""
+    return common.max_difference(tips, [(c["a"], c["b"], c["phi"]) for c in cases])
+
+
+def prbfit_side(binary, repeats):
+    """The 1000-case scene written, and prbfit's `solve` of it timed (best of `repeats`) and
+    checked to be the scene's loads in order: (loads, paths, scene, wall, own, cases)."""
+    paths = common.cases_along(common.DEFAULT_PATHS, STEPS)
+    scene = common.write_scene(
+        common.elastica_scene(common.DEFAULT_PATHS, STEPS, "built-in beam, elastica, 1000 cases"),
+        "beam-1000.toml")
+    wall, own, out = common.run_prbfit(binary, ["solve", "--scene", scene, "--json"], repeats)
+    loads = [c for p in paths for c in p]
+    common.check_loads(loads, out["cases"])
+    return loads, paths, scene, wall, own, out["cases"]
 
 
 def run(binary, repeats=3, prbfit_repeats=None):
     """Times both sides (best of `repeats`; prbfit of `prbfit_repeats`, default the same).
 
     Returns a dict for run.py's table."""
-    paths = common.cases_along(common.DEFAULT_PATHS, STEPS)
-    n = sum(len(p) for p in paths)
-    scene = common.write_scene(
-        common.elastica_scene(common.DEFAULT_PATHS, STEPS, "built-in beam, elastica, 1000 cases"),
-        "beam-1000.toml")
-    wall, own, out = common.run_prbfit(binary, ["solve", "--scene", scene, "--json"],
-                                       prbfit_repeats or repeats)
-    cases = out["cases"]
-    if len(cases) != n:
-        raise RuntimeError(f"prbfit solved {len(cases)} cases, expected {n}")
-    for loads_case, case in zip([c for p in paths for c in p], cases):
-        load = case["load"]
-        if max(abs(load["alpha_x"] - loads_case[0]), abs(load["alpha_y"] - loads_case[1]),
-               abs(load["beta"] - loads_case[2])) > 1e-12:
-            raise RuntimeError(f"case order differs: prbfit {load}, scipy {loads_case}")
+    loads, paths, scene, wall, own, cases = prbfit_side(binary, prbfit_repeats or repeats)
+    n = len(loads)
     scipy_time, tips = common.best_of(repeats, lambda: solve_all(paths))
     diff = max_tip_difference(tips, cases)
     # Each side's own error, against prbfit at tol 1e-12 (tip good to about 1e-11).

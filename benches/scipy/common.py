@@ -86,6 +86,31 @@ def run_prbfit(binary, args, repeats):
     return best, (own if math.isfinite(own) else None), out
 
 
+def max_difference(mine, theirs):
+    """Largest |difference| of two equally long lists of equally long tuples; inf on any NaN
+    or a length mismatch, so that no comparison passes by having nothing to compare."""
+    if len(mine) != len(theirs) or not mine:
+        return math.inf
+    worst = 0.0
+    for u, v in zip(mine, theirs):
+        if len(u) != len(v):
+            return math.inf
+        for a, b in zip(u, v):
+            d = abs(a - b)
+            if not d <= worst:
+                worst = d if d == d else math.inf
+    return worst
+
+
+def check_loads(loads, cases):
+    """prbfit's `solve` cases are `loads` (alpha_x, alpha_y, beta), in order."""
+    if len(loads) != len(cases) or any(
+            max(abs(c["load"]["alpha_x"] - l[0]), abs(c["load"]["alpha_y"] - l[1]),
+                abs(c["load"]["beta"] - l[2])) > 1e-12 for l, c in zip(loads, cases)):
+        raise RuntimeError(f"prbfit's {len(cases)} cases are not the scene's {len(loads)} "
+                           "loads in order")
+
+
 def best_of(repeats, job):
     """Runs `job()` `repeats` times; returns (best seconds, result of the last run)."""
     best = math.inf

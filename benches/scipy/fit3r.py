@@ -200,31 +200,34 @@ def scipy_job(paths):
     return matrix, j, t1 - t0, t2 - t1, result, tips, chain
 
 
-def run(binary, repeats=3, prbfit_repeats=None):
-    """Times both sides (best of `repeats`; prbfit of `prbfit_repeats`, default the same).
-
-    Returns a dict for run.py's table."""
+def scene_and_paths():
+    """The 20-case scene, written, and its load paths."""
     paths = common.cases_along(common.DEFAULT_PATHS, STEPS)
     scene = common.write_scene(
         common.elastica_scene(common.DEFAULT_PATHS, STEPS, "built-in beam, elastica, 20 cases"),
         "fit-20.toml")
-    runs = [scipy_job(paths) for _ in range(repeats)]
-    best = min(runs, key=lambda r: r[2] + r[3])
-    matrix, j_scipy, _, _, result, tips, chain = best
-    scipy_time = best[2] + best[3]
-    fit_time = min(r[3] for r in runs)
-    # The truth agrees with prbfit's own baseline on the same cases.
+    return scene, paths
+
+
+def truth_difference(binary, scene, paths, tips):
+    """prbfit's own baseline of `scene` against scipy's `tips` (checked to be the same loads
+    in order)."""
     _, _, solved = common.run_prbfit(binary, ["solve", "--scene", scene, "--json"], 1)
-    truth_diff = beam.max_tip_difference(tips, solved["cases"])
-    # prbfit at draft and normal (and precise, should neither reach it): the ratio takes the
-    # fastest whose model's J on all 20 cases (`prbfit eval`: draft fits on half the load
-    # samples) is within 2 % of scipy's optimum.
+    common.check_loads([c for p in paths for c in p], solved["cases"])
+    return beam.max_tip_difference(tips, solved["cases"])
+
+
+def prbfit_fits(binary, scene, chain, j_opt, repeats):
+    """prbfit's fit at draft and normal (and precise, should neither reach it), each timed
+    (best of `repeats`) and its model's J on all 20 cases by `prbfit eval` (draft fits on
+    half the load samples). Returns (every fidelity tried, the fastest within 2 % of
+    `j_opt`)."""
     tried = []
     for fidelity in ["draft", "normal", "precise"]:
         if fidelity == "precise" and any(t["reached"] for t in tried):
             break
         walls, owns, fits = [], [], []
-        for _ in range(prbfit_repeats or repeats):
+        for _ in range(repeats):
             wall, own, out = common.run_prbfit(
                 binary, ["fit", "--scene", scene, "--topology", "L-R-R-R", "--fidelity",
                          fidelity, "--json"], 1)
@@ -237,12 +240,26 @@ def run(binary, repeats=3, prbfit_repeats=None):
         tried.append({
             "fidelity": fidelity, "J": j_prbfit, "J_scipy_of_it": chain.objective(
                 *parse_matrix(out["prb"])), "wall": min(walls), "own": min(owns),
-            "fit": min(fits), "prb": out["prb"], "reached": j_prbfit <= 1.02 * j_scipy})
+            "fit": min(fits), "prb": out["prb"], "reached": j_prbfit <= 1.02 * j_opt})
     reached = [t for t in tried if t["reached"]]
     if not reached:
-        raise RuntimeError(f"no prbfit fidelity reached J within 2 % of scipy's {j_scipy:.4e}: "
+        raise RuntimeError(f"no prbfit fidelity reached J within 2 % of scipy's {j_opt:.4e}: "
                            f"{tried}")
-    chosen = min(reached, key=lambda t: t["own"])
+    return tried, min(reached, key=lambda t: t["own"])
+
+
+def run(binary, repeats=3, prbfit_repeats=None):
+    """Times both sides (best of `repeats`; prbfit of `prbfit_repeats`, default the same).
+
+    Returns a dict for run.py's table."""
+    scene, paths = scene_and_paths()
+    runs = [scipy_job(paths) for _ in range(repeats)]
+    best = min(runs, key=lambda r: r[2] + r[3])
+    matrix, j_scipy, _, _, result, tips, chain = best
+    scipy_time = best[2] + best[3]
+    fit_time = min(r[3] for r in runs)
+    truth_diff = truth_difference(binary, scene, paths, tips)
+    tried, chosen = prbfit_fits(binary, scene, chain, j_scipy, prbfit_repeats or repeats)
     others = "; ".join(f"{t['fidelity']} J {t['J']:.4e} ({100 * (t['J'] / j_scipy - 1):+.1f} %) "
                        f"in {common.fmt_seconds(t['own'])}" for t in tried)
     return {

@@ -185,34 +185,43 @@ def scene_text(steps):
     return text.replace("steps = 8", f"steps = {steps}")
 
 
-def run(binary, repeats=3, prbfit_repeats=None):
-    """Times both sides (best of `repeats`; prbfit of `prbfit_repeats`, default the same).
-
-    Returns a dict for run.py's table."""
+def prbfit_side(binary, repeats):
+    """The 1000-case stage scene written, and prbfit's `solve` of it timed (best of `repeats`)
+    and checked to be the drives' loads in order: (stage, args, wall, own, cases)."""
     text = scene_text(STEPS)
     stage = Stage(tomllib.loads(text))
     scene = common.write_scene(text, "parallel-stage-1000.toml")
     args = ["solve", "--scene", scene, "--json"]
-    wall, own, out = common.run_prbfit(binary, args, prbfit_repeats or repeats)
+    wall, own, out = common.run_prbfit(binary, args, repeats)
     cases = out["cases"]
-    n = len(stage.drives) * STEPS
-    if len(cases) != n:
-        raise RuntimeError(f"prbfit solved {len(cases)} cases, expected {n}")
-    scipy_time, stages = common.best_of(repeats, lambda: stage.solve_all(STEPS))
-    diff = 0.0
-    load_diff = 0.0
-    for i, (mine, case) in enumerate(zip(stages, cases)):
-        diff = max(diff, max(abs(u - v) for u, v in zip(mine, case["stage"])))
-        load = stage.drives[i // STEPS] * ((i % STEPS) + 1) / STEPS
-        load_diff = max(load_diff, float(np.max(np.abs(load - np.array(case["stage_load"])))))
-    if load_diff > 1e-9:
+    loads = [end * k / STEPS for end in stage.drives for k in range(1, STEPS + 1)]
+    if len(cases) != len(loads):
+        raise RuntimeError(f"prbfit solved {len(cases)} cases, expected {len(loads)}")
+    load_diff = max(float(np.max(np.abs(load - np.array(case["stage_load"]))))
+                    for load, case in zip(loads, cases))
+    if not load_diff <= 1e-9:
         raise RuntimeError(f"loads differ from prbfit's by {load_diff}")
+    return stage, args, wall, own, cases
+
+
+def max_stage_difference(poses, cases):
+    """Largest |difference| between stage poses and prbfit's cases' (inf on NaN or a count
+    mismatch)."""
+    return common.max_difference(poses, [c["stage"] for c in cases])
+
+
+def run(binary, repeats=3, prbfit_repeats=None):
+    """Times both sides (best of `repeats`; prbfit of `prbfit_repeats`, default the same).
+
+    Returns a dict for run.py's table."""
+    stage, args, wall, own, cases = prbfit_side(binary, prbfit_repeats or repeats)
+    n = len(cases)
+    scipy_time, stages = common.best_of(repeats, lambda: stage.solve_all(STEPS))
+    diff = max_stage_difference(stages, cases)
     # Each side's own error, against prbfit at tol 1e-12.
     _, _, ref = common.run_prbfit(binary, args + ["--tol", "1e-12"], 1)
-    err_scipy = err_prbfit = 0.0
-    for mine, case, exact in zip(stages, cases, ref["cases"]):
-        err_scipy = max(err_scipy, max(abs(u - v) for u, v in zip(mine, exact["stage"])))
-        err_prbfit = max(err_prbfit, max(abs(u - v) for u, v in zip(case["stage"], exact["stage"])))
+    err_scipy = max_stage_difference(stages, ref["cases"])
+    err_prbfit = max_stage_difference([c["stage"] for c in cases], ref["cases"])
     return {
         "job": f"parallel stage, {n} cases (2 drives x {STEPS})",
         "prbfit_wall": wall,
@@ -223,7 +232,7 @@ def run(binary, repeats=3, prbfit_repeats=None):
                       f"{err_scipy:.1e}, prbfit {err_prbfit:.1e})"),
         "agree": diff < 1e-6,
         "goal": 3000,
-        "prbfit_cmd": f"solve --scene {scene} --json",
+        "prbfit_cmd": " ".join(str(a) for a in args),
     }
 
 

@@ -1,7 +1,10 @@
 """Runs the three scipy comparison jobs against one prbfit binary and prints one Markdown table.
 
 Usage: python run.py PRBFIT_BINARY [--repeats N] [--prbfit-repeats N]
-                     [--jobs beam,fit3r,parallelogram]
+                     [--jobs beam,fit3r,parallelogram] [--bars]
+
+`--bars` times the jobs against scipy as issue 24's earlier bars timed it (bars.py) instead of
+the competent programs (beam.py, fit3r.py, parallelogram.py).
 
 Every time is the best of N runs (default 3) in this one process, on this machine, in this
 run: that is how issue 24 measures its ratios. prbfit is timed twice: the whole process
@@ -20,12 +23,13 @@ from pathlib import Path
 import numpy
 import scipy
 
+import bars
 import beam
 import common
 import fit3r
 import parallelogram
 
-JOBS = {"beam": beam, "fit3r": fit3r, "parallelogram": parallelogram}
+JOBS = {"beam": beam.run, "fit3r": fit3r.run, "parallelogram": parallelogram.run}
 
 
 def main(argv=None):
@@ -38,7 +42,11 @@ def main(argv=None):
                         "machine")
     parser.add_argument("--jobs", default=",".join(JOBS),
                         help="comma-separated subset of " + ", ".join(JOBS))
+    parser.add_argument("--bars", action="store_true",
+                        help="scipy as issue 24's earlier bars timed it (bars.py) instead of "
+                        "the competent programs")
     args = parser.parse_args(argv)
+    jobs = bars.JOBS if args.bars else JOBS
     binary = Path(args.binary).resolve()
     if not os.access(binary, os.X_OK):
         parser.error(f"{args.binary}: not an executable file")
@@ -52,11 +60,13 @@ def main(argv=None):
     print(f"python {platform.python_version()}, numpy {numpy.__version__}, "
           f"scipy {scipy.__version__}; best of {args.repeats} "
           f"(prbfit: of {args.prbfit_repeats or args.repeats})")
+    print("scipy: " + ("as issue 24's earlier bars timed it (bars.py)" if args.bars
+                       else "the competent programs (beam.py, fit3r.py, parallelogram.py)"))
     print(f"load average at start: {common.load_average()}")
     results = []
     for name in names:
         print(f"running {name} ...", file=sys.stderr, flush=True)
-        results.append(JOBS[name].run(binary, args.repeats, args.prbfit_repeats))
+        results.append(jobs[name](binary, args.repeats, args.prbfit_repeats or args.repeats))
     print(f"load average at end:   {common.load_average()}")
     print()
     print("| job | prbfit (process) | prbfit (own `seconds`) | scipy | ratio (process) "
