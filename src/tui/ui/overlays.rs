@@ -105,8 +105,9 @@ fn draw_help(
     let total = lines.len() as u16;
     let rect = centered(area, width, total + 2);
     let shown = rect.height.saturating_sub(2);
-    scroll_max.set(total.saturating_sub(shown));
-    let scroll = scroll.min(total.saturating_sub(shown));
+    let last_first = total.saturating_sub(shown);
+    scroll_max.set(last_first);
+    let scroll = scroll.min(last_first);
     let title = if shown < total {
         format!(
             " Keys {}-{} of {} lines · up/down, PgUp/PgDn scroll · any other key closes ",
