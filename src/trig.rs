@@ -51,7 +51,7 @@ const C6: f64 = -1.135_964_755_778_819_482_65e-11;
 #[inline(always)]
 pub(crate) fn sin_cos(x: f64) -> (f64, f64) {
     if x.is_nan() || x.abs() > FAST_RANGE {
-        return x.sin_cos();
+        return outside_fast_range(x);
     }
     let n = (x * INV_PIO2 + TO_INT) - TO_INT;
     let r = x - n * PIO2_1;
@@ -65,6 +65,15 @@ pub(crate) fn sin_cos(x: f64) -> (f64, f64) {
         2 => (-s, -c),
         _ => (-c, s),
     }
+}
+
+/// The standard library's `sin_cos`, out of line: inline, the optimiser may hoist it out of
+/// [`sin_cos`]'s branch (the library functions have no side effects) and call it for every
+/// argument, as it did for the beam shot's right-hand side written across lanes.
+#[cold]
+#[inline(never)]
+fn outside_fast_range(x: f64) -> (f64, f64) {
+    x.sin_cos()
 }
 
 /// `sin(x + y)` for `|x| <= pi/4`, `|y|` below half an ulp of `x`.

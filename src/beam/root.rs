@@ -9,8 +9,9 @@
 //! the root moment (the tip's compliance). The map has no folds, so a beam held by a
 //! mechanism past its own load-controlled limit point is as regular as any other.
 
+use super::shoot::ShotSettings;
 use super::shoot::{Meter, Samples, ShotFailure, TipForce};
-use super::shot::root_shot;
+use super::shot::{root_shot, root_shot_pair};
 use super::{BeamSolver, Load, ShapePoint, SolveError, TipPose};
 use crate::cancel::CancelToken;
 
@@ -28,6 +29,17 @@ pub struct RootShot {
 }
 
 impl RootShot {
+    /// The shot's tip state with its sensitivities, in the layout of `shoot::State<16>`.
+    fn from_state(u: [f64; 16]) -> RootShot {
+        // Slots: psi, M, x, y; then d/dM0 (4..8), d/dalpha_x (8..12), d/dalpha_y (12..16).
+        let row = |k: usize| [u[8 + k], u[12 + k], u[4 + k]];
+        RootShot {
+            tip: tip_of(u).0,
+            tip_moment: u[1],
+            jacobian: [row(2), row(3), row(0), row(1)],
+        }
+    }
+
     /// `dM(L)/dM(0)`, positive where the beam under its tip wrench alone (a given load) is
     /// stable (the single beam's test).
     pub fn stability(&self) -> f64 {
@@ -55,18 +67,8 @@ impl BeamSolver {
         m0: f64,
         shape: Option<&mut Vec<ShapePoint>>,
     ) -> Result<RootShot, SolveError> {
-        let u = self.root_state::<16>(alpha_x, alpha_y, m0, shape)?;
-        // Slots: psi, M, x, y; then d/dM0 (4..8), d/dalpha_x (8..12), d/dalpha_y (12..16).
-        let row = |k: usize| [u[8 + k], u[12 + k], u[4 + k]];
-        Ok(RootShot {
-            tip: TipPose {
-                a: u[2],
-                b: u[3],
-                phi: u[0],
-            },
-            tip_moment: u[1],
-            jacobian: [row(2), row(3), row(0), row(1)],
-        })
+        self.root_state::<16>([alpha_x, alpha_y, m0], shape)
+            .map(RootShot::from_state)
     }
 
     /// [`BeamSolver::shoot_root_sampled`] without the variational equations: the tip and the
@@ -80,44 +82,52 @@ impl BeamSolver {
         m0: f64,
         shape: Option<&mut Vec<ShapePoint>>,
     ) -> Result<(TipPose, f64), SolveError> {
-        let u = self.root_state::<4>(alpha_x, alpha_y, m0, shape)?;
-        let tip = TipPose {
-            a: u[2],
-            b: u[3],
-            phi: u[0],
-        };
-        Ok((tip, u[1]))
+        self.root_state::<4>([alpha_x, alpha_y, m0], shape)
+            .map(tip_of)
     }
 
-    /// The tip state of the shot from the clamp (`N = 16`: with its sensitivities; `N = 4`:
-    /// without), sampling the centre line into `shape` if given.
+    /// The tip state of the shot from the clamp with `(alpha_x, alpha_y, m0)` (`N = 16`: with
+    /// its sensitivities; `N = 4`: without), sampling the centre line into `shape` if given.
     fn root_state<const N: usize>(
         &self,
-        alpha_x: f64,
-        alpha_y: f64,
-        m0: f64,
+        w: [f64; 3],
         shape: Option<&mut Vec<ShapePoint>>,
     ) -> Result<[f64; N], SolveError> {
-        let load = Load::new(alpha_x, alpha_y, m0);
+        let (load, force, settings) = self.root_setup(w)?;
+        let cancel = CancelToken::new();
+        let mut meter = Meter::new(self.budget.rk_steps, &self.model, &cancel);
+        let samples = self.samples(shape);
+        let (u, _) = root_shot::<N>(&self.model, force, w[2], settings, samples, &mut meter)
+            .map_err(|e| shot_error(e, load, &meter))?;
+        Ok(u)
+    }
+
+    /// A shot from the clamp's load (checked finite), force and settings.
+    fn root_setup(&self, w: [f64; 3]) -> Result<(Load, TipForce, ShotSettings), SolveError> {
+        let load = Load::new(w[0], w[1], w[2]);
         if !load.is_finite() {
             return Err(SolveError::NonFiniteLoad(load));
         }
-        let cancel = CancelToken::new();
-        let mut meter = Meter::new(self.budget.rk_steps, &self.model, &cancel);
         let mut settings = self.settings(load);
         settings.moment_scale = load.magnitude();
-        let force = TipForce { alpha_x, alpha_y };
-        let samples = shape.map(|points| {
+        let force = TipForce {
+            alpha_x: w[0],
+            alpha_y: w[1],
+        };
+        Ok((load, force, settings))
+    }
+
+    /// The shape samples of a shot into `shape`, if given (cleared first).
+    fn samples<'s>(&self, shape: Option<&'s mut Vec<ShapePoint>>) -> Option<Samples<'s>> {
+        shape.map(|points| {
             points.clear();
+            points.reserve(self.resolution.shape_points);
             Samples {
                 points,
                 count: self.resolution.shape_points,
                 sensitivities: None,
             }
-        });
-        let (u, _) = root_shot::<N>(&self.model, force, m0, settings, samples, &mut meter)
-            .map_err(|e| shot_error(e, load, &meter))?;
-        Ok(u)
+        })
     }
 
     /// The centre line of the beam [`BeamSolver::shoot_root`] shoots: the resolution's
@@ -150,6 +160,67 @@ impl BeamSolver {
             .map_err(|e| shot_error(e, load, &meter))?;
         Ok(points)
     }
+}
+
+/// The tip pose and tip moment of a shot's end state (`psi, M, x, y` first).
+fn tip_of<const N: usize>(u: [f64; N]) -> (TipPose, f64) {
+    let tip = TipPose {
+        a: u[2],
+        b: u[3],
+        phi: u[0],
+    };
+    (tip, u[1])
+}
+
+/// One beam of [`shoot_root_pair`]: its solver, its `(alpha_x, alpha_y, m0)`, and where to
+/// sample its centre line, if anywhere.
+pub type PairShot<'a, 's> = (&'a BeamSolver, [f64; 3], Option<&'s mut Vec<ShapePoint>>);
+
+/// Two beams shot from their clamps, each with its `(alpha_x, alpha_y, m0)`: each result is
+/// exactly [`BeamSolver::shoot_root_sampled`]'s for that beam alone, the two integrated side
+/// by side for about two thirds of the time (the beams of a mechanism's flexures).
+pub fn shoot_root_pair(shots: [PairShot<'_, '_>; 2]) -> [Result<RootShot, SolveError>; 2] {
+    root_state_pair::<16>(shots).map(|r| r.map(RootShot::from_state))
+}
+
+/// [`shoot_root_pair`] without the variational equations: each result is exactly
+/// [`BeamSolver::shoot_root_tip`]'s for that beam alone.
+pub fn shoot_root_tip_pair(
+    shots: [PairShot<'_, '_>; 2],
+) -> [Result<(TipPose, f64), SolveError>; 2] {
+    root_state_pair::<4>(shots).map(|r| r.map(tip_of))
+}
+
+/// [`BeamSolver::root_state`] of two beams, integrated side by side.
+fn root_state_pair<const N: usize>(
+    shots: [PairShot<'_, '_>; 2],
+) -> [Result<[f64; N], SolveError>; 2] {
+    let [(sa, wa, sha), (sb, wb, shb)] = shots;
+    let (ra, rb) = (sa.root_setup(wa), sb.root_setup(wb));
+    let ((la, fa, ta), (lb, fb, tb)) = match (ra, rb) {
+        (Ok(a), Ok(b)) => (a, b),
+        (ra, rb) => {
+            // A load that is not finite: the other beam is shot alone.
+            let alone = |r: Result<_, SolveError>, s: &BeamSolver, w, sh| {
+                r.and_then(|_| s.root_state::<N>(w, sh))
+            };
+            return [alone(ra, sa, wa, sha), alone(rb, sb, wb, shb)];
+        }
+    };
+    let cancel = CancelToken::new();
+    let mut meter_a = Meter::new(sa.budget.rk_steps, &sa.model, &cancel);
+    let mut meter_b = Meter::new(sb.budget.rk_steps, &sb.model, &cancel);
+    let [a, b] = root_shot_pair::<N>(
+        [
+            (&sa.model, fa, wa[2], ta, sa.samples(sha)),
+            (&sb.model, fb, wb[2], tb, sb.samples(shb)),
+        ],
+        [&mut meter_a, &mut meter_b],
+    );
+    [
+        a.map(|(u, _)| u).map_err(|e| shot_error(e, la, &meter_a)),
+        b.map(|(u, _)| u).map_err(|e| shot_error(e, lb, &meter_b)),
+    ]
 }
 
 /// A failed shot from the clamp as the solver reports it.
@@ -326,6 +397,72 @@ mod tests {
                     .max((p.y - q.y).abs())
                     .max((p.psi - q.psi).abs());
                 assert!(d < 1e-8, "at s = {}: {p:?} vs {q:?}", p.s);
+            }
+        }
+    }
+
+    /// Two beams shot side by side give each exactly what it gives alone, bit for bit: with
+    /// and without the variational equations and the shape samples, for beams of other
+    /// effects and slenderness side by side, a plain elastica (its Taylor shot, taken alone)
+    /// beside a Reissner beam, and a beam whose shot fails (its section necks, at once or
+    /// part-way along) beside one that does not. Where the processor has AVX2 and FMA, the
+    /// pair runs in that build and the single shots in the baseline one, so this also checks
+    /// that the two builds agree.
+    #[test]
+    fn a_pair_of_shots_is_each_shot_alone() {
+        let steel = BeamSolver::new(
+            BeamModel::new(100.0, 0.3, None, Effects::ALL)
+                .unwrap()
+                .with_width_ratio(20.0),
+            Resolution::with_tol(1e-9),
+        )
+        .unwrap();
+        let rubber = stubby_rubber();
+        let elastica = BeamSolver::new(BeamModel::elastica(), Resolution::with_tol(1e-9)).unwrap();
+        // The rubber's section necks past an axial force of about 58 (E I0 / L^2): at once
+        // under a pull of 200, and part-way along where a pull of 50 with a side force of 30
+        // turns into the beam's axis.
+        let neck_at_once = [200.0, 0.0, 0.0];
+        let neck_part_way = [50.0, 30.0, 8.0];
+        assert!(rubber.shoot_root(200.0, 0.0, 0.0).is_err());
+        let part_way = rubber.shoot_root(50.0, 30.0, 8.0);
+        assert!(
+            part_way.is_err(),
+            "the part-way case must fail to test it: {part_way:?}"
+        );
+        type Beam<'a> = (&'a BeamSolver, [f64; 3]);
+        let cases: [(Beam<'_>, Beam<'_>); 6] = [
+            ((&steel, [-0.044, 1.2, 0.6]), (&steel, [0.044, 1.2, 0.61])),
+            ((&steel, [10.0, 2.4, -0.3]), (&rubber, [-0.6, 2.4, 1.1])),
+            ((&elastica, [-1.3, 2.1, 0.7]), (&rubber, [3.0, -1.0, 0.2])),
+            ((&rubber, neck_at_once), (&steel, [0.5, 1.0, 0.4])),
+            ((&steel, [0.5, 1.0, 0.4]), (&rubber, neck_part_way)),
+            ((&rubber, neck_part_way), (&rubber, neck_at_once)),
+        ];
+        let errors = |r: &Result<RootShot, SolveError>| format!("{r:?}");
+        for ((sa, wa), (sb, wb)) in cases {
+            let alone = |s: &BeamSolver, w: [f64; 3]| s.shoot_root(w[0], w[1], w[2]);
+            let [pa, pb] = shoot_root_pair([(sa, wa, None), (sb, wb, None)]);
+            assert_eq!(errors(&pa), errors(&alone(sa, wa)), "{wa:?} beside {wb:?}");
+            assert_eq!(errors(&pb), errors(&alone(sb, wb)), "{wb:?} beside {wa:?}");
+
+            let tip_alone = |s: &BeamSolver, w: [f64; 3]| {
+                let mut shape = Vec::new();
+                let tip = s.shoot_root_tip(w[0], w[1], w[2], Some(&mut shape));
+                (format!("{tip:?}"), shape)
+            };
+            let (mut shape_a, mut shape_b) = (Vec::new(), Vec::new());
+            let [ta, tb] =
+                shoot_root_tip_pair([(sa, wa, Some(&mut shape_a)), (sb, wb, Some(&mut shape_b))]);
+            let (tip_a, alone_a) = tip_alone(sa, wa);
+            let (tip_b, alone_b) = tip_alone(sb, wb);
+            assert_eq!(format!("{ta:?}"), tip_a, "{wa:?} beside {wb:?}");
+            assert_eq!(format!("{tb:?}"), tip_b, "{wb:?} beside {wa:?}");
+            if ta.is_ok() {
+                assert_eq!(shape_a, alone_a);
+            }
+            if tb.is_ok() {
+                assert_eq!(shape_b, alone_b);
             }
         }
     }

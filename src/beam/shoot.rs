@@ -116,91 +116,170 @@ pub(crate) struct TipForce {
     pub alpha_y: f64,
 }
 
-#[inline]
+/// `[f(0), f(1), ...]` over the lanes: an array of `L` starting at `init`, filled by a loop
+/// (which the compiler unrolls and interleaves; `std::array::from_fn` is not always inlined).
+macro_rules! each {
+    ($init:expr, |$l:ident| $e:expr) => {{
+        let mut out = [$init; L];
+        for $l in 0..L {
+            out[$l] = $e;
+        }
+        out
+    }};
+}
+
+/// The right-hand side of the shot's state (and, for `N > 4`, its variational equations) for
+/// one beam.
+#[inline(always)]
 pub(crate) fn rhs<const N: usize>(
     model: &BeamModel,
     f: TipForce,
     u: &State<N>,
 ) -> Result<State<N>, MaterialLimit> {
-    let (sn, cs) = crate::trig::sin_cos(u[PSI]);
-    let m = u[MOM];
-    let n = f.alpha_x * cs + f.alpha_y * sn;
-    let q = -f.alpha_x * sn + f.alpha_y * cs;
-    let (eps, de_dn, p) = model.axial_strain(n)?;
-    // d/dpsi of N is Q and of Q is -N.
-    let eps_psi = de_dn * q;
-    // One division for every power of 1/p below.
-    let inv_p = if model.effects.poisson { 1.0 / p } else { 1.0 };
-    let inv_p2 = inv_p * inv_p;
-    let plate = model.plate_compliance();
-    let (p_psi, bend_compliance) = if model.effects.poisson {
-        (-model.nu * eps_psi, plate * inv_p2 * inv_p2)
-    } else {
-        (0.0, plate)
-    };
-    let (gamma, gamma_psi) = if model.effects.shear {
-        let c_s = model.shear_compliance();
-        (
-            c_s * q * inv_p2,
-            c_s * (-n * inv_p2 - 2.0 * q * p_psi * inv_p2 * inv_p),
-        )
-    } else {
-        (0.0, 0.0)
-    };
-    let stretch = 1.0 + eps;
-    let dx = stretch * cs - gamma * sn;
-    let dy = stretch * sn + gamma * cs;
-    let dpsi = m * bend_compliance;
-    let dm = -stretch * q + gamma * n;
+    let [out] = rhs_lanes([model], [f], [u], None);
+    out
+}
 
-    // Variational equations, linearised about this state.
-    let f1_psi = -4.0 * m * p_psi * bend_compliance * inv_p;
-    let f2_psi = -eps_psi * q + stretch * n + gamma_psi * n + gamma * q;
-    let dx_psi = eps_psi * cs - stretch * sn - gamma_psi * sn - gamma * cs;
-    let dy_psi = eps_psi * sn + stretch * cs + gamma_psi * cs - gamma * sn;
-    let mut out = [0.0; N];
-    out[0] = dpsi;
-    out[1] = dm;
-    out[2] = dx;
-    out[3] = dy;
-    for base in (4..N).step_by(4) {
-        let (v_psi, v_m) = (u[base], u[base + 1]);
-        out[base] = f1_psi * v_psi + bend_compliance * v_m;
-        out[base + 1] = f2_psi * v_psi;
-        out[base + 2] = dx_psi * v_psi;
-        out[base + 3] = dy_psi * v_psi;
+/// [`rhs`] of `L` independent beams (lanes), written operation by operation across the lanes
+/// so that the processor overlaps their chains of dependent arithmetic; each lane's result
+/// is exactly what [`rhs`] gives it alone.
+#[inline(always)]
+pub(crate) fn rhs_lanes<const N: usize, const L: usize>(
+    model: [&BeamModel; L],
+    f: [TipForce; L],
+    u: [&State<N>; L],
+    second: Option<&mut [[f64; 4]; L]>,
+) -> [Result<State<N>, MaterialLimit>; L] {
+    let trig: [(f64, f64); L] = each!((0.0, 0.0), |l| crate::trig::sin_cos(u[l][PSI]));
+    let sn: [f64; L] = each!(0.0, |l| trig[l].0);
+    let cs: [f64; L] = each!(0.0, |l| trig[l].1);
+    let m: [f64; L] = each!(0.0, |l| u[l][MOM]);
+    let n: [f64; L] = each!(0.0, |l| f[l].alpha_x * cs[l] + f[l].alpha_y * sn[l]);
+    let q: [f64; L] = each!(0.0, |l| -f[l].alpha_x * sn[l] + f[l].alpha_y * cs[l]);
+    let strain: [Result<(f64, f64, f64), MaterialLimit>; L] =
+        each!(Ok((0.0, 0.0, 1.0)), |l| model[l].axial_strain(n[l]));
+    let eps: [f64; L] = each!(0.0, |l| strain[l].map_or(0.0, |s| s.0));
+    let de_dn: [f64; L] = each!(0.0, |l| strain[l].map_or(0.0, |s| s.1));
+    let p: [f64; L] = each!(0.0, |l| strain[l].map_or(1.0, |s| s.2));
+    let poisson: [bool; L] = each!(false, |l| model[l].effects.poisson);
+    let shear: [bool; L] = each!(false, |l| model[l].effects.shear);
+    // d/dpsi of N is Q and of Q is -N.
+    let eps_psi: [f64; L] = each!(0.0, |l| de_dn[l] * q[l]);
+    // One division for every power of 1/p below.
+    let inv_p: [f64; L] = each!(0.0, |l| if poisson[l] { 1.0 / p[l] } else { 1.0 });
+    let inv_p2: [f64; L] = each!(0.0, |l| inv_p[l] * inv_p[l]);
+    let plate: [f64; L] = each!(0.0, |l| model[l].plate_compliance());
+    let p_psi: [f64; L] = each!(0.0, |l| {
+        if poisson[l] {
+            -model[l].nu * eps_psi[l]
+        } else {
+            0.0
+        }
+    });
+    let bend_compliance: [f64; L] = each!(0.0, |l| {
+        if poisson[l] {
+            plate[l] * inv_p2[l] * inv_p2[l]
+        } else {
+            plate[l]
+        }
+    });
+    let c_s: [f64; L] = each!(0.0, |l| model[l].shear_compliance());
+    let gamma: [f64; L] = each!(0.0, |l| {
+        if shear[l] {
+            c_s[l] * q[l] * inv_p2[l]
+        } else {
+            0.0
+        }
+    });
+    let gamma_psi: [f64; L] = each!(0.0, |l| {
+        if shear[l] {
+            c_s[l] * (-n[l] * inv_p2[l] - 2.0 * q[l] * p_psi[l] * inv_p2[l] * inv_p[l])
+        } else {
+            0.0
+        }
+    });
+    let stretch: [f64; L] = each!(0.0, |l| 1.0 + eps[l]);
+    let mut out: [State<N>; L] = [[0.0; N]; L];
+    for l in 0..L {
+        out[l][0] = m[l] * bend_compliance[l];
+        out[l][1] = -stretch[l] * q[l] + gamma[l] * n[l];
+        out[l][2] = stretch[l] * cs[l] - gamma[l] * sn[l];
+        out[l][3] = stretch[l] * sn[l] + gamma[l] * cs[l];
+    }
+    if N > 4 || second.is_some() {
+        // Variational equations, linearised about this state.
+        let f1_psi: [f64; L] = each!(0.0, |l| -4.0
+            * m[l]
+            * p_psi[l]
+            * bend_compliance[l]
+            * inv_p[l]);
+        let f2_psi: [f64; L] = each!(0.0, |l| -eps_psi[l] * q[l]
+            + stretch[l] * n[l]
+            + gamma_psi[l] * n[l]
+            + gamma[l] * q[l]);
+        let dx_psi: [f64; L] = each!(0.0, |l| eps_psi[l] * cs[l]
+            - stretch[l] * sn[l]
+            - gamma_psi[l] * sn[l]
+            - gamma[l] * cs[l]);
+        let dy_psi: [f64; L] = each!(0.0, |l| eps_psi[l] * sn[l]
+            + stretch[l] * cs[l]
+            + gamma_psi[l] * cs[l]
+            - gamma[l] * sn[l]);
+        // The linearisation applied to a direction `(v_psi, v_m)`.
+        let along = |l: usize, v_psi: f64, v_m: f64| {
+            [
+                f1_psi[l] * v_psi + bend_compliance[l] * v_m,
+                f2_psi[l] * v_psi,
+                dx_psi[l] * v_psi,
+                dy_psi[l] * v_psi,
+            ]
+        };
+        for base in (4..N).step_by(4) {
+            for l in 0..L {
+                let d = along(l, u[l][base], u[l][base + 1]);
+                out[l][base..base + 4].copy_from_slice(&d);
+            }
+        }
+        // The second derivatives `(psi'', M'', x'', y'')`: the linearisation applied to the
+        // state's own direction `(psi', M')`.
+        if let Some(second) = second {
+            for l in 0..L {
+                second[l] = along(l, out[l][PSI], out[l][MOM]);
+            }
+        }
     }
     if N == 16 {
         // The force's own terms: the right-hand side's partial derivatives with respect to
         // the section forces N and Q at fixed psi, M (the psi-derivatives above are these
         // chained through N_psi = Q, Q_psi = -N), chained through N_ax = cos, Q_ax = -sin,
         // N_ay = sin, Q_ay = cos.
-        let d_n = de_dn;
-        let p_n = if model.effects.poisson {
-            -model.nu * d_n
-        } else {
-            0.0
-        };
-        let bc_n = -4.0 * bend_compliance * inv_p * p_n;
-        let (g_n, g_q) = if model.effects.shear {
-            let c_s = model.shear_compliance();
-            (-2.0 * c_s * q * inv_p2 * inv_p * p_n, c_s * inv_p2)
-        } else {
-            (0.0, 0.0)
-        };
-        let d_n_row = [
-            m * bc_n,
-            -d_n * q + g_n * n + gamma,
-            d_n * cs - g_n * sn,
-            d_n * sn + g_n * cs,
-        ];
-        let d_q_row = [0.0, -stretch + g_q * n, -g_q * sn, g_q * cs];
-        for k in 0..4 {
-            out[8 + k] += d_n_row[k] * cs - d_q_row[k] * sn;
-            out[12 + k] += d_n_row[k] * sn + d_q_row[k] * cs;
+        for l in 0..L {
+            let d_n = de_dn[l];
+            let p_n = if poisson[l] { -model[l].nu * d_n } else { 0.0 };
+            let bc_n = -4.0 * bend_compliance[l] * inv_p[l] * p_n;
+            let (g_n, g_q) = if shear[l] {
+                (
+                    -2.0 * c_s[l] * q[l] * inv_p2[l] * inv_p[l] * p_n,
+                    c_s[l] * inv_p2[l],
+                )
+            } else {
+                (0.0, 0.0)
+            };
+            let (sn, cs, n, q) = (sn[l], cs[l], n[l], q[l]);
+            let d_n_row = [
+                m[l] * bc_n,
+                -d_n * q + g_n * n + gamma[l],
+                d_n * cs - g_n * sn,
+                d_n * sn + g_n * cs,
+            ];
+            let d_q_row = [0.0, -stretch[l] + g_q * n, -g_q * sn, g_q * cs];
+            for k in 0..4 {
+                out[l][8 + k] += d_n_row[k] * cs - d_q_row[k] * sn;
+                out[l][12 + k] += d_n_row[k] * sn + d_q_row[k] * cs;
+            }
         }
     }
-    Ok(out)
+    each!(Ok([0.0; N]), |l| strain[l].map(|_| out[l]))
 }
 
 // Dormand-Prince 5(4) tableau (the nodes c_i are not needed: the system is autonomous).
@@ -335,97 +414,268 @@ pub(crate) fn integrate<const N: usize>(
     force: TipForce,
     segment: Segment,
     settings: ShotSettings,
-    mut shape: Option<Samples<'_>>,
+    shape: Option<Samples<'_>>,
     meter: &mut Meter<'_>,
 ) -> Result<(State<N>, u32), ShotFailure> {
-    let mut u: State<N> = segment.initial_state();
-    let mut k1 = rhs(model, force, &u).map_err(ShotFailure::Material)?;
-    let mut s = segment.s_start;
-    let s_end = segment.s_end;
-    let mut h = settings.h0.clamp(1e-6, MAX_STEP);
-    let inv_tol = 1.0 / settings.tol;
-    let inv_var_tol = 1.0 / settings.variational_tol;
-    let inv_m = 1.0 / settings.moment_scale.max(1.0);
-    let (ox, oy) = segment.origin;
-    // The next sample index to emit, and the second derivatives at the step's start.
-    let mut next_sample = 0usize;
-    let mut g0 = [0.0; 4];
-    if let Some(samples) = shape.as_mut() {
-        g0 = second_derivatives(model, force, &u, &k1)?;
-        next_sample = samples.start(&segment);
+    let mut lane = Lane::new(model, force, segment, settings, shape)?;
+    lane.run(meter)?;
+    lane.end()
+}
+
+/// One shot to integrate: its beam, force, segment, settings and samples (as
+/// [`integrate`] takes them).
+pub(crate) struct ShotSpec<'a, 's> {
+    pub model: &'a BeamModel,
+    pub force: TipForce,
+    pub segment: Segment,
+    pub settings: ShotSettings,
+    pub shape: Option<Samples<'s>>,
+}
+
+impl<'a, 's> ShotSpec<'a, 's> {
+    fn lane<const N: usize>(self) -> Result<Lane<'a, 's, N>, ShotFailure> {
+        Lane::new(
+            self.model,
+            self.force,
+            self.segment,
+            self.settings,
+            self.shape,
+        )
     }
-    let mut steps = 0u32;
-    let mut tries = 0u32;
-    while s < s_end {
-        tries += 1;
-        if tries > settings.max_steps || h < 1e-12 {
+}
+
+/// Two independent shots integrated together: each exactly as [`integrate`] would
+/// integrate it alone (its own steps, errors and samples, bit for bit), but stage by stage
+/// side by side, so that the processor overlaps the two right-hand sides' long chains of
+/// dependent arithmetic (one shot alone leaves most of its units idle: each stage waits on
+/// the one before). A mechanism's flexures are evaluated this way in pairs.
+pub(crate) fn integrate_pair<const N: usize>(
+    shots: [ShotSpec<'_, '_>; 2],
+    meters: [&mut Meter<'_>; 2],
+) -> [Result<(State<N>, u32), ShotFailure>; 2] {
+    #[cfg(target_arch = "x86_64")]
+    if crate::cpu::wide() {
+        // SAFETY: `wide` has just checked that this processor has AVX2 and FMA.
+        return unsafe { integrate_pair_wide::<N>(shots, meters) };
+    }
+    integrate_pair_any::<N>(shots, meters)
+}
+
+/// [`integrate_pair`] compiled with AVX2 and FMA.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+fn integrate_pair_wide<const N: usize>(
+    shots: [ShotSpec<'_, '_>; 2],
+    meters: [&mut Meter<'_>; 2],
+) -> [Result<(State<N>, u32), ShotFailure>; 2] {
+    integrate_pair_any::<N>(shots, meters)
+}
+
+#[inline(always)]
+fn integrate_pair_any<const N: usize>(
+    shots: [ShotSpec<'_, '_>; 2],
+    meters: [&mut Meter<'_>; 2],
+) -> [Result<(State<N>, u32), ShotFailure>; 2] {
+    let [a, b] = shots;
+    let [meter_a, meter_b] = meters;
+    let mut lanes = match (a.lane(), b.lane()) {
+        (Ok(a), Ok(b)) => [a, b],
+        (a, b) => return [finish_alone(a, meter_a), finish_alone(b, meter_b)],
+    };
+    loop {
+        let [a, b] = &mut lanes;
+        match (a.attempt(meter_a), b.attempt(meter_b)) {
+            (Ok(true), Ok(true)) => {
+                let [fa, fb] = trial_steps(&mut lanes);
+                let [a, b] = &mut lanes;
+                match (a.accept(fa), b.accept(fb)) {
+                    (Ok(()), Ok(())) => {}
+                    (sa, sb) => {
+                        let [a, b] = lanes;
+                        return [
+                            sa.and_then(|()| finish_alone(Ok(a), meter_a)),
+                            sb.and_then(|()| finish_alone(Ok(b), meter_b)),
+                        ];
+                    }
+                }
+            }
+            // One lane has ended (or failed) before this attempt: the other goes on alone,
+            // its attempt already charged.
+            (ga, gb) => {
+                let [mut a, mut b] = lanes;
+                let a = ga
+                    .and_then(|go| a.step_if(go))
+                    .and_then(|()| finish_alone(Ok(a), meter_a));
+                let b = gb
+                    .and_then(|go| b.step_if(go))
+                    .and_then(|()| finish_alone(Ok(b), meter_b));
+                return [a, b];
+            }
+        }
+    }
+}
+
+/// Integrates a lane to its end on its own.
+fn finish_alone<const N: usize>(
+    lane: Result<Lane<'_, '_, N>, ShotFailure>,
+    meter: &mut Meter<'_>,
+) -> Result<(State<N>, u32), ShotFailure> {
+    let mut lane = lane?;
+    lane.run(meter)?;
+    lane.end()
+}
+
+/// One shot in progress: the integrator's whole state between steps.
+struct Lane<'a, 's, const N: usize> {
+    model: &'a BeamModel,
+    force: TipForce,
+    u: State<N>,
+    /// The right-hand side at `u` (first same as last).
+    k1: State<N>,
+    s: f64,
+    s_end: f64,
+    h: f64,
+    /// Whether the step being attempted ends the segment.
+    last: bool,
+    inv_tol: f64,
+    inv_var_tol: f64,
+    inv_m: f64,
+    max_steps: u32,
+    origin: (f64, f64),
+    shape: Option<Samples<'s>>,
+    /// The next sample index to emit, and the second derivatives at the step's start.
+    next_sample: usize,
+    g0: [f64; 4],
+    steps: u32,
+    tries: u32,
+    /// The step attempted: its end state, the right-hand side there and its error over the
+    /// tolerance.
+    u_new: State<N>,
+    k7: State<N>,
+    /// The second derivatives at `u_new` (where the lane samples its shape).
+    g_new: [f64; 4],
+    ratio: f64,
+}
+
+impl<'a, 's, const N: usize> Lane<'a, 's, N> {
+    fn new(
+        model: &'a BeamModel,
+        force: TipForce,
+        segment: Segment,
+        settings: ShotSettings,
+        mut shape: Option<Samples<'s>>,
+    ) -> Result<Self, ShotFailure> {
+        let u: State<N> = segment.initial_state();
+        let k1 = rhs(model, force, &u).map_err(ShotFailure::Material)?;
+        let mut next_sample = 0usize;
+        let mut g0 = [0.0; 4];
+        if let Some(samples) = shape.as_mut() {
+            g0 = second_derivatives(model, force, &u, &k1)?;
+            next_sample = samples.start(&segment);
+        }
+        Ok(Lane {
+            model,
+            force,
+            u,
+            k1,
+            s: segment.s_start,
+            s_end: segment.s_end,
+            h: settings.h0.clamp(1e-6, MAX_STEP),
+            last: false,
+            inv_tol: 1.0 / settings.tol,
+            inv_var_tol: 1.0 / settings.variational_tol,
+            inv_m: 1.0 / settings.moment_scale.max(1.0),
+            max_steps: settings.max_steps,
+            origin: segment.origin,
+            shape,
+            next_sample,
+            g0,
+            steps: 0,
+            tries: 0,
+            u_new: [0.0; N],
+            k7: [0.0; N],
+            g_new: [0.0; 4],
+            ratio: 0.0,
+        })
+    }
+
+    /// Steps to the segment's end.
+    fn run(&mut self, meter: &mut Meter<'_>) -> Result<(), ShotFailure> {
+        while self.attempt(meter)? {
+            let [failed] = trial_steps(std::array::from_mut(self));
+            self.accept(failed)?;
+        }
+        Ok(())
+    }
+
+    /// The step `go` asks for, if any.
+    fn step_if(&mut self, go: bool) -> Result<(), ShotFailure> {
+        if go {
+            let [failed] = trial_steps(std::array::from_mut(self));
+            self.accept(failed)?;
+        }
+        Ok(())
+    }
+
+    /// Readies the next attempted step, charging it to `meter`: false once the segment's end
+    /// is reached.
+    #[inline(always)]
+    fn attempt(&mut self, meter: &mut Meter<'_>) -> Result<bool, ShotFailure> {
+        if self.s >= self.s_end {
+            return Ok(false);
+        }
+        self.tries += 1;
+        if self.tries > self.max_steps || self.h < 1e-12 {
             return Err(ShotFailure::StepBudget);
         }
         meter.tick()?;
-        let last = s + h >= s_end - 1e-12;
-        if last {
-            h = s_end - s;
+        self.last = self.s + self.h >= self.s_end - 1e-12;
+        if self.last {
+            self.h = self.s_end - self.s;
         }
-        let stage = |v: State<N>| rhs(model, force, &v).map_err(ShotFailure::Material);
-        // Stage arguments written out so that each is one fused, vectorisable loop.
-        let k2 = stage(std::array::from_fn(|i| u[i] + h * (A21 * k1[i])))?;
-        let k3 = stage(std::array::from_fn(|i| {
-            u[i] + h * (A31 * k1[i] + A32 * k2[i])
-        }))?;
-        let k4 = stage(std::array::from_fn(|i| {
-            u[i] + h * (A41 * k1[i] + A42 * k2[i] + A43 * k3[i])
-        }))?;
-        let k5 = stage(std::array::from_fn(|i| {
-            u[i] + h * (A51 * k1[i] + A52 * k2[i] + A53 * k3[i] + A54 * k4[i])
-        }))?;
-        let k6 = stage(std::array::from_fn(|i| {
-            u[i] + h * (A61 * k1[i] + A62 * k2[i] + A63 * k3[i] + A64 * k4[i] + A65 * k5[i])
-        }))?;
-        let u_new: State<N> = std::array::from_fn(|i| {
-            u[i] + h * (B1 * k1[i] + B3 * k3[i] + B4 * k4[i] + B5 * k5[i] + B6 * k6[i])
-        });
-        let k7 = stage(u_new)?;
-        let mut ratio = 0.0_f64;
-        for i in 0..N {
-            let e =
-                h * (E1 * k1[i] + E3 * k3[i] + E4 * k4[i] + E5 * k5[i] + E6 * k6[i] + E7 * k7[i]);
-            let w = match i {
-                MOM => inv_m * inv_tol,
-                // The sensitivities only steer Newton and the stability test, so they are
-                // held to a looser, relative tolerance.
-                _ if i >= 4 => inv_var_tol / (1.0 + u_new[i].abs()),
-                _ => inv_tol,
-            };
-            ratio = ratio.max((e * w).abs());
+        Ok(true)
+    }
+
+    /// The error test of the step attempted ([`trial_steps`], which failed if `failed`), its
+    /// samples if it is accepted, and the next step size.
+    #[inline(always)]
+    fn accept(&mut self, failed: Option<MaterialLimit>) -> Result<(), ShotFailure> {
+        if let Some(e) = failed {
+            return Err(ShotFailure::Material(e));
         }
+        let (ratio, u_new, k7) = (self.ratio, &self.u_new, &self.k7);
+        let h = self.h;
         if !ratio.is_finite() {
             return Err(ShotFailure::NonFinite);
         }
         if ratio <= 1.0 {
-            let s_new = if last { s_end } else { s + h };
-            if let Some(samples) = shape.as_mut() {
-                let g1 = second_derivatives(model, force, &u_new, &k7)?;
+            let s = self.s;
+            let s_new = if self.last { self.s_end } else { s + h };
+            if let Some(samples) = self.shape.as_mut() {
+                let g1 = self.g_new;
                 let n = samples.count;
-                while next_sample < n {
-                    let sj = next_sample as f64 / (n - 1) as f64;
+                let (ox, oy) = self.origin;
+                while self.next_sample < n {
+                    let sj = self.next_sample as f64 / (n - 1) as f64;
                     if sj > s_new + 1e-12 {
                         break;
                     }
-                    let mut point = hermite(s, h, &u, &k1, &g0, &u_new, &k7, &g1, sj);
+                    let (u, k1, g0) = (&self.u, &self.k1, &self.g0);
+                    let mut point = hermite(s, h, u, k1, g0, u_new, k7, &g1, sj);
                     point.x += ox;
                     point.y += oy;
                     samples.points.push(point);
                     if let Some(sens) = samples.sensitivities.as_mut() {
-                        sens.push(sensitivities_at(s, h, &u, &k1, &u_new, &k7, sj));
+                        sens.push(sensitivities_at(s, h, u, k1, u_new, k7, sj));
                     }
-                    next_sample += 1;
+                    self.next_sample += 1;
                 }
-                g0 = g1;
+                self.g0 = g1;
             }
-            s = s_new;
-            u = u_new;
-            k1 = k7;
-            steps += 1;
+            self.s = s_new;
+            self.u = self.u_new;
+            self.k1 = self.k7;
+            self.steps += 1;
         }
         // Standard step-size controller for a fifth-order pair.
         let factor = if ratio == 0.0 {
@@ -433,16 +683,127 @@ pub(crate) fn integrate<const N: usize>(
         } else {
             (0.9 * ratio.powf(-0.2)).clamp(0.2, 5.0)
         };
-        h = (h * factor).min(MAX_STEP);
+        self.h = (h * factor).min(MAX_STEP);
+        Ok(())
     }
-    if u.iter().any(|v| !v.is_finite()) {
-        return Err(ShotFailure::NonFinite);
+
+    /// The end state and the accepted steps.
+    fn end(self) -> Result<(State<N>, u32), ShotFailure> {
+        if self.u.iter().any(|v| !v.is_finite()) {
+            return Err(ShotFailure::NonFinite);
+        }
+        Ok((self.u, self.steps))
     }
-    Ok((u, steps))
+}
+
+/// Each lane's attempted step ([`Lane::u_new`], [`Lane::k7`], [`Lane::ratio`]), computed
+/// stage by stage across the lanes (the lanes' arithmetic is independent, so each lane's
+/// result is what it would be alone). A lane whose right-hand side has no state (the
+/// material law) fails with it: its failure is returned, and the rest of its step is not
+/// read.
+#[inline(always)]
+fn trial_steps<const N: usize, const L: usize>(
+    lanes: &mut [Lane<'_, '_, N>; L],
+) -> [Option<MaterialLimit>; L] {
+    let mut failed: [Option<MaterialLimit>; L] = [None; L];
+    let model: [&BeamModel; L] = std::array::from_fn(|l| lanes[l].model);
+    let force: [TipForce; L] = std::array::from_fn(|l| lanes[l].force);
+    let h: [f64; L] = each!(0.0, |l| lanes[l].h);
+    // k[0] is the step's first stage (the right-hand side at its start), k[1..6] the rest.
+    let mut k = [[[0.0; N]; L]; 6];
+    for l in 0..L {
+        k[0][l] = lanes[l].k1;
+    }
+    let mut v = [[0.0; N]; L];
+    // Stage `j` (1 to 5) from its argument `u + h sum(a_i k_i)` with the row `a` of the
+    // tableau; a lane that has failed goes on with zeros, unread.
+    let rows: [&[f64]; 5] = [
+        &[A21],
+        &[A31, A32],
+        &[A41, A42, A43],
+        &[A51, A52, A53, A54],
+        &[A61, A62, A63, A64, A65],
+    ];
+    for (j, a) in rows.iter().enumerate() {
+        for l in 0..L {
+            for i in 0..N {
+                let mut sum = a[0] * k[0][l][i];
+                for (q, &a_q) in a.iter().enumerate().skip(1) {
+                    sum += a_q * k[q][l][i];
+                }
+                v[l][i] = lanes[l].u[i] + h[l] * sum;
+            }
+        }
+        let out = rhs_lanes(model, force, std::array::from_fn(|l| &v[l]), None);
+        for l in 0..L {
+            match out[l] {
+                Ok(kl) if failed[l].is_none() => k[j + 1][l] = kl,
+                Ok(_) => {}
+                Err(e) => {
+                    failed[l].get_or_insert(e);
+                }
+            }
+        }
+    }
+    // The new state: the sixth row's weights (b2 is zero), and its right-hand side.
+    for (l, lane) in lanes.iter_mut().enumerate() {
+        #[allow(clippy::needless_range_loop)] // `i` indexes five arrays alike
+        for i in 0..N {
+            lane.u_new[i] = lane.u[i]
+                + h[l]
+                    * (B1 * k[0][l][i]
+                        + B3 * k[2][l][i]
+                        + B4 * k[3][l][i]
+                        + B5 * k[4][l][i]
+                        + B6 * k[5][l][i]);
+        }
+    }
+    // With the new state's second derivatives where a lane samples its shape.
+    let mut g = [[0.0; 4]; L];
+    let sampling = lanes.iter().any(|l| l.shape.is_some());
+    let out = rhs_lanes(
+        model,
+        force,
+        std::array::from_fn(|l| &lanes[l].u_new),
+        sampling.then_some(&mut g),
+    );
+    for l in 0..L {
+        let k7 = match out[l] {
+            Ok(k7) => k7,
+            Err(e) => {
+                failed[l].get_or_insert(e);
+                continue;
+            }
+        };
+        let lane = &mut lanes[l];
+        let mut ratio = 0.0_f64;
+        for i in 0..N {
+            let e = h[l]
+                * (E1 * k[0][l][i]
+                    + E3 * k[2][l][i]
+                    + E4 * k[3][l][i]
+                    + E5 * k[4][l][i]
+                    + E6 * k[5][l][i]
+                    + E7 * k7[i]);
+            let w = match i {
+                MOM => lane.inv_m * lane.inv_tol,
+                // The sensitivities only steer Newton and the stability test, so they are
+                // held to a looser, relative tolerance.
+                _ if i >= 4 => lane.inv_var_tol / (1.0 + lane.u_new[i].abs()),
+                _ => lane.inv_tol,
+            };
+            ratio = ratio.max((e * w).abs());
+        }
+        lane.k7 = k7;
+        lane.g_new = g[l];
+        lane.ratio = ratio;
+    }
+    failed
 }
 
 /// Second derivatives `(psi'', M'', x'', y'')` from the linearisation: the variational
 /// right-hand side applied to the direction `(psi', M')`.
+#[inline(always)]
 fn second_derivatives<const N: usize>(
     model: &BeamModel,
     force: TipForce,
@@ -462,6 +823,7 @@ fn second_derivatives<const N: usize>(
 /// Cubic Hermite interpolation of the sensitivities of `psi, x, y` inside one accepted step
 /// (the layout of [`Samples::sensitivities`]). They only carry Newton's last update, which is
 /// already small, so the interpolation's O(h^4) error is negligible in the shape.
+#[inline(always)]
 fn sensitivities_at<const N: usize>(
     s0: f64,
     h: f64,
@@ -499,6 +861,7 @@ fn sensitivities_at<const N: usize>(
 /// Quintic Hermite interpolation of `psi, x, y` inside one accepted step, from values, first
 /// and second derivatives at both ends (local error O(h^6)).
 #[allow(clippy::too_many_arguments)]
+#[inline(always)]
 fn hermite<const N: usize>(
     s0: f64,
     h: f64,

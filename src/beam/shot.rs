@@ -4,7 +4,9 @@
 //! which also holds what both share (the state layout, the settings, the samples, the meter).
 
 use super::model::BeamModel;
-use super::shoot::{Meter, Samples, Segment, Shot, ShotFailure, ShotSettings, State, TipForce};
+use super::shoot::{
+    Meter, Samples, Segment, Shot, ShotFailure, ShotSettings, ShotSpec, State, TipForce,
+};
 
 /// One segment's integration by the integrator its model needs.
 fn integrate<const N: usize>(
@@ -57,5 +59,33 @@ pub(crate) fn root_shot<const N: usize>(
         settings,
         shape,
         meter,
+    )
+}
+
+/// Two beams shot from their clamps, each as [`root_shot`] would shoot it alone (the same
+/// steps and numbers), integrated side by side where both take the Dormand-Prince pair
+/// ([`super::shoot::integrate_pair`]); a Taylor-series beam is shot on its own.
+pub(crate) fn root_shot_pair<const N: usize>(
+    shots: [(&BeamModel, TipForce, f64, ShotSettings, Option<Samples<'_>>); 2],
+    meters: [&mut Meter<'_>; 2],
+) -> [Result<(State<N>, u32), ShotFailure>; 2] {
+    let [(ma, fa, m0a, sa, sha), (mb, fb, m0b, sb, shb)] = shots;
+    let [meter_a, meter_b] = meters;
+    if super::taylor::applies(ma) || super::taylor::applies(mb) {
+        return [
+            root_shot::<N>(ma, fa, m0a, sa, sha, meter_a),
+            root_shot::<N>(mb, fb, m0b, sb, shb, meter_b),
+        ];
+    }
+    let spec = |model, force, moment, settings, shape| ShotSpec {
+        model,
+        force,
+        segment: Segment::from_clamp(moment),
+        settings,
+        shape,
+    };
+    super::shoot::integrate_pair::<N>(
+        [spec(ma, fa, m0a, sa, sha), spec(mb, fb, m0b, sb, shb)],
+        [meter_a, meter_b],
     )
 }

@@ -27,6 +27,30 @@ pub trait FlexureModel {
     fn eval_values(&self, w: [f64; 3], z: &[f64]) -> Result<FlexEval, TipFailure> {
         self.eval(w, z)
     }
+    /// Every flexure of `models` at its `(w, z)` in `at`, in order: [`FlexureModel::eval`],
+    /// or [`FlexureModel::eval_values`] where `full` is false. The default evaluates them
+    /// one by one; a model may evaluate several at once where that is faster (the exact
+    /// beam shoots two side by side), with the same results.
+    fn eval_all(
+        models: &[Self],
+        at: &[([f64; 3], &[f64])],
+        full: bool,
+    ) -> Vec<Result<FlexEval, TipFailure>>
+    where
+        Self: Sized,
+    {
+        models
+            .iter()
+            .zip(at)
+            .map(|(m, &(w, z))| {
+                if full {
+                    m.eval(w, z)
+                } else {
+                    m.eval_values(w, z)
+                }
+            })
+            .collect()
+    }
     /// Whether the flexure is stable under its tip wrench as a *given* (dead) load.
     fn load_stable(&self, eval: &FlexEval, w: [f64; 3], z: &[f64]) -> bool;
     /// Its largest fibre stress in the state `eval` at `(w, z)` (DESIGN §11), `None` where

@@ -126,19 +126,17 @@ impl<M: FlexureModel> MechSolver<M> {
     /// Every flexure evaluated at `x`, with its Jacobian (`full`) or by values where that
     /// is cheaper ([`FlexureModel::eval_values`]).
     pub(super) fn evaluate(&self, x: &[f64], full: bool) -> Result<Vec<FlexEval>, MechError> {
-        (0..self.models.len())
+        let at: Vec<([f64; 3], &[f64])> = (0..self.models.len())
             .map(|i| {
                 let (w, _) = self.own_wrench(i, x);
                 let o = self.offsets[i] + 3;
-                let z = &x[o..o + self.models[i].internal()];
-                let model = &self.models[i];
-                let eval = if full {
-                    model.eval(w, z)
-                } else {
-                    model.eval_values(w, z)
-                };
-                eval.map_err(|e| flexure_error(i, e))
+                (w, &x[o..o + self.models[i].internal()])
             })
+            .collect();
+        M::eval_all(&self.models, &at, full)
+            .into_iter()
+            .enumerate()
+            .map(|(i, eval)| eval.map_err(|e| flexure_error(i, e)))
             .collect()
     }
 
