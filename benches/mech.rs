@@ -8,6 +8,12 @@
 //! 10 steps): how many points each solver solves, how many end at a named critical point,
 //! and how long the whole grid takes.
 //!
+//! Then the shipped parallel stage (`assets/scenes/parallel-stage.toml`: shear, extension and
+//! Poisson on) at 500 steps a drive, 1000 cases at the default tol, as `prbfit solve --scene`
+//! solves it (issue 24's stage job); and its flexures' root shots one by one against two at a
+//! time side by side (`beam::root::shoot_root_pair`), at the wrench of a case late on its
+//! first drive.
+//!
 //! Run: `cargo bench --bench mech` (release build). Prints tables; asserts nothing.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
@@ -121,6 +127,132 @@ fn main() {
         }
     }
     grid(&models[1]);
+    shipped_stage();
+}
+
+/// The shipped parallel stage at 1000 cases, and its flexures' shots one by one and in pairs.
+fn shipped_stage() {
+    let path =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/parallel-stage.toml");
+    let scene = prbfit::scene::Scene::from_file(&path).unwrap();
+    let mut m = scene.mechanism.clone().unwrap();
+    for d in &mut m.drives {
+        d.steps = 500;
+    }
+    let resolution = Resolution::default();
+    let best = |runs: usize, mut f: Box<dyn FnMut() -> usize + '_>| {
+        (0..runs)
+            .map(|_| {
+                let start = Instant::now();
+                black_box(f());
+                start.elapsed().as_secs_f64()
+            })
+            .fold(f64::MAX, f64::min)
+    };
+    let cases = exact::solve(&m, resolution).unwrap();
+    let n: usize = cases.iter().map(Vec::len).sum();
+    let whole = best(
+        15,
+        Box::new(|| {
+            exact::solve(&m, resolution)
+                .unwrap()
+                .iter()
+                .map(Vec::len)
+                .sum()
+        }),
+    );
+    println!(
+        "\nshipped parallel stage (shear, extension, Poisson), {n} cases at tol {:e}: best of 15 \
+         {:.1} ms ({:.1} us/case)",
+        resolution.tol,
+        whole * 1e3,
+        whole * 1e6 / n as f64
+    );
+    // A case late on the first drive: its two flexures' wrenches (own units).
+    let case = &cases[0][400];
+    let solver = prbfit::beam::BeamSolver::new(m.flexures[0].model(), resolution).unwrap();
+    let w: Vec<[f64; 3]> = case
+        .flexures
+        .iter()
+        .map(|f| {
+            // The root moment from the tip wrench: beta + alpha_y a - alpha_x b.
+            let (l, t) = (f.wrench, f.tip);
+            [
+                l.alpha_x,
+                l.alpha_y,
+                l.beta + l.alpha_y * t.a - l.alpha_x * t.b,
+            ]
+        })
+        .collect();
+    const SHOTS: usize = 2000;
+    let alone = best(
+        9,
+        Box::new(|| {
+            (0..SHOTS)
+                .map(|_| {
+                    let a = solver.shoot_root(w[0][0], w[0][1], w[0][2]).unwrap();
+                    let b = solver.shoot_root(w[1][0], w[1][1], w[1][2]).unwrap();
+                    black_box((a, b));
+                    2
+                })
+                .sum()
+        }),
+    );
+    let paired = best(
+        9,
+        Box::new(|| {
+            (0..SHOTS)
+                .map(|_| {
+                    let [a, b] = prbfit::beam::root::shoot_root_pair([
+                        (&solver, w[0], None),
+                        (&solver, w[1], None),
+                    ]);
+                    black_box((a.unwrap(), b.unwrap()));
+                    2
+                })
+                .sum()
+        }),
+    );
+    let mut shapes = (Vec::new(), Vec::new());
+    let alone_values = best(
+        9,
+        Box::new(|| {
+            (0..SHOTS)
+                .map(|_| {
+                    let a = solver.shoot_root_tip(w[0][0], w[0][1], w[0][2], Some(&mut shapes.0));
+                    let b = solver.shoot_root_tip(w[1][0], w[1][1], w[1][2], Some(&mut shapes.1));
+                    black_box((a.unwrap(), b.unwrap()));
+                    2
+                })
+                .sum()
+        }),
+    );
+    let mut shapes = (Vec::new(), Vec::new());
+    let paired_values = best(
+        9,
+        Box::new(|| {
+            (0..SHOTS)
+                .map(|_| {
+                    let [a, b] = prbfit::beam::root::shoot_root_tip_pair([
+                        (&solver, w[0], Some(&mut shapes.0)),
+                        (&solver, w[1], Some(&mut shapes.1)),
+                    ]);
+                    black_box((a.unwrap(), b.unwrap()));
+                    2
+                })
+                .sum()
+        }),
+    );
+    let us = |t: f64| t * 1e6 / SHOTS as f64;
+    println!(
+        "its two flexures' root shots at case 401 of drive 1, us per pair: with the variational \
+         equations {:.2} one by one, {:.2} side by side; by values with the shape {:.2} one by \
+         one, {:.2} side by side",
+        us(alone),
+        us(paired),
+        us(alone_values),
+        us(paired_values)
+    );
 }
 
 /// The coverage grid with the exact beam and with one PRB model.

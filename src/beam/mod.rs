@@ -95,3 +95,4 @@ pub use model::{cowper_kappa, BeamModel, Effects, ModelError, MAX_SLENDERNESS};
 pub use solution::{BeamSolution, Convergence, SolveError};
 pub use solver::{BeamSolver, EffortBudget, Resolution};
 pub use stress::Stress;
+pub(crate) use stress::StressScratch;

@@ -20,12 +20,18 @@
 //! them.
 
 use crate::beam::root::{shoot_root_pair, shoot_root_tip_pair, RootShot};
-use crate::beam::{BeamSolver, Load, Resolution, ShapePoint, Stress, TipPose};
+use crate::beam::{BeamSolver, Load, Resolution, ShapePoint, Stress, StressScratch, TipPose};
 use crate::scene::Mechanism;
 
 use super::geometry::Geometry;
 use super::solve::{FlexEval, FlexureModel, MechSolver};
 use super::{MechCase, MechError, TipFailure};
+
+thread_local! {
+    /// The stress search's storage, kept from case to case ([`BeamFlexure::stress`]).
+    static STRESS_SCRATCH: std::cell::RefCell<StressScratch> =
+        std::cell::RefCell::new(StressScratch::default());
+}
 
 /// One flexure as the exact beam.
 #[derive(Debug, Clone, Copy)]
@@ -104,14 +110,19 @@ impl FlexureModel for BeamFlexure {
         // for a solution Newton evaluated in full (which samples none), the shape of a shot
         // by values at the same wrench: one more shot, at the same tolerance.
         let load = Load::new(w[0], w[1], eval.tip_moment);
+        let max_stress = |shape: &[ShapePoint]| {
+            STRESS_SCRATCH.with_borrow_mut(|scratch| {
+                self.solver.max_stress_with(load, eval.tip, shape, scratch)
+            })
+        };
         if eval.shape.is_empty() {
             let mut shape = Vec::new();
             self.solver
                 .shoot_root_tip(w[0], w[1], w[2], Some(&mut shape))
                 .ok()?;
-            return self.solver.max_stress(load, eval.tip, &shape);
+            return max_stress(&shape);
         }
-        self.solver.max_stress(load, eval.tip, &eval.shape)
+        max_stress(&eval.shape)
     }
 }
 
