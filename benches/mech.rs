@@ -168,7 +168,8 @@ fn shipped_stage() {
         whole * 1e3,
         whole * 1e6 / n as f64
     );
-    // A case late on the first drive: its two flexures' wrenches (own units).
+    // A case late on the first drive: its two flexures' wrenches (own units). The two
+    // flexures are the same beam in this scene, so flexure 1's solver shoots both.
     let case = &cases[0][400];
     let solver = prbfit::beam::BeamSolver::new(m.flexures[0].model(), resolution).unwrap();
     let w: Vec<[f64; 3]> = case

@@ -255,7 +255,7 @@ fn shot_error(e: ShotFailure, load: Load, meter: &Meter<'_>) -> SolveError {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::beam::{BeamModel, Effects, Resolution};
+    use crate::beam::{BeamModel, Effects, EffortBudget, Resolution};
 
     fn stubby_rubber() -> BeamSolver {
         let effects = Effects {
@@ -401,13 +401,14 @@ mod tests {
         }
     }
 
-    /// Two beams shot side by side give each exactly what it gives alone, bit for bit: with
-    /// and without the variational equations and the shape samples, for beams of other
-    /// effects and slenderness side by side, a plain elastica (its Taylor shot, taken alone)
-    /// beside a Reissner beam, and a beam whose shot fails (its section necks, at once or
-    /// part-way along) beside one that does not. Where the processor has AVX2 and FMA, the
-    /// pair runs in that build and the single shots in the baseline one, so this also checks
-    /// that the two builds agree.
+    /// Two beams shot side by side give each exactly what it gives alone, bit for bit (their
+    /// `Debug` text, which writes every float exactly): with and without the variational
+    /// equations, with and without the shape samples, for beams of other effects and
+    /// slenderness side by side, a plain elastica (its Taylor shot, taken alone) beside a
+    /// Reissner beam, and shots that fail beside shots that do not: a section that necks at
+    /// once or part-way along, and a beam whose effort budget runs out (each lane has its own
+    /// meter). Where the processor has AVX2 and FMA, the pair runs in that build and the
+    /// single shots in the baseline one, so this also checks that the two builds agree.
     #[test]
     fn a_pair_of_shots_is_each_shot_alone() {
         let steel = BeamSolver::new(
@@ -419,51 +420,73 @@ mod tests {
         .unwrap();
         let rubber = stubby_rubber();
         let elastica = BeamSolver::new(BeamModel::elastica(), Resolution::with_tol(1e-9)).unwrap();
+        let starved = steel.with_budget(EffortBudget {
+            rk_steps: 5,
+            ..EffortBudget::default()
+        });
         // The rubber's section necks past an axial force of about 58 (E I0 / L^2): at once
         // under a pull of 200, and part-way along where a pull of 50 with a side force of 30
         // turns into the beam's axis.
         let neck_at_once = [200.0, 0.0, 0.0];
         let neck_part_way = [50.0, 30.0, 8.0];
-        assert!(rubber.shoot_root(200.0, 0.0, 0.0).is_err());
-        let part_way = rubber.shoot_root(50.0, 30.0, 8.0);
+        let fails = |s: &BeamSolver, w: [f64; 3]| s.shoot_root(w[0], w[1], w[2]).is_err();
+        assert!(fails(&rubber, neck_at_once));
         assert!(
-            part_way.is_err(),
-            "the part-way case must fail to test it: {part_way:?}"
+            fails(&rubber, neck_part_way),
+            "the part-way case must fail to test it"
+        );
+        assert!(
+            fails(&starved, [0.5, 1.0, 0.4]),
+            "the starved beam must run out"
         );
         type Beam<'a> = (&'a BeamSolver, [f64; 3]);
-        let cases: [(Beam<'_>, Beam<'_>); 6] = [
+        let cases: [(Beam<'_>, Beam<'_>); 8] = [
             ((&steel, [-0.044, 1.2, 0.6]), (&steel, [0.044, 1.2, 0.61])),
             ((&steel, [10.0, 2.4, -0.3]), (&rubber, [-0.6, 2.4, 1.1])),
             ((&elastica, [-1.3, 2.1, 0.7]), (&rubber, [3.0, -1.0, 0.2])),
             ((&rubber, neck_at_once), (&steel, [0.5, 1.0, 0.4])),
             ((&steel, [0.5, 1.0, 0.4]), (&rubber, neck_part_way)),
             ((&rubber, neck_part_way), (&rubber, neck_at_once)),
+            ((&starved, [0.5, 1.0, 0.4]), (&steel, [0.5, 1.0, 0.4])),
+            ((&steel, [-0.6, 2.4, 1.1]), (&starved, [-0.6, 2.4, 1.1])),
         ];
-        let errors = |r: &Result<RootShot, SolveError>| format!("{r:?}");
+        let text = |r: &dyn std::fmt::Debug| format!("{r:?}");
         for ((sa, wa), (sb, wb)) in cases {
+            let context = format!("{wa:?} beside {wb:?}");
+            // With the variational equations: unsampled, then sampled.
             let alone = |s: &BeamSolver, w: [f64; 3]| s.shoot_root(w[0], w[1], w[2]);
             let [pa, pb] = shoot_root_pair([(sa, wa, None), (sb, wb, None)]);
-            assert_eq!(errors(&pa), errors(&alone(sa, wa)), "{wa:?} beside {wb:?}");
-            assert_eq!(errors(&pb), errors(&alone(sb, wb)), "{wb:?} beside {wa:?}");
-
+            assert_eq!(text(&pa), text(&alone(sa, wa)), "{context}");
+            assert_eq!(text(&pb), text(&alone(sb, wb)), "{context}");
+            let sampled_alone = |s: &BeamSolver, w: [f64; 3]| {
+                let mut shape = Vec::new();
+                let shot = s.shoot_root_sampled(w[0], w[1], w[2], Some(&mut shape));
+                (text(&shot), text(&shape))
+            };
+            let (mut shape_a, mut shape_b) = (Vec::new(), Vec::new());
+            let [pa, pb] =
+                shoot_root_pair([(sa, wa, Some(&mut shape_a)), (sb, wb, Some(&mut shape_b))]);
+            assert_eq!(
+                (text(&pa), text(&shape_a)),
+                sampled_alone(sa, wa),
+                "{context}"
+            );
+            assert_eq!(
+                (text(&pb), text(&shape_b)),
+                sampled_alone(sb, wb),
+                "{context}"
+            );
+            // By values, sampled.
             let tip_alone = |s: &BeamSolver, w: [f64; 3]| {
                 let mut shape = Vec::new();
                 let tip = s.shoot_root_tip(w[0], w[1], w[2], Some(&mut shape));
-                (format!("{tip:?}"), shape)
+                (text(&tip), text(&shape))
             };
             let (mut shape_a, mut shape_b) = (Vec::new(), Vec::new());
             let [ta, tb] =
                 shoot_root_tip_pair([(sa, wa, Some(&mut shape_a)), (sb, wb, Some(&mut shape_b))]);
-            let (tip_a, alone_a) = tip_alone(sa, wa);
-            let (tip_b, alone_b) = tip_alone(sb, wb);
-            assert_eq!(format!("{ta:?}"), tip_a, "{wa:?} beside {wb:?}");
-            assert_eq!(format!("{tb:?}"), tip_b, "{wb:?} beside {wa:?}");
-            if ta.is_ok() {
-                assert_eq!(shape_a, alone_a);
-            }
-            if tb.is_ok() {
-                assert_eq!(shape_b, alone_b);
-            }
+            assert_eq!((text(&ta), text(&shape_a)), tip_alone(sa, wa), "{context}");
+            assert_eq!((text(&tb), text(&shape_b)), tip_alone(sb, wb), "{context}");
         }
     }
 }

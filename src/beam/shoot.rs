@@ -17,7 +17,8 @@
 //!
 //! The integrator is the Dormand-Prince 5(4) pair with local error control on
 //! `psi, x, y` (absolute, units of L and radians) and `M` (relative to the load), the
-//! first-same-as-last property, and cubic Hermite dense output for the shape samples.
+//! first-same-as-last property, and quintic Hermite dense output for the shape samples (cubic
+//! for their sensitivities).
 //!
 //! ## References
 //! - J. R. Dormand, P. J. Prince, "A family of embedded Runge-Kutta formulae",
@@ -621,7 +622,9 @@ impl<'a, 's, const N: usize> Lane<'a, 's, N> {
     /// is reached.
     #[inline(always)]
     fn attempt(&mut self, meter: &mut Meter<'_>) -> Result<bool, ShotFailure> {
-        if self.s >= self.s_end {
+        // Written as the old loop's `while s < s_end`, which also ends at once on a NaN end.
+        let going = self.s < self.s_end;
+        if !going {
             return Ok(false);
         }
         self.tries += 1;

@@ -28,9 +28,10 @@ pub trait FlexureModel {
         self.eval(w, z)
     }
     /// Every flexure of `models` at its `(w, z)` in `at`, in order: [`FlexureModel::eval`],
-    /// or [`FlexureModel::eval_values`] where `full` is false. The default evaluates them
-    /// one by one; a model may evaluate several at once where that is faster (the exact
-    /// beam shoots two side by side), with the same results.
+    /// or [`FlexureModel::eval_values`] where `full` is false, up to the first that fails
+    /// (the caller stops there; a model that evaluates several at once may return the rest
+    /// of its batch too). The default evaluates them one by one; the exact beam shoots two
+    /// side by side, with the same results.
     fn eval_all(
         models: &[Self],
         at: &[([f64; 3], &[f64])],
@@ -39,17 +40,20 @@ pub trait FlexureModel {
     where
         Self: Sized,
     {
-        models
-            .iter()
-            .zip(at)
-            .map(|(m, &(w, z))| {
-                if full {
-                    m.eval(w, z)
-                } else {
-                    m.eval_values(w, z)
-                }
-            })
-            .collect()
+        let mut out = Vec::with_capacity(models.len());
+        for (m, &(w, z)) in models.iter().zip(at) {
+            let eval = if full {
+                m.eval(w, z)
+            } else {
+                m.eval_values(w, z)
+            };
+            let failed = eval.is_err();
+            out.push(eval);
+            if failed {
+                break;
+            }
+        }
+        out
     }
     /// Whether the flexure is stable under its tip wrench as a *given* (dead) load.
     fn load_stable(&self, eval: &FlexEval, w: [f64; 3], z: &[f64]) -> bool;
