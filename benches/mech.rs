@@ -186,64 +186,39 @@ fn shipped_stage() {
         })
         .collect();
     const SHOTS: usize = 2000;
-    let alone = best(
-        9,
-        Box::new(|| {
-            (0..SHOTS)
-                .map(|_| {
-                    let a = solver.shoot_root(w[0][0], w[0][1], w[0][2]).unwrap();
-                    let b = solver.shoot_root(w[1][0], w[1][1], w[1][2]).unwrap();
-                    black_box((a, b));
-                    2
-                })
-                .sum()
-        }),
-    );
-    let paired = best(
-        9,
-        Box::new(|| {
-            (0..SHOTS)
-                .map(|_| {
-                    let [a, b] = prbfit::beam::root::shoot_root_pair([
-                        (&solver, w[0], None),
-                        (&solver, w[1], None),
-                    ]);
-                    black_box((a.unwrap(), b.unwrap()));
-                    2
-                })
-                .sum()
-        }),
-    );
+    // The best of 9 runs of SHOTS pairs, each pair by `shoot`.
+    let per_pairs = |shoot: &mut dyn FnMut()| {
+        best(
+            9,
+            Box::new(|| {
+                (0..SHOTS).for_each(|_| shoot());
+                2 * SHOTS
+            }),
+        )
+    };
+    let alone = per_pairs(&mut || {
+        let a = solver.shoot_root(w[0][0], w[0][1], w[0][2]).unwrap();
+        let b = solver.shoot_root(w[1][0], w[1][1], w[1][2]).unwrap();
+        black_box((a, b));
+    });
+    let paired = per_pairs(&mut || {
+        let [a, b] =
+            prbfit::beam::root::shoot_root_pair([(&solver, w[0], None), (&solver, w[1], None)]);
+        black_box((a.unwrap(), b.unwrap()));
+    });
     let mut shapes = (Vec::new(), Vec::new());
-    let alone_values = best(
-        9,
-        Box::new(|| {
-            (0..SHOTS)
-                .map(|_| {
-                    let a = solver.shoot_root_tip(w[0][0], w[0][1], w[0][2], Some(&mut shapes.0));
-                    let b = solver.shoot_root_tip(w[1][0], w[1][1], w[1][2], Some(&mut shapes.1));
-                    black_box((a.unwrap(), b.unwrap()));
-                    2
-                })
-                .sum()
-        }),
-    );
-    let mut shapes = (Vec::new(), Vec::new());
-    let paired_values = best(
-        9,
-        Box::new(|| {
-            (0..SHOTS)
-                .map(|_| {
-                    let [a, b] = prbfit::beam::root::shoot_root_tip_pair([
-                        (&solver, w[0], Some(&mut shapes.0)),
-                        (&solver, w[1], Some(&mut shapes.1)),
-                    ]);
-                    black_box((a.unwrap(), b.unwrap()));
-                    2
-                })
-                .sum()
-        }),
-    );
+    let alone_values = per_pairs(&mut || {
+        let a = solver.shoot_root_tip(w[0][0], w[0][1], w[0][2], Some(&mut shapes.0));
+        let b = solver.shoot_root_tip(w[1][0], w[1][1], w[1][2], Some(&mut shapes.1));
+        black_box((a.unwrap(), b.unwrap()));
+    });
+    let paired_values = per_pairs(&mut || {
+        let [a, b] = prbfit::beam::root::shoot_root_tip_pair([
+            (&solver, w[0], Some(&mut shapes.0)),
+            (&solver, w[1], Some(&mut shapes.1)),
+        ]);
+        black_box((a.unwrap(), b.unwrap()));
+    });
     let us = |t: f64| t * 1e6 / SHOTS as f64;
     println!(
         "its two flexures' root shots at case 401 of drive 1, us per pair: with the variational \
