@@ -69,12 +69,16 @@
 //!   stability tests, step caps, per-case report) and its first step;
 //! - `newton.rs`: multiple-shooting Newton at a fixed load (and how many segments a load
 //!   needs) and the Morse-index stability;
-//! - `shoot.rs`, `band.rs`: the integrator and the banded linear solve;
+//! - `shoot.rs`: what every shot shares (state, right-hand side, settings, samples, meter);
+//!   `shot.rs` picks a model's integrator: `dopri.rs` (Dormand-Prince, one shot or two side by
+//!   side) or `taylor/` (Taylor series, the plain-bending beam); `band.rs`: the banded linear
+//!   solve;
 //! - `model.rs`, [`plate`]: the beam's constitutive law and the plate correction;
 //! - `stress.rs`: the largest fibre stress along the beam ([`Stress`], DESIGN §11);
 //! - [`root`]: the shot from the clamp with the root moment given (for mechanisms).
 
 mod band;
+mod dopri;
 mod load;
 mod model;
 pub mod modes;

@@ -3,10 +3,9 @@
 //! faster at the same tolerance; any other by the Dormand-Prince pair of [`super::shoot`],
 //! which also holds what both share (the state layout, the settings, the samples, the meter).
 
+use super::dopri::ShotSpec;
 use super::model::BeamModel;
-use super::shoot::{
-    Meter, Samples, Segment, Shot, ShotFailure, ShotSettings, ShotSpec, State, TipForce,
-};
+use super::shoot::{Meter, Samples, Segment, Shot, ShotFailure, ShotSettings, State, TipForce};
 
 /// One segment's integration by the integrator its model needs.
 fn integrate<const N: usize>(
@@ -20,7 +19,7 @@ fn integrate<const N: usize>(
     if super::taylor::applies(model) {
         super::taylor::integrate::<N>(model, force, segment, settings, shape, meter)
     } else {
-        super::shoot::integrate::<N>(model, force, segment, settings, shape, meter)
+        super::dopri::integrate::<N>(model, force, segment, settings, shape, meter)
     }
 }
 
@@ -64,7 +63,7 @@ pub(crate) fn root_shot<const N: usize>(
 
 /// Two beams shot from their clamps, each as [`root_shot`] would shoot it alone (the same
 /// steps and numbers), integrated side by side where both take the Dormand-Prince pair
-/// ([`super::shoot::integrate_pair`]); a Taylor-series beam is shot on its own.
+/// ([`super::dopri::integrate_pair`]); a Taylor-series beam is shot on its own.
 pub(crate) fn root_shot_pair<const N: usize>(
     shots: [(&BeamModel, TipForce, f64, ShotSettings, Option<Samples<'_>>); 2],
     meters: [&mut Meter<'_>; 2],
@@ -84,7 +83,7 @@ pub(crate) fn root_shot_pair<const N: usize>(
         settings,
         shape,
     };
-    super::shoot::integrate_pair::<N>(
+    super::dopri::integrate_pair::<N>(
         [spec(ma, fa, m0a, sa, sha), spec(mb, fb, m0b, sb, shb)],
         [meter_a, meter_b],
     )

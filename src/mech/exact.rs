@@ -93,13 +93,11 @@ impl FlexureModel for BeamFlexure {
                         out.push(rb.map(|t| values_eval(t, sb)).map_err(TipFailure::from));
                     }
                 }
-                _ => out.extend(pair.iter().zip(at).map(|(m, &(w, z))| {
-                    if full {
-                        m.eval(w, z)
-                    } else {
-                        m.eval_values(w, z)
-                    }
-                })),
+                _ => out.extend(
+                    pair.iter()
+                        .zip(at)
+                        .map(|(m, &(w, z))| m.eval_as(w, z, full)),
+                ),
             }
         }
         out
@@ -209,11 +207,7 @@ mod tests {
             let together = BeamFlexure::eval_all(&models, &at, full);
             assert_eq!(together.len(), 3);
             for ((m, &(w, z)), t) in models.iter().zip(&at).zip(&together) {
-                let alone = if full {
-                    m.eval(w, z)
-                } else {
-                    m.eval_values(w, z)
-                };
+                let alone = m.eval_as(w, z, full);
                 assert_eq!(
                     t.as_ref().unwrap(),
                     &alone.unwrap(),
@@ -236,11 +230,7 @@ mod tests {
         for full in [true, false] {
             let together = BeamFlexure::eval_all(&models, &at, full);
             assert_eq!(together.len(), 2, "full {full}: up to the failing pair");
-            let alone = if full {
-                rubber.eval(w[1], &[])
-            } else {
-                rubber.eval_values(w[1], &[])
-            };
+            let alone = rubber.eval_as(w[1], &[], full);
             assert!(alone.is_err());
             assert_eq!(together[1], alone, "full {full}");
         }

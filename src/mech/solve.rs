@@ -27,6 +27,14 @@ pub trait FlexureModel {
     fn eval_values(&self, w: [f64; 3], z: &[f64]) -> Result<FlexEval, TipFailure> {
         self.eval(w, z)
     }
+    /// [`FlexureModel::eval`] where `full`, else [`FlexureModel::eval_values`].
+    fn eval_as(&self, w: [f64; 3], z: &[f64], full: bool) -> Result<FlexEval, TipFailure> {
+        if full {
+            self.eval(w, z)
+        } else {
+            self.eval_values(w, z)
+        }
+    }
     /// Every flexure of `models` at its `(w, z)` in `at`, in order: [`FlexureModel::eval`],
     /// or [`FlexureModel::eval_values`] where `full` is false, up to the first that fails
     /// (the caller stops there; a model that evaluates several at once may return the rest
@@ -42,11 +50,7 @@ pub trait FlexureModel {
     {
         let mut out = Vec::with_capacity(models.len());
         for (m, &(w, z)) in models.iter().zip(at) {
-            let eval = if full {
-                m.eval(w, z)
-            } else {
-                m.eval_values(w, z)
-            };
+            let eval = m.eval_as(w, z, full);
             let failed = eval.is_err();
             out.push(eval);
             if failed {

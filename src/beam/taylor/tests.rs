@@ -105,14 +105,14 @@ fn taylor_samples_match_the_runge_kutta_shots() {
             if columns == 3 && taylor {
                 integrate::<8>(&model, force, segment, settings, shape, &mut meter).unwrap();
             } else if columns == 3 {
-                crate::beam::shoot::integrate::<8>(
+                crate::beam::dopri::integrate::<8>(
                     &model, force, segment, settings, shape, &mut meter,
                 )
                 .unwrap();
             } else if taylor {
                 integrate::<12>(&model, force, segment, settings, shape, &mut meter).unwrap();
             } else {
-                crate::beam::shoot::integrate::<12>(
+                crate::beam::dopri::integrate::<12>(
                     &model, force, segment, settings, shape, &mut meter,
                 )
                 .unwrap();
