@@ -52,13 +52,13 @@ pub(super) fn run(
     seed: u64,
 ) -> (Option<DVector<f64>>, u32) {
     let n = starts.lower.len();
-    let (lower, upper) = (&starts.lower, &starts.upper);
-    let rng = &mut starts.rng;
+    let (lower, upper) = (starts.lower.clone(), starts.upper.clone());
     let mut population = Vec::with_capacity(particles);
     for s in starts.points.iter().take(particles) {
         let cost = objective.value(s).unwrap_or(f64::INFINITY);
         population.push(Particle::new(s.clone(), cost, DVector::zeros(n)));
     }
+    let rng = starts.rng();
     while population.len() < particles {
         let p = DVector::from_fn(n, |i, _| rng.random_range(lower[i]..=upper[i]));
         let v = DVector::from_fn(n, |i, _| {
