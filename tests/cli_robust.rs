@@ -149,6 +149,26 @@ fn a_scene_with_too_many_load_cases_is_refused_before_any_work() {
     );
 }
 
+/// The limit counts cases however they are spread: 100001 paths of one step each are
+/// refused as surely as 20 paths of 10000 (the reader once searched every key it had read
+/// for each new one, and a file of 100001 paths ran for minutes).
+#[test]
+fn a_scene_of_too_many_load_paths_is_refused_before_any_work() {
+    let dir = Scratch::new("paths");
+    let mut text = String::from(
+        "name = \"many\"\n[beam]\nlength = 0.05\nwidth = 0.01\nthickness = 0.0005\n\
+         youngs_modulus = 200e9\npoisson_ratio = 0.3\neffects = \"none\"\n",
+    );
+    for _ in 0..100_001 {
+        text.push_str("[[loads]]\nalpha_y = 1.0\n");
+    }
+    let p = dir.write("many.toml", &text);
+    assert_input_error(
+        &prbfit(&["solve", "--scene", &p]),
+        &["100001 load cases over 100001 paths", "100000"],
+    );
+}
+
 /// A scene whose name is a terminal attack: colour, a window title, a bell.
 const NASTY: &str = "\u{1b}[31mRED\u{1b}]0;pwned\u{7}--x-";
 

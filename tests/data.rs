@@ -350,6 +350,18 @@ fn bad_data_files_name_file_line_and_column() {
             ),
             &["d.csv:100002:1", "100000 load cases"],
         ),
+        // The same limit over paths of one row each (the reader once searched its paths
+        // for every row: seconds, where this is refused at once).
+        (
+            "100001 one-row paths",
+            format!(
+                "{head}{}",
+                (1..=100_001)
+                    .map(|p| growing_rows(p, 1))
+                    .collect::<String>()
+            ),
+            &["d.csv:100002:1", "100000 load cases"],
+        ),
     ];
     common::assert_bad_data_files(&dir, &scene, cases);
 }

@@ -3,8 +3,31 @@
 //! as numbers, rows gathered into paths that grow from the unloaded state. Every error names
 //! `file:line:column`.
 
+use std::collections::HashMap;
+
 use super::super::error::SceneError;
 use super::super::rules;
+
+/// Rows gathered into paths as they are read, with what the limits check needs counted as
+/// it goes (a file of 100000 one-row paths searched its paths for each row: seconds).
+pub(super) struct RowPaths<R> {
+    /// The paths in file order: id and rows.
+    pub paths: Vec<(i64, Vec<R>)>,
+    /// The rows read.
+    rows: usize,
+    /// Each id's index in `paths`.
+    index: HashMap<i64, usize>,
+}
+
+impl<R> Default for RowPaths<R> {
+    fn default() -> Self {
+        RowPaths {
+            paths: Vec::new(),
+            rows: 0,
+            index: HashMap::new(),
+        }
+    }
+}
 
 /// A field as an error message quotes it: terminal-safe, at most 40 characters.
 pub(super) fn shown(field: &str) -> String {
@@ -201,7 +224,7 @@ impl<'a> Csv<'a> {
     #[allow(clippy::too_many_arguments)]
     pub(super) fn push<R>(
         &self,
-        paths: &mut Vec<(i64, Vec<R>)>,
+        gathered: &mut RowPaths<R>,
         id: i64,
         row: R,
         line_no: usize,
@@ -211,8 +234,8 @@ impl<'a> Csv<'a> {
     ) -> Result<(), SceneError> {
         // A scene's limits hold for measured rows too, refused at the row that passes them
         // (before anything is solved): a row is a case, a path's rows its steps.
-        let rows: usize = paths.iter().map(|p| p.1.len()).sum();
-        if u64::try_from(rows).unwrap_or(u64::MAX) >= crate::scene::MAX_CASES {
+        let paths = &mut gathered.paths;
+        if u64::try_from(gathered.rows).unwrap_or(u64::MAX) >= crate::scene::MAX_CASES {
             return Err(self.fail(
                 line_no,
                 1,
@@ -237,7 +260,7 @@ impl<'a> Csv<'a> {
             }
         }
         if paths.last().is_none_or(|p| p.0 != id) {
-            if let Some(earlier) = paths.iter().find(|p| p.0 == id) {
+            if let Some(earlier) = gathered.index.get(&id).map(|&i| &paths[i]) {
                 return Err(self.fail(
                     line_no,
                     1,
@@ -250,6 +273,7 @@ impl<'a> Csv<'a> {
                     ),
                 ));
             }
+            gathered.index.insert(id, paths.len());
             paths.push((id, Vec::new()));
         }
         // `paths` has a last element: pushed just above when this row starts a path.
@@ -272,6 +296,7 @@ impl<'a> Csv<'a> {
                 }
             }
             path.1.push(row);
+            gathered.rows += 1;
         }
         Ok(())
     }

@@ -8,7 +8,7 @@ use serde::Serialize;
 use super::super::drive::Coordinate;
 use super::super::error::SceneError;
 use super::super::mechanism::Mechanism;
-use super::csv::Csv;
+use super::csv::{Csv, RowPaths};
 use super::tip::column_of;
 
 /// One measured case of a mechanism (DESIGN §9 with §8): the drive's inputs and the stage's
@@ -189,7 +189,7 @@ pub fn parse_stage_csv(
     };
 
     let path_column = position(StageColumn::Path);
-    let mut paths: Vec<(i64, Vec<MeasuredStageRow>)> = Vec::new();
+    let mut paths: RowPaths<MeasuredStageRow> = RowPaths::default();
     for (line_no, line) in rows {
         let (f, at) = csv.row(line_no, line, &names, path_column)?;
         let mut input = [0.0; 3];
@@ -258,10 +258,11 @@ pub fn parse_stage_csv(
             |r| r.line,
         )?;
     }
-    csv.nonempty(header_line, &paths)?;
+    csv.nonempty(header_line, &paths.paths)?;
     Ok(StageData {
         prescribed,
         paths: paths
+            .paths
             .into_iter()
             .map(|(id, rows)| MeasuredStagePath { id, rows })
             .collect(),

@@ -9,7 +9,7 @@ use crate::beam::{Load, TipPose};
 
 use super::super::beam::BeamSpec;
 use super::super::error::SceneError;
-use super::csv::Csv;
+use super::csv::{Csv, RowPaths};
 
 /// One measured load case.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
@@ -160,7 +160,7 @@ pub fn parse_csv(
         (1.0, 1.0, 1.0)
     };
     let path_column = columns.iter().position(|c| *c == Column::Path);
-    let mut paths: Vec<(i64, Vec<MeasuredRow>)> = Vec::new();
+    let mut paths: RowPaths<MeasuredRow> = RowPaths::default();
     for (line_no, line) in rows {
         let (f, at) = csv.row(line_no, line, &names, path_column)?;
         let mut load = [0.0; 3];
@@ -196,10 +196,11 @@ pub fn parse_csv(
             |r| r.line,
         )?;
     }
-    csv.nonempty(header_line, &paths)?;
+    csv.nonempty(header_line, &paths.paths)?;
     let units = if si { Units::Si } else { Units::Nondimensional };
     Ok((
         paths
+            .paths
             .into_iter()
             .map(|(id, rows)| MeasuredPath { id, rows })
             .collect(),

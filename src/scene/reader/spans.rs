@@ -2,6 +2,7 @@
 //! table it takes, so an error about a key, the reader's own or a rule's
 //! ([`RuleError`]), names the line that wrote it.
 
+use std::collections::HashMap;
 use std::ops::Range;
 
 use toml::Spanned;
@@ -13,7 +14,9 @@ use super::super::rules;
 pub(super) struct Spans<'a> {
     text: &'a str,
     origin: &'a str,
-    at: Vec<(String, Range<usize>)>,
+    /// By key: a file of 100000 load paths records half a million keys, so a list searched
+    /// on every record took minutes (the square of the keys).
+    at: HashMap<String, Range<usize>>,
 }
 
 impl<'a> Spans<'a> {
@@ -21,16 +24,13 @@ impl<'a> Spans<'a> {
         Spans {
             text,
             origin,
-            at: Vec::new(),
+            at: HashMap::new(),
         }
     }
 
     /// Records that `key` was written at `span` (the first record of a key stays).
     pub(super) fn record(&mut self, key: impl Into<String>, span: Range<usize>) {
-        let key = key.into();
-        if !self.at.iter().any(|(k, _)| *k == key) {
-            self.at.push((key, span));
-        }
+        self.at.entry(key.into()).or_insert(span);
     }
 
     /// The value of `v`, its span recorded for `key`.
@@ -72,7 +72,7 @@ impl<'a> Spans<'a> {
     pub(super) fn locate(&self, e: RuleError) -> SceneError {
         let mut key = e.key.as_str();
         let span = loop {
-            if let Some((_, span)) = self.at.iter().find(|(k, _)| k == key) {
+            if let Some(span) = self.at.get(key) {
                 break Some(span.clone());
             }
             match key.rfind(['.', '[']) {
