@@ -207,8 +207,8 @@ pub enum MatrixError {
         /// How many entries the row had (0 for an empty row).
         got: usize,
     },
-    /// An entry of the text form is neither a number nor `inf`.
-    #[error("row {row}, column {column}: `{text}` is not a number or inf")]
+    /// An entry of the text form is neither a finite number nor `inf`.
+    #[error("row {row}, column {column}: `{text}` is neither a finite number nor inf")]
     NotANumber {
         /// 1-based row of the text.
         row: usize,

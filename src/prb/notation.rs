@@ -171,7 +171,9 @@ impl PrbMatrix {
     }
 }
 
-/// A number or `inf` (any case, optionally `+inf`/`infinity`); NaN is not a number here.
+/// A finite number or `inf` (any case, optionally `+inf`/`infinity`); NaN is not a number
+/// here, nor is a number too large for a double (`1e400`): a rigid segment or a locked joint
+/// is written `inf`, never reached by overflow.
 fn parse_entry(text: &str) -> Option<f64> {
     let lower = text.to_ascii_lowercase();
     if matches!(lower.as_str(), "inf" | "+inf" | "infinity" | "+infinity") {
@@ -180,7 +182,7 @@ fn parse_entry(text: &str) -> Option<f64> {
     if lower.contains("inf") || lower.contains("nan") {
         return None;
     }
-    text.parse::<f64>().ok()
+    text.parse::<f64>().ok().filter(|v| v.is_finite())
 }
 
 impl fmt::Display for PrbMatrix {
@@ -231,7 +233,9 @@ impl Entry {
     fn value(&self) -> Result<f64, String> {
         match self {
             Entry::Number(v) => Ok(*v),
-            Entry::Word(w) => parse_entry(w).ok_or_else(|| format!("`{w}` is not a number or inf")),
+            Entry::Word(w) => {
+                parse_entry(w).ok_or_else(|| format!("`{w}` is neither a finite number nor inf"))
+            }
         }
     }
 }
@@ -329,6 +333,31 @@ mod tests {
         assert_eq!(m.topology(), "L-R-R-R");
         assert_eq!(m.to_text(), text);
         assert_eq!(m.revolute_count(), 3);
+    }
+
+    /// A number too large for a double is refused, not read as `inf` (a rigid segment):
+    /// in the text form and in a model file's string cells alike.
+    #[test]
+    fn an_overflowing_number_is_not_inf() {
+        let err = PrbMatrix::parse("0.25,inf,inf; 0.25,1e400,inf; 0.5,2,inf").unwrap_err();
+        assert_eq!(
+            err.to_string(),
+            "row 2, column k_theta: `1e400` is neither a finite number nor inf"
+        );
+        assert!(PrbMatrix::parse("0.25,inf,inf; 0.25,-1e999,inf; 0.5,2,inf").is_err());
+        let json = r#"[{"gamma":0.5,"k_theta":"inf","k_ex":"inf"},
+                       {"gamma":0.5,"k_theta":"1e400","k_ex":"inf"}]"#;
+        let err = serde_json::from_str::<PrbMatrix>(json)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.contains("row 2: `1e400` is neither a finite number nor inf"),
+            "{err}"
+        );
+        // `inf` itself, written any way the text form allows, stays infinite.
+        let m = PrbMatrix::parse("0.25,+Infinity,inf; 0.75,2,INF").unwrap();
+        assert_eq!(m.rows()[0].k_theta, f64::INFINITY);
+        assert_eq!(m.rows()[1].k_ex, f64::INFINITY);
     }
 
     #[test]

@@ -8,7 +8,7 @@
 
 use std::ops::Range;
 
-use serde::Deserialize;
+use serde::{de, Deserialize, Deserializer};
 use toml::Spanned;
 
 use super::super::beam::BeamSpec;
@@ -17,13 +17,27 @@ use super::super::error::SceneError;
 use super::super::mechanism::{Attach, Flexure, Mechanism};
 use super::spans::Spans;
 
+/// A point `[x, y]`: exactly two numbers. (serde reads a fixed-size array as its first
+/// elements and drops the rest: `root = [0, 0.015, 5]` was read as `[0, 0.015]`.)
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Pair([f64; 2]);
+
+impl<'de> Deserialize<'de> for Pair {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        let v = Vec::<f64>::deserialize(deserializer)?;
+        <[f64; 2]>::try_from(v.as_slice())
+            .map(Pair)
+            .map_err(|_| de::Error::invalid_length(v.len(), &"an array of length 2, [x, y]"))
+    }
+}
+
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(super) struct RawFlexure {
-    root: Option<Spanned<[f64; 2]>>,
+    root: Option<Spanned<Pair>>,
     angle_deg: Option<Spanned<f64>>,
     attach: Option<Spanned<String>>,
-    link_to: Option<Spanned<[f64; 2]>>,
+    link_to: Option<Spanned<Pair>>,
     length: Option<Spanned<f64>>,
     width: Option<Spanned<f64>>,
     thickness: Option<Spanned<f64>>,
@@ -35,7 +49,7 @@ pub(super) struct RawFlexure {
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(super) struct RawStage {
-    point: Option<Spanned<[f64; 2]>>,
+    point: Option<Spanned<Pair>>,
     /// The stage's mass and inertia (DESIGN §10), read with the scene's body.
     pub(super) mass: Option<Spanned<f64>>,
     pub(super) inertia: Option<Spanned<f64>>,
@@ -68,7 +82,7 @@ pub(super) fn mechanism(
         out.push(flexure(spans, beam, raw, i + 1)?);
     }
     let stage_point = match stage.and_then(|s| s.get_ref().point.as_ref()) {
-        Some(p) => spans.take("stage.point", p),
+        Some(p) => spans.take("stage.point", p).0,
         None => out.first().map_or([0.0, 0.0], Flexure::tip),
     };
     // A coupler's stage end defaults to the stage point.
@@ -115,7 +129,7 @@ fn flexure(
     let root = raw
         .root
         .as_ref()
-        .map_or([0.0, 0.0], |p| spans.take(key("root"), p));
+        .map_or([0.0, 0.0], |p| spans.take(key("root"), p).0);
     let angle = raw
         .angle_deg
         .as_ref()
@@ -159,7 +173,7 @@ fn flexure(
     };
     let attach = match (attach, &raw.link_to) {
         (Attach::Link { .. }, Some(to)) => Attach::Link {
-            to: spans.take(key("link_to"), to),
+            to: spans.take(key("link_to"), to).0,
         },
         (_, Some(to)) => {
             return Err(spans.error(

@@ -141,6 +141,31 @@ fn bad_mechanisms_name_their_line_and_key() {
     assert_eq!(e.key.as_deref(), Some("flexures"), "{e}");
 }
 
+/// A point is exactly `[x, y]`: a longer array is refused at its line, not cut to its first
+/// two numbers (serde's arrays drop the rest), like a shorter one.
+#[test]
+fn a_point_of_other_than_two_numbers_is_refused_at_its_line() {
+    for (from, to) in [
+        ("root = [0.0, 0.0]", "root = [0.0, 0.0, 5.0]"),
+        ("root = [0.0, 0.0]", "root = [0.0]"),
+        ("point = [0.07, -0.02]", "point = [0.07, -0.02, 99.0, 1.0]"),
+        (
+            "attach = \"link\"",
+            "attach = \"link\"\nlink_to = [0.07, -0.02, 0.0]",
+        ),
+    ] {
+        let text = SLIDER_CRANK.replacen(from, to, 1);
+        let e = read_error(&text);
+        let last = to.lines().last().unwrap();
+        let line = text.lines().position(|l| l == last).unwrap() + 1;
+        assert_eq!(e.line, Some(line), "{to}: {e}");
+        assert!(
+            e.message.contains("expected an array of length 2"),
+            "{to}: {e}"
+        );
+    }
+}
+
 #[test]
 fn a_bad_prb_matrix_names_its_line_and_cell() {
     let text = format!(
