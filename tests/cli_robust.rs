@@ -246,7 +246,8 @@ fn flags_obey_the_scene_rules_and_numbers_print_bounded() {
     assert_input_error(&out, &["--tol", "1e-300"]);
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.len() < 200, "a number printed unbounded: {err}");
-    // A length of 1e300 m is refused, and the message stays short.
+    // A length of 1e300 m is refused (past the largest size, before its slenderness), and
+    // the message stays short.
     let dir = Scratch::new("long");
     let p = dir.write(
         "long.toml",
@@ -254,7 +255,7 @@ fn flags_obey_the_scene_rules_and_numbers_print_bounded() {
          poisson_ratio = 0.3\n[[loads]]\nalpha_y = 1\n",
     );
     let out = prbfit(&["solve", "--scene", &p]);
-    assert_input_error(&out, &["beam.thickness", "slenderness"]);
+    assert_input_error(&out, &["beam.length", "at most 1000 m"]);
     assert!(
         out.stderr.len() < 300,
         "{}",
@@ -279,14 +280,14 @@ fn flags_obey_the_scene_rules_and_numbers_print_bounded() {
         "stiffish.toml",
         &stiff("1e13").replacen(
             "poisson_ratio = 0.3\n",
-            "poisson_ratio = 0.3\nallowable_stress = 1e20\n",
+            "poisson_ratio = 0.3\nallowable_stress = 1e13\n",
             1,
         ),
     );
     let out = prbfit(&["solve", "--scene", &p]);
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(out.status.success(), "{text}");
-    assert!(text.contains("allowable stress 1e14 MPa"), "{text}");
+    assert!(text.contains("allowable stress 1e7 MPa"), "{text}");
     let longest = text.split_whitespace().map(str::len).max().unwrap_or(0);
     assert!(longest < 20, "a number printed unbounded: {text}");
 }
@@ -305,7 +306,7 @@ fn absurd_magnitudes_are_refused_at_their_key() {
         "/assets/scenes/parallel-stage.toml"
     ))
     .unwrap();
-    let cases: [(&str, String, &[&str]); 5] = [
+    let cases: [(&str, String, &[&str]); 11] = [
         (
             "load",
             builtin.replacen("alpha_y = 5.0", "alpha_y = 1e308", 1),
@@ -335,7 +336,91 @@ fn absurd_magnitudes_are_refused_at_their_key() {
             stage.replacen("angle_deg = 0.0", "angle_deg = 1e300", 1),
             &["flexures[1].angle_deg", "from -360 to 360 degrees", "1e300"],
         ),
+        // SI sizes past any beam (a slip of units): at slenderness 100 a beam 1e300 m long
+        // was accepted and put inf springs and NaN load ranges into its export, and a width
+        // of 1e160 overflowed `solve --json` into an internal error.
+        (
+            "giant",
+            builtin
+                .replacen("length = 0.05", "length = 1e300", 1)
+                .replacen("thickness = 0.0005", "thickness = 1e298", 1),
+            &["beam.length", "at most 1000 m", "1e300"],
+        ),
+        (
+            "wide",
+            builtin.replacen("width = 0.01", "width = 1e160", 1),
+            &["beam.width", "at most 1000 m", "1e160"],
+        ),
+        (
+            "thin",
+            builtin
+                .replacen("length = 0.05", "length = 1e-10", 1)
+                .replacen("thickness = 0.0005", "thickness = 1e-12", 1),
+            &["beam.length", "at least 1e-9 m", "1e-10"],
+        ),
+        (
+            "kappa",
+            builtin.replacen(
+                "poisson_ratio = 0.3",
+                "poisson_ratio = 0.3\nshear_coefficient = 1e300",
+                1,
+            ),
+            &["beam.shear_coefficient", "at most 10", "1e300"],
+        ),
+        (
+            "density",
+            builtin.replacen(
+                "poisson_ratio = 0.3",
+                "poisson_ratio = 0.3\ndensity = 1e-300",
+                1,
+            ),
+            &["beam.density", "at least 0.001 kg/m^3", "1e-300"],
+        ),
+        (
+            "allowable stress",
+            builtin.replacen(
+                "poisson_ratio = 0.3",
+                "poisson_ratio = 0.3\nallowable_stress = 1e300",
+                1,
+            ),
+            &["beam.allowable_stress", "at most 1e13 Pa", "1e300"],
+        ),
     ];
+    // The flags as the scene's keys: `--kappa 1e300` printed 300 digits, and `--density`
+    // at 1e-300 exported masses of 2.5e-308 kg with MuJoCo's default time step.
+    assert_input_error(
+        &prbfit(&[
+            "solve",
+            "--load",
+            "0,2,0",
+            "--effects",
+            "all",
+            "--kappa",
+            "1e300",
+        ]),
+        &["--kappa", "at most 10", "1e300"],
+    );
+    for density in ["1e-300", "1e300"] {
+        let out = dir.file("dense.xml");
+        assert_input_error(
+            &prbfit(&[
+                "export",
+                "--model",
+                "su-3r",
+                "--format",
+                "mjcf",
+                "-o",
+                &out,
+                "--density",
+                density,
+            ]),
+            &["--density", density],
+        );
+        assert!(
+            !std::path::Path::new(&out).exists(),
+            "{density}: a file was written"
+        );
+    }
     // The flag as the scene's key.
     assert_input_error(
         &prbfit(&["solve", "--load", "0,1e308,0"]),

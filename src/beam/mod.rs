@@ -95,7 +95,7 @@ mod stress;
 mod taylor;
 
 pub use load::{Load, ShapePoint, TipPose};
-pub use model::{cowper_kappa, BeamModel, Effects, ModelError, MAX_SLENDERNESS};
+pub use model::{cowper_kappa, BeamModel, Effects, ModelError, MAX_KAPPA, MAX_SLENDERNESS};
 pub use solution::{BeamSolution, Convergence, SolveError};
 pub use solver::{BeamSolver, EffortBudget, Resolution};
 pub use stress::Stress;

@@ -156,9 +156,13 @@ pub enum ModelError {
     /// Poisson's ratio `nu` is not finite or lies outside `[0, 0.5)`.
     #[error("Poisson's ratio must be in [0, 0.5), got {}", crate::text::bounded(*.0))]
     PoissonRatio(f64),
-    /// The shear coefficient `kappa` (given, or Cowper's from `nu`) is not a finite positive
-    /// number.
-    #[error("shear coefficient kappa must be a finite number > 0, got {}", crate::text::bounded(*.0))]
+    /// The shear coefficient `kappa` (given, or Cowper's from `nu`) is not a finite number
+    /// `> 0` and at most [`MAX_KAPPA`].
+    #[error(
+        "shear coefficient kappa must be a finite number > 0 and at most {MAX_KAPPA} (real \
+         sections' lie between about 0.5 and 1), got {}",
+        crate::text::bounded(*.0)
+    )]
     ShearCoefficient(f64),
     /// An effect name other than `shear`, `extension`, `poisson` or `plane_strain` (the name
     /// given).
@@ -175,6 +179,11 @@ pub enum ModelError {
 /// The most slender beam described (L/t0): a hair 100 times thinner than the thinnest the
 /// solver is tested on (1e4); beyond it the axial and shear compliances underflow.
 pub const MAX_SLENDERNESS: f64 = 1e6;
+
+/// The largest shear coefficient `kappa` a beam may have: real sections' lie between about
+/// 0.5 and 1 (5/6 for a rectangle); shear is switched off with the effects, not with a huge
+/// `kappa` (1e300 printed as 300 digits and made the shear compliance subnormal).
+pub const MAX_KAPPA: f64 = 10.0;
 
 /// Cowper's shear coefficient of a rectangular section, `10 (1 + nu) / (12 + 11 nu)`.
 pub fn cowper_kappa(nu: f64) -> f64 {
@@ -226,7 +235,7 @@ impl BeamModel {
             return Err(ModelError::PoissonRatio(nu));
         }
         let kappa = kappa.unwrap_or_else(|| cowper_kappa(nu));
-        if !(kappa.is_finite() && kappa > 0.0) {
+        if !(kappa.is_finite() && kappa > 0.0 && kappa <= MAX_KAPPA) {
             return Err(ModelError::ShearCoefficient(kappa));
         }
         effects.validate()?;

@@ -36,9 +36,9 @@ pub enum ExportError {
     /// The model cannot follow the scene's loads, so it has no figures to record.
     #[error("the model cannot follow the scene's loads: {0}")]
     Eval(String),
-    /// A bad density.
-    #[error("density must be a finite number > 0, got {}", crate::text::bounded(*.0))]
-    Density(f64),
+    /// A bad density, and why ([`crate::scene::rules::density`]).
+    #[error("density {0}")]
+    Density(String),
     /// The model's highest natural frequency is so far above its lowest that MuJoCo's
     /// time step ([`chain::time_step`]) would make a run impractical.
     #[error(

@@ -134,20 +134,20 @@ impl BeamSpec {
     /// beam's own (`thickness`); a scene puts them under `beam`, a flexure under its table.
     pub fn validate(&self) -> Result<(), RuleError> {
         let check = |key: &str, r: Result<(), String>| r.map_err(|m| RuleError::new(key, m));
-        check("length", rules::positive(self.length))?;
-        check("width", rules::positive(self.width))?;
-        check("thickness", rules::positive(self.thickness))?;
+        check("length", rules::size(self.length))?;
+        check("width", rules::size(self.width))?;
+        check("thickness", rules::size(self.thickness))?;
         check("thickness", rules::slenderness(self.thickness, self.length))?;
         check("youngs_modulus", rules::modulus(self.youngs_modulus))?;
         check("poisson_ratio", rules::poisson_ratio(self.poisson_ratio))?;
         if let Some(k) = self.shear_coefficient {
-            check("shear_coefficient", rules::positive(k))?;
+            check("shear_coefficient", rules::shear_coefficient(k))?;
         }
         if let Some(rho) = self.density {
-            check("density", rules::positive(rho))?;
+            check("density", rules::density(rho))?;
         }
         if let Some(s) = self.allowable_stress {
-            check("allowable_stress", rules::positive(s))?;
+            check("allowable_stress", rules::allowable_stress(s))?;
         }
         if let EffectsChoice::Fixed(e) = self.effects {
             e.validate()

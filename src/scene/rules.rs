@@ -45,6 +45,85 @@ pub fn modulus(v: f64) -> Result<(), String> {
     Ok(())
 }
 
+/// The smallest and largest SI size (a beam's length, width or thickness), m: a nanometre,
+/// below which no beam is a continuum, and a kilometre. Beyond them a size is a unit slip,
+/// and near `f64::MAX` or its least normal one the section's `E I0 = E w t0^3 / 12` and
+/// every force scaled by it overflow (a kilometre of steel a kilometre square is 1e25 N m^2).
+pub const MIN_SIZE: f64 = 1e-9;
+/// See [`MIN_SIZE`].
+pub const MAX_SIZE: f64 = 1e3;
+
+/// A size: finite and from [`MIN_SIZE`] to [`MAX_SIZE`] m.
+pub fn size(v: f64) -> Result<(), String> {
+    positive(v)?;
+    within(
+        v,
+        MIN_SIZE,
+        MAX_SIZE,
+        "m (a nanometre to a kilometre; the scene is in SI units)",
+    )
+}
+
+/// A shear coefficient: finite, `> 0` and at most [`crate::beam::MAX_KAPPA`].
+pub fn shear_coefficient(v: f64) -> Result<(), String> {
+    positive(v)?;
+    within(
+        v,
+        0.0,
+        crate::beam::MAX_KAPPA,
+        "(real sections' lie between about 0.5 and 1)",
+    )
+}
+
+/// The lightest and densest material, kg/m^3: below aerogels (about 1) and above osmium
+/// (22590) by a margin. Beyond them the links' masses (the MJCF exporter's, the modes')
+/// fall below what a simulator takes or overflow what is derived from them.
+pub const MIN_DENSITY: f64 = 1e-3;
+/// See [`MIN_DENSITY`].
+pub const MAX_DENSITY: f64 = 1e5;
+
+/// A density: finite and from [`MIN_DENSITY`] to [`MAX_DENSITY`] kg/m^3.
+pub fn density(v: f64) -> Result<(), String> {
+    positive(v)?;
+    within(
+        v,
+        MIN_DENSITY,
+        MAX_DENSITY,
+        "kg/m^3 (the scene is in SI units)",
+    )
+}
+
+/// An allowable stress, Pa: finite, `> 0` and at most [`MAX_MODULUS`] (no material carries a
+/// stress above the stiffest modulus).
+pub fn allowable_stress(v: f64) -> Result<(), String> {
+    positive(v)?;
+    within(
+        v,
+        0.0,
+        MAX_MODULUS,
+        "Pa (the stiffest modulus; the scene is in SI units)",
+    )
+}
+
+/// `v` from `lo` to `hi` (the bounds allowed), else an error naming them in `unit`.
+fn within(v: f64, lo: f64, hi: f64, unit: &str) -> Result<(), String> {
+    if v < lo {
+        return Err(format!(
+            "must be at least {} {unit}, got {}",
+            bounded(lo),
+            bounded(v)
+        ));
+    }
+    if v > hi {
+        return Err(format!(
+            "must be at most {} {unit}, got {}",
+            bounded(hi),
+            bounded(v)
+        ));
+    }
+    Ok(())
+}
+
 /// The largest magnitude a load (nondimensional `alpha`, `beta`), a drive's end
 /// (nondimensional: units of flexure 1's `L`, radians, `E I0/L^2`, `E I0/L`) or a data file's
 /// value may have: the solvers follow loads past 1e8 (slowly: a third of a second a case),

@@ -37,8 +37,8 @@ impl Study {
         // simulators' links need one, the default if nothing gives it.
         let masses = density.or(scene.beam.density);
         let density = masses.unwrap_or(DEFAULT_DENSITY);
-        if !(density.is_finite() && density > 0.0) {
-            return Err(ExportError::Density(density));
+        if let Err(why) = crate::scene::rules::density(density) {
+            return Err(ExportError::Density(why));
         }
         let fidelity = match self.sampling() {
             Sampling::Fidelity(f) => f.to_string(),
