@@ -105,7 +105,8 @@ pub fn run() -> ExitCode {
                 .is_some_and(ReportError::is_input)
                 || e.downcast_ref::<BadInput>().is_some()
                 || e.downcast_ref::<SceneError>().is_some()
-                || e.downcast_ref::<WriteError>().is_some()
+                || e.downcast_ref::<WriteError>()
+                    .is_some_and(|w| !w.is_out_of_room())
                 || e.downcast_ref::<ReadError>().is_some();
             // stderr may be closed too; there is nowhere left to say so.
             let _ = std::io::Write::write_all(

@@ -117,9 +117,15 @@ impl From<ReadError> for ReportError {
     }
 }
 
+/// A file that may not be written is bad input (exit status 2); one that cannot be written
+/// for want of room (a full disk) is a failure (exit status 1), as docs/cli.md says.
 impl From<WriteError> for ReportError {
     fn from(e: WriteError) -> ReportError {
-        ReportError::Input(chain_line(None, &e))
+        if e.is_out_of_room() {
+            ReportError::Solve(chain_line(None, &e))
+        } else {
+            ReportError::Input(chain_line(None, &e))
+        }
     }
 }
 

@@ -44,6 +44,26 @@ pub enum WriteError {
 }
 
 impl WriteError {
+    /// Whether the output could not be written for want of room or a working device (a full
+    /// disk, a quota, a file too large, an I/O error), which the CLI counts as a failure
+    /// (exit status 1), not as bad input: the same request succeeds once there is room.
+    pub fn is_out_of_room(&self) -> bool {
+        /// `EIO` and `EDQUOT` on Linux (`io::ErrorKind` names neither on stable Rust).
+        const EIO: i32 = 5;
+        const EDQUOT: i32 = 122;
+        match self {
+            WriteError::Io { error, .. } => {
+                matches!(
+                    error.kind(),
+                    io::ErrorKind::StorageFull
+                        | io::ErrorKind::FileTooLarge
+                        | io::ErrorKind::WriteZero
+                ) || matches!(error.raw_os_error(), Some(EIO | EDQUOT))
+            }
+            _ => false,
+        }
+    }
+
     /// The path the error is about.
     pub fn path(&self) -> &Path {
         match self {

@@ -315,3 +315,30 @@ mod unix {
         fs::remove_dir_all(&dir).unwrap();
     }
 }
+
+/// A full disk (or quota, or a failing device) is the output that cannot be written, which
+/// the CLI reports with exit status 1; a path that may not be written (no such directory,
+/// no permission, an existing file) is bad input, exit status 2.
+#[test]
+fn a_full_disk_is_out_of_room_and_a_forbidden_path_is_not() {
+    let io = |error: io::Error| WriteError::Io {
+        path: PathBuf::from("out.svg"),
+        error,
+    };
+    for room in [28, 122, 5, 27] {
+        // ENOSPC, EDQUOT, EIO, EFBIG.
+        assert!(
+            io(io::Error::from_raw_os_error(room)).is_out_of_room(),
+            "{room}"
+        );
+    }
+    assert!(io(io::ErrorKind::WriteZero.into()).is_out_of_room());
+    for refused in [2, 13, 21, 30] {
+        // ENOENT, EACCES, EISDIR, EROFS.
+        assert!(
+            !io(io::Error::from_raw_os_error(refused)).is_out_of_room(),
+            "{refused}"
+        );
+    }
+    assert!(!WriteError::Exists(PathBuf::from("out.svg")).is_out_of_room());
+}
