@@ -227,6 +227,21 @@ fn control_characters_never_reach_the_terminal_or_break_an_export() {
             "{format}: an escape character was written"
         );
     }
+    // The model files: the scene's name in the title and the fit record, replaced too.
+    for name in ["m.toml", "m.json"] {
+        let path = dir.file(name);
+        succeeded(&prbfit(&[
+            "export", "--scene", &scene, "--model", "chen-3r", "-o", &path,
+        ]));
+        let text = std::fs::read_to_string(&path).unwrap();
+        let file = prbfit::io::ModelFile::load(&path).unwrap();
+        let title = file.title.unwrap_or_default();
+        assert!(title.contains("RED"), "{name}: {title:?}");
+        assert!(
+            !title.chars().any(char::is_control),
+            "{name}: a control character in the title: {title:?}\n{text}"
+        );
+    }
     let csv = dir.file("m.csv");
     let out = prbfit(&[
         "export", "--scene", &scene, "--model", "chen-3r", "--format", "csv", "-o", &csv,

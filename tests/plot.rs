@@ -229,6 +229,8 @@ fn models_keep_the_command_line_order_and_the_scene_model_is_the_default() {
         "su-3r",
         "--prb",
         "0.2,inf,inf; 0.8,2.5,inf",
+        "--prb",
+        "0.2,inf,inf; 0.8,2.5,inf",
         "--kind",
         "shapes",
         "-o",
@@ -242,7 +244,8 @@ fn models_keep_the_command_line_order_and_the_scene_model_is_the_default() {
         .iter()
         .map(|m| m["name"].as_str().unwrap())
         .collect();
-    assert_eq!(names, ["l-r", "su-3r", "l-r #2"]);
+    // The third of a name is its #3 (it was a second #2).
+    assert_eq!(names, ["l-r", "su-3r", "l-r #2", "l-r #3"]);
 
     let default = std::fs::read_to_string(
         std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/default.toml"),

@@ -241,11 +241,11 @@ fn bad_matrices_are_rejected_with_row_and_column() {
         ),
         (
             "0.5,inf,inf; 0.5,two,inf",
-            "row 2, column k_theta: `two` is not a number",
+            "row 2, column k_theta: `two` is neither a finite number nor inf",
         ),
         (
             "0.5,inf,inf; 0.5,2,nan",
-            "row 2, column k_ex: `nan` is not a number",
+            "row 2, column k_ex: `nan` is neither a finite number nor inf",
         ),
         (
             "-0.5,inf,inf; 1.5,2,inf",

@@ -89,6 +89,10 @@ impl Effects {
                 effects = Effects::ALL.with_plane_strain(effects.plane_strain);
                 continue;
             }
+            if word == "none" {
+                // `none` alone is the empty list; beside effects it contradicts them.
+                return Err(ModelError::NoneWithOthers);
+            }
             effects.set(word)?;
         }
         effects.validate()?;
@@ -170,6 +174,9 @@ pub enum ModelError {
         "unknown effect `{0}` (expected shear, extension, poisson, plane_strain, none or all)"
     )]
     UnknownEffect(String),
+    /// `none` listed beside effects (`none,shear`).
+    #[error("`none` stands alone: it cannot be listed with other effects")]
+    NoneWithOthers,
     /// `poisson` is on without `extension`: the section shrinks with the axial strain, which
     /// is zero without extension.
     #[error("the poisson effect needs extension: add \"extension\" to the effects")]
@@ -523,6 +530,10 @@ mod tests {
     #[test]
     fn effects_parse_and_print() {
         assert_eq!(Effects::parse_list("none").unwrap(), Effects::NONE);
+        assert_eq!(
+            Effects::parse_list("none,shear"),
+            Err(ModelError::NoneWithOthers)
+        );
         assert_eq!(
             Effects::parse_list("shear, extension").unwrap().to_string(),
             "shear,extension"

@@ -168,6 +168,8 @@ fn models(args: &PlotArgs, matches: Option<&ArgMatches>, scene: &Scene) -> Resul
     given.sort_by_key(|(i, _)| *i);
 
     let mut out: Vec<PlotModel> = Vec::with_capacity(given.len().max(1));
+    // The models' own names so far: the third `su-3r` is `su-3r #3`.
+    let mut names: Vec<String> = Vec::with_capacity(given.len());
     for (_, g) in given {
         let (name, matrix) = match g {
             Given::Model(m) => {
@@ -179,7 +181,8 @@ fn models(args: &PlotArgs, matches: Option<&ArgMatches>, scene: &Scene) -> Resul
                 (m.topology().to_lowercase(), m)
             }
         };
-        let taken = out.iter().filter(|o| o.name == name).count();
+        let taken = names.iter().filter(|n| **n == name).count();
+        names.push(name.clone());
         let name = if taken > 0 {
             format!("{name} #{}", taken + 1)
         } else {

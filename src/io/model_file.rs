@@ -228,13 +228,12 @@ impl ModelFile {
                 .map(|f| si_model(matrix, &with_density(&f.beam)))
                 .collect(),
         });
+        // The scene's name as every export writes it: control characters replaced (a model
+        // file is printed and pasted as often as it is parsed).
+        let scene_name = crate::text::sanitize_terminal(&scene.name).into_owned();
         let title = match &mechanism {
-            Some(_) => format!(
-                "{} fitted to the mechanism {}",
-                matrix.topology(),
-                scene.name
-            ),
-            None => format!("{} fitted to {}", matrix.topology(), scene.name),
+            Some(_) => format!("{} fitted to the mechanism {scene_name}", matrix.topology(),),
+            None => format!("{} fitted to {scene_name}", matrix.topology()),
         };
         ModelFile {
             name: format!("fitted-{}", matrix.topology().to_lowercase()),
@@ -261,7 +260,7 @@ impl ModelFile {
                 .is_none()
                 .then(|| load_range(&scene.beam, &scene.loads)),
             fit: Some(FitRecord {
-                scene: scene.name.clone(),
+                scene: scene_name,
                 fidelity: fidelity.to_string(),
                 stopped_early: None,
                 angle_weight: scene.fit.angle_weight,

@@ -547,7 +547,9 @@ fn beam_model(scene: &Scene, args: &SolveArgs) -> Result<BeamModel> {
                 ModelError::Slenderness(_) => "--slenderness",
                 ModelError::PoissonRatio(_) => "--nu",
                 ModelError::ShearCoefficient(_) => "--kappa",
-                ModelError::UnknownEffect(_) | ModelError::PoissonWithoutExtension => "--effects",
+                ModelError::UnknownEffect(_)
+                | ModelError::PoissonWithoutExtension
+                | ModelError::NoneWithOthers => "--effects",
             };
             ReportError::input(format!("{flag}: {e}"))
         })

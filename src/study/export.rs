@@ -65,7 +65,11 @@ impl Study {
                     scene.name
                 ));
             } else {
-                file.title = Some(format!("{} for {}", matrix.topology(), scene.name));
+                file.title = Some(format!(
+                    "{} for {}",
+                    matrix.topology(),
+                    crate::text::sanitize_terminal(&scene.name)
+                ));
                 file.source = Some(format!("prbfit {} export", env!("CARGO_PKG_VERSION")));
             }
             Ok(file)
