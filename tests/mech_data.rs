@@ -494,6 +494,16 @@ fn bad_mechanism_data_name_file_line_and_column() {
                 .into(),
             &["d.csv:2:", "stage_dy", "contradicts the input dy"],
         ),
+        // A rig that recorded no force: every relative force error would be against 0 (a
+        // model's J was 3.6e23, exit 0).
+        (
+            "every reaction 0",
+            format!("{head}0,0.0015,0,0,0,0\n0,0.003,0,0,0,0\n"),
+            &[
+                "d.csv:1:1",
+                "every measured reaction (stage_fx, stage_fy, stage_mz) is 0",
+            ],
+        ),
     ];
     common::assert_bad_data_files(&dir, &scene, cases);
     // A repeated input that agrees is fine.

@@ -259,6 +259,28 @@ pub fn parse_stage_csv(
         )?;
     }
     csv.nonempty(header_line, &paths.paths)?;
+    // The reactions are the truth's forces: every one of them 0 says the drive moved the
+    // stage without any force, which no flexure allows (a rig that did not record them).
+    // Judged against them, a model's every relative force error would be its reaction over
+    // the scale's floor, 1e11 and more (J 3.6e23 on the slider-crank), not a figure.
+    let reactions: Vec<usize> = (0..3).filter(|&c| prescribed[c]).collect();
+    let all_zero = paths
+        .paths
+        .iter()
+        .flat_map(|p| &p.1)
+        .all(|r| reactions.iter().all(|&c| r.stage_load[c] == 0.0));
+    if !reactions.is_empty() && all_zero {
+        let columns: Vec<&str> = reactions.iter().map(|&c| STAGE_NAMES[c][3]).collect();
+        return Err(csv.fail(
+            header_line,
+            1,
+            None,
+            format!(
+                "every measured reaction ({}) is 0: the drive moved the stage with no force,                  which no flexure allows, and a model's force errors relative to 0 are no                  figure; give the reactions the rig measured",
+                columns.join(", ")
+            ),
+        ));
+    }
     Ok(StageData {
         prescribed,
         paths: paths
