@@ -242,6 +242,31 @@ fn control_characters_never_reach_the_terminal_or_break_an_export() {
             "{name}: a control character in the title: {title:?}\n{text}"
         );
     }
+    // A mechanism's model file too (its title names the mechanism).
+    let stage = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/assets/scenes/parallel-stage.toml"
+    ))
+    .unwrap()
+    .replacen(
+        "name = \"parallel-guiding stage\"",
+        &format!("name = {}", toml_string(NASTY)),
+        1,
+    );
+    let stage = dir.write("stage.toml", &stage);
+    let path = dir.file("stage-model.toml");
+    succeeded(&prbfit(&[
+        "export", "--scene", &stage, "--model", "su-3r", "-o", &path,
+    ]));
+    let title = prbfit::io::ModelFile::load(&path)
+        .unwrap()
+        .title
+        .unwrap_or_default();
+    assert!(
+        title.contains("mechanism") && title.contains("RED"),
+        "{title:?}"
+    );
+    assert!(!title.chars().any(char::is_control), "{title:?}");
     let csv = dir.file("m.csv");
     let out = prbfit(&[
         "export", "--scene", &scene, "--model", "chen-3r", "--format", "csv", "-o", &csv,

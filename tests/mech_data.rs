@@ -501,7 +501,9 @@ fn bad_mechanism_data_name_file_line_and_column() {
             format!("{head}0,0.0015,0,0,0,0\n0,0.003,0,0,0,0\n"),
             &[
                 "d.csv:1:1",
-                "every measured reaction (stage_fx, stage_fy, stage_mz) is 0",
+                "every measured reaction of the prescribed coordinates (stage_fx, stage_fy, \
+                 stage_mz) is 0: no flexure lets a drive hold them without force, and a \
+                 model's force errors relative to 0 are no figure",
             ],
         ),
     ];

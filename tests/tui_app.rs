@@ -1332,6 +1332,15 @@ fn export_asks_for_the_density_of_the_robot_formats() {
     type_text(&mut app, "heavy", t0);
     assert!(app.on_key(key(KeyCode::Enter), t0).is_empty());
     assert!(app.message.as_ref().unwrap().0.contains("density"));
+    // So is one the scene's rule refuses (it was kept, and the export failed later).
+    app.on_key(key(KeyCode::Char('e')), t0);
+    type_text(&mut app, "arm.urdf", t0);
+    app.on_key(key(KeyCode::Enter), t0);
+    type_text(&mut app, "1e-300", t0);
+    assert!(app.on_key(key(KeyCode::Enter), t0).is_empty());
+    let message = &app.message.as_ref().unwrap().0;
+    assert!(message.contains("at least 0.001 kg/m^3"), "{message}");
+    assert_eq!(app.export_density, 7850.0);
     // A model file of a scene without a density has no masses, as the CLI writes it: the
     // density typed for the robot format above does not go with it (it gave every segment
     // a mass from 7850 kg/m^3, which nobody gave the scene).

@@ -346,17 +346,18 @@ fn check_fit(fit: &FitRecord) -> Result<(), RuleError> {
     Ok(())
 }
 
-/// A model in SI: sizes and modulus finite and `> 0`, each segment's length and given springs
-/// too, its mass and inertia and the bodies' finite and `>= 0`.
+/// A model in SI: sizes within a scene's ([`rules::size`]), the modulus finite and `> 0`, each
+/// segment's length and given springs too, its mass and inertia and the bodies' finite and
+/// `>= 0`.
 fn check_si(si: &SiModel) -> Result<(), RuleError> {
     for (key, v) in [
         ("beam_length", si.beam_length),
         ("width", si.width),
         ("thickness", si.thickness),
-        ("youngs_modulus", si.youngs_modulus),
     ] {
-        rules::positive(v).map_err(|m| RuleError::new(key, m))?;
+        rules::size(v).map_err(|m| RuleError::new(key, m))?;
     }
+    rules::positive(si.youngs_modulus).map_err(|m| RuleError::new("youngs_modulus", m))?;
     for (i, seg) in si.segments.iter().enumerate() {
         let at = |e: RuleError| e.under(&format!("segments[{}]", i + 1));
         rules::positive(seg.length).map_err(|m| at(RuleError::new("length", m)))?;

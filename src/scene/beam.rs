@@ -127,10 +127,14 @@ impl BeamSpec {
         .with_width_ratio(self.width / self.thickness)
     }
 
-    /// Checks the beam's rules: sizes, modulus (at most [`MAX_MODULUS`](super::MAX_MODULUS))
-    /// and an allowable stress finite and `> 0`, `1 <= L/t0 <=`
+    /// Checks the beam's rules: sizes from [`MIN_SIZE`](super::rules::MIN_SIZE) to
+    /// [`MAX_SIZE`](super::rules::MAX_SIZE), a modulus and an allowable stress finite, `> 0`
+    /// and at most [`MAX_MODULUS`](super::MAX_MODULUS), `1 <= L/t0 <=`
     /// [`MAX_SLENDERNESS`](crate::beam::MAX_SLENDERNESS) (named by `thickness`), `nu` in
-    /// `[0, 0.5)`, a given shear coefficient and density `> 0`, effects that go together. Keys are the
+    /// `[0, 0.5)`, a given shear coefficient `> 0` and at most
+    /// [`MAX_KAPPA`](crate::beam::MAX_KAPPA), a given density from
+    /// [`MIN_DENSITY`](super::rules::MIN_DENSITY) to [`MAX_DENSITY`](super::rules::MAX_DENSITY),
+    /// effects that go together. Keys are the
     /// beam's own (`thickness`); a scene puts them under `beam`, a flexure under its table.
     pub fn validate(&self) -> Result<(), RuleError> {
         let check = |key: &str, r: Result<(), String>| r.map_err(|m| RuleError::new(key, m));

@@ -62,7 +62,7 @@ impl Study {
                 file.title = Some(format!(
                     "{name} ({}) judged on the mechanism {}",
                     matrix.topology(),
-                    scene.name
+                    crate::text::sanitize_terminal(&scene.name)
                 ));
             } else {
                 file.title = Some(format!(

@@ -259,8 +259,9 @@ pub fn parse_stage_csv(
         )?;
     }
     csv.nonempty(header_line, &paths.paths)?;
-    // The reactions are the truth's forces: every one of them 0 says the drive moved the
-    // stage without any force, which no flexure allows (a rig that did not record them).
+    // The reactions are the truth's forces: every one of them 0 says the drive held its
+    // coordinates without any force, which no flexure allows (a rig that did not record
+    // them).
     // Judged against them, a model's every relative force error would be its reaction over
     // the scale's floor, 1e11 and more (J 3.6e23 on the slider-crank), not a figure.
     let reactions: Vec<usize> = (0..3).filter(|&c| prescribed[c]).collect();
@@ -276,7 +277,9 @@ pub fn parse_stage_csv(
             1,
             None,
             format!(
-                "every measured reaction ({}) is 0: the drive moved the stage with no force,                  which no flexure allows, and a model's force errors relative to 0 are no                  figure; give the reactions the rig measured",
+                "every measured reaction of the prescribed coordinates ({}) is 0: no flexure \
+                 lets a drive hold them without force, and a model's force errors \
+                 relative to 0 are no figure; give the reactions the rig measured",
                 columns.join(", ")
             ),
         ));

@@ -379,6 +379,13 @@ fn effects(spans: &Spans<'_>, spanned: &Spanned<toml::Value>) -> Result<EffectsC
                         item.type_str()
                     ))
                 })?;
+                // `none` and `all` stand alone, as strings, not in a list.
+                if matches!(name, "none" | "all") {
+                    return Err(fail(format!(
+                        "`{name}` stands alone (effects = \"{name}\"): it cannot be listed \
+                         with other effects"
+                    )));
+                }
                 effects.set(name).map_err(|e| fail(e.to_string()))?;
             }
             Ok(EffectsChoice::Fixed(effects))

@@ -141,6 +141,22 @@ fn bad_mechanisms_name_their_line_and_key() {
     assert_eq!(e.key.as_deref(), Some("flexures"), "{e}");
 }
 
+/// `none` and `all` are whole settings: in a list beside effects they are refused as such
+/// (the message called `none` unknown while listing it among the names it expected).
+#[test]
+fn none_and_all_stand_alone() {
+    for word in ["none", "all"] {
+        let text = DEFAULT_SCENE_TOML.replacen(
+            "effects = \"auto\"",
+            &format!("effects = [\"{word}\", \"shear\"]"),
+            1,
+        );
+        let e = read_error(&text);
+        assert_eq!(e.key.as_deref(), Some("beam.effects"), "{e}");
+        assert!(e.message.contains(&format!("`{word}` stands alone")), "{e}");
+    }
+}
+
 /// A point is exactly `[x, y]`: a longer array is refused at its line, not cut to its first
 /// two numbers (serde's arrays drop the rest), like a shorter one.
 #[test]

@@ -137,8 +137,11 @@ pub fn parse_density(text: &str) -> Result<f64, String> {
         .unwrap_or(t)
         .trim();
     match number.parse::<f64>() {
-        Ok(d) if d.is_finite() && d > 0.0 => Ok(d),
-        _ => Err(format!(
+        // The scene's rule, so the prompt keeps no density the export would refuse.
+        Ok(d) => crate::scene::rules::density(d)
+            .map(|()| d)
+            .map_err(|why| format!("density: {why} (steel 7850, aluminium 2700)")),
+        Err(_) => Err(format!(
             "density: `{t}` is not a number of kg/m^3 > 0 (steel 7850, aluminium 2700)"
         )),
     }
