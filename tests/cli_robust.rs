@@ -286,6 +286,20 @@ fn flags_obey_the_scene_rules_and_numbers_print_bounded() {
     assert_input_error(&out, &["--tol", "1e-300"]);
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.len() < 200, "a number printed unbounded: {err}");
+    // A ratio just below the limit prints as given, not rounded onto the limit (it printed
+    // `nu = 0.5`, which the reader refuses).
+    let out = prbfit(&[
+        "solve",
+        "--load",
+        "0,1,0",
+        "--nu",
+        "0.49999999",
+        "--effects",
+        "all",
+    ]);
+    succeeded(&out);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("nu = 0.49999999,"), "{text}");
     // A length of 1e300 m is refused (past the largest size, before its slenderness), and
     // the message stays short.
     let dir = Scratch::new("long");

@@ -114,7 +114,9 @@ impl fmt::Display for BeamInfo {
             f,
             "beam: L/t0 = {}, nu = {}, kappa = {:.4}, effects: {}",
             num(self.slenderness),
-            num(self.nu),
+            // In full (shortest round trip, at most 20 characters in [0, 0.5)): rounded,
+            // 0.49999999 printed as 0.5, a ratio the reader refuses.
+            self.nu,
             self.kappa,
             self.display_effects
         )
