@@ -308,12 +308,29 @@ pub struct TooStiff {
 pub fn time_step(chains: &[Chain], fraction: f64) -> Result<f64, TooStiff> {
     let mut omega_max = 0.0_f64;
     let mut omega_min = f64::INFINITY;
-    for (lo, hi) in chains.iter().filter_map(frequency_range) {
-        omega_max = omega_max.max(hi);
-        omega_min = omega_min.min(lo);
+    for chain in chains {
+        match frequency_range(chain) {
+            Some((lo, hi)) => {
+                omega_max = omega_max.max(hi);
+                omega_min = omega_min.min(lo);
+            }
+            // Springs whose frequencies do not come out (masses or stiffnesses past what a
+            // double holds): no step can be chosen, and a default one would be a guess.
+            None if chain
+                .segments
+                .iter()
+                .any(|s| s.hinge.is_some() || s.slide.is_some()) =>
+            {
+                return Err(TooStiff {
+                    steps_per_period: f64::INFINITY,
+                    ratio: f64::INFINITY,
+                });
+            }
+            None => {}
+        }
     }
-    if !(omega_max > 0.0 && omega_max.is_finite()) {
-        // A valid matrix has a spring; this only keeps the file loadable.
+    if omega_max == 0.0 {
+        // No springs at all (a valid matrix has one); this only keeps the file loadable.
         return Ok(1e-3);
     }
     let dt = fraction / omega_max;
@@ -477,6 +494,25 @@ mod tests {
     /// own (checked against its kinematics), and the time step keeps `omega_max dt` at
     /// [`CHAIN_STEP`], ten times inside MuJoCo's bound, where the old rule (each spring over
     /// the inertia beyond it, 1/100 of its `1 / omega`) left it above the bound.
+    /// A chain with springs whose frequencies do not come out (a density no scene allows,
+    /// 1e-300 kg/m^3: masses below a double's range, as `--density 1e-300` once gave) is
+    /// refused, where the writer took a default step of 1e-3 s and said nothing.
+    #[test]
+    fn springs_without_frequencies_get_no_time_step() {
+        let beam = crate::scene::Scene::builtin().beam;
+        let m =
+            PrbMatrix::parse("0.1,inf,inf; 0.35,3.51,inf; 0.4,2.99,inf; 0.15,2.58,inf").unwrap();
+        let chain = Chain::new(&m, &beam, 1e-300, &Body::default());
+        assert!(frequency_range(&chain).is_none());
+        let refused = time_step(std::slice::from_ref(&chain), CHAIN_STEP).unwrap_err();
+        assert_eq!(refused.steps_per_period, f64::INFINITY);
+        let said = super::super::ExportError::from(refused).to_string();
+        assert!(said.contains("cannot be computed"), "{said}");
+        // At a real density the same chain has its step.
+        let chain = Chain::new(&m, &beam, 7850.0, &Body::default());
+        assert!(time_step(std::slice::from_ref(&chain), CHAIN_STEP).unwrap() > 0.0);
+    }
+
     #[test]
     fn the_time_step_keeps_a_light_link_inside_the_stability_bound() {
         let beam = crate::scene::Scene::builtin().beam;

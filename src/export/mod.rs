@@ -41,11 +41,7 @@ pub enum ExportError {
     Density(String),
     /// The model's highest natural frequency is so far above its lowest that MuJoCo's
     /// time step ([`chain::time_step`]) would make a run impractical.
-    #[error(
-        "the model's highest natural frequency is {ratio:.3e} times its lowest (a link with a tiny \
-         mu on a stiff spring): MuJoCo would need {steps:.2e} time steps per period \
-         of the first mode (the export's limit is {limit:.0e}); raise the smallest mus"
-    )]
+    #[error("{}", too_stiff(*ratio, *steps, *limit))]
     TooStiff {
         /// The highest over the lowest natural frequency.
         ratio: f64,
@@ -123,6 +119,22 @@ pub fn header_comment(matrix: &PrbMatrix, scene: &Scene) -> String {
         xml_comment_safe(&scene.name),
         xml_comment_safe(&matrix.to_text()),
     )
+}
+
+/// [`ExportError::TooStiff`]'s message: the frequencies' spread, or that they could not be
+/// computed at all (infinite).
+fn too_stiff(ratio: f64, steps: f64, limit: f64) -> String {
+    if steps.is_finite() {
+        format!(
+            "the model's highest natural frequency is {ratio:.3e} times its lowest (a link with a \
+             tiny mu on a stiff spring): MuJoCo would need {steps:.2e} time steps per period of \
+             the first mode (the export's limit is {limit:.0e}); raise the smallest mus"
+        )
+    } else {
+        "the model's natural frequencies cannot be computed (its links' masses or springs are \
+         beyond what a double holds), so no time step can be chosen"
+            .to_string()
+    }
 }
 
 impl From<chain::TooStiff> for ExportError {
