@@ -625,6 +625,24 @@ fn the_steel_leaf_needs_plane_strain_by_3d_fea() {
     assert!(wide.0 < 0.005 && wide.1 < 0.01, "{wide:?}");
 }
 
+/// A data scene whose beam is edited softer keeps its rows within reach or is refused, as
+/// its file would be refused with that beam: at 1e-3 Pa the wide strip's FEA loads are 1e14
+/// nondimensional (the edit was accepted, and every command failed on it later).
+#[test]
+fn a_beam_edit_that_puts_the_rows_out_of_reach_is_refused() {
+    let path =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/wide-strip-fea.toml");
+    let scene = Scene::from_file(&path).unwrap();
+    scene.validate().unwrap();
+    let mut soft = scene.clone();
+    soft.beam.youngs_modulus = 1e-3;
+    let soft = soft.rebased(&scene.beam).unwrap();
+    let e = soft.validate().unwrap_err();
+    assert_eq!(e.key.as_deref(), Some("truth.data"), "{e}");
+    assert!(e.message.contains("wide-strip-fea.csv:2:"), "{e}");
+    assert!(e.message.contains("beyond the 1e9"), "{e}");
+}
+
 /// The UI converts a data scene's rows again when its nominal beam is edited
 /// (`DataTruth::rebased`): SI rows rebased from one beam to another are the rows read with
 /// the other, to a few ulps (two scale ratios multiplied against one scale); nondimensional

@@ -4,7 +4,7 @@
 use numpy::{PyArray2, PyArrayMethods};
 use pyo3::exceptions::PyOverflowError;
 use pyo3::prelude::*;
-use pyo3::types::{PyBool, PyDict, PyList};
+use pyo3::types::{PyBool, PyDict, PyList, PyTuple};
 use pyo3::IntoPyObjectExt;
 use serde_json::Value;
 
@@ -84,11 +84,45 @@ pub fn finite(argument: &str, x: f64) -> PyResult<f64> {
     }
 }
 
+/// Refuses a numpy array (or scalar) of `value` whose dtype is not a real number's (numpy's
+/// kinds `f`, `i`, `u`, or `O` whose items are checked one by one): complex numbers were
+/// cut to their real part with no more than a warning, and times and strings read as
+/// numbers.
+pub fn real_dtype(argument: &str, value: &Bound<'_, PyAny>) -> PyResult<()> {
+    let Ok(dtype) = value.getattr("dtype") else {
+        return Ok(());
+    };
+    let kind: String = dtype
+        .getattr("kind")
+        .and_then(|k| k.extract())
+        .unwrap_or_default();
+    if matches!(kind.as_str(), "f" | "i" | "u" | "O") {
+        return Ok(());
+    }
+    let name = dtype
+        .str()
+        .map(|n| n.to_string())
+        .unwrap_or_else(|_| kind.clone());
+    Err(errors::input(
+        argument,
+        format!("expected real numbers, got dtype {name}"),
+    ))
+}
+
 /// Extracts `T` from `value` for `argument`: a wrong type is bad input naming it.
 pub fn extract<'py, T>(argument: &str, value: &Bound<'py, PyAny>, what: &str) -> PyResult<T>
 where
     T: FromPyObjectOwned<'py>,
 {
+    real_dtype(argument, value)?;
+    // The items of a list or a tuple (one level: a complex numpy scalar among numbers).
+    let items = value
+        .cast::<PyList>()
+        .map(|l| l.iter().collect::<Vec<_>>())
+        .or_else(|_| value.cast::<PyTuple>().map(|t| t.iter().collect()));
+    for item in items.unwrap_or_default() {
+        real_dtype(argument, &item)?;
+    }
     value.extract::<T>().map_err(|_| {
         let ty = value
             .get_type()

@@ -70,6 +70,7 @@ fn rows_matrix(
     fixed: Option<Vec<Vec<bool>>>,
 ) -> PyResult<PrbMatrix> {
     let rows: Vec<Vec<f64>> = if let Ok(a) = value.cast::<PyUntypedArray>() {
+        crate::convert::real_dtype(argument, value)?;
         let shape = a.shape().to_vec();
         if shape.len() != 2 || !(shape[1] == 3 || shape[1] == 4) {
             let dims: Vec<String> = shape.iter().map(usize::to_string).collect();

@@ -37,6 +37,13 @@ pub struct Scene {
 fn report_of<R: serde::Serialize + std::fmt::Display>(r: &R) -> report::Result<Report> {
     let value = serde_json::to_value(r)
         .map_err(|e| ReportError::solve(format!("internal error: the report: {e}")))?;
+    // As the CLI's --json: a NaN or infinity (which serde_json writes as null, and the
+    // results would hand out as None) is refused, never returned.
+    if !report::all_finite(&value) {
+        return Err(ReportError::solve(
+            "internal error: a result is not a finite number",
+        ));
+    }
     Ok(Report {
         value,
         text: r.to_string(),

@@ -90,6 +90,9 @@ def test_matrix_mu_column_is_kept_where_given():
         (np.zeros((2, 3, 1)), ["rows", "got shape (2, 3, 1)"]),
         (np.array([[0.5, np.nan, np.inf], [0.5, 2, np.inf]]), ["rows", "row 1", "k_theta", "NaN"]),
         (np.array([[0.5, 1, np.inf, 0.5], [0.5, 2, np.inf, np.nan]]), ["rows", "row 2", "mu", "NaN"]),
+        # Complex numbers were cut to their real part with only numpy's warning.
+        (np.array([[0.1 + 3j, np.inf, np.inf], [0.9, 2.2, np.inf]]), ["rows", "real numbers", "complex128"]),
+        (np.array([[1, 2, 3], [4, 5, 6]], dtype="timedelta64[s]"), ["rows", "real numbers", "timedelta64"]),
     ],
 )
 def test_bad_matrices_are_input_errors_naming_the_argument(rows, words):
@@ -158,6 +161,23 @@ def test_beam_edits_follow_the_rules_and_leave_the_scene_when_refused():
         assert sc.beam == before
 
 
+def test_a_data_scene_edit_that_puts_its_rows_out_of_reach_is_refused():
+    d = prbfit.Scene.load(REPO / "assets" / "scenes" / "wide-strip-fea.toml")
+    before = d.to_toml()
+    with pytest.raises(prbfit.InputError) as e:
+        d.set_beam(youngs_modulus=1e-3)
+    assert "truth.data" in str(e.value) and "beyond the 1e9" in str(e.value), str(e.value)
+    assert d.to_toml() == before
+
+
+def test_a_complex_load_is_refused():
+    sc = prbfit.Scene.load(STEEL)
+    for load in [np.array([0, 1 + 5j, 0]), [0, np.complex128(1 + 5j), 0]]:
+        with pytest.raises(prbfit.InputError) as e:
+            sc.solve(load=load)
+        assert "load" in str(e.value) and "real numbers" in str(e.value), str(e.value)
+
+
 def test_dynamics_edits_follow_the_rules():
     sc = prbfit.Scene.load(STEEL)
     assert sc.beam["density"] is None
@@ -184,6 +204,8 @@ def test_dynamics_edits_follow_the_rules():
         (lambda: sc.set_fit_settings(modes=-1), ["fit.modes", "whole number"]),
         (lambda: sc.set_fit_settings(modes=1.5), ["fit.modes", "whole number"]),
         (lambda: sc.set_fit_settings(frequency_weight=-1.0), ["fit.frequency_weight"]),
+        # A weight near the largest double made J infinite, handed out as None.
+        (lambda: sc.set_fit_settings(angle_weight=1e308), ["fit.angle_weight", "at most 1e9"]),
         (lambda: sc.set_accuracy(max_freq_err=0.0), ["accuracy.max_freq_err"]),
         (lambda: sc.set_accuracy(max_speed=1.0), ["accuracy.max_speed"]),
     ]:

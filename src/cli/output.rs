@@ -39,25 +39,12 @@ pub fn cancel_on_interrupt(cancel: &CancelToken) {
 #[error("cannot write the output: {0}")]
 pub struct OutputFailed(std::io::Error);
 
-/// JSON keys whose value may be `null` by design (or, for a list, hold `null`s: a path
-/// without a stroke limit, a flexure without an allowable stress); any other `null` would be
-/// a non-finite number that serde_json wrote as `null`, and is refused.
-const NULLABLE: [&str; 7] = [
-    "effects_decision",
-    "chosen",
-    "max_stress",
-    "max_stress_at",
-    "allowable_stress",
-    "stroke_limits",
-    "within_stroke",
-];
-
 /// Prints `report` as JSON (`json`) or as text.
 pub fn emit<R: Serialize + Display>(report: &R, json: bool) -> anyhow::Result<()> {
     let text = if json {
         let value = serde_json::to_value(report)?;
         anyhow::ensure!(
-            finite(&value),
+            prbfit::report::all_finite(&value),
             "internal error: a result is not a finite number"
         );
         let mut s = serde_json::to_string_pretty(&value)?;
@@ -77,24 +64,6 @@ pub fn write_stdout(bytes: &[u8]) -> anyhow::Result<()> {
         Ok(()) => Ok(()),
         Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Err(StdoutClosed.into()),
         Err(e) => Err(OutputFailed(e).into()),
-    }
-}
-
-fn finite(v: &serde_json::Value) -> bool {
-    match v {
-        serde_json::Value::Null => false,
-        serde_json::Value::Array(a) => a.iter().all(finite),
-        serde_json::Value::Object(o) => o.iter().all(|(k, v)| {
-            let nullable = NULLABLE.contains(&k.as_str());
-            match v {
-                serde_json::Value::Null => nullable,
-                serde_json::Value::Array(a) if nullable => {
-                    a.iter().all(|x| x.is_null() || finite(x))
-                }
-                _ => finite(v),
-            }
-        }),
-        _ => true,
     }
 }
 

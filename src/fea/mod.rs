@@ -141,9 +141,10 @@ impl Taper {
         if !ratio.is_finite() || !(Taper::MIN..=Taper::MAX).contains(&ratio) {
             return Err(TaperError(format!(
                 "the taper (tip thickness over root thickness) must be a number from {} to {}, \
-                 got {ratio}",
+                 got {}",
                 Taper::MIN,
-                Taper::MAX
+                Taper::MAX,
+                crate::text::bounded(ratio)
             )));
         }
         Ok(Taper(ratio))

@@ -115,9 +115,9 @@ impl PrbMatrix {
                         if v == f64::INFINITY {
                             "inf".to_string()
                         } else if r.free[c.index()] {
-                            format!("{v}")
+                            cell_text(v)
                         } else {
-                            format!("{v}!")
+                            format!("{}!", cell_text(v))
                         }
                     })
                     .collect::<Vec<_>>()
@@ -168,6 +168,17 @@ impl PrbMatrix {
             });
         }
         PrbMatrix::new(rows)
+    }
+}
+
+/// A finite cell as the text form writes it: its shortest form that reads back to the same
+/// number, plainly in the range of springs and fractions (`3.51`, `0.125`), in scientific
+/// notation beyond it (`1e-300`, which plainly is 302 characters).
+fn cell_text(v: f64) -> String {
+    if v == 0.0 || (1e-5..1e16).contains(&v.abs()) {
+        format!("{v}")
+    } else {
+        format!("{v:e}")
     }
 }
 
@@ -354,6 +365,12 @@ mod tests {
             err.contains("row 2: `1e400` is neither a finite number nor inf"),
             "{err}"
         );
+        // Extreme cells print bounded and read back to the same bits.
+        let tiny = PrbMatrix::parse("0.1,inf,inf; 0.9,1e-300,inf").unwrap();
+        assert_eq!(tiny.to_text(), "0.1,inf,inf; 0.9,1e-300,inf");
+        let big = PrbMatrix::parse("0.1,inf,inf; 0.9,1.2345e11!,inf").unwrap();
+        assert_eq!(big.to_text(), "0.1,inf,inf; 0.9,123450000000!,inf");
+        assert_eq!(PrbMatrix::parse(&big.to_text()).unwrap(), big);
         // `inf` itself, written any way the text form allows, stays infinite.
         let m = PrbMatrix::parse("0.25,+Infinity,inf; 0.75,2,INF").unwrap();
         assert_eq!(m.rows()[0].k_theta, f64::INFINITY);

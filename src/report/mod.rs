@@ -325,3 +325,37 @@ pub fn study(scene: &Scene, sampling: Sampling, ctl: &mut Control<'_>) -> Result
     })
     .map_err(|e| ReportError::failed_in(format!("scene \"{}\"", safe(&scene.name)), &e))
 }
+
+/// JSON keys whose value may be `null` by design (or, for a list, hold `null`s: a path
+/// without a stroke limit, a flexure without an allowable stress); any other `null` would be
+/// a non-finite number that serde_json wrote as `null`, and is refused.
+const NULLABLE: [&str; 7] = [
+    "effects_decision",
+    "chosen",
+    "max_stress",
+    "max_stress_at",
+    "allowable_stress",
+    "stroke_limits",
+    "within_stroke",
+];
+
+/// Whether a report's JSON holds only finite numbers: serde_json writes NaN and infinity as
+/// `null`, so any `null` outside [`NULLABLE`]'s keys was one. The CLI's `--json` and the
+/// Python module's results both refuse such a report.
+pub fn all_finite(v: &serde_json::Value) -> bool {
+    match v {
+        serde_json::Value::Null => false,
+        serde_json::Value::Array(a) => a.iter().all(all_finite),
+        serde_json::Value::Object(o) => o.iter().all(|(k, v)| {
+            let nullable = NULLABLE.contains(&k.as_str());
+            match v {
+                serde_json::Value::Null => nullable,
+                serde_json::Value::Array(a) if nullable => {
+                    a.iter().all(|x| x.is_null() || all_finite(x))
+                }
+                _ => all_finite(v),
+            }
+        }),
+        _ => true,
+    }
+}

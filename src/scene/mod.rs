@@ -200,6 +200,36 @@ impl Scene {
         }
         rules::case_count(self.loads.iter().map(|p| p.steps), "paths")
             .map_err(|m| RuleError::new("loads", m))?;
+        // A data file's rows within reach once nondimensional, as its reader checks them:
+        // SI rows are rebased when the beam is edited (the Python module's `set_beam`), and
+        // a softer beam can push them past it.
+        if let Some(t) = &self.truth {
+            for row in t.paths.iter().flat_map(|p| &p.rows) {
+                let values = [
+                    ("alpha_x", row.load.alpha_x),
+                    ("alpha_y", row.load.alpha_y),
+                    ("beta", row.load.beta),
+                    ("a", row.tip.a),
+                    ("b", row.tip.b),
+                    ("phi", row.tip.phi),
+                ];
+                for (name, v) in values {
+                    if v.is_nan() || v.abs() > rules::MAX_NONDIMENSIONAL {
+                        return Err(RuleError::new(
+                            "truth.data",
+                            format!(
+                                "{}:{}: {name} = {} nondimensional is beyond the {:e} prbfit \
+                                 follows (the rows are converted with the scene's beam)",
+                                t.file,
+                                row.line,
+                                crate::text::bounded(v),
+                                rules::MAX_NONDIMENSIONAL
+                            ),
+                        ));
+                    }
+                }
+            }
+        }
         self.accuracy.validate().map_err(|e| e.under("accuracy"))?;
         self.fit.validate().map_err(|e| e.under("fit"))?;
         if self.fit.modes > 0 && self.beam.density.is_none() {

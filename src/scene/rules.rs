@@ -105,6 +105,22 @@ pub fn allowable_stress(v: f64) -> Result<(), String> {
     )
 }
 
+/// The largest weight a fit may give one error over another: a billion. `J` sums weighted
+/// squares, and a weight near `f64::MAX` made it infinite (a result the CLI refused as an
+/// internal error and the Python module handed out as `None`).
+pub const MAX_WEIGHT: f64 = 1e9;
+
+/// A fit weight: finite, `>= 0` and at most [`MAX_WEIGHT`].
+pub fn weight(v: f64) -> Result<(), String> {
+    non_negative(v)?;
+    within(
+        v,
+        0.0,
+        MAX_WEIGHT,
+        "(a billion times the position error's weight of 1)",
+    )
+}
+
 /// `v` from `lo` to `hi` (the bounds allowed), else an error naming them in `unit`.
 fn within(v: f64, lo: f64, hi: f64, unit: &str) -> Result<(), String> {
     if v < lo {

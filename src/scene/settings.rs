@@ -121,7 +121,7 @@ impl FitSettings {
             ("force_weight", self.force_weight),
             ("frequency_weight", self.frequency_weight),
         ] {
-            rules::non_negative(v).map_err(|m| RuleError::new(key, m))?;
+            rules::weight(v).map_err(|m| RuleError::new(key, m))?;
         }
         rules::modes(i64::from(self.modes)).map_err(|m| RuleError::new("modes", m))?;
         Ok(())
