@@ -132,19 +132,24 @@ fn scene_files_that_are_not_files_are_refused_at_once() {
     );
 }
 
-#[test]
-fn a_scene_with_too_many_load_cases_is_refused_before_any_work() {
-    let dir = Scratch::new("cases");
+/// The plain beam with `paths` copies of the load path `path`, solved: its error.
+fn solve_paths(tag: &str, paths: usize, path: &str) -> std::process::Output {
+    let dir = Scratch::new(tag);
     let mut text = String::from(
         "name = \"huge\"\n[beam]\nlength = 0.05\nwidth = 0.01\nthickness = 0.0005\n\
          youngs_modulus = 200e9\npoisson_ratio = 0.3\neffects = \"none\"\n",
     );
-    for _ in 0..20 {
-        text.push_str("[[loads]]\nalpha_y = 1.0\nsteps = 10000\n");
+    for _ in 0..paths {
+        text.push_str(path);
     }
     let p = dir.write("huge.toml", &text);
+    prbfit(&["solve", "--scene", &p])
+}
+
+#[test]
+fn a_scene_with_too_many_load_cases_is_refused_before_any_work() {
     assert_input_error(
-        &prbfit(&["solve", "--scene", &p]),
+        &solve_paths("cases", 20, "[[loads]]\nalpha_y = 1.0\nsteps = 10000\n"),
         &["200000 load cases", "100000"],
     );
 }
@@ -154,17 +159,8 @@ fn a_scene_with_too_many_load_cases_is_refused_before_any_work() {
 /// for each new one, and a file of 100001 paths ran for minutes).
 #[test]
 fn a_scene_of_too_many_load_paths_is_refused_before_any_work() {
-    let dir = Scratch::new("paths");
-    let mut text = String::from(
-        "name = \"many\"\n[beam]\nlength = 0.05\nwidth = 0.01\nthickness = 0.0005\n\
-         youngs_modulus = 200e9\npoisson_ratio = 0.3\neffects = \"none\"\n",
-    );
-    for _ in 0..100_001 {
-        text.push_str("[[loads]]\nalpha_y = 1.0\n");
-    }
-    let p = dir.write("many.toml", &text);
     assert_input_error(
-        &prbfit(&["solve", "--scene", &p]),
+        &solve_paths("paths", 100_001, "[[loads]]\nalpha_y = 1.0\n"),
         &["100001 load cases over 100001 paths", "100000"],
     );
 }
