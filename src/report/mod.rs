@@ -340,8 +340,8 @@ const NULLABLE: [&str; 7] = [
 ];
 
 /// Whether a report's JSON holds only finite numbers: serde_json writes NaN and infinity as
-/// `null`, so any `null` outside the keys that may be null by design was one. The CLI's `--json` and the
-/// Python module's results both refuse such a report.
+/// `null`, so any `null` outside the keys that may be null by design was one. The CLI's
+/// `--json` and the Python module's results both refuse such a report.
 pub fn all_finite(v: &serde_json::Value) -> bool {
     match v {
         serde_json::Value::Null => false,
