@@ -68,8 +68,8 @@ pub(super) fn starts(
         rng: None,
         seed,
     };
+    let (lower, upper) = (starts.lower.clone(), starts.upper.clone());
     for _ in 0..fidelity.random_starts() {
-        let (lower, upper) = (starts.lower.clone(), starts.upper.clone());
         let rng = starts.rng();
         let p = DVector::from_fn(param.len(), |i, _| rng.random_range(lower[i]..=upper[i]));
         starts.points.push(p);

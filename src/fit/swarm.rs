@@ -67,7 +67,7 @@ pub(super) fn run(
         let cost = objective.value(&p).unwrap_or(f64::INFINITY);
         population.push(Particle::new(p, cost, v));
     }
-    let swarm = ParticleSwarm::new((lower.clone(), upper.clone()), particles)
+    let swarm = ParticleSwarm::new((lower, upper), particles)
         .with_rng_generator(StdRng::seed_from_u64(seed ^ 0x5eed));
     let cost = SwarmCost {
         objective,

@@ -214,19 +214,16 @@ impl Scene {
                     ("phi", row.tip.phi),
                 ];
                 for (name, v) in values {
-                    if v.is_nan() || v.abs() > rules::MAX_NONDIMENSIONAL {
-                        return Err(RuleError::new(
+                    rules::reachable(v, v).map_err(|m| {
+                        RuleError::new(
                             "truth.data",
                             format!(
-                                "{}:{}: {name} = {} nondimensional is beyond the {:e} prbfit \
-                                 follows (the rows are converted with the scene's beam)",
-                                t.file,
-                                row.line,
-                                crate::text::bounded(v),
-                                rules::MAX_NONDIMENSIONAL
+                                "{}:{}: {name} = {m} (the rows are converted with the scene's \
+                                 beam)",
+                                t.file, row.line
                             ),
-                        ));
-                    }
+                        )
+                    })?;
                 }
             }
         }
