@@ -147,13 +147,30 @@ fn a_mechanism_data_scene_opens_and_fits_as_the_cli_does() {
         .unwrap();
     assert_eq!(beside, reports.figures);
     let cli_beam = &cli["truth"]["beam_vs_data"];
-    for (name, ui) in [
-        ("max_force_err", beside.max_force()),
-        ("rms_force_err", beside.rms_force_err.unwrap()),
-        ("objective", beside.objective),
+    // The UI solves the beam beside the data at normal fidelity (tol 1e-8), the CLI at the
+    // default 1e-9: each reaction within about 1e-8 of the other's (relative to the largest),
+    // so the force figures agree to 1e-7 of themselves, and J, a mean of squared errors
+    // (`dJ <= 2 sqrt(J) max|de|`), to 1e-7 sqrt(J), as tests/cli_mech.rs judges a fit's J
+    // against eval's.
+    for (name, ui, bound) in [
+        (
+            "max_force_err",
+            beside.max_force(),
+            1e-7 * beside.max_force(),
+        ),
+        (
+            "rms_force_err",
+            beside.rms_force_err.unwrap(),
+            1e-7 * beside.rms_force_err.unwrap(),
+        ),
+        (
+            "objective",
+            beside.objective,
+            1e-7 * beside.objective.sqrt(),
+        ),
     ] {
         let c = f(cli_beam, name);
-        assert!((ui - c).abs() <= 1e-7 * c.abs(), "{name}: UI {ui}, CLI {c}");
+        assert!((ui - c).abs() <= bound, "{name}: UI {ui}, CLI {c}");
     }
     // The catalogue's 200 GPa against a 190 GPa rig (README): 7.4% of the largest reaction.
     assert!((beside.max_force() - 0.0744).abs() < 1e-3, "{beside:?}");

@@ -252,13 +252,14 @@ impl PathProblem for BeamPath<'_> {
     /// always bisected safely.
     fn extrapolate(
         &self,
-        points: [&PathPoint; 3],
-        weights: [f64; 3],
+        points: &[&PathPoint],
+        weights: &[f64],
         secant_t: f64,
         trial: &mut PathPoint,
     ) -> bool {
-        let [p0, p1, p2] = points;
-        let [w0, w1, w2] = weights;
+        let (&[p0, p1, p2], &[w0, w1, w2]) = (points, weights) else {
+            return false;
+        };
         if p0.nodes.len() != p1.nodes.len() || p1.nodes.len() != p2.nodes.len() {
             return false;
         }

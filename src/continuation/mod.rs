@@ -16,7 +16,12 @@
 //!   prediction is close enough asks for [`Predictor::Quadratic`]: the parabola through the
 //!   last three accepted points, `u = sum w_i u_i` with Lagrange's weights, whose error is
 //!   `O(dlambda^3)` where the secant's is `O(dlambda^2)` (on a path of 1000 cases, 1e-9
-//!   against 1e-6 of the state's scale: the beam's Newton then needs one shot a case);
+//!   against 1e-6 of the state's scale: the beam's Newton then needs one shot a case); and
+//!   [`Predictor::Cubic`], the cubic through the last four on a steady stretch (equal
+//!   steps; the secant elsewhere), `O(dlambda^4)`, for a problem
+//!   whose corrector stops at its first evaluation when the prediction meets the tolerance
+//!   (a mechanism: its accepted points are then as close to the solution as its Newton
+//!   would bring them, [`crate::mech`]);
 //! - **corrector**: the problem's Newton iteration at the fixed `lambda`, at most
 //!   [`Limits::newton_iterations`] iterations per attempt;
 //! - **tests**: a converged point is accepted only on the branch followed (the problem's
@@ -104,12 +109,14 @@ pub struct Accepted<P> {
     pub point: P,
 }
 
-/// The last three accepted points of a path (one at its start), all the predictor needs.
+/// The last four accepted points of a path (one at its start), all the predictor needs.
 #[derive(Debug, Clone)]
 pub struct History<P> {
     last: Accepted<P>,
     before: Option<Accepted<P>>,
     oldest: Option<Accepted<P>>,
+    /// The one before `oldest`, for [`Predictor::Cubic`].
+    eldest: Option<Accepted<P>>,
 }
 
 impl<P> History<P> {
@@ -122,6 +129,7 @@ impl<P> History<P> {
             },
             before: None,
             oldest: None,
+            eldest: None,
         }
     }
 
@@ -145,11 +153,12 @@ impl<P: Clone> History<P> {
     /// Accepts `trial` at `lambda`, forgetting the oldest point kept, whose storage `trial`
     /// takes for the next attempt (so that following a path allocates only at its start).
     fn accept(&mut self, lambda: f64, trial: &mut P) {
-        let spare = match self.oldest.take() {
-            Some(oldest) => oldest.point,
+        let spare = match self.eldest.take() {
+            Some(eldest) => eldest.point,
             None => self.last.point.clone(),
         };
         let point = std::mem::replace(trial, spare);
+        self.eldest = self.oldest.take();
         self.oldest = self.before.take();
         self.before = Some(std::mem::replace(
             &mut self.last,
@@ -187,6 +196,10 @@ pub enum Predictor {
     /// rejected attempt until one is accepted again), for a problem that implements
     /// [`PathProblem::extrapolate`].
     Quadratic,
+    /// The cubic through the last four where they are equally spaced and the step is the
+    /// same (a steady stretch of the path: cases one step apart); the secant elsewhere, and
+    /// after a rejected attempt until one is accepted again.
+    Cubic,
 }
 
 /// Which test a converged point meets first.
@@ -369,13 +382,13 @@ pub trait PathProblem {
     fn secant(&self, last: &Self::Point, before: &Self::Point, t: f64, trial: &mut Self::Point);
 
     /// The prediction `sum weights[i] points[i]` (the weights sum to 1) of the last three
-    /// points (latest first), written into `trial`, for [`Predictor::Quadratic`]; `false` if
-    /// the problem has none or judges the parabola untrustworthy here (the driver then takes
-    /// the secant, whose `t` is `secant_t`).
+    /// points ([`Predictor::Quadratic`]) or four ([`Predictor::Cubic`]), latest first,
+    /// written into `trial`; `false` if the problem has none or judges the polynomial
+    /// untrustworthy here (the driver then takes the secant, whose `t` is `secant_t`).
     fn extrapolate(
         &self,
-        _points: [&Self::Point; 3],
-        _weights: [f64; 3],
+        _points: &[&Self::Point],
+        _weights: &[f64],
         _secant_t: f64,
         _trial: &mut Self::Point,
     ) -> bool {
@@ -632,15 +645,65 @@ fn predict<P: PathProblem>(
         return;
     };
     let t = (lambda - last.lambda) / (last.lambda - before.lambda);
-    if let (Predictor::Quadratic, Some(oldest)) = (predictor, &history.oldest) {
-        let (l0, l1, l2) = (oldest.lambda, before.lambda, last.lambda);
-        let weights = [
-            (lambda - l0) * (lambda - l1) / ((l2 - l0) * (l2 - l1)),
-            (lambda - l0) * (lambda - l2) / ((l1 - l0) * (l1 - l2)),
-            (lambda - l1) * (lambda - l2) / ((l0 - l1) * (l0 - l2)),
-        ];
-        let points = [&last.point, &before.point, &oldest.point];
-        if weights.iter().all(|w| w.is_finite()) && problem.extrapolate(points, weights, t, trial) {
+    // The accepted points the polynomial passes through, latest first.
+    let through: &[Option<&Accepted<P::Point>>] = &[
+        Some(last),
+        Some(before),
+        history.oldest.as_ref(),
+        history.eldest.as_ref(),
+    ];
+    // The cubic only on a steady stretch: four points equally spaced and the step the same
+    // (near trouble, where the steps vary, the secant, as it always has).
+    let steady = || {
+        let spacing = last.lambda - before.lambda;
+        let same = |d: f64| (d - spacing).abs() <= 1e-9 * spacing;
+        match (&history.oldest, &history.eldest) {
+            (Some(o), Some(e)) => {
+                same(lambda - last.lambda)
+                    && same(before.lambda - o.lambda)
+                    && same(o.lambda - e.lambda)
+            }
+            _ => false,
+        }
+    };
+    let degree = match predictor {
+        Predictor::Secant => 1,
+        Predictor::Quadratic => 2,
+        Predictor::Cubic if steady() => 3,
+        Predictor::Cubic => 1,
+    };
+    let known = through.iter().take_while(|p| p.is_some()).count();
+    let count = (degree + 1).min(known);
+    if count >= 3 {
+        let through: Vec<&Accepted<P::Point>> =
+            through[..count].iter().flatten().copied().collect();
+        // Lagrange's weights at `lambda` (the parabola's written out, as it always was).
+        let weights: Vec<f64> = if count == 3 {
+            let [l2, l1, l0] = [0, 1, 2].map(|i| through[i].lambda);
+            vec![
+                (lambda - l0) * (lambda - l1) / ((l2 - l0) * (l2 - l1)),
+                (lambda - l0) * (lambda - l2) / ((l1 - l0) * (l1 - l2)),
+                (lambda - l1) * (lambda - l2) / ((l0 - l1) * (l0 - l2)),
+            ]
+        } else {
+            (0..count)
+                .map(|i| {
+                    let (num, den) =
+                        (0..count)
+                            .filter(|&j| j != i)
+                            .fold((1.0, 1.0), |(n, d), j| {
+                                (
+                                    n * (lambda - through[j].lambda),
+                                    d * (through[i].lambda - through[j].lambda),
+                                )
+                            });
+                    num / den
+                })
+                .collect()
+        };
+        let points: Vec<&P::Point> = through.iter().map(|a| &a.point).collect();
+        if weights.iter().all(|w| w.is_finite()) && problem.extrapolate(&points, &weights, t, trial)
+        {
             return;
         }
     }

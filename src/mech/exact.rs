@@ -6,10 +6,11 @@
 //! has no folds: a flexure held by the stage past its own load-controlled buckling load is
 //! solved like any other. Newton's check of an iterate it expects to have converged shoots
 //! without the variational equations ([`BeamSolver::shoot_root_tip`]) and samples the shape
-//! there, for the case's stress. The flexures are shot two at a time, side by side, where both
-//! take the Dormand-Prince integrator ([`crate::beam::root::shoot_root_pair`]; a plain
-//! elastica's Taylor shot, and an odd flexure out, are shot alone): the same numbers as one by
-//! one, in less time.
+//! there, for the case's stress; so does its first evaluation at a case, the continuation's
+//! prediction, which on a drive of many cases is most often the solution. The flexures are
+//! shot two at a time, side by side, where both take the Dormand-Prince integrator
+//! ([`crate::beam::root::shoot_root_pair`]; a plain elastica's Taylor shot, and an odd
+//! flexure out, are shot alone): the same numbers as one by one, in less time.
 //!
 //! Accuracy: Newton stops at the solver's `tol` on every compatibility residual; the shot
 //! integrates to the beam's `tol`, so a flexure's tip is good to the beam's
@@ -26,7 +27,7 @@ use crate::beam::{BeamSolver, Load, Resolution, ShapePoint, Stress, StressScratc
 use crate::scene::Mechanism;
 
 use super::geometry::Geometry;
-use super::solve::{FlexEval, FlexureModel, MechSolver};
+use super::solve::{FlexEval, FlexureModel, Kind, MechSolver};
 use super::{MechCase, MechError, TipFailure};
 
 thread_local! {
@@ -48,9 +49,24 @@ impl FlexureModel for BeamFlexure {
     }
 
     fn eval(&self, w: [f64; 3], _z: &[f64]) -> Result<FlexEval, TipFailure> {
-        // Newton's iterates with a Jacobian are seldom its solution (that is checked by
-        // values, below), so they do not sample the centre line.
+        // Newton's iterates with a Jacobian after the first are seldom its solution (that is
+        // checked by values, below), so they do not sample the centre line.
         Ok(full_eval(&self.solver.shoot_root(w[0], w[1], w[2])?))
+    }
+
+    fn predicted(&self) -> bool {
+        true
+    }
+
+    fn eval_shaped(&self, w: [f64; 3], _z: &[f64]) -> Result<FlexEval, TipFailure> {
+        let mut shape = Vec::new();
+        let shot = self
+            .solver
+            .shoot_root_sampled(w[0], w[1], w[2], Some(&mut shape))?;
+        Ok(FlexEval {
+            shape,
+            ..full_eval(&shot)
+        })
     }
 
     fn eval_values(&self, w: [f64; 3], _z: &[f64]) -> Result<FlexEval, TipFailure> {
@@ -67,7 +83,7 @@ impl FlexureModel for BeamFlexure {
     fn eval_all(
         models: &[Self],
         at: &[([f64; 3], &[f64])],
-        full: bool,
+        kind: Kind,
     ) -> Vec<Result<FlexEval, TipFailure>> {
         // Two by two, side by side (`beam::root::shoot_root_pair`): the same numbers as one
         // by one, in about two thirds of the time. Up to the first pair with a failure.
@@ -78,11 +94,26 @@ impl FlexureModel for BeamFlexure {
             }
             match (pair, at) {
                 ([a, b], [(wa, _), (wb, _)]) => {
-                    if full {
+                    if kind == Kind::Full {
                         let [ra, rb] =
                             shoot_root_pair([(&a.solver, *wa, None), (&b.solver, *wb, None)]);
                         out.push(ra.map(|s| full_eval(&s)).map_err(TipFailure::from));
                         out.push(rb.map(|s| full_eval(&s)).map_err(TipFailure::from));
+                    } else if kind == Kind::Shaped {
+                        let (mut sa, mut sb) = (Vec::new(), Vec::new());
+                        let [ra, rb] = shoot_root_pair([
+                            (&a.solver, *wa, Some(&mut sa)),
+                            (&b.solver, *wb, Some(&mut sb)),
+                        ]);
+                        let shaped = |r: Result<RootShot, _>, shape| {
+                            r.map(|s| FlexEval {
+                                shape,
+                                ..full_eval(&s)
+                            })
+                            .map_err(TipFailure::from)
+                        };
+                        out.push(shaped(ra, sa));
+                        out.push(shaped(rb, sb));
                     } else {
                         let (mut sa, mut sb) = (Vec::new(), Vec::new());
                         let [ra, rb] = shoot_root_tip_pair([
@@ -96,7 +127,7 @@ impl FlexureModel for BeamFlexure {
                 _ => out.extend(
                     pair.iter()
                         .zip(at)
-                        .map(|(m, &(w, z))| m.eval_as(w, z, full)),
+                        .map(|(m, &(w, z))| m.eval_as(w, z, kind)),
                 ),
             }
         }
@@ -186,7 +217,8 @@ mod tests {
     use crate::beam::{BeamModel, Effects};
 
     /// Three flexures evaluated together (a pair side by side, the third alone) are each
-    /// what it is evaluated alone, in full and by values, bit for bit.
+    /// what it is evaluated alone, in full, in full with the shape, and by values, bit for
+    /// bit.
     #[test]
     fn flexures_evaluated_together_are_each_evaluated_alone() {
         let beam = |slenderness: f64, effects| BeamFlexure {
@@ -203,16 +235,12 @@ mod tests {
         ];
         let w = [[-0.04, 1.2, 0.6], [0.04, 1.3, 0.62], [0.3, -0.8, -0.4]];
         let at: Vec<([f64; 3], &[f64])> = w.iter().map(|&w| (w, &[][..])).collect();
-        for full in [true, false] {
-            let together = BeamFlexure::eval_all(&models, &at, full);
+        for kind in [Kind::Full, Kind::Shaped, Kind::Values] {
+            let together = BeamFlexure::eval_all(&models, &at, kind);
             assert_eq!(together.len(), 3);
             for ((m, &(w, z)), t) in models.iter().zip(&at).zip(&together) {
-                let alone = m.eval_as(w, z, full);
-                assert_eq!(
-                    t.as_ref().unwrap(),
-                    &alone.unwrap(),
-                    "full {full}, at {w:?}"
-                );
+                let alone = m.eval_as(w, z, kind);
+                assert_eq!(t.as_ref().unwrap(), &alone.unwrap(), "{kind:?}, at {w:?}");
             }
         }
         // A flexure that fails (its section necks under a pull of 200 E I0 / L^2) fails as
@@ -227,12 +255,12 @@ mod tests {
         let models = [models[0], rubber, models[1], models[2]];
         let w = [w[0], [200.0, 0.0, 0.0], w[1], w[2]];
         let at: Vec<([f64; 3], &[f64])> = w.iter().map(|&w| (w, &[][..])).collect();
-        for full in [true, false] {
-            let together = BeamFlexure::eval_all(&models, &at, full);
-            assert_eq!(together.len(), 2, "full {full}: up to the failing pair");
-            let alone = rubber.eval_as(w[1], &[], full);
+        for kind in [Kind::Full, Kind::Shaped, Kind::Values] {
+            let together = BeamFlexure::eval_all(&models, &at, kind);
+            assert_eq!(together.len(), 2, "{kind:?}: up to the failing pair");
+            let alone = rubber.eval_as(w[1], &[], kind);
             assert!(alone.is_err());
-            assert_eq!(together[1], alone, "full {full}");
+            assert_eq!(together[1], alone, "{kind:?}");
         }
     }
 }

@@ -29,7 +29,11 @@
 //! one linearisation of each chain. The drive path is followed by continuation (the crate's
 //! one driver, [`crate::continuation`]; the mechanism's side of it in `path.rs`): the drive's
 //! end values are scaled by `lambda`, cases at `k / steps`, sub-steps that halve on failure,
-//! each started from a secant prediction of the last two accepted points.
+//! each started, for the beam's flexures, from the cubic through the last four accepted
+//! points, each moved by Newton's step from its own Jacobian, where they are a case apart
+//! (the secant elsewhere, and for PRB chains, whose evaluations cost little). On a drive of
+//! many cases that prediction is the solution to a small fraction of the tolerance, and a
+//! case costs one evaluation (`path.rs`).
 //!
 //! # Honesty
 //! - The sign of the Jacobian's determinant is watched along the path: it changes sign only

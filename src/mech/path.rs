@@ -12,7 +12,7 @@ use crate::continuation::{
 use crate::linalg::lu_solve;
 use crate::scene::{Coordinate, DrivePath, Mechanism};
 
-use super::solve::{FlexEval, FlexureModel, MechSolver};
+use super::solve::{FlexEval, FlexureModel, Kind, MechSolver};
 use super::system::equilibrate;
 use super::{FlexureCase, MechCase, MechError, SolvedState};
 
@@ -47,11 +47,30 @@ const REJECTIONS_PER_CASE: u32 = 200;
 /// No flexure tip moves by more than this (units of its `L`, radians) in one sub-step, so the
 /// path cannot hop to another branch.
 const MAX_TIP_STEP: f64 = 0.3;
+/// A case's prediction converges as it stands where its residual, and Newton's step from it,
+/// are within this (units of L, radians, the load's scale; unknowns in units of L, E I / L^2
+/// and radians), a hundredth of the default tolerance 1e-9 (and the whole of any tolerance
+/// finer than this): continuation's cubic predictor through points Newton has refined
+/// ([`Point::ahead`]) meets it at 99 % of the parallel stage's 1000 cases (residual ratios
+/// 2e-4 to 4e-3 of the limit), and a case accepted so is as accurate as one corrected by a
+/// Newton step and checked by values, which the rest still are (their tips differ from those
+/// at `tol` 1e-12 by the same 4e-11). Absolute, not a fraction of the tolerance, so that at a
+/// coarse tolerance outputs that are identically zero (a pinned coupler's moment) stay as
+/// close to zero as Newton's step and check leave them.
+const AS_PREDICTED: f64 = 1e-11;
+
 /// A converged point of the path, with the flexures evaluated there.
 #[derive(Debug, Clone)]
 struct Point {
     lambda: f64,
     x: Vec<f64>,
+    /// The predictor's base: `x` moved by Newton's step from the Jacobian factored at `x`
+    /// where the point converged at its first evaluation (its error is then the square of
+    /// the residual there, where `x`'s is up to the tolerance), else `x` itself (a point
+    /// reached by a Newton step, already that close).
+    ahead: Vec<f64>,
+    /// Whether the point is its case's prediction, converged as it stood.
+    as_predicted: bool,
     evals: Vec<FlexEval>,
     /// The load the flexures put on the stage.
     load: [f64; 3],
@@ -148,6 +167,8 @@ impl<M: FlexureModel> MechSolver<M> {
         let (sign0, ratio0) = self.regular_unloaded(jac, n, index)?;
         let start = Point {
             lambda: 0.0,
+            ahead: x0.clone(),
+            as_predicted: false,
             x: x0,
             evals: sys0.evals,
             load: sys0.load,
@@ -170,7 +191,11 @@ impl<M: FlexureModel> MechSolver<M> {
             // stable one, which a shorter step follows).
             order: TestOrder::BranchFirst,
             crossing: Crossing::Bisect,
-            predictor: Predictor::Secant,
+            predictor: if self.predicted() {
+                Predictor::Cubic
+            } else {
+                Predictor::Secant
+            },
             newton_iterations: self.max_newton,
             attempts_per_case: None,
             rejections_per_case: Some(REJECTIONS_PER_CASE),
@@ -190,23 +215,39 @@ impl<M: FlexureModel> MechSolver<M> {
 
     /// Newton at `lambda` from the guess `x`.
     ///
-    /// An iterate that Newton's last step should bring within the tolerance is evaluated by
-    /// values alone: where the residual the step came from was at most `sqrt(0.1 / tol)`
-    /// times its limit (`sqrt(0.1 tol)` in the limit's units), quadratic convergence leaves
-    /// the next one a tenth of the limit times Newton's contraction constant. The check
-    /// ([`FlexureModel::eval_values`]) is the beam's shot without its variational equations;
-    /// if it has converged, its flexures keep the Jacobians of the iterate before, one tiny
-    /// step away, for their stability test. If not, it is evaluated again in full.
+    /// The guess is evaluated in full, with the flexures' shapes where `shaped` (the last
+    /// case was its prediction, so this one likely is too: [`Kind::Shaped`]). Where every
+    /// flexure asks for it ([`FlexureModel::predicted`]), a continuation prediction whose
+    /// residual and Newton step are within [`AS_PREDICTED`] is the case: its Jacobian gives
+    /// the determinant's sign, the flexures' stability and the Newton step that refines the
+    /// point for the next prediction ([`Point::ahead`]), and its shapes the stresses, at the
+    /// cost of one evaluation. (A PRB mechanism's prediction converges within the tolerance
+    /// itself, as it always has.)
+    ///
+    /// Otherwise, an iterate that Newton's last step should bring within the tolerance is
+    /// evaluated by values alone: where the residual the step came from was at most
+    /// `sqrt(0.1 / tol)` times its limit (`sqrt(0.1 tol)` in the limit's units), quadratic
+    /// convergence leaves the next one a tenth of the limit times Newton's contraction
+    /// constant. The check ([`FlexureModel::eval_values`]) is the beam's shot without its
+    /// variational equations; if it has converged, its flexures keep the Jacobians of the
+    /// iterate before, one tiny step away, for their stability test. If not, it is evaluated
+    /// again in full.
     fn newton(
         &self,
         path: &DrivePath,
         lambda: f64,
         mut x: Vec<f64>,
         effort: &mut Effort,
+        shaped: bool,
     ) -> Result<(Point, u32), String> {
         let n = x.len();
         let at = path.at(lambda);
-        let mut sys = self.system(&at, &x).map_err(|e| e.to_string())?;
+        let first = if shaped { Kind::Shaped } else { Kind::Full };
+        let mut sys = self
+            .system_with(&at, &x, first)
+            .map_err(|e| e.to_string())?;
+        // Newton's step from the prediction, where the prediction has converged.
+        let mut ahead: Option<Vec<f64>> = None;
         // The determinant's sign of the last Jacobian factored: at the last iterate but one,
         // within Newton's last (tiny) step of the solution, so a converged point needs no
         // Jacobian of its own.
@@ -224,7 +265,14 @@ impl<M: FlexureModel> MechSolver<M> {
                 sys = self.system(&at, &x).map_err(|e| e.to_string())?;
                 ratio = self.residual_ratio(&sys.residual, sys.load);
             }
-            let converged = ratio <= 1.0;
+            // The prediction itself is accepted only well within the tolerance, where it is
+            // as close to the solution as Newton's step and check would bring it.
+            let converged = ratio
+                <= if iteration == 1 && self.predicted() {
+                    (AS_PREDICTED / self.tol).min(1.0)
+                } else {
+                    1.0
+                };
             if let (true, Some(det_sign)) = (converged, det_sign) {
                 let mut evals = sys.evals;
                 for (e, j) in evals.iter_mut().zip(jacobians.drain(..)) {
@@ -234,6 +282,8 @@ impl<M: FlexureModel> MechSolver<M> {
                 }
                 let point = Point {
                     lambda,
+                    as_predicted: ahead.is_some(),
+                    ahead: ahead.unwrap_or_else(|| x.clone()),
                     x,
                     evals,
                     load: sys.load,
@@ -245,7 +295,16 @@ impl<M: FlexureModel> MechSolver<M> {
             let mut step: Vec<f64> = sys.residual.iter().map(|v| -v).collect();
             let lu = lu_solve(&mut jac, &mut step, n).ok_or("singular Jacobian")?;
             det_sign = Some(lu.det_sign);
-            if converged {
+            // A prediction taken as the case must also be within a small part of the
+            // tolerance of where Newton's step from it goes (unknowns in units of L, E I / L^2
+            // and radians): outputs that are identically zero (a pinned coupler's moment)
+            // stay zero to well below the tolerance.
+            let as_predicted =
+                iteration == 1 && self.predicted() && step.iter().all(|d| d.abs() <= AS_PREDICTED);
+            if converged && (iteration > 1 || !self.predicted() || as_predicted) {
+                if as_predicted {
+                    ahead = Some(x.iter().zip(&step).map(|(a, d)| a + d).collect());
+                }
                 continue;
             }
             // Damped: halve the step while the residual grows.
@@ -254,7 +313,12 @@ impl<M: FlexureModel> MechSolver<M> {
             let mut t = 1.0;
             loop {
                 let trial: Vec<f64> = x.iter().zip(&step).map(|(a, d)| a + t * d).collect();
-                if let Ok(st) = self.system_with(&at, &trial, full || t < 1.0) {
+                let kind = if full || t < 1.0 {
+                    Kind::Full
+                } else {
+                    Kind::Values
+                };
+                if let Ok(st) = self.system_with(&at, &trial, kind) {
                     if norm(&st.residual) < norm0 || t < 0.1 {
                         let by_values = !st.has_jacobian();
                         let before = std::mem::replace(&mut sys, st);
@@ -273,6 +337,11 @@ impl<M: FlexureModel> MechSolver<M> {
             }
         }
         Err(format!("Newton did not converge in {limit} iterations"))
+    }
+
+    /// Whether every flexure asks for closely predicted cases ([`FlexureModel::predicted`]).
+    fn predicted(&self) -> bool {
+        self.models.iter().all(FlexureModel::predicted)
     }
 
     /// The equilibrated Jacobian's smallest pivot over its largest at an accepted point (0
@@ -342,25 +411,58 @@ impl<M: FlexureModel> PathProblem for MechPath<'_, M> {
 
     /// From the unloaded pose, the unloaded unknowns.
     fn tangent(&self, start: &Point, _step: f64, trial: &mut Point) {
-        trial.x.clone_from(&start.x);
+        trial.x.clone_from(&start.ahead);
     }
 
     fn secant(&self, last: &Point, before: &Point, t: f64, trial: &mut Point) {
         trial.x.clear();
-        trial
-            .x
-            .extend(last.x.iter().zip(&before.x).map(|(a, b)| a + t * (a - b)));
+        trial.x.extend(
+            last.ahead
+                .iter()
+                .zip(&before.ahead)
+                .map(|(a, b)| a + t * (a - b)),
+        );
+    }
+
+    /// The polynomial, unless it bends away from the secant by more than a quarter of the
+    /// secant's own step (toward a fold, where it would overshoot; the beam's path takes the
+    /// same test).
+    fn extrapolate(
+        &self,
+        points: &[&Point],
+        weights: &[f64],
+        secant_t: f64,
+        trial: &mut Point,
+    ) -> bool {
+        let (Some(p0), Some(p1)) = (points.first(), points.get(1)) else {
+            return false;
+        };
+        let (mut bend, mut step) = (0.0_f64, 0.0_f64);
+        trial.x.clear();
+        for (k, (a, b)) in p0.ahead.iter().zip(&p1.ahead).enumerate() {
+            let polynomial: f64 = points
+                .iter()
+                .zip(weights)
+                .map(|(p, w)| w * p.ahead[k])
+                .sum();
+            let secant = a + secant_t * (a - b);
+            bend = bend.max((polynomial - secant).abs());
+            step = step.max((secant - a).abs());
+            trial.x.push(polynomial);
+        }
+        bend <= 0.25 * step
     }
 
     fn correct(
         &mut self,
         lambda: f64,
-        _history: &History<Point>,
+        history: &History<Point>,
         trial: &mut Point,
         effort: &mut Effort,
     ) -> Corrected<String, MechError> {
         let guess = std::mem::take(&mut trial.x);
-        match self.solver.newton(self.path, lambda, guess, effort) {
+        let shaped = history.last().point.as_predicted;
+        match self.solver.newton(self.path, lambda, guess, effort, shaped) {
             Ok((point, iterations)) => {
                 *trial = point;
                 Corrected::Converged(iterations)

@@ -27,30 +27,44 @@ pub trait FlexureModel {
     fn eval_values(&self, w: [f64; 3], z: &[f64]) -> Result<FlexEval, TipFailure> {
         self.eval(w, z)
     }
-    /// [`FlexureModel::eval`] where `full`, else [`FlexureModel::eval_values`].
-    fn eval_as(&self, w: [f64; 3], z: &[f64], full: bool) -> Result<FlexEval, TipFailure> {
-        if full {
-            self.eval(w, z)
-        } else {
-            self.eval_values(w, z)
+    /// [`FlexureModel::eval`] that also samples the flexure's shape where the model has
+    /// one ([`FlexEval::shape`]): Newton's first evaluation at a case, which is the solution
+    /// when the continuation's prediction already meets the tolerance. The default is the
+    /// full evaluation.
+    fn eval_shaped(&self, w: [f64; 3], z: &[f64]) -> Result<FlexEval, TipFailure> {
+        self.eval(w, z)
+    }
+    /// Whether an evaluation costs enough (the beam's shots) that the drive's path should
+    /// predict each case closely enough to stop at its first evaluation: continuation's
+    /// cubic predictor through Newton-refined points, and a prediction within
+    /// `AS_PREDICTED` of the tolerance taken as the case (`path.rs`). False (the default,
+    /// a PRB chain's analytic linearisation): the secant, and Newton's step and check.
+    fn predicted(&self) -> bool {
+        false
+    }
+    /// The evaluation of kind `kind`.
+    fn eval_as(&self, w: [f64; 3], z: &[f64], kind: Kind) -> Result<FlexEval, TipFailure> {
+        match kind {
+            Kind::Full => self.eval(w, z),
+            Kind::Shaped => self.eval_shaped(w, z),
+            Kind::Values => self.eval_values(w, z),
         }
     }
-    /// Every flexure of `models` at its `(w, z)` in `at`, in order: [`FlexureModel::eval`],
-    /// or [`FlexureModel::eval_values`] where `full` is false, up to the first that fails
-    /// (the caller stops there; a model that evaluates several at once may return the rest
-    /// of its batch too). The default evaluates them one by one; the exact beam shoots two
-    /// side by side, with the same results.
+    /// Every flexure of `models` at its `(w, z)` in `at`, in order, evaluated as `kind`
+    /// says, up to the first that fails (the caller stops there; a model that evaluates
+    /// several at once may return the rest of its batch too). The default evaluates them one
+    /// by one; the exact beam shoots two side by side, with the same results.
     fn eval_all(
         models: &[Self],
         at: &[([f64; 3], &[f64])],
-        full: bool,
+        kind: Kind,
     ) -> Vec<Result<FlexEval, TipFailure>>
     where
         Self: Sized,
     {
         let mut out = Vec::with_capacity(models.len());
         for (m, &(w, z)) in models.iter().zip(at) {
-            let eval = m.eval_as(w, z, full);
+            let eval = m.eval_as(w, z, kind);
             let failed = eval.is_err();
             out.push(eval);
             if failed {
@@ -78,6 +92,17 @@ pub trait FlexureModel {
     }
 }
 
+/// What an evaluation of the flexures computes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Kind {
+    /// Outputs and Jacobian ([`FlexureModel::eval`]).
+    Full,
+    /// Outputs, Jacobian and shape ([`FlexureModel::eval_shaped`]).
+    Shaped,
+    /// Outputs alone where that is cheaper ([`FlexureModel::eval_values`]).
+    Values,
+}
+
 /// A flexure model evaluated at its unknowns.
 #[derive(Debug, Clone, PartialEq)]
 pub struct FlexEval {
@@ -95,7 +120,8 @@ pub struct FlexEval {
     pub jacobian: Vec<f64>,
     /// The centre line this evaluation shot (own frame and units), where the model samples
     /// one: the exact beam's [`FlexureModel::eval_values`] (Newton's check, which is the
-    /// solution when it converges); empty otherwise.
+    /// solution when it converges) and [`FlexureModel::eval_shaped`] (Newton's first
+    /// evaluation at a case); empty otherwise.
     pub shape: Vec<ShapePoint>,
 }
 

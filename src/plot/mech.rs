@@ -27,9 +27,16 @@ use crate::si::MechUnits;
 use super::strokes::{ForceStrokeChart, Output, StrokePanel};
 use super::{ChartKind, Figure, PlotError, PlotModel, Unfollowed, MODEL_RGB};
 
-/// Below this (nondimensional, over every beam case) an output is identically zero and gets
-/// no panel: a coupler pinned at the stage point carries no moment there, whatever the drive.
-const TRIVIAL: f64 = 1e-9;
+/// An output no larger than this part of `1 +` the largest output of its kind (reactions in
+/// `E I0 / L^2` units, motions in units of L and radians), over every beam case of its
+/// drive, is identically zero and gets no panel: a coupler pinned at the stage point carries
+/// no moment there, whatever the drive. Such an output is zero only to the solver's
+/// tolerance: Newton stops once each equation's residual is within `tol (1 + |load|)`, so a
+/// solve at the coarsest preset's tolerance (draft, 1e-6) leaves it up to that, and one at
+/// the default 1e-9 up to 1.5e-9 on the slider crank (`prbfit solve --scene
+/// assets/scenes/slider-crank.toml`: its moment reaction). An output this small next to its
+/// drive's others draws no visible curve on its own axis either.
+const TRIVIAL: f64 = 1e-6;
 
 /// A drive's abscissa: the input that varies (or the fraction), in display units.
 #[derive(Debug, Clone)]
@@ -262,6 +269,14 @@ pub fn stroke_panels(
             }
             let prescribed = output == Output::Reaction;
             let x = Abscissa::of(d, i + 1, prescribed, &units);
+            // The largest output of this kind over the drive's beam cases.
+            let scale = beam_cases.iter().fold(0.0_f64, |m, case| {
+                let values = match output {
+                    Output::Reaction => case.stage_load,
+                    Output::Motion => case.stage,
+                };
+                values.iter().fold(m, |m, v| m.max(v.abs()))
+            });
             for (c, coordinate) in d.coordinates.iter().enumerate() {
                 if coordinate.is_prescribed() != prescribed {
                     continue;
@@ -270,7 +285,10 @@ pub fn stroke_panels(
                     Output::Reaction => case.stage_load[c],
                     Output::Motion => case.stage[c],
                 };
-                if beam_cases.iter().all(|case| value(case).abs() <= TRIVIAL) {
+                if beam_cases
+                    .iter()
+                    .all(|case| value(case).abs() <= TRIVIAL * (1.0 + scale))
+                {
                     continue;
                 }
                 let curve = |cases: &[MechCase]| -> Vec<[f64; 2]> {
