@@ -197,8 +197,8 @@ pub enum Predictor {
     /// [`PathProblem::extrapolate`].
     Quadratic,
     /// The cubic through the last four where they are equally spaced and the step is the
-    /// same (a steady stretch of the path: cases one step apart); the secant elsewhere, and
-    /// after a rejected attempt until one is accepted again.
+    /// same (a steady stretch of the path); the secant elsewhere, and after a rejected attempt
+    /// until one is accepted again.
     Cubic,
 }
 
@@ -645,8 +645,8 @@ fn predict<P: PathProblem>(
         return;
     };
     let t = (lambda - last.lambda) / (last.lambda - before.lambda);
-    // The accepted points the polynomial passes through, latest first.
-    let through: &[Option<&Accepted<P::Point>>] = &[
+    // The accepted points the polynomial may pass through, latest first.
+    let through = [
         Some(last),
         Some(before),
         history.oldest.as_ref(),
@@ -675,34 +675,36 @@ fn predict<P: PathProblem>(
     let known = through.iter().take_while(|p| p.is_some()).count();
     let count = (degree + 1).min(known);
     if count >= 3 {
-        let through: Vec<&Accepted<P::Point>> =
-            through[..count].iter().flatten().copied().collect();
-        // Lagrange's weights at `lambda` (the parabola's written out, as it always was).
-        let weights: Vec<f64> = if count == 3 {
-            let [l2, l1, l0] = [0, 1, 2].map(|i| through[i].lambda);
-            vec![
+        // On the stack: a path predicts at every attempt.
+        let lambdas = through.map(|a| a.map_or(0.0, |a| a.lambda));
+        let mut weights = [0.0; 4];
+        if count == 3 {
+            // The parabola's weights written out, as they always were.
+            let [l2, l1, l0, _] = lambdas;
+            weights[..3].copy_from_slice(&[
                 (lambda - l0) * (lambda - l1) / ((l2 - l0) * (l2 - l1)),
                 (lambda - l0) * (lambda - l2) / ((l1 - l0) * (l1 - l2)),
                 (lambda - l1) * (lambda - l2) / ((l0 - l1) * (l0 - l2)),
-            ]
+            ]);
         } else {
-            (0..count)
-                .map(|i| {
-                    let (num, den) =
-                        (0..count)
-                            .filter(|&j| j != i)
-                            .fold((1.0, 1.0), |(n, d), j| {
-                                (
-                                    n * (lambda - through[j].lambda),
-                                    d * (through[i].lambda - through[j].lambda),
-                                )
-                            });
-                    num / den
-                })
-                .collect()
-        };
-        let points: Vec<&P::Point> = through.iter().map(|a| &a.point).collect();
-        if weights.iter().all(|w| w.is_finite()) && problem.extrapolate(&points, &weights, t, trial)
+            // Lagrange's.
+            for (i, w) in weights.iter_mut().enumerate().take(count) {
+                let (num, den) = (0..count)
+                    .filter(|&j| j != i)
+                    .fold((1.0, 1.0), |(n, d), j| {
+                        (n * (lambda - lambdas[j]), d * (lambdas[i] - lambdas[j]))
+                    });
+                *w = num / den;
+            }
+        }
+        let points = through.map(|a| a.map(|a| &a.point));
+        let mut chosen = [&last.point; 4];
+        for (c, p) in chosen.iter_mut().zip(points.iter().flatten()) {
+            *c = p;
+        }
+        let weights = &weights[..count];
+        if weights.iter().all(|w| w.is_finite())
+            && problem.extrapolate(&chosen[..count], weights, t, trial)
         {
             return;
         }

@@ -30,8 +30,9 @@
 //! one driver, [`crate::continuation`]; the mechanism's side of it in `path.rs`): the drive's
 //! end values are scaled by `lambda`, cases at `k / steps`, sub-steps that halve on failure,
 //! each started, for the beam's flexures, from the cubic through the last four accepted
-//! points, each moved by Newton's step from its own Jacobian, where they are a case apart
-//! (the secant elsewhere, and for PRB chains, whose evaluations cost little). On a drive of
+//! points where they are equally spaced (those taken as predicted moved by Newton's step from
+//! their own Jacobian), and from the secant elsewhere and for PRB chains, whose evaluations
+//! cost little. On a drive of
 //! many cases that prediction is the solution to a small fraction of the tolerance, and a
 //! case costs one evaluation (`path.rs`).
 //!

@@ -47,16 +47,15 @@ const REJECTIONS_PER_CASE: u32 = 200;
 /// No flexure tip moves by more than this (units of its `L`, radians) in one sub-step, so the
 /// path cannot hop to another branch.
 const MAX_TIP_STEP: f64 = 0.3;
-/// A case's prediction converges as it stands where its residual, and Newton's step from it,
-/// are within this (units of L, radians, the load's scale; unknowns in units of L, E I / L^2
-/// and radians), a hundredth of the default tolerance 1e-9 (and the whole of any tolerance
-/// finer than this): continuation's cubic predictor through points Newton has refined
-/// ([`Point::ahead`]) meets it at 99 % of the parallel stage's 1000 cases (residual ratios
-/// 2e-4 to 4e-3 of the limit), and a case accepted so is as accurate as one corrected by a
-/// Newton step and checked by values, which the rest still are (their tips differ from those
-/// at `tol` 1e-12 by the same 4e-11). Absolute, not a fraction of the tolerance, so that at a
-/// coarse tolerance outputs that are identically zero (a pinned coupler's moment) stay as
-/// close to zero as Newton's step and check leave them.
+/// A case's prediction converges as it stands where its residual is within this (units of L,
+/// radians, the load's scale, as the tolerance), a hundredth of the default tolerance 1e-9
+/// (and the whole of any tolerance finer than this): continuation's cubic predictor through
+/// points Newton has refined ([`Point::ahead`]) meets it at 99 % of the parallel stage's 1000
+/// cases (residual ratios 2e-4 to 4e-3 of the limit), and a case accepted so is as accurate
+/// as one corrected by a Newton step and checked by values, which the rest still are (every
+/// output as far from a solve at `tol` 1e-12 as before: tips 5.8e-11 where they were
+/// 5.7e-11). Absolute, not a fraction of the tolerance, so that at a coarse tolerance a case
+/// is still about as accurate as Newton's step and check would leave it.
 const AS_PREDICTED: f64 = 1e-11;
 
 /// A converged point of the path, with the flexures evaluated there.
@@ -65,11 +64,12 @@ struct Point {
     lambda: f64,
     x: Vec<f64>,
     /// The predictor's base: `x` moved by Newton's step from the Jacobian factored at `x`
-    /// where the point converged at its first evaluation (its error is then the square of
-    /// the residual there, where `x`'s is up to the tolerance), else `x` itself (a point
-    /// reached by a Newton step, already that close).
+    /// where a beam mechanism's point converged at its first evaluation (its error is then
+    /// the square of the residual there), else `x` itself (a point reached by a Newton step,
+    /// already that close).
     ahead: Vec<f64>,
-    /// Whether the point is its case's prediction, converged as it stood.
+    /// Whether a beam mechanism's point is its case's prediction, converged as it stood
+    /// (always false for a PRB mechanism, which does not refine its points).
     as_predicted: bool,
     evals: Vec<FlexEval>,
     /// The load the flexures put on the stage.
@@ -218,7 +218,7 @@ impl<M: FlexureModel> MechSolver<M> {
     /// The guess is evaluated in full, with the flexures' shapes where `shaped` (the last
     /// case was its prediction, so this one likely is too: [`Kind::Shaped`]). Where every
     /// flexure asks for it ([`FlexureModel::predicted`]), a continuation prediction whose
-    /// residual and Newton step are within [`AS_PREDICTED`] is the case: its Jacobian gives
+    /// residual is within [`AS_PREDICTED`] is the case: its Jacobian gives
     /// the determinant's sign, the flexures' stability and the Newton step that refines the
     /// point for the next prediction ([`Point::ahead`]), and its shapes the stresses, at the
     /// cost of one evaluation. (A PRB mechanism's prediction converges within the tolerance
@@ -295,18 +295,16 @@ impl<M: FlexureModel> MechSolver<M> {
             let mut step: Vec<f64> = sys.residual.iter().map(|v| -v).collect();
             let lu = lu_solve(&mut jac, &mut step, n).ok_or("singular Jacobian")?;
             det_sign = Some(lu.det_sign);
-            // A prediction taken as the case must also be within a small part of the
-            // tolerance of where Newton's step from it goes (unknowns in units of L, E I / L^2
-            // and radians): outputs that are identically zero (a pinned coupler's moment)
-            // stay zero to well below the tolerance.
-            let as_predicted =
-                iteration == 1 && self.predicted() && step.iter().all(|d| d.abs() <= AS_PREDICTED);
-            if converged && (iteration > 1 || !self.predicted() || as_predicted) {
-                if as_predicted {
+            if converged {
+                if self.predicted() {
                     ahead = Some(x.iter().zip(&step).map(|(a, d)| a + d).collect());
                 }
                 continue;
             }
+            // A prediction within the tolerance but not within AS_PREDICTED of it: Newton's
+            // step only refines it, so it is taken whole (a residual at the level of the
+            // integration's noise need not shrink, and halving would cost full evaluations).
+            let refine = iteration == 1 && ratio <= 1.0;
             // Damped: halve the step while the residual grows.
             let norm0 = norm(&sys.residual);
             let full = ratio > quadratic;
@@ -319,7 +317,7 @@ impl<M: FlexureModel> MechSolver<M> {
                     Kind::Values
                 };
                 if let Ok(st) = self.system_with(&at, &trial, kind) {
-                    if norm(&st.residual) < norm0 || t < 0.1 {
+                    if refine || norm(&st.residual) < norm0 || t < 0.1 {
                         let by_values = !st.has_jacobian();
                         let before = std::mem::replace(&mut sys, st);
                         jacobians.clear();

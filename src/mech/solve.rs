@@ -36,8 +36,8 @@ pub trait FlexureModel {
     }
     /// Whether an evaluation costs enough (the beam's shots) that the drive's path should
     /// predict each case closely enough to stop at its first evaluation: continuation's
-    /// cubic predictor through Newton-refined points, and a prediction within
-    /// `AS_PREDICTED` of the tolerance taken as the case (`path.rs`). False (the default,
+    /// cubic predictor through Newton-refined points, and a prediction whose residual is
+    /// within `AS_PREDICTED` (1e-11) taken as the case (`path.rs`). False (the default,
     /// a PRB chain's analytic linearisation): the secant, and Newton's step and check.
     fn predicted(&self) -> bool {
         false

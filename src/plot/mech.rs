@@ -27,16 +27,17 @@ use crate::si::MechUnits;
 use super::strokes::{ForceStrokeChart, Output, StrokePanel};
 use super::{ChartKind, Figure, PlotError, PlotModel, Unfollowed, MODEL_RGB};
 
-/// An output no larger than this part of `1 +` the largest output of its kind (reactions in
-/// `E I0 / L^2` units, motions in units of L and radians), over every beam case of its
-/// drive, is identically zero and gets no panel: a coupler pinned at the stage point carries
-/// no moment there, whatever the drive. Such an output is zero only to the solver's
-/// tolerance: Newton stops once each equation's residual is within `tol (1 + |load|)`, so a
-/// solve at the coarsest preset's tolerance (draft, 1e-6) leaves it up to that, and one at
-/// the default 1e-9 up to 1.5e-9 on the slider crank (`prbfit solve --scene
-/// assets/scenes/slider-crank.toml`: its moment reaction). An output this small next to its
-/// drive's others draws no visible curve on its own axis either.
-const TRIVIAL: f64 = 1e-6;
+/// An output no larger than this part of `1 +` the largest of its kind over the drive's
+/// beam cases (reactions and applied loads in `E I0 / L^2` units, the scale Newton's
+/// residuals are measured in; motions in units of L and radians) is identically zero and gets
+/// no panel: a coupler pinned at the stage point carries no moment there, whatever the drive.
+/// Such an output is zero only to the solver's tolerance: Newton stops once each equation's
+/// residual is within `tol (1 + |load|)`, which leaves the slider crank's pinned moment
+/// reaction at 1.5e-9 at the default tolerance 1e-9 (`prbfit solve --scene
+/// assets/scenes/slider-crank.toml`). A hundred times the default tolerance sits above that
+/// (ten times at normal fidelity's 1e-8) and still draws a parasitic motion of a micro-radian
+/// beside a stroke of 0.3 L.
+const TRIVIAL: f64 = 1e-7;
 
 /// A drive's abscissa: the input that varies (or the fraction), in display units.
 #[derive(Debug, Clone)]
