@@ -656,3 +656,29 @@ fn ctrl_c_stops_a_long_solve_and_prints_nothing_half_done() {
     );
     assert_eq!(stderr.trim(), "prbfit: interrupted (Ctrl-C)");
 }
+
+/// An output whose directory does not exist is refused as bad input before the work is done
+/// (the fit's model file, checked with the rest of the arguments), naming the directory; so
+/// is one under a plain file.
+#[test]
+fn an_output_in_a_missing_directory_is_refused_naming_it() {
+    let dir = Scratch::new("no-dir");
+    let missing = dir.file("missing/fitted.toml");
+    let out = prbfit(&[
+        "fit",
+        "--topology",
+        "L-R",
+        "--fidelity",
+        "draft",
+        "-o",
+        &missing,
+    ]);
+    assert_input_error(&out, &["its directory", "missing", "does not exist"]);
+    let plain = dir.write("plain", "x");
+    let under = format!("{plain}/model.mjcf");
+    let out = prbfit(&[
+        "export", "--model", "su-3r", "--format", "mjcf", "-o", &under,
+    ]);
+    assert_input_error(&out, &["Not a directory"]);
+    assert!(!dir.path().join("missing").exists());
+}

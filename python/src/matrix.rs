@@ -106,25 +106,8 @@ fn rows_matrix(
         })?
     };
     if let Some(f) = &fixed {
-        if f.len() != rows.len() {
-            return Err(errors::input(
-                "fixed",
-                format!("{} rows for a matrix of {}", f.len(), rows.len()),
-            ));
-        }
-        for (i, (f, r)) in f.iter().zip(&rows).enumerate() {
-            if f.len() != r.len() {
-                return Err(errors::input(
-                    "fixed",
-                    format!(
-                        "row {}: {} flags for a row of {} entries",
-                        i + 1,
-                        f.len(),
-                        r.len()
-                    ),
-                ));
-            }
-        }
+        let widths: Vec<usize> = rows.iter().map(Vec::len).collect();
+        check_fixed(f, &widths)?;
     }
     let mut out = Vec::with_capacity(rows.len());
     for (i, r) in rows.iter().enumerate() {
@@ -173,15 +156,62 @@ fn rows_matrix(
     PrbMatrix::new(out).map_err(|e| errors::input(argument, e))
 }
 
+/// Checks `fixed` against a matrix whose rows have `widths` entries: one row of flags per
+/// row, one flag per entry.
+fn check_fixed(fixed: &[Vec<bool>], widths: &[usize]) -> PyResult<()> {
+    if fixed.len() != widths.len() {
+        return Err(errors::input(
+            "fixed",
+            format!("{} rows for a matrix of {}", fixed.len(), widths.len()),
+        ));
+    }
+    for (i, (f, &w)) in fixed.iter().zip(widths).enumerate() {
+        if f.len() != w {
+            return Err(errors::input(
+                "fixed",
+                format!("row {}: {} flags for a row of {w} entries", i + 1, f.len()),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// `matrix` (a `Matrix` or its text form, already read) with exactly the cells `fixed`
+/// marks kept by a fit: its own `!` marks give way to the flags.
+fn with_fixed(argument: &str, matrix: PrbMatrix, fixed: &[Vec<bool>]) -> PyResult<PrbMatrix> {
+    let widths: Vec<usize> = matrix
+        .rows()
+        .iter()
+        .map(|r| 3 + usize::from(r.mu.is_some()))
+        .collect();
+    check_fixed(fixed, &widths)?;
+    let rows = matrix
+        .rows()
+        .iter()
+        .zip(fixed)
+        .map(|(r, f)| {
+            let mut r = *r;
+            for (cell, &kept) in r.free.iter_mut().zip(f) {
+                *cell = !kept;
+            }
+            r
+        })
+        .collect();
+    PrbMatrix::new(rows).map_err(|e| errors::input(argument, e))
+}
+
 #[pymethods]
 impl Matrix {
     /// A matrix from rows `[gamma, k_theta, k_ex]` or `[gamma, k_theta, k_ex, mu]` (a list
     /// of lists or an (N, 3) or (N, 4) numpy array, `inf` for no joint), its text form, or
-    /// another Matrix; `fixed` (N rows of as many booleans) marks cells a fit keeps.
+    /// another Matrix; `fixed` (N rows of as many booleans) marks cells a fit keeps (over a
+    /// text form's or a Matrix's own marks).
     #[new]
     #[pyo3(signature = (rows, fixed = None))]
     fn new(rows: &Bound<'_, PyAny>, fixed: Option<Vec<Vec<bool>>>) -> PyResult<Matrix> {
+        let read = rows.cast::<Matrix>().is_ok() || rows.extract::<String>().is_ok();
         let inner = match fixed {
+            Some(f) if read => with_fixed("rows", Matrix::from_any("rows", rows)?, &f)?,
             Some(f) => rows_matrix("rows", rows, Some(f))?,
             None => Matrix::from_any("rows", rows)?,
         };

@@ -124,6 +124,23 @@ def test_integer_and_fixed_arrays():
     assert "fixed" in str(e.value) and "row 2" in str(e.value)
 
 
+def test_fixed_cells_over_a_text_form_or_a_matrix():
+    # `fixed` says which cells stay, whatever the text's own `!` marks said.
+    flags = [[False] * 3, [True, False, False]]
+    want = prbfit.Matrix.parse("0.1,inf,inf; 0.9!,2.2,inf")
+    assert prbfit.Matrix("0.1,inf,inf; 0.9,2.2,inf", fixed=flags) == want
+    assert prbfit.Matrix("0.1!,inf,inf; 0.9,2.2,inf", fixed=flags) == want
+    assert prbfit.Matrix(prbfit.Matrix.parse("0.1,inf,inf; 0.9,2.2,inf"), fixed=flags) == want
+    mu = prbfit.Matrix("0.1,inf,inf,0.3; 0.9,2.2,inf,0.7", fixed=[[False] * 4, [False] * 3 + [True]])
+    assert mu == prbfit.Matrix.parse("0.1,inf,inf,0.3; 0.9,2.2,inf,0.7!")
+    for bad, words in [([[False] * 3], ["fixed", "1 rows for a matrix of 2"]),
+                       ([[False] * 3, [False] * 4], ["fixed", "row 2", "4 flags", "3 entries"])]:
+        with pytest.raises(prbfit.InputError) as e:
+            prbfit.Matrix("0.1,inf,inf; 0.9,2.2,inf", fixed=bad)
+        for w in words:
+            assert w in str(e.value), (w, str(e.value))
+
+
 def test_scene_constructors_and_their_errors(tmp_path):
     assert prbfit.Scene.builtin().kind == "cantilever"
     sc = prbfit.Scene.load(STEEL)

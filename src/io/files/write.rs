@@ -107,10 +107,24 @@ fn resolve_target(path: &Path, overwrite: bool) -> Result<Target, WriteError> {
     let meta = match fs::symlink_metadata(path) {
         Ok(meta) => meta,
         Err(e) if e.kind() == io::ErrorKind::NotFound => {
-            return Ok(Target {
-                file: path.to_path_buf(),
-                existing: None,
-            })
+            // A new file: its directory must be there, or a long computation would end in a
+            // write that cannot happen.
+            let dir = match path.parent() {
+                Some(d) if !d.as_os_str().is_empty() => d,
+                _ => Path::new("."),
+            };
+            // (A directory that is a plain file was refused above: `Not a directory`.)
+            return match fs::metadata(dir) {
+                Ok(_) => Ok(Target {
+                    file: path.to_path_buf(),
+                    existing: None,
+                }),
+                Err(e) if e.kind() == io::ErrorKind::NotFound => Err(io_error(io::Error::new(
+                    io::ErrorKind::NotFound,
+                    format!("its directory {} does not exist", shown(dir)),
+                ))),
+                Err(e) => Err(io_error(e)),
+            };
         }
         Err(e) => return Err(io_error(e)),
     };

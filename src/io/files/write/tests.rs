@@ -52,32 +52,65 @@ fn a_failed_write_leaves_the_old_file() {
     fs::remove_dir_all(&dir).unwrap();
 }
 
+/// A new file whose directory is missing is refused before anything is written (and before a
+/// command spends time on what it would write), naming the directory; the check and the
+/// write say the same. One under a plain file gets the system's `Not a directory`.
 #[test]
-fn an_os_error_is_printed_once() {
+fn a_missing_directory_is_named_before_the_write() {
     let dir = scratch("once");
     let missing = dir.join("no/such/dir/m.toml");
-    let e = write_atomic(&missing, b"new", true).unwrap_err();
-    assert!(matches!(&e, WriteError::Io { .. }), "{e:?}");
-    assert!(std::error::Error::source(&e).is_none());
-    assert_eq!(e.path(), missing);
-    assert!(matches!(&e, WriteError::Io { error, .. } if error.kind() == io::ErrorKind::NotFound));
-    let printed = chain(e);
+    for e in [
+        check_target(&missing, false).unwrap_err(),
+        write_atomic(&missing, b"new", true).unwrap_err(),
+    ] {
+        assert!(std::error::Error::source(&e).is_none());
+        assert_eq!(e.path(), missing);
+        assert!(
+            matches!(&e, WriteError::Io { error, .. } if error.kind() == io::ErrorKind::NotFound)
+        );
+        assert!(!e.is_out_of_room());
+        assert_eq!(
+            chain(e),
+            format!(
+                "{}: its directory {} does not exist",
+                missing.display(),
+                dir.join("no/such/dir").display()
+            )
+        );
+    }
+    let file = dir.join("plain");
+    fs::write(&file, b"x").unwrap();
+    let under_file = file.join("m.toml");
+    let e = check_target(&under_file, true).unwrap_err();
     assert_eq!(
-        printed.matches("os error 2").count(),
-        1,
-        "printed {printed:?}"
+        chain(e),
+        format!(
+            "{}: {}",
+            under_file.display(),
+            io::Error::from_raw_os_error(20)
+        )
     );
-    assert!(printed.starts_with(&format!("{}: ", missing.display())));
-    // The same for a permission error built by hand (root can't provoke one).
+    // A file in the working directory has one.
+    check_target(Path::new("prbfit-no-such-file-here.toml"), false).unwrap();
+    assert_eq!(leftovers(&dir), 0);
+    fs::remove_dir_all(&dir).unwrap();
+}
+
+/// The operating system's message is printed once, not again as the error's source.
+#[test]
+fn an_os_error_is_printed_once() {
+    // A permission error built by hand (root can't provoke one).
     let e = WriteError::Io {
         path: "m.toml".into(),
         error: io::Error::from_raw_os_error(13),
     };
+    assert!(std::error::Error::source(&e).is_none());
+    let printed = chain(e);
     assert_eq!(
-        chain(e),
+        printed,
         format!("m.toml: {}", io::Error::from_raw_os_error(13))
     );
-    fs::remove_dir_all(&dir).unwrap();
+    assert_eq!(printed.matches("os error 13").count(), 1, "{printed:?}");
 }
 
 #[test]
