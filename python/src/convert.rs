@@ -135,6 +135,49 @@ where
 
 use pyo3::conversion::FromPyObjectOwned;
 
+/// A real number for the keyword `argument` (a Python float or int, a numpy number), or none
+/// when not given: anything else is bad input naming the argument, where PyO3's own
+/// conversion read `True` as 1.0, cut a complex numpy scalar to its real part, and raised an
+/// `OverflowError` naming nothing for an int too large for a float.
+pub fn real(argument: &str, value: Option<&Bound<'_, PyAny>>) -> PyResult<Option<f64>> {
+    let Some(value) = value.filter(|v| !v.is_none()) else {
+        return Ok(None);
+    };
+    let ty = value
+        .get_type()
+        .name()
+        .map(|n| n.to_string())
+        .unwrap_or_else(|_| "?".into());
+    // A numpy bool's dtype kind is `b`, which `real_dtype` refuses.
+    if value.is_instance_of::<PyBool>() {
+        return Err(errors::input(argument, "expected a number, got bool"));
+    }
+    real_dtype(argument, value)?;
+    match value.extract::<f64>() {
+        Ok(x) => Ok(Some(x)),
+        Err(e) if e.is_instance_of::<PyOverflowError>(value.py()) => {
+            let text = value.str().map(|s| s.to_string()).unwrap_or_default();
+            let shown = if text.chars().count() > 24 {
+                format!(
+                    "{}... ({} digits)",
+                    text.chars().take(12).collect::<String>(),
+                    text.len()
+                )
+            } else {
+                text
+            };
+            Err(errors::input(
+                argument,
+                format!("{shown}: too large for a number"),
+            ))
+        }
+        Err(_) => Err(errors::input(
+            argument,
+            format!("expected a number, got {ty}"),
+        )),
+    }
+}
+
 /// A whole number for `argument` from `min` to `max`: a Python int (or anything with
 /// `__index__`, a numpy integer), or a float with no fractional part (a row of a float
 /// array); anything else is bad input naming the argument, where PyO3's own conversion raised

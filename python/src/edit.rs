@@ -9,7 +9,7 @@ use pyo3::types::PyDict;
 
 use prbfit::scene::{rules, Scene};
 
-use crate::convert::{extract, finite};
+use crate::convert::{extract, finite, real, whole};
 use crate::errors;
 
 /// The keyword values of `kwargs` with their names and the scene key (`table.key`) each sets.
@@ -28,9 +28,12 @@ fn items<'py>(
         .collect()
 }
 
-/// A finite number for `arg`.
+/// A finite number for `arg` (not a bool: see [`real`]).
 fn number(arg: &str, v: &Bound<'_, PyAny>) -> PyResult<f64> {
-    finite(arg, extract(arg, v, "a number")?)
+    match real(arg, Some(v))? {
+        Some(x) => finite(arg, x),
+        None => Err(errors::input(arg, "expected a number, got NoneType")),
+    }
 }
 
 /// The scene with the body's `mass` (kg) and `inertia` (kg m^2, about its centre of mass)
@@ -65,7 +68,7 @@ pub fn fit(scene: &Scene, kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<Scene>
             "force_weight" => f.force_weight = number(&arg, &v)?,
             "frequency_weight" => f.frequency_weight = number(&arg, &v)?,
             "modes" => {
-                let n: i64 = extract(&arg, &v, "a whole number")?;
+                let n = whole::<i64>(&arg, &v, i64::MIN, i64::MAX)?;
                 f.modes = rules::modes(n).map_err(|e| errors::input(&arg, e))?;
             }
             _ => {

@@ -15,7 +15,7 @@ use prbfit::prb::PrbMatrix;
 use prbfit::report::{self, Control, ReportError};
 use prbfit::scene::{EffectsChoice, LoadPath};
 
-use crate::convert::{extract, finite, whole};
+use crate::convert::{extract, finite, real, whole};
 use crate::edit;
 use crate::errors;
 use crate::matrix::Matrix;
@@ -437,19 +437,19 @@ impl Scene {
         py: Python<'_>,
         load: Option<&Bound<'_, PyAny>>,
         effects: Option<String>,
-        slenderness: Option<f64>,
-        nu: Option<f64>,
-        kappa: Option<f64>,
-        tol: Option<f64>,
+        slenderness: Option<&Bound<'_, PyAny>>,
+        nu: Option<&Bound<'_, PyAny>>,
+        kappa: Option<&Bound<'_, PyAny>>,
+        tol: Option<&Bound<'_, PyAny>>,
         shape: bool,
     ) -> PyResult<Py<PyAny>> {
         let args = report::solve::SolveArgs {
             load: load_arg(load)?,
             effects,
-            slenderness,
-            nu,
-            kappa,
-            tol: tol.unwrap_or(report::solve::SolveArgs::default().tol),
+            slenderness: real("slenderness", slenderness)?,
+            nu: real("nu", nu)?,
+            kappa: real("kappa", kappa)?,
+            tol: real("tol", tol)?.unwrap_or(report::solve::SolveArgs::default().tol),
             shape,
         };
         let scene = &snapshot(slf);
@@ -469,13 +469,13 @@ impl Scene {
         py: Python<'_>,
         models: &Bound<'_, PyTuple>,
         load: Option<&Bound<'_, PyAny>>,
-        tol: Option<f64>,
+        tol: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Py<PyAny>> {
         let mut args = report::eval::EvalArgs {
             load: load_arg(load)?,
             ..Default::default()
         };
-        if let Some(t) = tol {
+        if let Some(t) = real("tol", tol)? {
             args.tol = t;
         }
         for (i, m) in models.iter().enumerate() {
@@ -508,7 +508,7 @@ impl Scene {
         count: Option<&Bound<'_, PyAny>>,
         load: Option<&Bound<'_, PyAny>>,
         cases: bool,
-        tol: Option<f64>,
+        tol: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Py<PyAny>> {
         let mut args = report::modes::ModesArgs {
             count: match count {
@@ -519,7 +519,7 @@ impl Scene {
             cases,
             ..Default::default()
         };
-        if let Some(t) = tol {
+        if let Some(t) = real("tol", tol)? {
             args.tol = t;
         }
         for (i, m) in models.iter().enumerate() {
@@ -635,7 +635,7 @@ impl Scene {
         output: Option<PathBuf>,
         format: Option<&str>,
         force: bool,
-        density: Option<f64>,
+        density: Option<&Bound<'_, PyAny>>,
         fidelity: &str,
     ) -> PyResult<Py<PyAny>> {
         let Some(output) = output else {
@@ -653,7 +653,7 @@ impl Scene {
             .map(|f| Format::from_str(f).map_err(|e| errors::input("format", e)))
             .transpose()?;
         args.force = force;
-        args.density = density;
+        args.density = real("density", density)?;
         args.fidelity = self::fidelity(fidelity)?;
         let scene = &snapshot(slf);
         let r = run(py, None, |ctl: &mut Control<'_>| {
@@ -670,7 +670,7 @@ impl Scene {
     /// `plane-strain`, `solid`): None takes the scene's (solid when its beam keeps plane
     /// strain, else plane-stress).
     #[pyo3(
-        signature = (output, *, mesh = None, section = None, taper = 1.0, deck = None, force = false, timeout = None),
+        signature = (output, *, mesh = None, section = None, taper = None, deck = None, force = false, timeout = None),
         text_signature = "($self, output, *, mesh=40, section=None, taper=1.0, deck=None, force=False, timeout=900)"
     )]
     #[allow(clippy::too_many_arguments)]
@@ -680,7 +680,7 @@ impl Scene {
         output: PathBuf,
         mesh: Option<&Bound<'_, PyAny>>,
         section: Option<&str>,
-        taper: f64,
+        taper: Option<&Bound<'_, PyAny>>,
         deck: Option<PathBuf>,
         force: bool,
         timeout: Option<&Bound<'_, PyAny>>,
@@ -692,6 +692,7 @@ impl Scene {
         args.section = section
             .map(|s| Section::from_str(s).map_err(|e| errors::input("section", e)))
             .transpose()?;
+        let taper = real("taper", taper)?.unwrap_or(1.0);
         args.taper = Taper::from_str(&format!("{taper}")).map_err(|e| errors::input("taper", e))?;
         args.deck = deck;
         args.force = force;

@@ -358,6 +358,37 @@ def test_whole_number_arguments_are_checked_naming_them():
     assert "mesh=40" in prbfit.Scene.fea.__text_signature__
 
 
+def test_number_keywords_refuse_bools_huge_ints_and_other_types_naming_them():
+    sc = prbfit.Scene.builtin()
+    # PyO3's own conversion read True as 1.0, raised a bare OverflowError for an int too
+    # large for a float, and a TypeError for a string.
+    for call, words in [
+        (lambda: sc.solve(nu=True), ["nu", "expected a number, got bool"]),
+        (lambda: sc.solve(slenderness=np.bool_(True)), ["slenderness", "dtype bool"]),
+        (lambda: sc.solve(kappa="0.8"), ["kappa", "expected a number, got str"]),
+        (lambda: sc.solve(tol=10**400), ["tol", "100000000000...", "401 digits", "too large"]),
+        (lambda: sc.eval(tol=False), ["tol", "got bool"]),
+        (lambda: sc.modes(tol=1j), ["tol", "expected a number, got complex"]),
+        (lambda: sc.export("su-3r", "x.csv", density=True), ["density", "got bool"]),
+        (lambda: sc.fea("x.csv", taper=True), ["taper", "got bool"]),
+    ]:
+        with pytest.raises(prbfit.InputError) as e:
+            call()
+        for w in words:
+            assert w in str(e.value), (w, str(e.value))
+    for values, words in [({"angle_weight": True}, ["angle_weight", "got bool"]),
+                          ({"modes": True}, ["modes", "whole number, got bool"]),
+                          ({"force_weight": 10**400}, ["force_weight", "too large"])]:
+        with pytest.raises(prbfit.InputError) as e:
+            sc.set_fit_settings(**values)
+        for w in words:
+            assert w in str(e.value), (w, str(e.value))
+    # Numbers of every kind still are numbers.
+    one = sc.solve(load=(0, 1, 0), nu=np.float32(0.3), tol=1e-8)
+    assert one.tol == 1e-8 and 0 < one.b < 1
+    assert sc.solve(load=(0, 1, 0), slenderness=100).b == sc.solve(load=(0, 1, 0)).b
+
+
 def test_models_by_path_and_matrix_text_with_a_mistake():
     sc = prbfit.Scene.load(STEEL)
     by_name = sc.eval("su-3r").to_dict()
