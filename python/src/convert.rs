@@ -135,6 +135,20 @@ where
 
 use pyo3::conversion::FromPyObjectOwned;
 
+/// An int as an error message shows it: a long one by its first 12 digits and its length.
+fn shown_int(value: &Bound<'_, PyAny>) -> String {
+    let text = value.str().map(|s| s.to_string()).unwrap_or_default();
+    if text.chars().count() > 24 {
+        format!(
+            "{}... ({} digits)",
+            text.chars().take(12).collect::<String>(),
+            text.len()
+        )
+    } else {
+        text
+    }
+}
+
 /// A real number for the keyword `argument` (a Python float or int, a numpy number), or none
 /// when not given: anything else is bad input naming the argument, where PyO3's own
 /// conversion read `True` as 1.0, cut a complex numpy scalar to its real part, and raised an
@@ -155,22 +169,10 @@ pub fn real(argument: &str, value: Option<&Bound<'_, PyAny>>) -> PyResult<Option
     real_dtype(argument, value)?;
     match value.extract::<f64>() {
         Ok(x) => Ok(Some(x)),
-        Err(e) if e.is_instance_of::<PyOverflowError>(value.py()) => {
-            let text = value.str().map(|s| s.to_string()).unwrap_or_default();
-            let shown = if text.chars().count() > 24 {
-                format!(
-                    "{}... ({} digits)",
-                    text.chars().take(12).collect::<String>(),
-                    text.len()
-                )
-            } else {
-                text
-            };
-            Err(errors::input(
-                argument,
-                format!("{shown}: too large for a number"),
-            ))
-        }
+        Err(e) if e.is_instance_of::<PyOverflowError>(value.py()) => Err(errors::input(
+            argument,
+            format!("{}: too large for a number", shown_int(value)),
+        )),
         Err(_) => Err(errors::input(
             argument,
             format!("expected a number, got {ty}"),
@@ -192,19 +194,12 @@ where
         .map(|n| n.to_string())
         .unwrap_or_else(|_| "?".into());
     let out_of_range = || {
-        let text = value.str().map(|s| s.to_string()).unwrap_or_default();
-        let shown = if text.chars().count() > 24 {
-            format!(
-                "{}... ({} digits)",
-                text.chars().take(12).collect::<String>(),
-                text.len()
-            )
-        } else {
-            text
-        };
         errors::input(
             argument,
-            format!("{shown}: must be a whole number from {min} to {max}"),
+            format!(
+                "{}: must be a whole number from {min} to {max}",
+                shown_int(value)
+            ),
         )
     };
     if value.is_instance_of::<PyBool>() {
