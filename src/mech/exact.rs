@@ -51,7 +51,7 @@ impl FlexureModel for BeamFlexure {
     fn eval(&self, w: [f64; 3], _z: &[f64]) -> Result<FlexEval, TipFailure> {
         // Newton's iterates with a Jacobian after the first are seldom its solution (that is
         // checked by values, below), so they do not sample the centre line.
-        Ok(full_eval(&self.solver.shoot_root(w[0], w[1], w[2])?))
+        self.full(w, false)
     }
 
     fn predicted(&self) -> bool {
@@ -59,14 +59,7 @@ impl FlexureModel for BeamFlexure {
     }
 
     fn eval_shaped(&self, w: [f64; 3], _z: &[f64]) -> Result<FlexEval, TipFailure> {
-        let mut shape = Vec::new();
-        let shot = self
-            .solver
-            .shoot_root_sampled(w[0], w[1], w[2], Some(&mut shape))?;
-        Ok(FlexEval {
-            shape,
-            ..full_eval(&shot)
-        })
+        self.full(w, true)
     }
 
     fn eval_values(&self, w: [f64; 3], _z: &[f64]) -> Result<FlexEval, TipFailure> {
@@ -94,26 +87,16 @@ impl FlexureModel for BeamFlexure {
             }
             match (pair, at) {
                 ([a, b], [(wa, _), (wb, _)]) => {
-                    if kind == Kind::Full {
-                        let [ra, rb] =
-                            shoot_root_pair([(&a.solver, *wa, None), (&b.solver, *wb, None)]);
-                        out.push(ra.map(|s| full_eval(&s)).map_err(TipFailure::from));
-                        out.push(rb.map(|s| full_eval(&s)).map_err(TipFailure::from));
-                    } else if kind == Kind::Shaped {
+                    if kind != Kind::Values {
+                        // With the variational equations; the shapes where asked for.
                         let (mut sa, mut sb) = (Vec::new(), Vec::new());
+                        let sampled = kind == Kind::Shaped;
                         let [ra, rb] = shoot_root_pair([
-                            (&a.solver, *wa, Some(&mut sa)),
-                            (&b.solver, *wb, Some(&mut sb)),
+                            (&a.solver, *wa, sampled.then_some(&mut sa)),
+                            (&b.solver, *wb, sampled.then_some(&mut sb)),
                         ]);
-                        let shaped = |r: Result<RootShot, _>, shape| {
-                            r.map(|s| FlexEval {
-                                shape,
-                                ..full_eval(&s)
-                            })
-                            .map_err(TipFailure::from)
-                        };
-                        out.push(shaped(ra, sa));
-                        out.push(shaped(rb, sb));
+                        out.push(ra.map(|s| full_eval(&s, sa)).map_err(TipFailure::from));
+                        out.push(rb.map(|s| full_eval(&s, sb)).map_err(TipFailure::from));
                     } else {
                         let (mut sa, mut sb) = (Vec::new(), Vec::new());
                         let [ra, rb] = shoot_root_tip_pair([
@@ -160,14 +143,26 @@ impl FlexureModel for BeamFlexure {
     }
 }
 
-/// A flexure evaluated in full from its shot.
-fn full_eval(shot: &RootShot) -> FlexEval {
+/// A flexure evaluated in full from its shot, with the centre line it sampled (empty if
+/// none).
+fn full_eval(shot: &RootShot, shape: Vec<ShapePoint>) -> FlexEval {
     FlexEval {
         tip: shot.tip,
         tip_moment: shot.tip_moment,
         internal: Vec::new(),
         jacobian: shot.jacobian.iter().flatten().copied().collect(),
-        shape: Vec::new(),
+        shape,
+    }
+}
+
+impl BeamFlexure {
+    /// [`FlexureModel::eval`], sampling the centre line where `shaped`.
+    fn full(&self, w: [f64; 3], shaped: bool) -> Result<FlexEval, TipFailure> {
+        let mut shape = Vec::new();
+        let shot =
+            self.solver
+                .shoot_root_sampled(w[0], w[1], w[2], shaped.then_some(&mut shape))?;
+        Ok(full_eval(&shot, shape))
     }
 }
 

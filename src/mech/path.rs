@@ -63,19 +63,24 @@ const AS_PREDICTED: f64 = 1e-11;
 struct Point {
     lambda: f64,
     x: Vec<f64>,
-    /// The predictor's base: `x` moved by Newton's step from the Jacobian factored at `x`
-    /// where a beam mechanism's point converged at its first evaluation (its error is then
-    /// the square of the residual there), else `x` itself (a point reached by a Newton step,
-    /// already that close).
-    ahead: Vec<f64>,
-    /// Whether a beam mechanism's point is its case's prediction, converged as it stood
-    /// (always false for a PRB mechanism, which does not refine its points).
-    as_predicted: bool,
+    /// Where a beam mechanism's point is its case's prediction, converged as it stood: `x`
+    /// moved by Newton's step from the Jacobian factored at `x` (its error is then the square
+    /// of the residual there), the predictor's base ([`Point::base`]). None elsewhere (a
+    /// point reached by a Newton step is already that close; a PRB mechanism's points are not
+    /// refined).
+    ahead: Option<Vec<f64>>,
     evals: Vec<FlexEval>,
     /// The load the flexures put on the stage.
     load: [f64; 3],
     /// The sign of the Jacobian's determinant there.
     det_sign: f64,
+}
+
+impl Point {
+    /// The unknowns the predictor extrapolates from: the refined ones where there are.
+    fn base(&self) -> &[f64] {
+        self.ahead.as_deref().unwrap_or(&self.x)
+    }
 }
 
 impl<M: FlexureModel> MechSolver<M> {
@@ -167,8 +172,7 @@ impl<M: FlexureModel> MechSolver<M> {
         let (sign0, ratio0) = self.regular_unloaded(jac, n, index)?;
         let start = Point {
             lambda: 0.0,
-            ahead: x0.clone(),
-            as_predicted: false,
+            ahead: None,
             x: x0,
             evals: sys0.evals,
             load: sys0.load,
@@ -282,8 +286,7 @@ impl<M: FlexureModel> MechSolver<M> {
                 }
                 let point = Point {
                     lambda,
-                    as_predicted: ahead.is_some(),
-                    ahead: ahead.unwrap_or_else(|| x.clone()),
+                    ahead,
                     x,
                     evals,
                     load: sys.load,
@@ -409,15 +412,16 @@ impl<M: FlexureModel> PathProblem for MechPath<'_, M> {
 
     /// From the unloaded pose, the unloaded unknowns.
     fn tangent(&self, start: &Point, _step: f64, trial: &mut Point) {
-        trial.x.clone_from(&start.ahead);
+        trial.x.clear();
+        trial.x.extend_from_slice(start.base());
     }
 
     fn secant(&self, last: &Point, before: &Point, t: f64, trial: &mut Point) {
         trial.x.clear();
         trial.x.extend(
-            last.ahead
+            last.base()
                 .iter()
-                .zip(&before.ahead)
+                .zip(before.base())
                 .map(|(a, b)| a + t * (a - b)),
         );
     }
@@ -437,11 +441,11 @@ impl<M: FlexureModel> PathProblem for MechPath<'_, M> {
         };
         let (mut bend, mut step) = (0.0_f64, 0.0_f64);
         trial.x.clear();
-        for (k, (a, b)) in p0.ahead.iter().zip(&p1.ahead).enumerate() {
+        for (k, (a, b)) in p0.base().iter().zip(p1.base()).enumerate() {
             let polynomial: f64 = points
                 .iter()
                 .zip(weights)
-                .map(|(p, w)| w * p.ahead[k])
+                .map(|(p, w)| w * p.base()[k])
                 .sum();
             let secant = a + secant_t * (a - b);
             bend = bend.max((polynomial - secant).abs());
@@ -459,7 +463,7 @@ impl<M: FlexureModel> PathProblem for MechPath<'_, M> {
         effort: &mut Effort,
     ) -> Corrected<String, MechError> {
         let guess = std::mem::take(&mut trial.x);
-        let shaped = history.last().point.as_predicted;
+        let shaped = history.last().point.ahead.is_some();
         match self.solver.newton(self.path, lambda, guess, effort, shaped) {
             Ok((point, iterations)) => {
                 *trial = point;
