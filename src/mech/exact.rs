@@ -7,10 +7,12 @@
 //! solved like any other. Newton's check of an iterate it expects to have converged shoots
 //! without the variational equations ([`BeamSolver::shoot_root_tip`]) and samples the shape
 //! there, for the case's stress; so does its first evaluation at a case, the continuation's
-//! prediction, which on a drive of many cases is most often the solution. The flexures are
-//! shot two at a time, side by side, where both take the Dormand-Prince integrator
-//! ([`crate::beam::root::shoot_root_pair`]; a plain elastica's Taylor shot, and an odd
-//! flexure out, are shot alone): the same numbers as one by one, in less time.
+//! prediction, which on a drive of many cases is most often the solution (it then takes its
+//! Jacobian from an earlier case, while the last two factored bound its change: `path.rs`,
+//! `Chord`). The flexures are shot two at a time, side by side, where both take the
+//! Dormand-Prince integrator ([`crate::beam::root::shoot_root_pair`]; a plain elastica's
+//! Taylor shot, and an odd flexure out, are shot alone): the same numbers as one by one, in
+//! less time.
 //!
 //! Accuracy: Newton stops at the solver's `tol` on every compatibility residual; the shot
 //! integrates to the beam's `tol`, so a flexure's tip is good to the beam's
@@ -35,6 +37,9 @@ thread_local! {
     static STRESS_SCRATCH: std::cell::RefCell<StressScratch> =
         std::cell::RefCell::new(StressScratch::default());
 }
+
+/// Where `dM(L)/dM(0)` sits in a flexure's Jacobian (row `tip_moment`, column `m0`).
+const STABILITY: usize = 3 * 3 + 2;
 
 /// One flexure as the exact beam.
 #[derive(Debug, Clone, Copy)]
@@ -119,7 +124,11 @@ impl FlexureModel for BeamFlexure {
 
     fn load_stable(&self, eval: &FlexEval, _w: [f64; 3], _z: &[f64]) -> bool {
         // dM(L)/dM(0), the single beam's own test (see `beam::root::RootShot::stability`).
-        eval.jacobian[3 * 3 + 2] > 0.0
+        eval.jacobian[STABILITY] > 0.0
+    }
+
+    fn stability_indicator(&self, eval: &FlexEval) -> Option<f64> {
+        eval.jacobian.get(STABILITY).copied()
     }
 
     fn stress(&self, eval: &FlexEval, w: [f64; 3], _z: &[f64]) -> Option<Stress> {

@@ -9,7 +9,7 @@ use crate::continuation::{
     self, Corrected, Crossing, Effort, Growth, Halving, History, Limits, PathProblem, Predictor,
     Stop, Tally, TestOrder,
 };
-use crate::linalg::lu_solve;
+use crate::linalg::{lu_solve, solve_many};
 use crate::scene::{Coordinate, DrivePath, Mechanism};
 
 use super::solve::{FlexEval, FlexureModel, Kind, MechSolver};
@@ -57,6 +57,14 @@ const MAX_TIP_STEP: f64 = 0.3;
 /// 5.7e-11). Absolute, not a fraction of the tolerance, so that at a coarse tolerance a case
 /// is still about as accurate as Newton's step and check would leave it.
 const AS_PREDICTED: f64 = 1e-11;
+/// A Jacobian factored at an accepted point serves the cases after it ([`Chord`]) while the
+/// last two factored along the drive say it is within this fraction of the one there:
+/// `|| J0^-1 (J - J0) ||` at most this, where `J0` is the reference, so that `J = J0 (I +
+/// A)` with `|| A || < 1` is regular with `J0`'s determinant sign along the way (the Banach
+/// lemma), and each flexure's stability indicator moves by at most this fraction of itself,
+/// so keeps its sign. Both are extrapolated linearly in the drive fraction from the last two
+/// references; a quarter leaves the extrapolation a factor four of curvature.
+const CHORD_REACH: f64 = 0.25;
 
 /// A converged point of the path, with the flexures evaluated there.
 #[derive(Debug, Clone)]
@@ -74,6 +82,111 @@ struct Point {
     load: [f64; 3],
     /// The sign of the Jacobian's determinant there.
     det_sign: f64,
+    /// Where the Jacobian was factored at this point (or at Newton's iterate before it) in a
+    /// beam mechanism, that Jacobian as assembled (row-major), for [`Chord`]. None elsewhere.
+    jacobian: Option<Vec<f64>>,
+}
+
+/// A Jacobian factored at an accepted point of a beam mechanism's drive, kept for the cases
+/// after it: a case whose prediction, checked by values alone (the beam's shot without its
+/// variational equations, a little over half the work of a shot with them), converges as it
+/// stands ([`AS_PREDICTED`]) takes its determinant's sign and its flexures' Jacobians (their
+/// stability) from here, and its predictor base ([`Point::ahead`]) from the chord step
+/// `x - J0^-1 r`. Honest while the Jacobian cannot have changed by much ([`CHORD_REACH`]):
+/// up to `reach` along the drive.
+#[derive(Debug, Clone)]
+struct Chord {
+    /// The largest drive fraction it serves.
+    reach: f64,
+    /// `J0^-1`, row-major.
+    inverse: Vec<f64>,
+    det_sign: f64,
+    /// The flexures' own Jacobians there.
+    jacobians: Vec<Vec<f64>>,
+}
+
+/// An accepted point's factored Jacobian, for the next [`Chord`].
+#[derive(Debug, Clone)]
+struct Reference {
+    lambda: f64,
+    jacobian: Vec<f64>,
+    /// Each flexure's stability indicator ([`FlexureModel::stability_indicator`]).
+    indicators: Vec<f64>,
+}
+
+impl Chord {
+    /// The chord from the reference `now`, accepted at `point`, with the one before it,
+    /// `before`: `None` where the two do not bound the Jacobian's change (a flexure without
+    /// an indicator, a singular reference).
+    fn new(before: &Reference, now: &Reference, point: &Point) -> Option<Chord> {
+        let n = point.x.len();
+        let span = now.lambda - before.lambda;
+        if span.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater)
+            || now.indicators.len() != before.indicators.len()
+        {
+            return None;
+        }
+        let mut inverse = vec![0.0; n * n];
+        for i in 0..n {
+            inverse[i * n + i] = 1.0;
+        }
+        let mut factored = now.jacobian.clone();
+        if !solve_many(&mut factored, &mut inverse, n, n) {
+            return None;
+        }
+        // A = J0^-1 (J0 - J_before): its largest row and column sums, the smaller of the two
+        // norms bounding it.
+        let mut rows = vec![0.0_f64; n];
+        let mut columns = vec![0.0_f64; n];
+        for (i, row) in rows.iter_mut().enumerate() {
+            for (j, column) in columns.iter_mut().enumerate() {
+                let a: f64 = (0..n)
+                    .map(|k| {
+                        inverse[i * n + k] * (now.jacobian[k * n + j] - before.jacobian[k * n + j])
+                    })
+                    .sum();
+                *row += a.abs();
+                *column += a.abs();
+            }
+        }
+        let change = rows
+            .iter()
+            .fold(0.0_f64, |m, &v| m.max(v))
+            .min(columns.iter().fold(0.0_f64, |m, &v| m.max(v)));
+        // Each bound on how far the reference serves; a NaN one (an indicator at zero that
+        // did not move, a non-finite figure) serves no case.
+        let bounds = std::iter::once(span / change).chain(
+            now.indicators
+                .iter()
+                .zip(&before.indicators)
+                .map(|(&s, &s0)| span * s.abs() / (s - s0).abs()),
+        );
+        let reach = bounds.fold(
+            f64::INFINITY,
+            |m, b| if b.is_nan() { 0.0 } else { m.min(b) },
+        ) * CHORD_REACH;
+        Some(Chord {
+            reach: now.lambda + reach,
+            inverse,
+            det_sign: point.det_sign,
+            jacobians: point.evals.iter().map(|e| e.jacobian.clone()).collect(),
+        })
+    }
+
+    /// The chord step's end from `x` with residual `r`.
+    fn step(&self, x: &[f64], r: &[f64]) -> Vec<f64> {
+        let n = x.len();
+        x.iter()
+            .enumerate()
+            .map(|(i, v)| {
+                v - self.inverse[i * n..(i + 1) * n]
+                    .iter()
+                    .zip(r)
+                    .map(|(a, b)| a * b)
+                    .sum::<f64>()
+            })
+            .collect()
+    }
 }
 
 impl Point {
@@ -126,6 +239,10 @@ struct MechPath<'a, M> {
     sign0: f64,
     ratio0: f64,
     cases: Vec<MechCase>,
+    /// The last accepted point's factored Jacobian, and the chord it and the one before
+    /// give the cases after it (beam mechanisms: [`Chord`]).
+    reference: Option<Reference>,
+    chord: Option<Chord>,
 }
 
 impl<M: FlexureModel> MechSolver<M> {
@@ -169,6 +286,10 @@ impl<M: FlexureModel> MechSolver<M> {
         let at0 = path.at(0.0);
         let sys0 = self.system(&at0, &x0)?;
         let jac = self.jacobian(&at0, &x0, &sys0);
+        let reference = self
+            .chorded()
+            .then(|| self.reference(0.0, jac.clone(), &sys0.evals))
+            .flatten();
         let (sign0, ratio0) = self.regular_unloaded(jac, n, index)?;
         let start = Point {
             lambda: 0.0,
@@ -177,6 +298,7 @@ impl<M: FlexureModel> MechSolver<M> {
             evals: sys0.evals,
             load: sys0.load,
             det_sign: sign0,
+            jacobian: None,
         };
         let case_step = 1.0 / steps as f64;
         let limits = Limits {
@@ -212,12 +334,20 @@ impl<M: FlexureModel> MechSolver<M> {
             sign0,
             ratio0,
             cases: Vec::with_capacity(steps as usize),
+            reference,
+            chord: None,
         };
         continuation::follow(&mut problem, start, steps, &limits, self.cancel.as_ref())?;
         Ok(problem.cases)
     }
 
     /// Newton at `lambda` from the guess `x`.
+    ///
+    /// With a `chord` (a beam mechanism, within its reach: [`Chord`]), the guess is first
+    /// checked by values alone; within [`AS_PREDICTED`] it is the case, its determinant's sign
+    /// and flexures' Jacobians the chord's, its predictor base the chord step from it. That
+    /// is most cases of a long drive, at a little over half the cost of a full evaluation.
+    /// Otherwise, and without a chord, it goes on as follows.
     ///
     /// The guess is evaluated in full, with the flexures' shapes where `shaped` (the last
     /// case was its prediction, so this one likely is too: [`Kind::Shaped`]). Where every
@@ -243,9 +373,36 @@ impl<M: FlexureModel> MechSolver<M> {
         mut x: Vec<f64>,
         effort: &mut Effort,
         shaped: bool,
+        chord: Option<&Chord>,
     ) -> Result<(Point, u32), String> {
         let n = x.len();
         let at = path.at(lambda);
+        if let Some(chord) = chord {
+            // The prediction checked by values, with the Jacobian of the reference.
+            if let Ok(sys) = self.system_with(&at, &x, Kind::Values) {
+                if self.residual_ratio(&sys.residual, sys.load)
+                    <= (AS_PREDICTED / self.tol).min(1.0)
+                {
+                    effort.spend_iteration();
+                    let mut evals = sys.evals;
+                    for (e, j) in evals.iter_mut().zip(&chord.jacobians) {
+                        if e.jacobian.is_empty() {
+                            e.jacobian.clone_from(j);
+                        }
+                    }
+                    let point = Point {
+                        lambda,
+                        ahead: Some(chord.step(&x, &sys.residual)),
+                        x,
+                        evals,
+                        load: sys.load,
+                        det_sign: chord.det_sign,
+                        jacobian: None,
+                    };
+                    return Ok((point, 1));
+                }
+            }
+        }
         let first = if shaped { Kind::Shaped } else { Kind::Full };
         let mut sys = self
             .system_with(&at, &x, first)
@@ -258,6 +415,8 @@ impl<M: FlexureModel> MechSolver<M> {
         let mut det_sign = None;
         // The flexures' Jacobians at that iterate, for a point checked by values alone.
         let mut jacobians: Vec<Vec<f64>> = Vec::new();
+        // That Jacobian as assembled, for a [`Chord`].
+        let mut factored: Option<Vec<f64>> = None;
         // Below this residual ratio, Newton's next iterate is expected to converge.
         let quadratic = (0.1 / self.tol).sqrt();
         let limit = effort.newton_limit();
@@ -291,10 +450,14 @@ impl<M: FlexureModel> MechSolver<M> {
                     evals,
                     load: sys.load,
                     det_sign,
+                    jacobian: factored,
                 };
                 return Ok((point, iteration));
             }
             let mut jac = self.jacobian(&at, &x, &sys);
+            if self.chorded() {
+                factored = Some(jac.clone());
+            }
             let mut step: Vec<f64> = sys.residual.iter().map(|v| -v).collect();
             let lu = lu_solve(&mut jac, &mut step, n).ok_or("singular Jacobian")?;
             det_sign = Some(lu.det_sign);
@@ -343,6 +506,28 @@ impl<M: FlexureModel> MechSolver<M> {
     /// Whether every flexure asks for closely predicted cases ([`FlexureModel::predicted`]).
     fn predicted(&self) -> bool {
         self.models.iter().all(FlexureModel::predicted)
+    }
+
+    /// Whether the drive keeps factored Jacobians for later cases ([`Chord`]): closely
+    /// predicted, and every flexure's stability has an indicator.
+    fn chorded(&self) -> bool {
+        self.predicted()
+    }
+
+    /// The [`Reference`] of the Jacobian `jacobian` factored at `lambda` with the flexures
+    /// `evals`; `None` if a flexure has no stability indicator.
+    fn reference(&self, lambda: f64, jacobian: Vec<f64>, evals: &[FlexEval]) -> Option<Reference> {
+        let indicators = self
+            .models
+            .iter()
+            .zip(evals)
+            .map(|(m, e)| m.stability_indicator(e))
+            .collect::<Option<Vec<f64>>>()?;
+        Some(Reference {
+            lambda,
+            jacobian,
+            indicators,
+        })
     }
 
     /// The equilibrated Jacobian's smallest pivot over its largest at an accepted point (0
@@ -464,7 +649,11 @@ impl<M: FlexureModel> PathProblem for MechPath<'_, M> {
     ) -> Corrected<String, MechError> {
         let guess = std::mem::take(&mut trial.x);
         let shaped = history.last().point.ahead.is_some();
-        match self.solver.newton(self.path, lambda, guess, effort, shaped) {
+        let chord = self.chord.as_ref().filter(|c| lambda <= c.reach);
+        match self
+            .solver
+            .newton(self.path, lambda, guess, effort, shaped, chord)
+        {
             Ok((point, iterations)) => {
                 *trial = point;
                 Corrected::Converged(iterations)
@@ -496,6 +685,21 @@ impl<M: FlexureModel> PathProblem for MechPath<'_, M> {
     /// no equilibrium lies further along the drive.
     fn near_critical(&mut self, history: &History<Point>, _failure: &String) -> bool {
         self.solver.pivot_ratio(self.path, &history.last().point) < NEAR_CRITICAL * self.ratio0
+    }
+
+    /// A point with a factored Jacobian is the next chord's reference.
+    fn accepted(&mut self, point: &Point) {
+        let Some(jacobian) = &point.jacobian else {
+            return;
+        };
+        let now = self
+            .solver
+            .reference(point.lambda, jacobian.clone(), &point.evals);
+        self.chord = match (&self.reference, &now) {
+            (Some(before), Some(now)) => Chord::new(before, now, point),
+            _ => None,
+        };
+        self.reference = now;
     }
 
     fn report(&mut self, _lambda: f64, point: &mut Point, tally: Tally, _effort: &mut Effort) {

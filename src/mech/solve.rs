@@ -75,6 +75,15 @@ pub trait FlexureModel {
     }
     /// Whether the flexure is stable under its tip wrench as a *given* (dead) load.
     fn load_stable(&self, eval: &FlexEval, w: [f64; 3], z: &[f64]) -> bool;
+    /// The continuous quantity whose sign [`FlexureModel::load_stable`] reads, where the
+    /// model has one (the beam's `dM(L)/dM(0)`), from an evaluation with its Jacobian: a
+    /// drive may then carry the flexure's stability from one case to the next while this
+    /// cannot have changed sign (`path.rs`, `Chord`). `None` (the default): every case's
+    /// stability is its own evaluation's.
+    fn stability_indicator(&self, eval: &FlexEval) -> Option<f64> {
+        let _ = eval;
+        None
+    }
     /// Its largest fibre stress in the state `eval` at `(w, z)` (DESIGN §11), `None` where
     /// the model cannot tell.
     fn stress(&self, eval: &FlexEval, w: [f64; 3], z: &[f64]) -> Option<Stress> {
