@@ -541,8 +541,12 @@ impl<M: FlexureModel> PathProblem for MechPath<'_, M> {
         effort: &mut Effort,
     ) -> Corrected<String, MechError> {
         let guess = std::mem::take(&mut trial.x);
+        // Where the last case was its prediction, this one likely is too: its first
+        // evaluation samples the shapes, and is by values alone within a chord's reach (on a
+        // drive of few cases, whose predictions seldom converge as they stand, a check by
+        // values would mostly be followed by a full evaluation).
         let shaped = history.last().point.ahead.is_some();
-        let chord = self.chord.as_ref().filter(|c| lambda <= c.reach);
+        let chord = self.chord.as_ref().filter(|c| shaped && lambda <= c.reach);
         match self
             .solver
             .newton(self.path, lambda, guess, effort, shaped, chord)
