@@ -225,3 +225,62 @@ where
     }
     T::try_from(n).map_err(|_| out_of_range())
 }
+
+/// The type name of `value`, as an error message shows it.
+fn type_name(value: &Bound<'_, PyAny>) -> String {
+    value
+        .get_type()
+        .name()
+        .map(|n| n.to_string())
+        .unwrap_or_else(|_| "?".into())
+}
+
+/// A string for `argument`, or none when not given (`None`): anything else is bad input
+/// naming the argument, where PyO3's own conversion raised a `TypeError`.
+pub fn text(argument: &str, value: Option<&Bound<'_, PyAny>>) -> PyResult<Option<String>> {
+    let Some(value) = value.filter(|v| !v.is_none()) else {
+        return Ok(None);
+    };
+    value.extract::<String>().map(Some).map_err(|_| {
+        errors::input(
+            argument,
+            format!("expected a string, got {}", type_name(value)),
+        )
+    })
+}
+
+/// A file path for `argument` (a `str` or an `os.PathLike`), or none when not given.
+pub fn path(
+    argument: &str,
+    value: Option<&Bound<'_, PyAny>>,
+) -> PyResult<Option<std::path::PathBuf>> {
+    let Some(value) = value.filter(|v| !v.is_none()) else {
+        return Ok(None);
+    };
+    value
+        .extract::<std::path::PathBuf>()
+        .map(Some)
+        .map_err(|_| {
+            errors::input(
+                argument,
+                format!(
+                    "expected a path (str or os.PathLike), got {}",
+                    type_name(value)
+                ),
+            )
+        })
+}
+
+/// A flag for `argument` (`True` or `False`, a numpy bool), `default` when not given: an int
+/// or anything else is bad input naming the argument.
+pub fn flag(argument: &str, value: Option<&Bound<'_, PyAny>>, default: bool) -> PyResult<bool> {
+    let Some(value) = value.filter(|v| !v.is_none()) else {
+        return Ok(default);
+    };
+    value.extract::<bool>().map_err(|_| {
+        errors::input(
+            argument,
+            format!("expected True or False, got {}", type_name(value)),
+        )
+    })
+}

@@ -208,7 +208,14 @@ impl Matrix {
     /// text form's or a Matrix's own marks).
     #[new]
     #[pyo3(signature = (rows, fixed = None))]
-    fn new(rows: &Bound<'_, PyAny>, fixed: Option<Vec<Vec<bool>>>) -> PyResult<Matrix> {
+    fn new(rows: &Bound<'_, PyAny>, fixed: Option<&Bound<'_, PyAny>>) -> PyResult<Matrix> {
+        let fixed =
+            match fixed.filter(|f| !f.is_none()) {
+                Some(f) => Some(f.extract::<Vec<Vec<bool>>>().map_err(|_| {
+                    errors::input("fixed", "expected a list of rows of True or False")
+                })?),
+                None => None,
+            };
         let read = rows.cast::<Matrix>().is_ok() || rows.extract::<String>().is_ok();
         let inner = match fixed {
             Some(f) if read => with_fixed("rows", Matrix::from_any("rows", rows)?, &f)?,
@@ -221,8 +228,10 @@ impl Matrix {
     /// Parses the text form: rows separated by `;`, entries by `,`, `inf` for no joint, a
     /// trailing `!` on a fixed cell.
     #[staticmethod]
-    fn parse(text: &str) -> PyResult<Matrix> {
-        PrbMatrix::parse(text)
+    fn parse(text: &Bound<'_, PyAny>) -> PyResult<Matrix> {
+        let text = crate::convert::text("text", Some(text))?
+            .ok_or_else(|| errors::input("text", "give the matrix's text"))?;
+        PrbMatrix::parse(&text)
             .map(|inner| Matrix { inner })
             .map_err(|e| errors::input("text", format!("\"{text}\": {e}")))
     }
@@ -230,8 +239,10 @@ impl Matrix {
     /// The starting matrix of a topology (`L-R-R-R`, `1R`..`4R`, segments `L`, `R`, `P`,
     /// `RP`).
     #[staticmethod]
-    fn from_topology(name: &str) -> PyResult<Matrix> {
-        PrbMatrix::from_topology(name)
+    fn from_topology(name: &Bound<'_, PyAny>) -> PyResult<Matrix> {
+        let name = crate::convert::text("name", Some(name))?
+            .ok_or_else(|| errors::input("name", "give a topology"))?;
+        PrbMatrix::from_topology(&name)
             .map(|inner| Matrix { inner })
             .map_err(|e| errors::input("topology", format!("{name}: {e}")))
     }

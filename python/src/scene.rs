@@ -15,7 +15,7 @@ use prbfit::prb::PrbMatrix;
 use prbfit::report::{self, Control, ReportError};
 use prbfit::scene::{EffectsChoice, LoadPath};
 
-use crate::convert::{extract, finite, real, whole};
+use crate::convert::{extract, finite, flag, path, real, text, whole};
 use crate::edit;
 use crate::errors;
 use crate::matrix::Matrix;
@@ -58,8 +58,10 @@ macro_rules! result {
     }};
 }
 
-fn fidelity(text: &str) -> PyResult<Fidelity> {
-    Fidelity::from_str(text).map_err(|e| errors::input("fidelity", e))
+/// The `fidelity` keyword: a preset's name, `normal` when not given.
+fn fidelity_arg(value: Option<&Bound<'_, PyAny>>) -> PyResult<Fidelity> {
+    let name = text("fidelity", value)?.unwrap_or_else(|| "normal".into());
+    Fidelity::from_str(&name).map_err(|e| errors::input("fidelity", e))
 }
 
 fn load_arg(value: Option<&Bound<'_, PyAny>>) -> PyResult<Option<Load>> {
@@ -174,7 +176,9 @@ impl Scene {
 impl Scene {
     /// Reads a scene file (TOML; a data scene's CSV beside it).
     #[staticmethod]
-    fn load(path: PathBuf) -> PyResult<Scene> {
+    fn load(path: &Bound<'_, PyAny>) -> PyResult<Scene> {
+        let path = self::path("path", Some(path))?
+            .ok_or_else(|| errors::input("path", "give the scene file to read"))?;
         prbfit::scene::Scene::from_file(&path)
             .map(|inner| Scene { inner })
             .map_err(|e| errors::report_error(ReportError::from(e)))
@@ -183,9 +187,15 @@ impl Scene {
     /// Parses a scene from TOML text; `origin` names it in errors. A data scene (`[truth]`)
     /// is refused: its measurements are a file beside the scene, read by `Scene.load`.
     #[staticmethod]
-    #[pyo3(signature = (text, origin = "<string>"))]
-    fn from_toml(text: &str, origin: &str) -> PyResult<Scene> {
-        let scene = prbfit::scene::Scene::from_toml_str(text, origin)
+    #[pyo3(
+        signature = (text, origin = None),
+        text_signature = "(text, origin='<string>')"
+    )]
+    fn from_toml(text: &Bound<'_, PyAny>, origin: Option<&Bound<'_, PyAny>>) -> PyResult<Scene> {
+        let text = self::text("text", Some(text))?
+            .ok_or_else(|| errors::input("text", "give the scene's TOML text"))?;
+        let origin = self::text("origin", origin)?.unwrap_or_else(|| "<string>".into());
+        let scene = prbfit::scene::Scene::from_toml_str(&text, &origin)
             .map_err(|e| errors::report_error(ReportError::from(e)))?;
         if let Some(t) = &scene.truth {
             return Err(errors::input(
@@ -215,8 +225,10 @@ impl Scene {
     }
 
     #[setter]
-    fn set_name(&mut self, name: String) {
-        self.inner.name = name;
+    fn set_name(&mut self, name: &Bound<'_, PyAny>) -> PyResult<()> {
+        self.inner.name =
+            text("name", Some(name))?.ok_or_else(|| errors::input("name", "give a name"))?;
+        Ok(())
     }
 
     /// `cantilever`, `mechanism`, `data` (a cantilever's measured data) or `mechanism data`.
@@ -430,27 +442,30 @@ impl Scene {
 
     /// `prbfit solve`: the baseline beam over the scene's cases, or at one `load`
     /// `(alpha_x, alpha_y, beta)`; a mechanism's beam mechanism along its drives.
-    #[pyo3(signature = (load = None, *, effects = None, slenderness = None, nu = None, kappa = None, tol = None, shape = false))]
+    #[pyo3(
+        signature = (load = None, *, effects = None, slenderness = None, nu = None, kappa = None, tol = None, shape = None),
+        text_signature = "($self, load=None, *, effects=None, slenderness=None, nu=None, kappa=None, tol=None, shape=False)"
+    )]
     #[allow(clippy::too_many_arguments)]
     fn solve(
         slf: PyRef<'_, Self>,
         py: Python<'_>,
         load: Option<&Bound<'_, PyAny>>,
-        effects: Option<String>,
+        effects: Option<&Bound<'_, PyAny>>,
         slenderness: Option<&Bound<'_, PyAny>>,
         nu: Option<&Bound<'_, PyAny>>,
         kappa: Option<&Bound<'_, PyAny>>,
         tol: Option<&Bound<'_, PyAny>>,
-        shape: bool,
+        shape: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Py<PyAny>> {
         let args = report::solve::SolveArgs {
             load: load_arg(load)?,
-            effects,
+            effects: text("effects", effects)?,
             slenderness: real("slenderness", slenderness)?,
             nu: real("nu", nu)?,
             kappa: real("kappa", kappa)?,
             tol: real("tol", tol)?.unwrap_or(report::solve::SolveArgs::default().tol),
-            shape,
+            shape: flag("shape", shape, false)?,
         };
         let scene = &snapshot(slf);
         let r = run(py, None, |ctl: &mut Control<'_>| {
@@ -498,7 +513,7 @@ impl Scene {
     /// scene's `[beam] density`. Named models and files come first, then matrices, as the
     /// CLI orders `--model` and `--prb`.
     #[pyo3(
-        signature = (*models, count = None, load = None, cases = false, tol = None),
+        signature = (*models, count = None, load = None, cases = None, tol = None),
         text_signature = "($self, *models, count=3, load=None, cases=False, tol=None)"
     )]
     fn modes(
@@ -507,7 +522,7 @@ impl Scene {
         models: &Bound<'_, PyTuple>,
         count: Option<&Bound<'_, PyAny>>,
         load: Option<&Bound<'_, PyAny>>,
-        cases: bool,
+        cases: Option<&Bound<'_, PyAny>>,
         tol: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Py<PyAny>> {
         let mut args = report::modes::ModesArgs {
@@ -516,7 +531,7 @@ impl Scene {
                 None => 3,
             },
             load: load_arg(load)?,
-            cases,
+            cases: flag("cases", cases, false)?,
             ..Default::default()
         };
         if let Some(t) = real("tol", tol)? {
@@ -540,25 +555,26 @@ impl Scene {
     /// the search goes (phase, iteration, evaluations, best_objective, best, seconds);
     /// `output` saves the model file (.toml or .json).
     #[pyo3(
-        signature = (topology = None, *, matrix = None, fidelity = "normal", seed = None, output = None, force = false, progress = None),
+        signature = (topology = None, *, matrix = None, fidelity = None, seed = None, output = None, force = None, progress = None),
         text_signature = "($self, topology=None, *, matrix=None, fidelity='normal', seed=1, output=None, force=False, progress=None)"
     )]
     #[allow(clippy::too_many_arguments)]
     fn fit(
         slf: PyRef<'_, Self>,
         py: Python<'_>,
-        topology: Option<String>,
+        topology: Option<&Bound<'_, PyAny>>,
         matrix: Option<&Bound<'_, PyAny>>,
-        fidelity: &str,
+        fidelity: Option<&Bound<'_, PyAny>>,
         seed: Option<&Bound<'_, PyAny>>,
-        output: Option<PathBuf>,
-        force: bool,
+        output: Option<&Bound<'_, PyAny>>,
+        force: Option<&Bound<'_, PyAny>>,
         progress: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Py<PyAny>> {
         let seed = match seed {
             Some(v) => whole::<u64>("seed", v, 0, u64::MAX)?,
             None => 1,
         };
+        let topology = text("topology", topology)?;
         if topology.is_some() && matrix.is_some() {
             return Err(errors::input(
                 "topology",
@@ -575,10 +591,10 @@ impl Scene {
             prb: matrix
                 .map(|m| Matrix::from_any("matrix", m).map(|m| m.to_text()))
                 .transpose()?,
-            fidelity: self::fidelity(fidelity)?,
+            fidelity: fidelity_arg(fidelity)?,
             seed,
-            output,
-            force,
+            output: path("output", output)?,
+            force: flag("force", force, false)?,
         };
         let scene = &snapshot(slf);
         let r = run(py, progress, |ctl: &mut Control<'_>| {
@@ -590,16 +606,19 @@ impl Scene {
     /// `prbfit select`: the topology ladder fitted, the simplest model that meets the
     /// targets chosen; `within_stroke` judges only the cases up to each path's stroke limit
     /// (where the stress first reaches the scene's allowable stress).
-    #[pyo3(signature = (fidelity = "normal", *, within_stroke = false))]
+    #[pyo3(
+        signature = (fidelity = None, *, within_stroke = None),
+        text_signature = "($self, fidelity='normal', *, within_stroke=False)"
+    )]
     fn select(
         slf: PyRef<'_, Self>,
         py: Python<'_>,
-        fidelity: &str,
-        within_stroke: bool,
+        fidelity: Option<&Bound<'_, PyAny>>,
+        within_stroke: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Py<PyAny>> {
         let args = report::select::SelectArgs {
-            fidelity: self::fidelity(fidelity)?,
-            within_stroke,
+            fidelity: fidelity_arg(fidelity)?,
+            within_stroke: flag("within_stroke", within_stroke, false)?,
         };
         let scene = &snapshot(slf);
         let r = run(py, None, |ctl: &mut Control<'_>| {
@@ -610,10 +629,14 @@ impl Scene {
 
     /// `prbfit calibrate`: one beam parameter (`youngs_modulus` or `thickness`) fitted to a
     /// data scene's measurements.
-    #[pyo3(signature = (param = "youngs_modulus"))]
-    fn calibrate(slf: PyRef<'_, Self>, py: Python<'_>, param: &str) -> PyResult<Py<PyAny>> {
+    #[pyo3(signature = (param = None), text_signature = "($self, param='youngs_modulus')")]
+    fn calibrate(
+        slf: PyRef<'_, Self>,
+        py: Python<'_>,
+        param: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<Py<PyAny>> {
         let args = report::calibrate::CalibrateArgs {
-            param: param.to_string(),
+            param: text("param", param)?.unwrap_or_else(|| "youngs_modulus".into()),
         };
         let scene = &snapshot(slf);
         let r = run(py, None, |ctl: &mut Control<'_>| {
@@ -626,19 +649,22 @@ impl Scene {
     /// `Matrix`; the scene's own with None) to `output` as prbfit's model file, MuJoCo,
     /// URDF, SDF or CSV (`format`, or from the extension). `density` (kg/m^3) for the
     /// masses: None takes the scene's `[beam] density`, else 1000.
-    #[pyo3(signature = (model = None, output = None, *, format = None, force = false, density = None, fidelity = "normal"))]
+    #[pyo3(
+        signature = (model = None, output = None, *, format = None, force = None, density = None, fidelity = None),
+        text_signature = "($self, model=None, output=None, *, format=None, force=False, density=None, fidelity='normal')"
+    )]
     #[allow(clippy::too_many_arguments)]
     fn export(
         slf: PyRef<'_, Self>,
         py: Python<'_>,
         model: Option<&Bound<'_, PyAny>>,
-        output: Option<PathBuf>,
-        format: Option<&str>,
-        force: bool,
+        output: Option<&Bound<'_, PyAny>>,
+        format: Option<&Bound<'_, PyAny>>,
+        force: Option<&Bound<'_, PyAny>>,
         density: Option<&Bound<'_, PyAny>>,
-        fidelity: &str,
+        fidelity: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Py<PyAny>> {
-        let Some(output) = output else {
+        let Some(output) = path("output", output)? else {
             return Err(errors::input("output", "give the file to write"));
         };
         let mut args = report::export::ExportArgs::new(output);
@@ -649,12 +675,12 @@ impl Scene {
                 ModelArg::Named(n) => args.model = Some(n),
             },
         }
-        args.format = format
-            .map(|f| Format::from_str(f).map_err(|e| errors::input("format", e)))
+        args.format = text("format", format)?
+            .map(|f| Format::from_str(&f).map_err(|e| errors::input("format", e)))
             .transpose()?;
-        args.force = force;
+        args.force = flag("force", force, false)?;
         args.density = real("density", density)?;
-        args.fidelity = self::fidelity(fidelity)?;
+        args.fidelity = fidelity_arg(fidelity)?;
         let scene = &snapshot(slf);
         let r = run(py, None, |ctl: &mut Control<'_>| {
             report_of(&report::export::export(scene, &args, ctl)?)
@@ -670,32 +696,34 @@ impl Scene {
     /// `plane-strain`, `solid`): None takes the scene's (solid when its beam keeps plane
     /// strain, else plane-stress).
     #[pyo3(
-        signature = (output, *, mesh = None, section = None, taper = None, deck = None, force = false, timeout = None),
+        signature = (output, *, mesh = None, section = None, taper = None, deck = None, force = None, timeout = None),
         text_signature = "($self, output, *, mesh=40, section=None, taper=1.0, deck=None, force=False, timeout=900)"
     )]
     #[allow(clippy::too_many_arguments)]
     fn fea(
         slf: PyRef<'_, Self>,
         py: Python<'_>,
-        output: PathBuf,
+        output: &Bound<'_, PyAny>,
         mesh: Option<&Bound<'_, PyAny>>,
-        section: Option<&str>,
+        section: Option<&Bound<'_, PyAny>>,
         taper: Option<&Bound<'_, PyAny>>,
-        deck: Option<PathBuf>,
-        force: bool,
+        deck: Option<&Bound<'_, PyAny>>,
+        force: Option<&Bound<'_, PyAny>>,
         timeout: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Py<PyAny>> {
+        let output = path("output", Some(output))?
+            .ok_or_else(|| errors::input("output", "give the file to write"))?;
         let mut args = report::fea::FeaArgs::new(output);
         if let Some(v) = mesh {
             args.mesh = whole::<u32>("mesh", v, 1, u32::MAX)?;
         }
-        args.section = section
-            .map(|s| Section::from_str(s).map_err(|e| errors::input("section", e)))
+        args.section = text("section", section)?
+            .map(|s| Section::from_str(&s).map_err(|e| errors::input("section", e)))
             .transpose()?;
         let taper = real("taper", taper)?.unwrap_or(1.0);
         args.taper = Taper::from_str(&format!("{taper}")).map_err(|e| errors::input("taper", e))?;
-        args.deck = deck;
-        args.force = force;
+        args.deck = path("deck", deck)?;
+        args.force = flag("force", force, false)?;
         if let Some(v) = timeout {
             args.timeout = whole::<u64>("timeout", v, 1, u64::MAX)?;
         }

@@ -389,6 +389,46 @@ def test_number_keywords_refuse_bools_huge_ints_and_other_types_naming_them():
     assert sc.solve(load=(0, 1, 0), slenderness=100).b == sc.solve(load=(0, 1, 0)).b
 
 
+def test_string_path_and_flag_keywords_refuse_other_types_naming_them():
+    sc = prbfit.Scene.builtin()
+    # Each was PyO3's TypeError ("argument 'effects': 'int' object cannot be converted...").
+    for call, words in [
+        (lambda: sc.solve(effects=3), ["effects", "expected a string, got int"]),
+        (lambda: sc.solve(load=(0, 1, 0), shape=1), ["shape", "expected True or False, got int"]),
+        (lambda: sc.modes(cases="yes"), ["cases", "True or False, got str"]),
+        (lambda: sc.fit(3), ["topology", "expected a string, got int"]),
+        (lambda: sc.fit("L-R", fidelity=1), ["fidelity", "expected a string, got int"]),
+        (lambda: sc.fit("L-R", output=3.5), ["output", "expected a path", "got float"]),
+        (lambda: sc.fit("L-R", force="no"), ["force", "True or False, got str"]),
+        (lambda: sc.select(fidelity=None, within_stroke=0), ["within_stroke", "got int"]),
+        (lambda: sc.calibrate(param=2), ["param", "expected a string, got int"]),
+        (lambda: sc.export("su-3r", 7), ["output", "expected a path", "got int"]),
+        (lambda: sc.export("su-3r", "x.csv", format=1), ["format", "got int"]),
+        (lambda: sc.fea(["x.csv"]), ["output", "expected a path", "got list"]),
+        (lambda: sc.fea("x.csv", section=2), ["section", "got int"]),
+        (lambda: sc.fea("x.csv", deck=1), ["deck", "expected a path"]),
+        (lambda: prbfit.Scene.load(5), ["path", "expected a path", "got int"]),
+        (lambda: prbfit.Scene.from_toml(b"name = 'x'"), ["text", "got bytes"]),
+        (lambda: prbfit.Scene.from_toml("name = 'x'", origin=1), ["origin", "got int"]),
+        (lambda: prbfit.Matrix.parse(1.5), ["text", "got float"]),
+        (lambda: prbfit.Matrix.from_topology(None), ["name", "give a topology"]),
+        (lambda: prbfit.Matrix([[0.5, 3, "inf"], [0.5, 3, "inf"]], fixed=5), ["fixed"]),
+    ]:
+        with pytest.raises(prbfit.InputError) as e:
+            call()
+        for w in words:
+            assert w in str(e.value), (w, str(e.value))
+    with pytest.raises(prbfit.InputError) as e:
+        sc.name = 4
+    assert "name: expected a string, got int" in str(e.value)
+    # What they take still works: a path object, a numpy bool, the defaults the signatures show.
+    assert prbfit.Scene.load(STEEL).name == prbfit.Scene.load(str(STEEL)).name
+    assert sc.solve(load=(0, 1, 0), shape=np.bool_(True)).b > 0
+    assert "fidelity='normal'" in prbfit.Scene.select.__text_signature__
+    assert "shape=False" in prbfit.Scene.solve.__text_signature__
+    assert "origin='<string>'" in prbfit.Scene.from_toml.__text_signature__
+
+
 def test_models_by_path_and_matrix_text_with_a_mistake():
     sc = prbfit.Scene.load(STEEL)
     by_name = sc.eval("su-3r").to_dict()
