@@ -8,11 +8,11 @@
 //! without the variational equations ([`BeamSolver::shoot_root_tip`]) and samples the shape
 //! there, for the case's stress; so does its first evaluation at a case, the continuation's
 //! prediction, which on a drive of many cases is most often the solution (it then takes its
-//! Jacobian from an earlier case, while the last two factored bound its change: `path.rs`,
-//! `Chord`). The flexures are shot two at a time, side by side, where both take the
-//! Dormand-Prince integrator ([`crate::beam::root::shoot_root_pair`]; a plain elastica's
-//! Taylor shot, and an odd flexure out, are shot alone): the same numbers as one by one, in
-//! less time.
+//! Jacobian from an earlier case, while its change extrapolated from the last two factored
+//! stays small: `path.rs`, `Chord`). The flexures are shot two at a time, side by side, where
+//! both take the Dormand-Prince integrator ([`crate::beam::root::shoot_root_pair`]; a plain
+//! elastica's Taylor shot, and an odd flexure out, are shot alone): the same numbers as one
+//! by one, in less time.
 //!
 //! Accuracy: Newton stops at the solver's `tol` on every compatibility residual; the shot
 //! integrates to the beam's `tol`, so a flexure's tip is good to the beam's

@@ -77,8 +77,9 @@ struct Point {
     load: [f64; 3],
     /// The sign of the Jacobian's determinant there.
     det_sign: f64,
-    /// Where the Jacobian was factored at this point (or at Newton's iterate before it) in a
-    /// beam mechanism, that Jacobian as assembled (row-major), for [`Chord`]. None elsewhere.
+    /// Where a beam mechanism's point took its prediction as the case with a full
+    /// evaluation (its Jacobian factored at the point itself), that Jacobian as assembled
+    /// (row-major), a [`Reference`] for the next [`Chord`]. None elsewhere.
     jacobian: Option<Vec<f64>>,
 }
 
@@ -338,12 +339,14 @@ impl<M: FlexureModel> MechSolver<M> {
                 }
                 let point = Point {
                     lambda,
+                    // A reference only where the Jacobian was factored at the point itself
+                    // (the prediction taken as the case), not at Newton's iterate before it.
+                    jacobian: factored.filter(|_| ahead.is_some()),
                     ahead,
                     x,
                     evals,
                     load: sys.load,
                     det_sign,
-                    jacobian: factored,
                 };
                 return Ok((point, iteration));
             }
@@ -401,8 +404,9 @@ impl<M: FlexureModel> MechSolver<M> {
         self.models.iter().all(FlexureModel::predicted)
     }
 
-    /// Whether the drive keeps factored Jacobians for later cases ([`Chord`]): closely
-    /// predicted, and every flexure's stability has an indicator.
+    /// Whether the drive keeps factored Jacobians for later cases ([`Chord`]): where its
+    /// cases are closely predicted (a flexure without a stability indicator then gives no
+    /// [`Reference`], so no chord).
     fn chorded(&self) -> bool {
         self.predicted()
     }
@@ -547,10 +551,19 @@ impl<M: FlexureModel> PathProblem for MechPath<'_, M> {
         // values would mostly be followed by a full evaluation).
         let shaped = history.last().point.ahead.is_some();
         let chord = self.chord.as_ref().filter(|c| shaped && lambda <= c.reach);
-        match self
+        let chorded = chord.is_some();
+        let result = self
             .solver
-            .newton(self.path, lambda, guess, effort, shaped, chord)
-        {
+            .newton(self.path, lambda, guess, effort, shaped, chord);
+        // A prediction the chord could not take (Newton went on in full, or failed) may be
+        // the Jacobian's change showing itself: the chord and its references are retired,
+        // and the drive takes fresh ones, a case apart, before it checks by values again.
+        let taken = matches!(&result, Ok((p, _)) if p.jacobian.is_none() && p.ahead.is_some());
+        if chorded && !taken {
+            self.chord = None;
+            self.reference = None;
+        }
+        match result {
             Ok((point, iterations)) => {
                 *trial = point;
                 Corrected::Converged(iterations)

@@ -78,8 +78,9 @@ pub trait FlexureModel {
     /// The continuous quantity whose sign [`FlexureModel::load_stable`] reads, where the
     /// model has one (the beam's `dM(L)/dM(0)`), from an evaluation with its Jacobian: a
     /// drive may then carry the flexure's stability from one case to the next while this
-    /// cannot have changed sign (`path.rs`, `Chord`). `None` (the default): every case's
-    /// stability is its own evaluation's.
+    /// quantity's change, extrapolated from the last two evaluations along the drive, stays
+    /// well within itself (`path.rs`, `Chord`). `None` (the default): every case's stability
+    /// is its own evaluation's.
     fn stability_indicator(&self, eval: &FlexEval) -> Option<f64> {
         let _ = eval;
         None
@@ -125,7 +126,9 @@ pub struct FlexEval {
     /// `4 + k` rows of `3 + k` (`k` = [`FlexureModel::internal`]); empty from an
     /// [`FlexureModel::eval_values`] that left it out. At a solved point it is the
     /// evaluation's own or, where Newton checked its last iterate by values alone, the one
-    /// at the iterate before (within Newton's last, converged step of it).
+    /// at the iterate before (within Newton's last, converged step of it), or, where a beam
+    /// mechanism's drive took the case by values alone, an earlier case's (`path.rs`,
+    /// `Chord`).
     pub jacobian: Vec<f64>,
     /// The centre line this evaluation shot (own frame and units), where the model samples
     /// one: the exact beam's [`FlexureModel::eval_values`] (Newton's check, which is the
