@@ -124,12 +124,10 @@ where
         real_dtype(argument, &item)?;
     }
     value.extract::<T>().map_err(|_| {
-        let ty = value
-            .get_type()
-            .name()
-            .map(|n| n.to_string())
-            .unwrap_or_else(|_| "?".into());
-        errors::input(argument, format!("expected {what}, got {ty}"))
+        errors::input(
+            argument,
+            format!("expected {what}, got {}", type_name(value)),
+        )
     })
 }
 
@@ -157,11 +155,7 @@ pub fn real(argument: &str, value: Option<&Bound<'_, PyAny>>) -> PyResult<Option
     let Some(value) = value.filter(|v| !v.is_none()) else {
         return Ok(None);
     };
-    let ty = value
-        .get_type()
-        .name()
-        .map(|n| n.to_string())
-        .unwrap_or_else(|_| "?".into());
+    let ty = type_name(value);
     // A numpy bool's dtype kind is `b`, which `real_dtype` refuses.
     if value.is_instance_of::<PyBool>() {
         return Err(errors::input(argument, "expected a number, got bool"));
@@ -188,11 +182,7 @@ pub fn whole<T>(argument: &str, value: &Bound<'_, PyAny>, min: T, max: T) -> PyR
 where
     T: TryFrom<i128> + Into<i128> + Copy + std::fmt::Display,
 {
-    let ty = value
-        .get_type()
-        .name()
-        .map(|n| n.to_string())
-        .unwrap_or_else(|_| "?".into());
+    let ty = type_name(value);
     let out_of_range = || {
         errors::input(
             argument,
@@ -235,18 +225,28 @@ fn type_name(value: &Bound<'_, PyAny>) -> String {
         .unwrap_or_else(|_| "?".into())
 }
 
-/// A string for `argument`, or none when not given (`None`): anything else is bad input
-/// naming the argument, where PyO3's own conversion raised a `TypeError`.
-pub fn text(argument: &str, value: Option<&Bound<'_, PyAny>>) -> PyResult<Option<String>> {
+/// A `T` for `argument` (`what` names it in the message), or none when not given (`None`):
+/// anything else is bad input naming the argument, where PyO3's own conversion raised a
+/// `TypeError`.
+fn given<'py, T: FromPyObjectOwned<'py>>(
+    argument: &str,
+    value: Option<&Bound<'py, PyAny>>,
+    what: &str,
+) -> PyResult<Option<T>> {
     let Some(value) = value.filter(|v| !v.is_none()) else {
         return Ok(None);
     };
-    value.extract::<String>().map(Some).map_err(|_| {
+    value.extract::<T>().map(Some).map_err(|_| {
         errors::input(
             argument,
-            format!("expected a string, got {}", type_name(value)),
+            format!("expected {what}, got {}", type_name(value)),
         )
     })
+}
+
+/// A string for `argument`, or none when not given.
+pub fn text(argument: &str, value: Option<&Bound<'_, PyAny>>) -> PyResult<Option<String>> {
+    given(argument, value, "a string")
 }
 
 /// A file path for `argument` (a `str` or an `os.PathLike`), or none when not given.
@@ -254,33 +254,11 @@ pub fn path(
     argument: &str,
     value: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<Option<std::path::PathBuf>> {
-    let Some(value) = value.filter(|v| !v.is_none()) else {
-        return Ok(None);
-    };
-    value
-        .extract::<std::path::PathBuf>()
-        .map(Some)
-        .map_err(|_| {
-            errors::input(
-                argument,
-                format!(
-                    "expected a path (str or os.PathLike), got {}",
-                    type_name(value)
-                ),
-            )
-        })
+    given(argument, value, "a path (str or os.PathLike)")
 }
 
 /// A flag for `argument` (`True` or `False`, a numpy bool), `default` when not given: an int
 /// or anything else is bad input naming the argument.
 pub fn flag(argument: &str, value: Option<&Bound<'_, PyAny>>, default: bool) -> PyResult<bool> {
-    let Some(value) = value.filter(|v| !v.is_none()) else {
-        return Ok(default);
-    };
-    value.extract::<bool>().map_err(|_| {
-        errors::input(
-            argument,
-            format!("expected True or False, got {}", type_name(value)),
-        )
-    })
+    Ok(given(argument, value, "True or False")?.unwrap_or(default))
 }

@@ -181,7 +181,7 @@ impl<M: FlexureModel> MechSolver<M> {
         let sys0 = self.system(&at0, &x0)?;
         let jac = self.jacobian(&at0, &x0, &sys0);
         let reference = self
-            .chorded()
+            .predicted()
             .then(|| self.reference(0.0, jac.clone(), &sys0.evals))
             .flatten();
         let (sign0, ratio0) = self.regular_unloaded(jac, n, index)?;
@@ -309,7 +309,7 @@ impl<M: FlexureModel> MechSolver<M> {
         let mut det_sign = None;
         // The flexures' Jacobians at that iterate, for a point checked by values alone.
         let mut jacobians: Vec<Vec<f64>> = Vec::new();
-        // That Jacobian as assembled, for a [`Chord`].
+        // A prediction taken as the case: its Jacobian as assembled, for a [`Chord`].
         let mut factored: Option<Vec<f64>> = None;
         // Below this residual ratio, Newton's next iterate is expected to converge.
         let quadratic = (0.1 / self.tol).sqrt();
@@ -341,7 +341,7 @@ impl<M: FlexureModel> MechSolver<M> {
                     lambda,
                     // A reference only where the Jacobian was factored at the point itself
                     // (the prediction taken as the case), not at Newton's iterate before it.
-                    jacobian: factored.filter(|_| ahead.is_some()),
+                    jacobian: factored,
                     ahead,
                     x,
                     evals,
@@ -351,15 +351,15 @@ impl<M: FlexureModel> MechSolver<M> {
                 return Ok((point, iteration));
             }
             let mut jac = self.jacobian(&at, &x, &sys);
-            if self.chorded() {
-                factored = Some(jac.clone());
-            }
+            // A prediction taken as the case keeps its Jacobian as assembled, for a chord.
+            let keep = (converged && self.predicted()).then(|| jac.clone());
             let mut step: Vec<f64> = sys.residual.iter().map(|v| -v).collect();
             let lu = lu_solve(&mut jac, &mut step, n).ok_or("singular Jacobian")?;
             det_sign = Some(lu.det_sign);
             if converged {
-                if self.predicted() {
+                if keep.is_some() {
                     ahead = Some(x.iter().zip(&step).map(|(a, d)| a + d).collect());
+                    factored = keep;
                 }
                 continue;
             }
@@ -402,13 +402,6 @@ impl<M: FlexureModel> MechSolver<M> {
     /// Whether every flexure asks for closely predicted cases ([`FlexureModel::predicted`]).
     fn predicted(&self) -> bool {
         self.models.iter().all(FlexureModel::predicted)
-    }
-
-    /// Whether the drive keeps factored Jacobians for later cases ([`Chord`]): where its
-    /// cases are closely predicted (a flexure without a stability indicator then gives no
-    /// [`Reference`], so no chord).
-    fn chorded(&self) -> bool {
-        self.predicted()
     }
 
     /// The [`Reference`] of the Jacobian `jacobian` factored at `lambda` with the flexures

@@ -60,9 +60,7 @@ impl Chord {
     pub(super) fn new(before: &Reference, now: &Reference, point: &Point) -> Option<Chord> {
         let n = point.x.len();
         let span = now.lambda - before.lambda;
-        if span.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater)
-            || now.indicators.len() != before.indicators.len()
-        {
+        if span.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
             return None;
         }
         let mut inverse = vec![0.0; n * n];
