@@ -11,10 +11,16 @@
 //! its order, so enabling the instructions changes how the arithmetic is issued, not its
 //! results (a test compares them).
 //!
-//! The check asks the processor itself, once per process: two `cpuid` queries and one
-//! `xgetbv`. The standard library's `is_x86_feature_detected!` enumerates every feature on
-//! its first call, and in a virtual machine each `cpuid` traps to the hypervisor: 26-33 us
-//! there (3.6 us a query), more than the wide build saves on a 20-case solve.
+//! The check is made once per process. In a virtual machine each `cpuid` traps to the
+//! hypervisor: 3.6 us a query on one host, 12.5 us on another (two queries 25 us, timed in a
+//! throwaway program). The standard library's `is_x86_feature_detected!` enumerates every
+//! feature on its first call (88-92 us there), more than the wide build saves on a 20-case
+//! solve. But the C library has already asked: glibc reads the processor's features when it
+//! loads (to choose its own `memcpy`), and since 2.33 it publishes what it found and which of
+//! it the OS enabled (`<sys/platform/x86.h>`, `__x86_get_cpuid_feature_leaf`). Where that is
+//! there, [`wide`] reads it (0.4-3 us, the symbol looked up with `dlsym` so that an older
+//! glibc or another C library still links); elsewhere it asks the processor itself: two
+//! `cpuid` queries and one `xgetbv`.
 
 #[cfg(target_arch = "x86_64")]
 use std::sync::atomic::{AtomicU8, Ordering};
@@ -38,7 +44,7 @@ pub(crate) fn wide() -> bool {
             YES => true,
             NO => false,
             _ => {
-                let wide = detect();
+                let wide = from_glibc().unwrap_or_else(detect);
                 WIDE.store(if wide { YES } else { NO }, Ordering::Relaxed);
                 wide
             }
@@ -48,6 +54,59 @@ pub(crate) fn wide() -> bool {
     {
         false
     }
+}
+
+/// What glibc found when it loaded: AVX2, FMA and AVX each *active* (present, and its
+/// registers enabled by the OS); `None` without glibc's `__x86_get_cpuid_feature_leaf`.
+///
+/// The layout and indices are glibc's public ones (`<bits/platform/x86.h>`): leaf index 0 is
+/// `cpuid` leaf 1 and index 1 is leaf 7; each holds the four registers as the processor gave
+/// them, then the same four with only the active features' bits set (eax, ebx, ecx, edx).
+#[cfg(all(target_arch = "x86_64", target_os = "linux", target_env = "gnu"))]
+fn from_glibc() -> Option<bool> {
+    use std::ffi::{c_char, c_void};
+    #[repr(C)]
+    struct CpuidFeature {
+        _present: [u32; 4],
+        active: [u32; 4],
+    }
+    extern "C" {
+        fn dlsym(handle: *mut c_void, symbol: *const c_char) -> *mut c_void;
+    }
+    const ECX: usize = 2;
+    const EBX: usize = 1;
+    // SAFETY: `dlsym` with `RTLD_DEFAULT` (null) and a NUL-terminated name only looks the
+    // symbol up.
+    let found = unsafe {
+        dlsym(
+            std::ptr::null_mut(),
+            c"__x86_get_cpuid_feature_leaf".as_ptr(),
+        )
+    };
+    if found.is_null() {
+        return None;
+    }
+    // SAFETY: the symbol is glibc's `const struct cpuid_feature *(unsigned int)`.
+    let leaf: unsafe extern "C" fn(u32) -> *const CpuidFeature =
+        unsafe { std::mem::transmute(found) };
+    // SAFETY: glibc returns a pointer to its static table for every index (a zeroed entry
+    // past its last), valid for the process's life.
+    let (leaf1, leaf7) = unsafe { (leaf(0).as_ref()?, leaf(1).as_ref()?) };
+    let active = |reg: u32, bit: u32| reg & (1 << bit) != 0;
+    Some(
+        active(leaf1.active[ECX], 12)
+            && active(leaf1.active[ECX], 28)
+            && active(leaf7.active[EBX], 5),
+    )
+}
+
+/// Without glibc there is no table to read.
+#[cfg(all(
+    target_arch = "x86_64",
+    not(all(target_os = "linux", target_env = "gnu"))
+))]
+fn from_glibc() -> Option<bool> {
+    None
 }
 
 /// Asks the processor (Intel SDM vol. 2A, `CPUID`; vol. 1 §14.3, detecting AVX):
@@ -93,6 +152,12 @@ mod tests {
         let std_says = std::arch::is_x86_feature_detected!("avx2")
             && std::arch::is_x86_feature_detected!("fma");
         assert_eq!(super::detect(), std_says);
+        #[cfg(all(target_os = "linux", target_env = "gnu"))]
+        assert_eq!(
+            super::from_glibc(),
+            Some(std_says),
+            "glibc's table (2.33 or later)"
+        );
         assert_eq!(super::wide(), std_says);
         assert_eq!(super::wide(), std_says, "the cached answer");
     }

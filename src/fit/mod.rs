@@ -261,8 +261,18 @@ fn search_in(
     };
     let objective = Objective::new(target, &param, cancel);
     let p_start = param.encode(start);
-    // J of the start itself (its encoding decodes to the start only up to round-off).
-    let start_objective = objective.matrix_value(start).unwrap_or(f64::INFINITY);
+    // J of the start itself (its encoding decodes to the start only up to round-off), from
+    // the evaluation the polish from the start then begins with.
+    let mut start_evaluation = if param.is_empty() {
+        None
+    } else {
+        objective.matrix_evaluation(start, &p_start)
+    };
+    let start_objective = match &start_evaluation {
+        Some(e) => e.residuals.iter().map(|v| v * v).sum(),
+        None if param.is_empty() => objective.matrix_value(start).unwrap_or(f64::INFINITY),
+        None => f64::INFINITY,
+    };
 
     let report = |matrix: PrbMatrix, stop, iterations, evaluations| {
         Ok(Found {
@@ -326,7 +336,14 @@ fn search_in(
         let starts: Vec<(DVector<f64>, Option<lm::Evaluated>)> = if round == 0 {
             std::mem::take(&mut candidates)
                 .into_iter()
-                .map(|p| (p, None))
+                .map(|p| {
+                    let known = if p == p_start {
+                        start_evaluation.take()
+                    } else {
+                        None
+                    };
+                    (p, known)
+                })
                 .collect()
         } else {
             scouted.sort_by(|a, b| a.objective.total_cmp(&b.objective));
@@ -414,6 +431,96 @@ fn search_in(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::cell::RefCell;
+
+    /// A toy target over a matrix's cells: the first row's gamma should be 0.2 and the last
+    /// row's spring 2, and a third residual (0.3) no model removes. It records the second
+    /// row's spring of every matrix it evaluates.
+    struct Toy {
+        seen: RefCell<Vec<f64>>,
+    }
+
+    impl Target for Toy {
+        fn len(&self) -> usize {
+            3
+        }
+        fn missed_all(&self, out: &mut Vec<f64>) {
+            out.clear();
+            out.extend([PENALTY; 3]);
+        }
+        fn residuals_with_cells(
+            &self,
+            matrix: &PrbMatrix,
+            out: &mut Vec<f64>,
+            cells: Option<&mut Vec<f64>>,
+        ) -> bool {
+            let rows = matrix.rows();
+            let last = rows.len() - 1;
+            self.seen.borrow_mut().push(rows[last].k_theta);
+            out.clear();
+            out.extend([rows[0].gamma - 0.2, rows[last].k_theta - 2.0, 0.3]);
+            if let Some(cells) = cells {
+                let width = crate::prb::CELLS_PER_ROW * rows.len();
+                cells.clear();
+                cells.resize(3 * width, 0.0);
+                cells[0] = 1.0;
+                cells[width + crate::prb::CELLS_PER_ROW * last + 1] = 1.0;
+            }
+            true
+        }
+    }
+
+    /// The start is evaluated once where nothing else visits it (a draft search, a polish
+    /// alone; a swarm's seeded particle is its own evaluation): its `J` is the start
+    /// matrix's own, and the polish from it begins with that evaluation instead of
+    /// evaluating the start's encoding (the same matrix to rounding) again. From a spring of
+    /// 2.7, whose logarithm's exponential is not 2.7 to the bit.
+    #[test]
+    fn the_start_is_evaluated_once() {
+        let start = PrbMatrix::parse("0.3,inf,inf; 0.7,2.7,inf").unwrap();
+        for local in [false, true] {
+            let toy = Toy {
+                seen: RefCell::new(Vec::new()),
+            };
+            let options = FitOptions {
+                fidelity: Fidelity::Draft,
+                ..FitOptions::default()
+            };
+            let (cancel, progress) = (CancelToken::new(), &mut |_: &FitProgress| {});
+            let found = if local {
+                polish(
+                    &toy,
+                    &start,
+                    &options,
+                    Fidelity::Normal.lm(),
+                    progress,
+                    &cancel,
+                )
+            } else {
+                search(&toy, &start, &options, progress, &cancel)
+            }
+            .unwrap();
+            let near_start = toy
+                .seen
+                .borrow()
+                .iter()
+                .filter(|k| (*k - 2.7).abs() < 1e-12)
+                .count();
+            assert_eq!(
+                near_start,
+                1,
+                "polish alone {local}: {:?}",
+                toy.seen.borrow()
+            );
+            // J of the start matrix itself, its residuals summed in order.
+            let expected: f64 = [0.3f64 - 0.2, 2.7 - 2.0, 0.3].iter().map(|v| v * v).sum();
+            assert_eq!(found.start_objective, expected);
+            assert!(
+                (found.matrix.rows()[1].k_theta - 2.0).abs() < 1e-4,
+                "{found:?}"
+            );
+        }
+    }
 
     /// Repeated candidates are polished once: the first of each kept, in order; points
     /// that differ in any coordinate, however little, are all kept.

@@ -12,7 +12,7 @@ use crate::cancel::CancelToken;
 use crate::eval::Baseline;
 use crate::prb::{PrbMatrix, PrbRow, PrbSolver, SolverLimits, WarmStart, CELLS_PER_ROW};
 
-use super::Parameterisation;
+use super::{lm, Parameterisation};
 
 /// A residual of unit weight given to each component of a case the PRB model cannot reach,
 /// and the cap on every residual of unit weight: a weighted component's is `PENALTY
@@ -342,6 +342,43 @@ impl<'a> Objective<'a> {
         }
         self.param.chain_rule(p, &cells, out.len(), jacobian);
         Some(true)
+    }
+
+    /// The residuals of `matrix` itself and, where the target gives them, their derivatives
+    /// with respect to the parameters at `p`, `matrix`'s encoding (as
+    /// [`Objective::residuals_and_jacobian`]); `None` when cancelled. This is the start's
+    /// evaluation: `J` of the start, and a polish's first evaluation from `p`, whose own
+    /// decoding is the start only up to rounding.
+    pub(super) fn matrix_evaluation(
+        &self,
+        matrix: &PrbMatrix,
+        p: &DVector<f64>,
+    ) -> Option<lm::Evaluated> {
+        if self.cancel.is_cancelled() {
+            return None;
+        }
+        self.evaluations.set(self.evaluations.get() + 1);
+        let mut residuals = Vec::new();
+        let mut jacobian = DMatrix::zeros(0, 0);
+        let exact = if self.target.masses() {
+            self.target.residuals(matrix, &mut residuals);
+            false
+        } else {
+            let mut cells = self.cells.borrow_mut();
+            let known = self
+                .target
+                .residuals_with_cells(matrix, &mut residuals, Some(&mut cells));
+            if known {
+                self.param
+                    .chain_rule(p, &cells, residuals.len(), &mut jacobian);
+            }
+            known
+        };
+        Some(lm::Evaluated {
+            residuals,
+            jacobian,
+            exact,
+        })
     }
 
     /// Fills `out` with the residuals of `matrix`; false when cancelled.

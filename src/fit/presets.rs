@@ -58,23 +58,37 @@ impl Fidelity {
     }
 
     /// The polish's tolerances and iteration limit.
+    ///
+    /// Draft also stops on the model's word ([`LmOptions::gain_tol`] 1e-3): once a step has
+    /// lowered `J` by less than 0.1 % and the Gauss-Newton model predicts less than 0.1 % more,
+    /// where `ftol` alone waits for a second small step and polishes the last few 1e-4 of `J`
+    /// that draft's half-sampled truth does not resolve (its fitted `J` is 0.05-27 % above
+    /// precise's on the example scenes). Over the 14 example scenes' draft fits of `L-R`,
+    /// `L-R-R`, `L-R-R-R` and `L-RP-RP-RP` (53 that run; with the start evaluated once,
+    /// [`super::search`]) it took 1340 evaluations where 1482 were taken, each fitted model's
+    /// `J` on the normal-fidelity truth within -0.07 % and +0.11 % of before, every
+    /// targets-met flag the same. `ftol` at 1e-3 instead took 1225, but stopped the
+    /// cross-axis pivot's 2R 17.6 % short, where the model still predicted much to gain.
     pub(crate) fn lm(self) -> LmOptions {
         match self {
             Fidelity::Draft => LmOptions {
                 ftol: 1e-5,
                 xtol: 1e-6,
+                gain_tol: 1e-3,
                 max_iterations: 40,
                 floor: 0.0,
             },
             Fidelity::Normal => LmOptions {
                 ftol: 1e-9,
                 xtol: 1e-9,
+                gain_tol: 0.0,
                 max_iterations: 100,
                 floor: 0.0,
             },
             Fidelity::Precise => LmOptions {
                 ftol: 1e-13,
                 xtol: 1e-12,
+                gain_tol: 0.0,
                 max_iterations: 400,
                 floor: 0.0,
             },
