@@ -78,7 +78,7 @@ pub struct LmOptions {
     /// Stop as converged when the last accepted step lowered `J` by less than this fraction
     /// and the undamped Gauss-Newton model predicts that a full step from there would lower
     /// it by less than this fraction more: one small step, confirmed by the model, where
-    /// `ftol` waits for a second (see [`gauss_newton_gain`]). 0: never.
+    /// `ftol` waits for a second (see the module). 0: never.
     pub gain_tol: f64,
     /// Most iterations (accepted steps, each with its Jacobian) before the run gives up with
     /// [`LmStop::IterationLimit`].
