@@ -32,9 +32,10 @@
 //!
 //! On the exact Jacobian a run may also stop after one small step, where the Gauss-Newton
 //! model (`g^T A^-1 g`, the decrease a full undamped step would give) predicts less than
-//! `gain_tol` of `J` still to gain ([`LmOptions::gain_tol`]; draft only). Where the residuals
-//! do not vanish at the optimum, as a PRB model's against its beam do not, the model
-//! over-predicts near the optimum (the scipy job's fit: gain ratios 0.2-0.6 in its last
+//! `gain_tol` of `J` still to gain ([`LmOptions::gain_tol`]; draft's setting, inert in a
+//! staged dynamic fit's last stage, which borrows draft's tolerances but differences). Where
+//! the residuals do not vanish at the optimum, as a PRB model's against its beam do not, the
+//! model over-predicts near the optimum (the scipy job's fit: gain ratios 0.2-0.6 in its last
 //! steps; 9.7e-4 of `J` predicted where 4.0e-4 was left), so it is a cautious judge of what
 //! is left; where they go to zero every late step removes most of what is left and the rule
 //! never fires.
@@ -75,7 +76,8 @@ pub struct LmOptions {
     pub floor: f64,
     /// Stop when a step moves no parameter by more than this.
     pub xtol: f64,
-    /// Stop as converged when the last accepted step lowered `J` by less than this fraction
+    /// On the exact Jacobian only (a differenced step resets it): stop as converged when the
+    /// last accepted step lowered `J` by less than this fraction
     /// and the undamped Gauss-Newton model predicts that a full step from there would lower
     /// it by less than this fraction more: one small step, confirmed by the model, where
     /// `ftol` waits for a second (see the module). 0: never.
@@ -88,8 +90,9 @@ pub struct LmOptions {
 /// How a run ended.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum LmStop {
-    /// Two accepted steps in a row were small (below `ftol` or `xtol`), or there is no
-    /// parameter to move.
+    /// Two accepted steps in a row were small (below `ftol` or `xtol`), or one was and the
+    /// Gauss-Newton model predicts little more (`gain_tol`), or `J` reached the floor, or
+    /// there is no parameter to move.
     Converged,
     /// `max_iterations` ran out before the run converged.
     IterationLimit,

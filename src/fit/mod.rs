@@ -242,6 +242,22 @@ fn distinct(points: Vec<DVector<f64>>) -> Vec<DVector<f64>> {
     out
 }
 
+/// Whether two matrices of the same rows hold the same cells to rounding (1e-12 relative;
+/// infinite cells equal).
+fn same_to_rounding(a: &PrbMatrix, b: &PrbMatrix) -> bool {
+    let close = |x: f64, y: f64| x == y || (x - y).abs() <= 1e-12 * x.abs().max(y.abs());
+    a.rows().len() == b.rows().len()
+        && a.rows().iter().zip(b.rows()).all(|(r, s)| {
+            close(r.gamma, s.gamma)
+                && close(r.k_theta, s.k_theta)
+                && close(r.k_ex, s.k_ex)
+                && match (r.mu, s.mu) {
+                    (Some(x), Some(y)) => close(x, y),
+                    (x, y) => x == y,
+                }
+        })
+}
+
 /// [`search`] (`local: None`) or [`polish`] (`local`: its settings).
 fn search_in(
     target: &dyn Target,
@@ -273,6 +289,16 @@ fn search_in(
         None if param.is_empty() => objective.matrix_value(start).unwrap_or(f64::INFINITY),
         None => f64::INFINITY,
     };
+    // The polish takes it as its evaluation at `p_start` only where that decodes to the start
+    // to rounding: the decoding clamps (a mu of 0, springs past 1e-9..1e9, extreme ratios),
+    // and residuals of another matrix would skew its first step (and, differenced, every
+    // column of its first Jacobian).
+    if !param
+        .decode(&p_start)
+        .is_some_and(|decoded| same_to_rounding(&decoded, start))
+    {
+        start_evaluation = None;
+    }
 
     let report = |matrix: PrbMatrix, stop, iterations, evaluations| {
         Ok(Found {
@@ -434,10 +460,10 @@ mod tests {
     use std::cell::RefCell;
 
     /// A toy target over a matrix's cells: the first row's gamma should be 0.2 and the last
-    /// row's spring 2, and a third residual (0.3) no model removes. It records the second
-    /// row's spring of every matrix it evaluates.
+    /// row's spring 2, and a third residual (0.3) no model removes. It records the first
+    /// row's gamma and the last row's spring of every matrix it evaluates.
     struct Toy {
-        seen: RefCell<Vec<f64>>,
+        seen: RefCell<Vec<(f64, f64)>>,
     }
 
     impl Target for Toy {
@@ -456,7 +482,9 @@ mod tests {
         ) -> bool {
             let rows = matrix.rows();
             let last = rows.len() - 1;
-            self.seen.borrow_mut().push(rows[last].k_theta);
+            self.seen
+                .borrow_mut()
+                .push((rows[0].gamma, rows[last].k_theta));
             out.clear();
             out.extend([rows[0].gamma - 0.2, rows[last].k_theta - 2.0, 0.3]);
             if let Some(cells) = cells {
@@ -504,7 +532,7 @@ mod tests {
                 .seen
                 .borrow()
                 .iter()
-                .filter(|k| (*k - 2.7).abs() < 1e-12)
+                .filter(|(_, k)| (k - 2.7).abs() < 1e-12)
                 .count();
             assert_eq!(
                 near_start,
@@ -520,6 +548,32 @@ mod tests {
                 "{found:?}"
             );
         }
+    }
+
+    /// A start whose encoding decodes to another matrix (a first gamma of 1e-6 against
+    /// 0.999999, a ratio past the parameterisation's e^10, decodes to about 4.5e-5) keeps its
+    /// own `J`, but the polish's first evaluation is of the decoded start (the spring still
+    /// 2.7), not a step taken from the start's residuals as if they were the decoded point's.
+    #[test]
+    fn a_start_the_encoding_clamps_is_not_taken_for_its_encoding() {
+        let start = PrbMatrix::parse("1e-6,inf,inf; 0.999999,2.7,inf").unwrap();
+        let toy = Toy {
+            seen: RefCell::new(Vec::new()),
+        };
+        let options = FitOptions {
+            fidelity: Fidelity::Draft,
+            ..FitOptions::default()
+        };
+        let found = search(&toy, &start, &options, &mut |_| {}, &CancelToken::new()).unwrap();
+        let seen = toy.seen.borrow();
+        assert_eq!(seen[0], (1e-6, 2.7), "the start itself first: {seen:?}");
+        let (gamma, k) = seen[1];
+        assert!(
+            gamma > 1e-5 && (k - 2.7).abs() < 1e-12,
+            "the decoded start next: {seen:?}"
+        );
+        let expected: f64 = [1e-6f64 - 0.2, 2.7 - 2.0, 0.3].iter().map(|v| v * v).sum();
+        assert_eq!(found.start_objective, expected);
     }
 
     /// Repeated candidates are polished once: the first of each kept, in order; points

@@ -59,7 +59,8 @@ impl Fidelity {
 
     /// The polish's tolerances and iteration limit.
     ///
-    /// Draft also stops on the model's word ([`LmOptions::gain_tol`] 1e-3): once a step has
+    /// Draft also stops on the model's word ([`LmOptions::gain_tol`] 1e-3, on the exact
+    /// Jacobian): once a step has
     /// lowered `J` by less than 0.1 % and the Gauss-Newton model predicts less than 0.1 % more,
     /// where `ftol` alone waits for a second small step and polishes the last few 1e-4 of `J`
     /// that draft's half-sampled truth does not resolve (its fitted `J` is 0.05-27 % above
