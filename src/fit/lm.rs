@@ -77,10 +77,10 @@ pub struct LmOptions {
     /// Stop when a step moves no parameter by more than this.
     pub xtol: f64,
     /// On the exact Jacobian only (a differenced step resets it): stop as converged when the
-    /// last accepted step lowered `J` by less than this fraction
-    /// and the undamped Gauss-Newton model predicts that a full step from there would lower
-    /// it by less than this fraction more: one small step, confirmed by the model, where
-    /// `ftol` waits for a second (see the module). 0: never.
+    /// last accepted step lowered `J` by less than this fraction and the undamped
+    /// Gauss-Newton model predicts that a full step from there would lower it by less than
+    /// this fraction more: one small step, confirmed by the model, where `ftol` waits for a
+    /// second (see the module). 0: never.
     pub gain_tol: f64,
     /// Most iterations (accepted steps, each with its Jacobian) before the run gives up with
     /// [`LmStop::IterationLimit`].

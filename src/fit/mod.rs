@@ -277,8 +277,8 @@ fn search_in(
     };
     let objective = Objective::new(target, &param, cancel);
     let p_start = param.encode(start);
-    // J of the start itself (its encoding decodes to the start only up to round-off), from
-    // the evaluation the polish from the start then begins with.
+    // J of the start matrix itself, from one evaluation that the polish from `p_start` then
+    // begins with (below: where `p_start` decodes to the start).
     let mut start_evaluation = if param.is_empty() {
         None
     } else {

@@ -325,18 +325,30 @@ impl<'a> Objective<'a> {
             *jacobian = DMatrix::zeros(out.len(), self.param.len());
             return Some(true);
         };
+        self.matrix_and_jacobian(&matrix, p, out, jacobian)
+    }
+
+    /// The work of [`Objective::residuals_and_jacobian`] on `matrix`, whose derivatives are
+    /// chained through the parameterisation at `p`.
+    fn matrix_and_jacobian(
+        &self,
+        matrix: &PrbMatrix,
+        p: &DVector<f64>,
+        out: &mut Vec<f64>,
+        jacobian: &mut DMatrix<f64>,
+    ) -> Option<bool> {
         if self.cancel.is_cancelled() {
             return None;
         }
         self.evaluations.set(self.evaluations.get() + 1);
         if self.target.masses() {
-            self.target.residuals(&matrix, out);
+            self.target.residuals(matrix, out);
             return Some(false);
         }
         let mut cells = self.cells.borrow_mut();
         if !self
             .target
-            .residuals_with_cells(&matrix, out, Some(&mut cells))
+            .residuals_with_cells(matrix, out, Some(&mut cells))
         {
             return Some(false);
         }
@@ -347,33 +359,16 @@ impl<'a> Objective<'a> {
     /// The residuals of `matrix` itself and, where the target gives them, their derivatives
     /// with respect to the parameters at `p`, `matrix`'s encoding (as
     /// [`Objective::residuals_and_jacobian`]); `None` when cancelled. This is the start's
-    /// evaluation: `J` of the start, and a polish's first evaluation from `p`, whose own
-    /// decoding is the start only up to rounding.
+    /// evaluation: `J` of the start, and a polish's first evaluation from `p` where `p`
+    /// decodes to the start to rounding (the caller checks: the decoding clamps).
     pub(super) fn matrix_evaluation(
         &self,
         matrix: &PrbMatrix,
         p: &DVector<f64>,
     ) -> Option<lm::Evaluated> {
-        if self.cancel.is_cancelled() {
-            return None;
-        }
-        self.evaluations.set(self.evaluations.get() + 1);
         let mut residuals = Vec::new();
         let mut jacobian = DMatrix::zeros(0, 0);
-        let exact = if self.target.masses() {
-            self.target.residuals(matrix, &mut residuals);
-            false
-        } else {
-            let mut cells = self.cells.borrow_mut();
-            let known = self
-                .target
-                .residuals_with_cells(matrix, &mut residuals, Some(&mut cells));
-            if known {
-                self.param
-                    .chain_rule(p, &cells, residuals.len(), &mut jacobian);
-            }
-            known
-        };
+        let exact = self.matrix_and_jacobian(matrix, p, &mut residuals, &mut jacobian)?;
         Some(lm::Evaluated {
             residuals,
             jacobian,

@@ -60,11 +60,10 @@ impl Fidelity {
     /// The polish's tolerances and iteration limit.
     ///
     /// Draft also stops on the model's word ([`LmOptions::gain_tol`] 1e-3, on the exact
-    /// Jacobian): once a step has
-    /// lowered `J` by less than 0.1 % and the Gauss-Newton model predicts less than 0.1 % more,
-    /// where `ftol` alone waits for a second small step and polishes the last few 1e-4 of `J`
-    /// that draft's half-sampled truth does not resolve (its fitted `J` is 0.05-27 % above
-    /// precise's on the example scenes). Over the 14 example scenes' draft fits of `L-R`,
+    /// Jacobian): once a step has lowered `J` by less than 0.1 % and the Gauss-Newton model
+    /// predicts less than 0.1 % more, where `ftol` alone waits for a second small step and
+    /// polishes the last few 1e-4 of `J` that draft's half-sampled truth does not resolve
+    /// (its fitted `J` is 0.05-27 % above precise's on the example scenes). Over the 14 example scenes' draft fits of `L-R`,
     /// `L-R-R`, `L-R-R-R` and `L-RP-RP-RP` (53 that run; with the start evaluated once,
     /// [`super::search`]) it took 1340 evaluations where 1482 were taken, each fitted model's
     /// `J` on the normal-fidelity truth within -0.07 % and +0.11 % of before, every
