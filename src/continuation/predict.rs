@@ -26,25 +26,20 @@ pub(super) fn predict<P: PathProblem>(
     lambda: f64,
     trial: &mut P::Point,
 ) {
-    let last = &history.last;
-    let Some(before) = &history.before else {
+    let last = history.last();
+    let Some(before) = history.before() else {
         problem.tangent(&last.point, lambda - last.lambda, trial);
         return;
     };
     let t = (lambda - last.lambda) / (last.lambda - before.lambda);
     // The accepted points the polynomial may pass through, latest first.
-    let through = [
-        Some(last),
-        Some(before),
-        history.oldest.as_ref(),
-        history.eldest.as_ref(),
-    ];
+    let through = [Some(last), Some(before), history.oldest(), history.eldest()];
     // The cubic only on a steady stretch: four points equally spaced and the step the same
     // (near trouble, where the steps vary, the secant, as it always has).
     let steady = || {
         let spacing = last.lambda - before.lambda;
         let same = |d: f64| (d - spacing).abs() <= 1e-9 * spacing;
-        match (&history.oldest, &history.eldest) {
+        match (history.oldest(), history.eldest()) {
             (Some(o), Some(e)) => {
                 same(lambda - last.lambda)
                     && same(before.lambda - o.lambda)

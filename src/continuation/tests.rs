@@ -520,3 +520,45 @@ fn the_cubic_predictor_is_exact_on_a_cubic_path() {
         "parabola: {parabola_error:e}"
     );
 }
+
+/// The history keeps the last four accepted points, newest first, whatever number were
+/// accepted, and each acceptance hands the trial the storage of the point it forgets (a
+/// clone of the point that was last while fewer than four are kept).
+#[test]
+fn the_history_keeps_the_last_four_points_and_recycles_the_fifth() {
+    let mut history = History::new(vec![0.0]);
+    let mut trial = vec![f64::NAN];
+    for k in 1..=7 {
+        let x = k as f64;
+        trial[0] = x * 10.0;
+        history.accept(x, &mut trial);
+        let kept: Vec<(f64, f64)> = (0..4)
+            .map_while(|back| history.back(back))
+            .map(|a| (a.lambda, a.point[0]))
+            .collect();
+        let expected: Vec<(f64, f64)> = (0..=k)
+            .rev()
+            .take(4)
+            .map(|j| (j as f64, j as f64 * 10.0))
+            .collect();
+        assert_eq!(kept, expected, "after {k} accepted");
+        assert_eq!(history.last().lambda, x);
+        assert_eq!(history.before().map(|b| b.lambda), Some(x - 1.0));
+        assert_eq!(
+            history.oldest().map(|a| a.lambda),
+            (k >= 2).then_some(x - 2.0)
+        );
+        assert_eq!(
+            history.eldest().map(|a| a.lambda),
+            (k >= 3).then_some(x - 3.0)
+        );
+        // The trial's storage: the forgotten point's once four are kept, else a clone of the
+        // point that was last.
+        let spare = if k >= 4 {
+            (x - 4.0) * 10.0
+        } else {
+            (x - 1.0) * 10.0
+        };
+        assert_eq!(trial[0], spare, "after {k} accepted");
+    }
+}

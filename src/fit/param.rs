@@ -227,7 +227,8 @@ impl Parameterisation {
         if out.shape() != (m, self.len()) {
             *out = DMatrix::zeros(m, self.len());
         }
-        out.fill(0.0);
+        // On the storage: nalgebra's element iterator took 1.3 % of a 3R fit's time here.
+        out.as_mut_slice().fill(0.0);
         let n_logits = self.free_gammas.len().saturating_sub(1);
         if n_logits > 0 {
             let shares = softmax(p.iter().copied(), self.free_gammas.len());
