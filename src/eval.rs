@@ -209,7 +209,7 @@ impl Baseline {
     }
 
     /// As [`Baseline::follow`], with a warm start: given `warm` (one [`WarmStart`] per
-    /// path, grown as needed) and whether to use it, each path's cases are first tried from
+    /// path and a spare's storage, grown as needed) and whether to use it, each path's cases are first tried from
     /// the equilibria `warm` holds, and `warm` then holds this solver's (a fit's next trial
     /// model starts from them). The equilibria reported are the same; only the cost differs.
     pub fn follow_warm(
@@ -219,12 +219,18 @@ impl Baseline {
         mut visit: impl FnMut(&BeamSolution, &PrbCase<'_>),
         mut on_failure: impl FnMut(&[BeamSolution], &EvalError) -> ControlFlow<()>,
     ) -> Result<(), EvalError> {
-        if let Some((starts, _)) = warm.as_mut() {
-            starts.resize_with(self.paths.len(), WarmStart::default);
-        }
+        let paths = self.paths.len();
+        // The storage of the warm start each path replaces, for the next path's: kept after
+        // the paths' own (one more entry), so that the next call's first path reuses the
+        // last path's instead of growing new storage.
+        let mut spare = match warm.as_mut() {
+            Some((starts, _)) => {
+                starts.resize_with(paths + 1, WarmStart::default);
+                std::mem::take(&mut starts[paths])
+            }
+            None => WarmStart::default(),
+        };
         let dofs = solver.dof_count();
-        // The storage of the warm start each path replaces, for the next path's.
-        let mut spare = WarmStart::default();
         let mut start = 0;
         for (i, path) in self.paths.iter().enumerate() {
             let end = (start + path.steps as usize).min(self.solutions.len());
@@ -267,6 +273,9 @@ impl Baseline {
                     return Err(error);
                 }
             }
+        }
+        if let Some((starts, _)) = warm.as_mut() {
+            starts[paths] = spare;
         }
         Ok(())
     }

@@ -120,8 +120,11 @@ pub struct Accepted<P> {
 /// each (3 % of a 3R fit's time was that copying).
 #[derive(Debug, Clone)]
 pub struct History<P> {
-    /// Up to four points; in order of acceptance until full, then a ring.
-    slots: Vec<Accepted<P>>,
+    /// Up to four points, in order of acceptance until full, then a ring (inline: a path
+    /// allocates none for them).
+    slots: [Option<Accepted<P>>; KEPT],
+    /// How many are kept.
+    len: usize,
     /// The slot of the last accepted point.
     head: usize,
 }
@@ -132,28 +135,45 @@ const KEPT: usize = 4;
 impl<P> History<P> {
     /// A path at its start: the unloaded state at `lambda = 0`.
     pub fn new(start: P) -> History<P> {
-        let mut slots = Vec::with_capacity(KEPT);
-        slots.push(Accepted {
-            lambda: 0.0,
-            point: start,
-        });
-        History { slots, head: 0 }
+        History {
+            slots: [
+                Some(Accepted {
+                    lambda: 0.0,
+                    point: start,
+                }),
+                None,
+                None,
+                None,
+            ],
+            len: 1,
+            head: 0,
+        }
     }
 
     /// The accepted point `k` before the last (`0`: the last itself), if kept.
     fn back(&self, k: usize) -> Option<&Accepted<P>> {
-        let n = self.slots.len();
-        (k < n).then(|| &self.slots[(self.head + n - k) % n])
+        let n = self.len;
+        if k < n {
+            self.slots[(self.head + n - k) % n].as_ref()
+        } else {
+            None
+        }
     }
 
     /// The last accepted point.
     pub fn last(&self) -> &Accepted<P> {
-        &self.slots[self.head]
+        match &self.slots[self.head] {
+            Some(last) => last,
+            None => unreachable!("a history always holds its last point"),
+        }
     }
 
     /// The last accepted point, to take what a report keeps out of it.
     fn last_mut(&mut self) -> &mut Accepted<P> {
-        &mut self.slots[self.head]
+        match &mut self.slots[self.head] {
+            Some(last) => last,
+            None => unreachable!("a history always holds its last point"),
+        }
     }
 
     /// The accepted point before it (`None` at the start).
@@ -183,16 +203,18 @@ impl<P: Clone> History<P> {
     /// Accepts `trial` at `lambda`, forgetting the oldest point kept, whose storage `trial`
     /// takes for the next attempt (so that following a path allocates only at its start).
     fn accept(&mut self, lambda: f64, trial: &mut P) {
-        if self.slots.len() < KEPT {
+        if self.len < KEPT {
             let spare = self.last().point.clone();
             let point = std::mem::replace(trial, spare);
-            self.slots.push(Accepted { lambda, point });
-            self.head = self.slots.len() - 1;
+            self.slots[self.len] = Some(Accepted { lambda, point });
+            self.head = self.len;
+            self.len += 1;
         } else {
             self.head = (self.head + 1) % KEPT;
-            let slot = &mut self.slots[self.head];
-            slot.lambda = lambda;
-            std::mem::swap(&mut slot.point, trial);
+            if let Some(slot) = &mut self.slots[self.head] {
+                slot.lambda = lambda;
+                std::mem::swap(&mut slot.point, trial);
+            }
         }
     }
 }

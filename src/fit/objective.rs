@@ -10,7 +10,9 @@ use nalgebra::{DMatrix, DVector};
 
 use crate::cancel::CancelToken;
 use crate::eval::Baseline;
-use crate::prb::{PrbMatrix, PrbRow, PrbSolver, SolverLimits, WarmStart, CELLS_PER_ROW};
+use crate::prb::{
+    Linearised, PrbMatrix, PrbRow, PrbSolver, SolverLimits, WarmStart, CELLS_PER_ROW,
+};
 
 use super::{lm, Parameterisation};
 
@@ -93,6 +95,9 @@ pub struct CantileverTarget<'a> {
     target_objective: f64,
     /// The last trial model's equilibria, the next one's warm start.
     warm: RefCell<Warm>,
+    /// The sensitivities' storage, kept from one evaluation to the next (a trial model of
+    /// the same topology reuses it, so an evaluation allocates none).
+    scratch: std::cell::Cell<Option<(Linearised, Vec<f64>)>>,
 }
 
 /// A trial model near the last one (every finite cell within this relative change) starts
@@ -135,6 +140,7 @@ impl<'a> CantileverTarget<'a> {
             case_scale: 1.0 / (baseline.case_count().max(1) as f64).sqrt(),
             target_objective: 0.0,
             warm: RefCell::default(),
+            scratch: std::cell::Cell::new(None),
         }
     }
 
@@ -187,7 +193,16 @@ impl Target for CantileverTarget<'_> {
         // Storage for the sensitivities, only when they are asked for (the swarm's and the
         // plain evaluations' hot path allocates nothing for them).
         let (mut lin, mut sensitivity) = match cells {
-            Some(_) => (Some(solver.linearised()), vec![0.0; 3 * width]),
+            Some(_) => {
+                let (lin, mut sensitivity) = self
+                    .scratch
+                    .take()
+                    .filter(|(lin, _)| solver.fits(lin))
+                    .unwrap_or_else(|| (solver.linearised(), Vec::new()));
+                sensitivity.clear();
+                sensitivity.resize(3 * width, 0.0);
+                (Some(lin), sensitivity)
+            }
             None => (None, Vec::new()),
         };
         // The residuals stay in case order whichever cases are missed (the polish compares
@@ -234,6 +249,9 @@ impl Target for CantileverTarget<'_> {
                 ControlFlow::Continue(())
             },
         );
+        if let Some(lin) = lin {
+            self.scratch.set(Some((lin, sensitivity)));
+        }
         true
     }
 }
