@@ -228,7 +228,9 @@ impl Target for CantileverTarget<'_> {
                 let mut state = state.borrow_mut();
                 let (out, cells) = &mut *state;
                 let known = lin.as_mut().is_some_and(|lin| {
-                    solver.tip_sensitivity(sol.load, sol.q, lin, &mut sensitivity)
+                    sol.work.is_some_and(|work| {
+                        solver.tip_sensitivity_converged(sol.q, work, lin, &mut sensitivity)
+                    }) || solver.tip_sensitivity(sol.load, sol.q, lin, &mut sensitivity)
                 });
                 for (k, &r) in raw.iter().enumerate() {
                     let row = known.then(|| &sensitivity[k * width..(k + 1) * width]);

@@ -6,7 +6,7 @@ mod frequencies;
 mod solve;
 
 pub use frequencies::frequencies;
-pub use solve::{cholesky_solve, lu_solve, solve_dense, solve_many, LuInfo};
+pub use solve::{cholesky_solve, factored_solve, lu_solve, solve_dense, solve_many, LuInfo};
 
 /// `B B^T + n I` of the `n` x `n` row-major `b`: symmetric positive definite with every
 /// eigenvalue at least `n`, the tests' well-conditioned matrix.

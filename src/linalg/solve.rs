@@ -42,6 +42,33 @@ pub fn cholesky_solve(matrix: &mut [f64], rhs: &mut [f64], n: usize) -> bool {
     definite && rhs.iter().all(|v| v.is_finite())
 }
 
+/// Solves `A x = b` for `m` right-hand sides (`rhs`, `n` x `m` row-major, replaced by the
+/// solutions) given `factor`, the `L D L^T` factors [`cholesky_solve`] left of a positive
+/// definite `A` (`n` x `n` row-major). False for a non-finite solution.
+pub fn factored_solve(factor: &[f64], rhs: &mut [f64], n: usize, m: usize) -> bool {
+    let f = |i: usize, j: usize| factor[i * n + j];
+    for j in 0..m {
+        for i in 0..n {
+            let mut v = rhs[i * m + j];
+            for k in 0..i {
+                v -= f(i, k) * rhs[k * m + j];
+            }
+            rhs[i * m + j] = v;
+        }
+        for i in 0..n {
+            rhs[i * m + j] /= f(i, i);
+        }
+        for i in (0..n).rev() {
+            let mut v = rhs[i * m + j];
+            for k in i + 1..n {
+                v -= f(k, i) * rhs[k * m + j];
+            }
+            rhs[i * m + j] = v;
+        }
+    }
+    rhs.iter().all(|v| v.is_finite())
+}
+
 /// Row-major storage the small solvers work in, by row and column: a slice of any size, or
 /// nested arrays whose constant size lets the compiler unroll the loops. One algorithm runs
 /// on both, so the fixed-size path gives the slice path's results to the bit.

@@ -82,6 +82,9 @@ pub struct PrbCase<'a> {
     pub q: &'a [f64],
     /// Newton iterations spent on this load, continuation sub-steps included.
     pub iterations: u32,
+    /// The workspace Newton left converging to this case, for its sensitivities without a
+    /// linearisation of their own ([`PrbSolver::tip_sensitivity_converged`]).
+    pub(crate) work: Option<&'a Workspace>,
 }
 
 impl PrbCase<'_> {
@@ -440,11 +443,14 @@ where
     }
 
     fn report(&mut self, _lambda: f64, point: &mut Point, tally: Tally, _effort: &mut Effort) {
+        // The continuation reports a point right after its Newton converged and it was
+        // accepted (nothing between touches the workspace): the workspace is that Newton's.
         (self.visit)(PrbCase {
             load: point.load,
             tip: point.tip,
             q: &point.q,
             iterations: tally.iterations,
+            work: Some(&self.ws),
         });
     }
 
