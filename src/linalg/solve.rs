@@ -426,16 +426,7 @@ mod tests {
             shift in -2.0..4.0f64,
             b in proptest::collection::vec(-1.0..1.0f64, 5),
         ) {
-            let mut a = vec![0.0; n * n];
-            for i in 0..n {
-                for j in 0..n {
-                    let mut v = if i == j { shift } else { 0.0 };
-                    for k in 0..n {
-                        v += entries[i * 5 + k] * entries[j * 5 + k];
-                    }
-                    a[i * n + j] = v;
-                }
-            }
+            let a = shifted_gram(&entries, 5, n, shift);
             let smallest = nalgebra::DMatrix::from_row_slice(n, n, &a)
                 .symmetric_eigenvalues()
                 .min();
@@ -487,6 +478,22 @@ mod tests {
         }
     }
 
+    /// `E E^T + shift I` (`n` x `n`, row-major) from the first `n` columns of the first `n`
+    /// rows of `entries` (rows `stride` long): symmetric, definite or not as `shift` says.
+    fn shifted_gram(entries: &[f64], stride: usize, n: usize, shift: f64) -> Vec<f64> {
+        let mut a = vec![0.0; n * n];
+        for i in 0..n {
+            for j in 0..n {
+                let mut v = if i == j { shift } else { 0.0 };
+                for k in 0..n {
+                    v += entries[i * stride + k] * entries[j * stride + k];
+                }
+                a[i * n + j] = v;
+            }
+        }
+        a
+    }
+
     /// A NaN or an infinity of either sign.
     fn non_finite() -> impl Strategy<Value = f64> {
         prop_oneof![Just(f64::NAN), Just(f64::INFINITY), Just(f64::NEG_INFINITY)]
@@ -505,16 +512,7 @@ mod tests {
             b in proptest::collection::vec(-1.0..1.0f64, 4),
             special in proptest::option::of((0usize..16, non_finite())),
         ) {
-            let mut a = vec![0.0; n * n];
-            for i in 0..n {
-                for j in 0..n {
-                    let mut v = if i == j { shift } else { 0.0 };
-                    for k in 0..n {
-                        v += entries[i * 4 + k] * entries[j * 4 + k];
-                    }
-                    a[i * n + j] = v;
-                }
-            }
+            let mut a = shifted_gram(&entries, 4, n, shift);
             if let Some((k, v)) = special.filter(|&(k, _)| k < n * n) {
                 a[k] = v;
             }

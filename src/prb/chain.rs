@@ -7,6 +7,7 @@
 use crate::beam::{Load, TipPose};
 
 use super::matrix::PrbMatrix;
+use super::workspace::{Parts, Workspace};
 
 /// One degree of freedom: which row, and whether it is the joint angle or the extension.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -372,17 +373,24 @@ impl PrbSolver {
         out.tip = self.residual(load, q, &mut out.work);
         let mut ws = out.work.parts();
         self.turn_suffixes(&mut ws);
+        self.tip_jacobian_into(&ws, &mut out.tip_jacobian);
+        out.residual.copy_from_slice(&ws.res[..m]);
+        out.stiffness.copy_from_slice(&ws.jac[..m * m]);
+    }
+
+    /// `d(a, b, phi) / dq` (3 rows of `m`, row-major) into `out`, from the turn suffixes,
+    /// sines and cosines in `ws` ([`PrbSolver::turn_suffixes`]).
+    fn tip_jacobian_into(&self, ws: &Parts<'_>, out: &mut [f64]) {
+        let m = self.dofs.len();
         for (c, dof) in self.dofs.iter().enumerate() {
             let (da, db, dphi) = match *dof {
                 Dof::Theta(i) => (ws.suffix_q[i], ws.suffix_n[i], 1.0),
                 Dof::Delta(i) => (ws.cos[i], ws.sin[i], 0.0),
             };
-            out.tip_jacobian[c] = da;
-            out.tip_jacobian[m + c] = db;
-            out.tip_jacobian[2 * m + c] = dphi;
+            out[c] = da;
+            out[m + c] = db;
+            out[2 * m + c] = dphi;
         }
-        out.residual.copy_from_slice(&ws.res[..m]);
-        out.stiffness.copy_from_slice(&ws.jac[..m * m]);
     }
 
     /// The partial derivatives of the chain's tip and equilibrium residual with respect to
@@ -438,31 +446,46 @@ impl PrbSolver {
         lin: &mut Linearised,
         out: &mut [f64],
     ) -> bool {
-        let cols = CELLS_PER_ROW * self.gamma.len();
         let m = self.dofs.len();
         self.linearise_into(load, q, lin);
         self.cell_partials(q, lin);
-        // Lambda = K^-1 T^T (m x 3, row-major): K is symmetric, so this is the adjoint.
-        let lambda = &mut lin.adjoint;
+        self.through_adjoint(lin, out, |lin, lambda| {
+            crate::linalg::solve_many(&mut lin.stiffness, lambda, m, 3)
+        })
+    }
+
+    /// The sensitivities' last step, from `lin`'s tip Jacobian `T` and cell partials: the
+    /// adjoint `Lambda = K^-1 T^T` (`m` x 3, row-major; `K` is symmetric), which `solve`
+    /// finds in place from `T^T`, then `out = d tip/dc|_q - Lambda^T dR/dc`. False where
+    /// `solve` fails.
+    fn through_adjoint(
+        &self,
+        lin: &mut Linearised,
+        out: &mut [f64],
+        solve: impl FnOnce(&mut Linearised, &mut [f64]) -> bool,
+    ) -> bool {
+        let cols = CELLS_PER_ROW * self.gamma.len();
+        let m = self.dofs.len();
+        let mut lambda = std::mem::take(&mut lin.adjoint);
         lambda.clear();
         lambda.extend((0..3 * m).map(|i| lin.tip_jacobian[(i % 3) * m + i / 3]));
-        if !crate::linalg::solve_many(&mut lin.stiffness, lambda, m, 3) {
-            return false;
-        }
-        let lambda = &lin.adjoint;
-        out[..3 * cols].copy_from_slice(&lin.cell_tip);
-        for r in 0..m {
-            let d_res = &lin.cell_residual[r * cols..(r + 1) * cols];
-            for k in 0..3 {
-                let l = lambda[r * 3 + k];
-                if l != 0.0 {
-                    for (o, d) in out[k * cols..(k + 1) * cols].iter_mut().zip(d_res) {
-                        *o -= l * d;
+        let solved = solve(lin, &mut lambda);
+        if solved {
+            out[..3 * cols].copy_from_slice(&lin.cell_tip);
+            for r in 0..m {
+                let d_res = &lin.cell_residual[r * cols..(r + 1) * cols];
+                for k in 0..3 {
+                    let l = lambda[r * 3 + k];
+                    if l != 0.0 {
+                        for (o, d) in out[k * cols..(k + 1) * cols].iter_mut().zip(d_res) {
+                            *o -= l * d;
+                        }
                     }
                 }
             }
         }
-        true
+        lin.adjoint = lambda;
+        solved
     }
 
     /// [`PrbSolver::tip_sensitivity`] at the equilibrium `q` Newton has just converged to,
@@ -485,41 +508,12 @@ impl PrbSolver {
             return false;
         }
         lin.work.buf.copy_from_slice(&work.buf);
-        let cols = CELLS_PER_ROW * n;
-        {
-            let ws = lin.work.parts();
-            for (c, dof) in self.dofs.iter().enumerate() {
-                let (da, db, dphi) = match *dof {
-                    Dof::Theta(i) => (ws.suffix_q[i], ws.suffix_n[i], 1.0),
-                    Dof::Delta(i) => (ws.cos[i], ws.sin[i], 0.0),
-                };
-                lin.tip_jacobian[c] = da;
-                lin.tip_jacobian[m + c] = db;
-                lin.tip_jacobian[2 * m + c] = dphi;
-            }
-        }
+        let ws = lin.work.parts();
+        self.tip_jacobian_into(&ws, &mut lin.tip_jacobian);
         self.cell_partials(q, lin);
-        // Lambda = K^-1 T^T (m x 3, row-major), from the factor.
-        let lambda = &mut lin.adjoint;
-        lambda.clear();
-        lambda.extend((0..3 * m).map(|i| lin.tip_jacobian[(i % 3) * m + i / 3]));
-        if !crate::linalg::factored_solve(lin.work.jac(), lambda, m, 3) {
-            return false;
-        }
-        let lambda = &lin.adjoint;
-        out[..3 * cols].copy_from_slice(&lin.cell_tip);
-        for r in 0..m {
-            let d_res = &lin.cell_residual[r * cols..(r + 1) * cols];
-            for k in 0..3 {
-                let l = lambda[r * 3 + k];
-                if l != 0.0 {
-                    for (o, d) in out[k * cols..(k + 1) * cols].iter_mut().zip(d_res) {
-                        *o -= l * d;
-                    }
-                }
-            }
-        }
-        true
+        self.through_adjoint(lin, out, |lin, lambda| {
+            crate::linalg::factored_solve(lin.work.jac(), lambda, m, 3)
+        })
     }
 
     /// The residual and Jacobian at `q`, for testing the analytic Jacobian.
@@ -547,116 +541,6 @@ fn segment_sin_cos(theta: f64) -> (f64, f64) {
 
 /// Cells per matrix row in [`PrbSolver::tip_sensitivity`]: gamma, k_theta, k_ex.
 pub const CELLS_PER_ROW: usize = 3;
-
-/// `len` numbers, zeros at first: inline up to `N`, so that making, copying and dropping one
-/// allocates nothing, and on the heap beyond.
-#[derive(Debug, Clone, PartialEq)]
-pub(super) struct Inline<const N: usize> {
-    len: usize,
-    inline: [f64; N],
-    heap: Vec<f64>,
-}
-
-impl<const N: usize> Inline<N> {
-    pub(super) fn zeros(len: usize) -> Inline<N> {
-        Inline {
-            len,
-            inline: [0.0; N],
-            heap: if len > N { vec![0.0; len] } else { Vec::new() },
-        }
-    }
-}
-
-impl<const N: usize> std::ops::Deref for Inline<N> {
-    type Target = [f64];
-    fn deref(&self) -> &[f64] {
-        match self.len {
-            len if len <= N => &self.inline[..len],
-            _ => &self.heap,
-        }
-    }
-}
-
-impl<const N: usize> std::ops::DerefMut for Inline<N> {
-    fn deref_mut(&mut self) -> &mut [f64] {
-        match self.len {
-            len if len <= N => &mut self.inline[..len],
-            _ => &mut self.heap,
-        }
-    }
-}
-
-/// Scratch space for one path solve, so Newton allocates nothing: one allocation, handed
-/// out as named slices by [`Workspace::parts`].
-#[derive(Debug, Clone, PartialEq)]
-pub(crate) struct Workspace {
-    n: usize,
-    m: usize,
-    /// Inline for a chain of up to five segments and four degrees of freedom (64 numbers:
-    /// every path of a 3R or 4R fit's trial models solves without allocating).
-    buf: Inline<64>,
-}
-
-/// A [`Workspace`]'s slices: `n` per segment, then `res` and `step` (`m`) and `jac` (`m * m`).
-pub(super) struct Parts<'a> {
-    pub(super) theta_cum: &'a mut [f64],
-    /// `sin` and `cos` of `theta_cum`, as [`PrbSolver::residual`] last left them.
-    pub(super) sin: &'a mut [f64],
-    pub(super) cos: &'a mut [f64],
-    pub(super) length: &'a mut [f64],
-    pub(super) axial: &'a mut [f64],
-    pub(super) transverse: &'a mut [f64],
-    pub(super) suffix_q: &'a mut [f64],
-    pub(super) suffix_n: &'a mut [f64],
-    pub(super) res: &'a mut [f64],
-    pub(super) step: &'a mut [f64],
-    pub(super) jac: &'a mut [f64],
-}
-
-impl Workspace {
-    /// Per-segment slices of a workspace.
-    const SEGMENT_SLICES: usize = 8;
-
-    pub(super) fn new(n: usize, m: usize) -> Workspace {
-        Workspace {
-            n,
-            m,
-            buf: Inline::zeros(Self::SEGMENT_SLICES * n + 2 * m + m * m),
-        }
-    }
-
-    /// The last slice of [`Workspace::parts`], `jac` (`m * m`), to read.
-    fn jac(&self) -> &[f64] {
-        &self.buf[Self::SEGMENT_SLICES * self.n + 2 * self.m..]
-    }
-
-    pub(super) fn parts(&mut self) -> Parts<'_> {
-        let (n, m) = (self.n, self.m);
-        let (theta_cum, rest) = self.buf.split_at_mut(n);
-        let (sin, rest) = rest.split_at_mut(n);
-        let (cos, rest) = rest.split_at_mut(n);
-        let (length, rest) = rest.split_at_mut(n);
-        let (axial, rest) = rest.split_at_mut(n);
-        let (transverse, rest) = rest.split_at_mut(n);
-        let (suffix_q, rest) = rest.split_at_mut(n);
-        let (suffix_n, rest) = rest.split_at_mut(n);
-        let (res, rest) = rest.split_at_mut(m);
-        let (step, jac) = rest.split_at_mut(m);
-        Parts {
-            theta_cum,
-            sin,
-            cos,
-            length,
-            axial,
-            transverse,
-            suffix_q,
-            suffix_n,
-            res,
-            step,
-            jac,
-        }
-    }
-}
 
 #[cfg(test)]
 mod tests {

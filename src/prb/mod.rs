@@ -9,6 +9,7 @@ mod path;
 pub mod published;
 mod statics;
 mod stress;
+mod workspace;
 
 pub use chain::{Linearised, PrbSolver, SolverLimits, CELLS_PER_ROW};
 pub use matrix::{

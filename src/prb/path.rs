@@ -15,9 +15,8 @@ use crate::beam::{Load, TipPose};
 use crate::continuation::{self, Corrected, Effort, History, Limits, PathProblem, Stop, Tally};
 use crate::linalg::cholesky_solve;
 
-use super::chain::Inline;
-
-use super::chain::{PrbSolver, Workspace, MAX_NEWTON};
+use super::chain::{PrbSolver, MAX_NEWTON};
+use super::workspace::{Inline, Workspace};
 
 /// Why a PRB equilibrium could not be found.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
