@@ -345,6 +345,12 @@ impl BeamModel {
         self.plate_fraction
     }
 
+    /// Whether this is the plain-bending beam: no shear, no extension, no Poisson (plane
+    /// strain only scales its bending compliance).
+    pub(crate) fn is_plain(&self) -> bool {
+        !self.effects.shear && !self.effects.extension && !self.effects.poisson
+    }
+
     /// The inextensible, shear-rigid elastica (slenderness and nu are then irrelevant).
     pub fn elastica() -> BeamModel {
         // Slenderness 100, nu = 0.3, Cowper's kappa and no effects pass every check of `new`.
@@ -438,9 +444,8 @@ impl fmt::Display for MaterialLimit {
 /// Returns `eps` and `d eps / d r` there.
 #[inline(always)]
 fn solve_poisson(nu: f64, r: f64) -> Option<(f64, f64)> {
-    let eps_peak = 1.0 / (3.0 * nu);
-    let r_peak = 4.0 / (27.0 * nu);
-    if r >= r_peak || !r.is_finite() {
+    // Beyond the peak `r = 4 / (27 nu)` (at `eps = 1 / (3 nu)`), compared without a division.
+    if 27.0 * nu * r >= 4.0 || !r.is_finite() {
         return None;
     }
     // For r < 0, (1 - nu eps)^2 > 1 so r <= eps < 0; for r > 0, r <= eps < eps_peak.
@@ -463,6 +468,7 @@ fn solve_poisson(nu: f64, r: f64) -> Option<(f64, f64)> {
         let deps_dr = 1.0 + x * (4.0 + x * (21.0 + x * (120.0 + x * (715.0 + x * 4368.0))));
         return Some((eps, deps_dr));
     }
+    let eps_peak = 1.0 / (3.0 * nu);
     let (mut lo, mut hi) = if r < 0.0 { (r, 0.0) } else { (r, eps_peak) };
     // Two terms of the series r + 2 nu r^2 + ... start Newton close to the root.
     let mut eps = (r + 2.0 * nu * r * r).clamp(lo, hi);

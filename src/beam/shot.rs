@@ -1,7 +1,9 @@
 //! One shot: the integrator a segment of the beam needs. The plain-bending beam (no shear,
 //! no extension, no Poisson) is integrated by Taylor series ([`super::taylor`]), several times
-//! faster at the same tolerance; any other by the Dormand-Prince pair of [`super::shoot`],
-//! which also holds what both share (the state layout, the settings, the samples, the meter).
+//! faster at the same tolerance, and so is any beam's state alone. The sensitivities of a
+//! beam with the other effects are the Dormand-Prince pair's ([`super::dopri`]; its state is
+//! then the series', see [`series_state`]). [`super::shoot`] holds what both share (the
+//! state layout, the settings, the samples, the meter).
 
 use super::dopri::ShotSpec;
 use super::model::BeamModel;
@@ -16,11 +18,11 @@ fn integrate<const N: usize>(
     shape: Option<Samples<'_>>,
     meter: &mut Meter<'_>,
 ) -> Result<(State<N>, u32), ShotFailure> {
-    if super::taylor::applies(model) {
-        super::taylor::integrate::<N>(model, force, segment, settings, shape, meter)
-    } else {
-        super::dopri::integrate::<N>(model, force, segment, settings, shape, meter)
+    if !super::taylor::applies::<N>(model) {
+        let shot = super::dopri::integrate::<N>(model, force, segment, settings, shape, meter);
+        return series_state(model, force, segment, settings, meter, shot);
     }
+    super::taylor::integrate::<N>(model, force, segment, settings, shape, meter)
 }
 
 /// Integrates one segment. Position states start at zero (they are increments), the
@@ -70,7 +72,7 @@ pub(crate) fn root_shot_pair<const N: usize>(
 ) -> [Result<(State<N>, u32), ShotFailure>; 2] {
     let [(ma, fa, m0a, sa, sha), (mb, fb, m0b, sb, shb)] = shots;
     let [meter_a, meter_b] = meters;
-    if super::taylor::applies(ma) || super::taylor::applies(mb) {
+    if super::taylor::applies::<N>(ma) || super::taylor::applies::<N>(mb) {
         return [
             root_shot::<N>(ma, fa, m0a, sa, sha, meter_a),
             root_shot::<N>(mb, fb, m0b, sb, shb, meter_b),
@@ -83,8 +85,34 @@ pub(crate) fn root_shot_pair<const N: usize>(
         settings,
         shape,
     };
-    super::dopri::integrate_pair::<N>(
+    let [a, b] = super::dopri::integrate_pair::<N>(
         [spec(ma, fa, m0a, sa, sha), spec(mb, fb, m0b, sb, shb)],
-        [meter_a, meter_b],
-    )
+        [&mut *meter_a, &mut *meter_b],
+    );
+    [
+        series_state(ma, fa, Segment::from_clamp(m0a), sa, meter_a, a),
+        series_state(mb, fb, Segment::from_clamp(m0b), sb, meter_b, b),
+    ]
+}
+
+/// A shot of a beam with the other effects and its sensitivities (`N > 4`, by the
+/// Runge-Kutta pair), its state replaced by the series' ([`super::taylor`]): every shot of
+/// such a beam, with or without sensitivities, then ends where the state's series puts it,
+/// so that a Newton iterate checked by values alone is checked against the equations its
+/// Jacobian's residual solved. (The two integrators agree to their tolerance; a mechanism's
+/// path accepts a prediction only well within it.) The samples are the pair's.
+fn series_state<const N: usize>(
+    model: &BeamModel,
+    force: TipForce,
+    segment: Segment,
+    settings: ShotSettings,
+    meter: &mut Meter<'_>,
+    shot: Result<(State<N>, u32), ShotFailure>,
+) -> Result<(State<N>, u32), ShotFailure> {
+    let (mut u, steps) = shot?;
+    if N > 4 && !model.is_plain() {
+        let (v, _) = integrate::<4>(model, force, segment, settings, None, meter)?;
+        u[..4].copy_from_slice(&v);
+    }
+    Ok((u, steps))
 }

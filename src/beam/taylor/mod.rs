@@ -23,6 +23,26 @@
 //! the shape samples inside a step are the same polynomial evaluated there, as accurate as
 //! the step itself.
 //!
+//! ## The shearing, stretching, shrinking beam
+//!
+//! With the other effects on (DESIGN §2) the state alone (`N = 4`, no sensitivities) follows
+//!
+//! ```text
+//! psi' = b M    M' = -(1 + eps) Q + gamma N    x' = (1 + eps) C - gamma S
+//!                                              y' = (1 + eps) S + gamma C
+//! ```
+//!
+//! with `N = alpha_x C + alpha_y S`, `Q = -alpha_x S + alpha_y C`, the strain `eps` the root of
+//! `eps p^2 = c_e N` (`p = 1 - nu eps` the section's shrink, 1 without Poisson), the bending
+//! compliance `b = c / p^4` and the shear strain `gamma = c_s Q / p^2`. Each is a series too:
+//! `eps`'s coefficient of order `k` is the one unknown of the order-`k` coefficient of
+//! `eps p^2 = c_e N`, linear in it (`eps_k p_0 (1 - 3 nu eps_0)` plus known terms); `1 / p^2`
+//! follows by the division recurrence, and the rest are products. Every product of the
+//! strain or `gamma` with `N` or `Q` is a combination of their products with `S` and `C`, so
+//! a step needs four convolutions beyond the elastica's, and five more with Poisson's shrink.
+//! The material law's limits (necking, crushing) are checked at each step's start by the
+//! law itself: its strain there is the series' first coefficient.
+//!
 //! The tolerances mean what they mean for the Runge-Kutta pair of [`super::shoot`]: the
 //! local error of a step, absolute on `psi, x, y`, relative to the load on `M`, and the
 //! looser relative `variational_tol` on the sensitivities.
@@ -47,9 +67,16 @@ const MAX_ORDER: usize = 24;
 /// still bounds the time it did.
 pub(crate) const STEP_WEIGHT: u64 = 3;
 
-/// Whether a shot of `model` is the plain-bending system this module integrates.
-pub(crate) fn applies(model: &BeamModel) -> bool {
-    !model.effects.shear && !model.effects.extension && !model.effects.poisson
+/// [`STEP_WEIGHT`] of a step of the shearing, stretching, shrinking beam's series, which
+/// cost about 0.6 us each with their samples on the parallel stage's 1000 cases (three steps
+/// a shot at tol 1e-9): four elastica Runge-Kutta steps.
+const FULL_STEP_WEIGHT: u64 = 4;
+
+/// Whether this module integrates a shot of `model` with `N` states: the plain-bending beam's
+/// with or without sensitivities, any other beam's state alone (`N = 4`: the series of the
+/// shearing, stretching, shrinking beam below; its sensitivities are the Runge-Kutta pair's).
+pub(crate) fn applies<const N: usize>(model: &BeamModel) -> bool {
+    N == 4 || model.is_plain()
 }
 
 /// The order for a local error tolerance `tol`: Jorba and Zou's `-ln(tol) / 2 + 1`, which
@@ -62,7 +89,8 @@ fn order_for(tol: f64) -> usize {
 }
 
 /// [`super::shoot`]'s integration of one segment, by Taylor series: same inputs, same
-/// state layout and samples, same failures.
+/// state layout and samples, same failures. A shot this module does not integrate ([`applies`]:
+/// the sensitivities of a beam with the other effects) is the Dormand-Prince pair's.
 ///
 /// Built twice (see [`crate::cpu`]): with AVX2 and FMA where the processor has them, for the
 /// baseline otherwise; both give the same bits.
@@ -74,6 +102,10 @@ pub(crate) fn integrate<const N: usize>(
     shape: Option<Samples<'_>>,
     meter: &mut Meter<'_>,
 ) -> Result<(State<N>, u32), ShotFailure> {
+    if !applies::<N>(model) {
+        // Sensitivities of a beam with the other effects: not this module's.
+        return super::dopri::integrate::<N>(model, force, segment, settings, shape, meter);
+    }
     #[cfg(target_arch = "x86_64")]
     if crate::cpu::wide() {
         // SAFETY: `wide` has just checked that this processor has AVX2 and FMA, the only
@@ -125,6 +157,10 @@ fn integrate_any<const N: usize>(
     let mut cs = [0.0_f64; MAX_ORDER + 1];
     // k psi_k, the factor of the sine and cosine recurrences.
     let mut kpsi = [0.0_f64; MAX_ORDER + 1];
+    // The other effects' series (zero where an effect is off).
+    // (`N = 4` only: [`integrate`] has sent any other shot of such a beam elsewhere.)
+    let law = (N == 4 && !model.is_plain()).then(|| Law::of(model));
+    let mut aux = Aux::default();
     let weight = |i: usize, value: f64| match i {
         1 => inv_m * inv_tol,
         // The sensitivities only steer Newton and the stability test: their looser,
@@ -137,11 +173,34 @@ fn integrate_any<const N: usize>(
         if steps >= settings.max_steps {
             return Err(ShotFailure::StepBudget);
         }
-        meter.tick_weighted(STEP_WEIGHT)?;
+        meter.tick_weighted(if law.is_some() {
+            FULL_STEP_WEIGHT
+        } else {
+            STEP_WEIGHT
+        })?;
         for i in 0..N {
             z[i][0] = u[i];
         }
-        coefficients::<N>(&mut z, &mut sn, &mut cs, &mut kpsi, p, c, ax, ay);
+        match law {
+            None => coefficients::<N>(&mut z, &mut sn, &mut cs, &mut kpsi, p, c, ax, ay),
+            Some(law) => {
+                // The law's own strain at the step's start (or its limit).
+                let (s0, c0) = crate::trig::sin_cos(u[0]);
+                let (eps0, _, _) = model
+                    .axial_strain(ax * c0 + ay * s0)
+                    .map_err(ShotFailure::Material)?;
+                sn[0] = s0;
+                cs[0] = c0;
+                // The state alone (`applies`): its four rows, so that the series are built
+                // once, not once per state size. (Every state has them.)
+                let Some(state) = z.first_chunk_mut::<4>() else {
+                    return Err(ShotFailure::NonFinite);
+                };
+                coefficients_full(
+                    state, &mut sn, &mut cs, &mut kpsi, &mut aux, p, law, eps0, ax, ay,
+                );
+            }
+        }
         // The step from the last two coefficients, each scaled by its tolerance: the
         // truncation error is about the first neglected term.
         let (mut e_last, mut e_prev) = (0.0_f64, 0.0_f64);
@@ -398,6 +457,238 @@ fn coefficients<const N: usize>(
             z[b + 3][k + 1] = cp * inv;
         }
     }
+}
+
+/// The constants of the shearing, stretching, shrinking beam's series.
+#[derive(Debug, Clone, Copy)]
+struct Law {
+    /// The bending compliance before the shrink, `E / E_eff`.
+    bend: f64,
+    /// The axial compliance `c_e E / E_eff`; 0 without extension.
+    axial: f64,
+    /// Poisson's ratio where the section shrinks (Poisson on and `nu > 0`), else 0.
+    nu: f64,
+    /// The shear compliance; 0 without shear.
+    shear: f64,
+}
+
+impl Law {
+    fn of(model: &BeamModel) -> Law {
+        let e = model.effects;
+        let bend = model.plate_compliance();
+        Law {
+            bend,
+            axial: if e.extension {
+                model.axial_compliance() * bend
+            } else {
+                0.0
+            },
+            nu: if e.extension && e.poisson {
+                model.nu
+            } else {
+                0.0
+            },
+            shear: if e.shear {
+                model.shear_compliance()
+            } else {
+                0.0
+            },
+        }
+    }
+}
+
+/// The series of the other effects: the strain `e`, the shrink `p` and its square `p2`, `w2 =
+/// 1 / p^2`, `w4 = 1 / p^4`, the shear force `q` and strain `g`.
+struct Aux {
+    e: [f64; MAX_ORDER + 1],
+    p: [f64; MAX_ORDER + 1],
+    p2: [f64; MAX_ORDER + 1],
+    w2: [f64; MAX_ORDER + 1],
+    w4: [f64; MAX_ORDER + 1],
+    q: [f64; MAX_ORDER + 1],
+    g: [f64; MAX_ORDER + 1],
+}
+
+impl Default for Aux {
+    fn default() -> Aux {
+        let zero = [0.0; MAX_ORDER + 1];
+        Aux {
+            e: zero,
+            p: zero,
+            p2: zero,
+            w2: zero,
+            w4: zero,
+            q: zero,
+            g: zero,
+        }
+    }
+}
+
+/// [`coefficients`] of the shearing, stretching, shrinking beam's state (`N = 4`; see the
+/// module's notes), its strain at the start `eps0` given by the law, and `sin psi`, `cos psi`
+/// there in `sn[0]`, `cs[0]`.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn coefficients_full(
+    z: &mut [[f64; MAX_ORDER + 1]; 4],
+    sn: &mut [f64; MAX_ORDER + 1],
+    cs: &mut [f64; MAX_ORDER + 1],
+    kpsi: &mut [f64; MAX_ORDER + 1],
+    aux: &mut Aux,
+    p: usize,
+    law: Law,
+    eps0: f64,
+    ax: f64,
+    ay: f64,
+) {
+    let Aux {
+        e,
+        p: pp,
+        p2,
+        w2,
+        w4,
+        q,
+        g,
+    } = aux;
+    let shrink = law.nu != 0.0;
+    // The order-k coefficient of `eps p^2` is `eps_k` over this, plus known terms.
+    let mut inv_slope = 1.0;
+    if !shrink {
+        // `1 / p^4` is 1.
+        w4[0] = 1.0;
+    }
+    // One function per order (`K`), each called while below `p`: every sum's length is then
+    // a constant, its loop unrolled, where loops of a different length at every order would
+    // branch and mispredict their ends.
+    macro_rules! orders {
+        ($($k:literal)*) => {$(
+            if $k < p {
+                order_full::<$k>(z, sn, cs, kpsi, e, pp, p2, w2, w4, q, g, law, eps0, ax, ay, &mut inv_slope);
+            }
+        )*};
+    }
+    const _: () = assert!(MAX_ORDER == 24);
+    orders!(0 1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16 17 18 19 20 21 22 23);
+}
+
+/// Order `K` of [`coefficients_full`]: the coefficients of order `K` of the auxiliary series
+/// and `K + 1` of the state. The sums below pair order j of one series with order k - j of
+/// another: a slice and a reversed slice zipped (no bounds checks inside the loops), several
+/// sums to a loop (independent chains of additions, which the processor overlaps).
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn order_full<const K: usize>(
+    z: &mut [[f64; MAX_ORDER + 1]; 4],
+    sn: &mut [f64; MAX_ORDER + 1],
+    cs: &mut [f64; MAX_ORDER + 1],
+    kpsi: &mut [f64; MAX_ORDER + 1],
+    e: &mut [f64; MAX_ORDER + 1],
+    pp: &mut [f64; MAX_ORDER + 1],
+    p2: &mut [f64; MAX_ORDER + 1],
+    w2: &mut [f64; MAX_ORDER + 1],
+    w4: &mut [f64; MAX_ORDER + 1],
+    q: &mut [f64; MAX_ORDER + 1],
+    g: &mut [f64; MAX_ORDER + 1],
+    law: Law,
+    eps0: f64,
+    ax: f64,
+    ay: f64,
+    inv_slope: &mut f64,
+) {
+    let (stretch, shrink) = (law.axial != 0.0, law.nu != 0.0);
+    let nu = law.nu;
+    let k = K;
+    if k > 0 {
+        kpsi[k] = k as f64 * z[0][k];
+        let (mut ss, mut cc) = (0.0, 0.0);
+        for (kp, (c, s)) in kpsi[1..=k]
+            .iter()
+            .zip(cs[..k].iter().rev().zip(sn[..k].iter().rev()))
+        {
+            ss += kp * c;
+            cc += kp * s;
+        }
+        sn[k] = ss * INV[k];
+        cs[k] = -cc * INV[k];
+    }
+    let (s_k, c_k) = (sn[k], cs[k]);
+    let n_k = ax * c_k + ay * s_k;
+    let q_k = -ax * s_k + ay * c_k;
+    q[k] = q_k;
+    if stretch {
+        if k == 0 {
+            e[0] = eps0;
+            if shrink {
+                pp[0] = 1.0 - nu * eps0;
+                p2[0] = pp[0] * pp[0];
+                w2[0] = 1.0 / p2[0];
+                w4[0] = w2[0] * w2[0];
+                *inv_slope = 1.0 / (pp[0] * (1.0 - 3.0 * nu * eps0));
+            }
+        } else if shrink {
+            // Order k of `eps p^2 = c_e N`, solved for its one unknown `eps_k`.
+            let (mut t, mut known) = (0.0, 0.0);
+            for ((pj, ej), (pk, p2k)) in pp[1..k]
+                .iter()
+                .zip(&e[1..k])
+                .zip(pp[1..k].iter().rev().zip(p2[1..k].iter().rev()))
+            {
+                t += pj * pk;
+                known += ej * p2k;
+            }
+            e[k] = (law.axial * n_k - e[0] * t - known) * *inv_slope;
+            pp[k] = -nu * e[k];
+            p2[k] = 2.0 * pp[0] * pp[k] + t;
+            // 1 / p^2 by the division recurrence.
+            let mut sum = 0.0;
+            for (a, b) in p2[1..=k].iter().zip(w2[..k].iter().rev()) {
+                sum += a * b;
+            }
+            w2[k] = -sum * w2[0];
+        } else {
+            e[k] = law.axial * n_k;
+        }
+    }
+    // 1 / p^4, and the shear strain `c_s Q / p^2`: the terms with the newest `w2_k` added
+    // last, so that the rest are summed while it is computed.
+    if shrink {
+        if k > 0 {
+            let (mut sq, mut qw) = (0.0, 0.0);
+            for ((wj, qj), wk) in w2[1..k].iter().zip(&q[1..k]).zip(w2[1..k].iter().rev()) {
+                sq += wj * wk;
+                qw += qj * wk;
+            }
+            w4[k] = sq + 2.0 * w2[0] * w2[k];
+            g[k] = law.shear * (qw + q[k] * w2[0] + q[0] * w2[k]);
+        } else {
+            g[0] = law.shear * q[0] * w2[0];
+        }
+    } else {
+        g[k] = law.shear * q_k;
+    }
+    // The strain's and the shear strain's products with S and C, and the bending
+    // compliance's with M: one pass.
+    let (mut es, mut ec, mut gs, mut gc, mut bm) = (0.0, 0.0, 0.0, 0.0, 0.0);
+    for (((ej, gj), wj), ((s, c), m)) in e[..=k].iter().zip(&g[..=k]).zip(&w4[..=k]).zip(
+        sn[..=k]
+            .iter()
+            .rev()
+            .zip(cs[..=k].iter().rev())
+            .zip(z[1][..=k].iter().rev()),
+    ) {
+        es += ej * s;
+        ec += ej * c;
+        gs += gj * s;
+        gc += gj * c;
+        bm += wj * m;
+    }
+    let bm = law.bend * bm;
+    let inv = INV[k + 1];
+    z[0][k + 1] = bm * inv;
+    // (eps Q) = -ax (eps S) + ay (eps C), (gamma N) = ax (gamma C) + ay (gamma S).
+    z[1][k + 1] = (-(q_k + (-ax * es + ay * ec)) + (ax * gc + ay * gs)) * inv;
+    z[2][k + 1] = (c_k + ec - gs) * inv;
+    z[3][k + 1] = (s_k + es + gc) * inv;
 }
 
 /// `1 / k` for every order (`INV[0]` unused).

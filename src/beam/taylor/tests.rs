@@ -2,6 +2,7 @@
 //! Dormand-Prince shots' samples, and its two builds against each other.
 
 use super::*;
+use crate::beam::model::MaterialLimit;
 use crate::beam::shoot::rhs;
 use crate::beam::{BeamModel, Effects};
 use crate::cancel::CancelToken;
@@ -39,12 +40,15 @@ fn check<const N: usize>(model: &BeamModel, force: TipForce, segment: Segment) {
     let (u, steps) =
         integrate::<N>(model, force, segment, settings(1e-12), None, &mut meter).unwrap();
     let mut u0: State<N> = [0.0; N];
-    u0[0] = segment.psi;
-    u0[1] = segment.moment;
-    u0[5] = 1.0;
-    if N == 12 {
-        u0[8] = 1.0;
+    if N > 4 {
+        u0[0] = segment.psi;
+        u0[1] = segment.moment;
+        u0[5] = 1.0;
+        if N == 12 {
+            u0[8] = 1.0;
+        }
     }
+    let u0: State<N> = if N > 4 { u0 } else { segment.initial_state() };
     let reference = rk4(model, force, u0, segment.s_end - segment.s_start);
     for i in 0..N {
         assert!(
@@ -262,4 +266,207 @@ fn both_builds_give_the_same_bits() {
         }
     }
     assert_eq!(compared, 96);
+}
+
+/// Beams with the other effects, whose state alone the series integrate: a stubby shearing,
+/// stretching beam; a stubby rubber beam (Poisson's shrink at nu = 0.45); a slender steel one
+/// with everything; and a wide plate with everything (plane strain too).
+fn full_models() -> [BeamModel; 4] {
+    let effects = |poisson| Effects {
+        shear: true,
+        extension: true,
+        poisson,
+        plane_strain: false,
+    };
+    [
+        BeamModel::new(3.0, 0.3, None, effects(false)).unwrap(),
+        BeamModel::new(2.5, 0.45, None, effects(true)).unwrap(),
+        BeamModel::new(100.0, 0.3, None, effects(true)).unwrap(),
+        BeamModel::new(8.0, 0.3, None, Effects::ALL.with_plane_strain(true)).unwrap(),
+    ]
+}
+
+/// The loads of the full models' checks: tension, compression and bending, up to a strain of
+/// about 0.2 on the stubby rubber beam (its law necks near 0.3 of `E A0`).
+const FULL_LOADS: [(f64, f64, f64); 5] = [
+    (0.0, 3.0, 1.2),
+    (-7.0, 7.0, -2.5),
+    (2.0, -1.0, 6.0),
+    (0.0, 0.0, 2.0),
+    (1.0, 0.5, -0.5),
+];
+
+#[test]
+fn series_of_the_other_effects_match_a_fine_runge_kutta_reference() {
+    for model in &full_models() {
+        for &(ax, ay, m0) in &FULL_LOADS {
+            let force = TipForce {
+                alpha_x: ax,
+                alpha_y: ay,
+            };
+            let (whole, inner) = whole_and_inner(m0);
+            check::<4>(model, force, whole);
+            check::<4>(model, force, inner);
+        }
+    }
+}
+
+/// The full models' samples against the Dormand-Prince shot's, both at tol 1e-12, to 1e-10;
+/// and their two builds bit for bit.
+#[test]
+fn series_of_the_other_effects_sample_as_the_runge_kutta_shots_do() {
+    let cancel = CancelToken::new();
+    let mut compared = 0;
+    for model in &full_models() {
+        for &(ax, ay, m0) in &FULL_LOADS {
+            let force = TipForce {
+                alpha_x: ax,
+                alpha_y: ay,
+            };
+            let (whole, inner) = whole_and_inner(m0);
+            for segment in [whole, inner] {
+                let run = |how: u8| {
+                    let mut points = Vec::new();
+                    let shape = Some(Samples {
+                        points: &mut points,
+                        count: 41,
+                        sensitivities: None,
+                    });
+                    let mut meter = Meter::new(u64::MAX / 4, model, &cancel);
+                    let settings = settings(1e-12);
+                    let end = match how {
+                        0 => integrate_any::<4>(model, force, segment, settings, shape, &mut meter),
+                        #[cfg(target_arch = "x86_64")]
+                        1 if crate::cpu::wide() => {
+                            // SAFETY: `cpu::wide` said this processor has AVX2 and FMA.
+                            unsafe {
+                                integrate_wide::<4>(
+                                    model, force, segment, settings, shape, &mut meter,
+                                )
+                            }
+                        }
+                        1 => integrate_any::<4>(model, force, segment, settings, shape, &mut meter),
+                        _ => crate::beam::dopri::integrate::<4>(
+                            model, force, segment, settings, shape, &mut meter,
+                        ),
+                    }
+                    .unwrap();
+                    (end, points)
+                };
+                let (end, points) = run(0);
+                let (wide_end, wide_points) = run(1);
+                let (_, ref_points) = run(2);
+                assert_eq!(end.0.map(f64::to_bits), wide_end.0.map(f64::to_bits));
+                assert_eq!(points, wide_points);
+                assert_eq!(points.len(), ref_points.len());
+                for (a, b) in points.iter().zip(&ref_points) {
+                    assert_eq!(a.s, b.s);
+                    let diff = (a.x - b.x)
+                        .abs()
+                        .max((a.y - b.y).abs())
+                        .max((a.psi - b.psi).abs());
+                    assert!(
+                        diff <= 1e-10,
+                        "{model:?}: sample at s = {}: {a:?} vs {b:?}",
+                        a.s
+                    );
+                    compared += 1;
+                }
+            }
+        }
+    }
+    // Per model and load, the whole beam's 41 samples and the inner segment's 20.
+    assert_eq!(compared, 4 * 5 * 61);
+}
+
+/// Forces the Poisson law cannot carry: a tension that necks the section once the beam has
+/// turned towards it (`0.335 E A0` against the law's peak `4 / (27 nu) E A0 = 0.329 E A0`,
+/// `0.3 E A0` at the clamp), and a compression that crushes it at the clamp; the series name
+/// them as the law does.
+#[test]
+fn the_series_name_the_law_s_limits() {
+    let model = BeamModel::new(2.5, 0.45, None, Effects::ALL).unwrap();
+    let cancel = CancelToken::new();
+    let c_e = model.axial_compliance();
+    let shoot = |ax: f64, ay: f64, m0: f64| {
+        let force = TipForce {
+            alpha_x: ax / c_e,
+            alpha_y: ay / c_e,
+        };
+        let mut meter = Meter::new(u64::MAX / 4, &model, &cancel);
+        let segment = Segment::from_clamp(m0);
+        integrate::<4>(&model, force, segment, settings(1e-9), None, &mut meter).map(|(u, _)| u)
+    };
+    let necked = shoot(0.3, 0.15, 2.0);
+    assert!(
+        matches!(
+            necked,
+            Err(ShotFailure::Material(MaterialLimit::Necked { .. }))
+        ),
+        "{necked:?}"
+    );
+    // Without the pull's turn the same beam carries it.
+    assert!(shoot(0.3, 0.0, 0.0).is_ok());
+    let crushed = shoot(-2.5, 0.0, 0.0);
+    assert!(
+        matches!(
+            crushed,
+            Err(ShotFailure::Material(MaterialLimit::Crushed { .. }))
+        ),
+        "{crushed:?}"
+    );
+}
+
+/// A shot with sensitivities of a beam with the other effects (the Runge-Kutta pair's) ends
+/// where the same shot by values (the series') ends, to the bit, alone or in a pair: a
+/// mechanism's Newton iterate checked by values is checked against the equations its
+/// Jacobian's residual solved. The sensitivities are the pair's own.
+#[test]
+fn a_shot_with_sensitivities_ends_where_the_series_do() {
+    let cancel = CancelToken::new();
+    for model in &full_models() {
+        for &(ax, ay, m0) in &FULL_LOADS {
+            let force = TipForce {
+                alpha_x: ax,
+                alpha_y: ay,
+            };
+            let settings = settings(1e-9);
+            let mut meter = Meter::new(u64::MAX / 4, model, &cancel);
+            let shoot = crate::beam::shot::root_shot::<16>;
+            let (full, _) = shoot(model, force, m0, settings, None, &mut meter).unwrap();
+            let (values, _) =
+                crate::beam::shot::root_shot::<4>(model, force, m0, settings, None, &mut meter)
+                    .unwrap();
+            assert_eq!(full[..4], values[..], "{model:?}, loads ({ax}, {ay}, {m0})");
+            let pair = |m: f64| (model, force, m, settings, None);
+            let mut other = Meter::new(u64::MAX / 4, model, &cancel);
+            let [a, b] = crate::beam::shot::root_shot_pair::<16>(
+                [pair(m0), pair(0.5 * m0)],
+                [&mut meter, &mut other],
+            );
+            let (a, b) = (a.unwrap().0, b.unwrap().0);
+            let (half, _) = crate::beam::shot::root_shot::<4>(
+                model,
+                force,
+                0.5 * m0,
+                settings,
+                None,
+                &mut meter,
+            )
+            .unwrap();
+            assert_eq!(a[..4], values[..]);
+            assert_eq!(b[..4], half[..]);
+            // The sensitivities are the Runge-Kutta pair's.
+            let (rk, _) = crate::beam::dopri::integrate::<16>(
+                model,
+                force,
+                Segment::from_clamp(m0),
+                settings,
+                None,
+                &mut meter,
+            )
+            .unwrap();
+            assert_eq!(full[4..], rk[4..]);
+        }
+    }
 }
