@@ -39,7 +39,7 @@
 //! `eps p^2 = c_e N`, linear in it (`eps_k p_0 (1 - 3 nu eps_0)` plus known terms); `1 / p^2`
 //! follows by the division recurrence, and the rest are products. Every product of the
 //! strain or `gamma` with `N` or `Q` is a combination of their products with `S` and `C`, so
-//! a step needs four convolutions beyond the elastica's, and five more with Poisson's shrink.
+//! a step needs four convolutions beyond the elastica's, and six more with Poisson's shrink.
 //! The material law's limits (necking, crushing) are checked at each step's start by the
 //! law itself: its strain there is the series' first coefficient.
 //!
