@@ -151,6 +151,16 @@ fn taylor_samples_match_the_runge_kutta_shots() {
     }
 }
 
+/// The loads of the checks against references: tension, compression and bending, up to a
+/// strain of about 0.2 on the stubby rubber beam (its law necks near 0.3 of `E A0`).
+const LOADS: [(f64, f64, f64); 5] = [
+    (0.0, 3.0, 1.2),
+    (-7.0, 7.0, -2.5),
+    (2.0, -1.0, 6.0),
+    (0.0, 0.0, 2.0),
+    (1.0, 0.5, -0.5),
+];
+
 /// The two plain-bending models: the elastica and a plate (plane strain, L/t = 30).
 fn plain_models() -> [BeamModel; 2] {
     [
@@ -175,14 +185,8 @@ fn whole_and_inner(m0: f64) -> (Segment, Segment) {
 
 #[test]
 fn taylor_shots_match_a_fine_runge_kutta_reference() {
-    let loads = [
-        (0.0, 3.0, 1.2),
-        (-7.0, 7.0, -2.5),
-        (2.0, -1.0, 6.0),
-        (0.0, 0.0, 2.0),
-    ];
     for model in &plain_models() {
-        for &(ax, ay, m0) in &loads {
+        for &(ax, ay, m0) in &LOADS {
             let force = TipForce {
                 alpha_x: ax,
                 alpha_y: ay,
@@ -286,20 +290,10 @@ fn full_models() -> [BeamModel; 4] {
     ]
 }
 
-/// The loads of the full models' checks: tension, compression and bending, up to a strain of
-/// about 0.2 on the stubby rubber beam (its law necks near 0.3 of `E A0`).
-const FULL_LOADS: [(f64, f64, f64); 5] = [
-    (0.0, 3.0, 1.2),
-    (-7.0, 7.0, -2.5),
-    (2.0, -1.0, 6.0),
-    (0.0, 0.0, 2.0),
-    (1.0, 0.5, -0.5),
-];
-
 #[test]
 fn series_of_the_other_effects_match_a_fine_runge_kutta_reference() {
     for model in &full_models() {
-        for &(ax, ay, m0) in &FULL_LOADS {
+        for &(ax, ay, m0) in &LOADS {
             let force = TipForce {
                 alpha_x: ax,
                 alpha_y: ay,
@@ -318,7 +312,7 @@ fn series_of_the_other_effects_sample_as_the_runge_kutta_shots_do() {
     let cancel = CancelToken::new();
     let mut compared = 0;
     for model in &full_models() {
-        for &(ax, ay, m0) in &FULL_LOADS {
+        for &(ax, ay, m0) in &LOADS {
             let force = TipForce {
                 alpha_x: ax,
                 alpha_y: ay,
@@ -425,7 +419,7 @@ fn the_series_name_the_law_s_limits() {
 fn a_shot_with_sensitivities_ends_where_the_series_do() {
     let cancel = CancelToken::new();
     for model in &full_models() {
-        for &(ax, ay, m0) in &FULL_LOADS {
+        for &(ax, ay, m0) in &LOADS {
             let force = TipForce {
                 alpha_x: ax,
                 alpha_y: ay,
