@@ -18,6 +18,14 @@ impl CancelToken {
         CancelToken::default()
     }
 
+    /// A token nobody cancels, for work short enough to need none (one shot, bounded by its
+    /// effort budget): it spares each such shot the allocation of a fresh token. Never call
+    /// [`CancelToken::cancel`] on it.
+    pub(crate) fn never() -> &'static CancelToken {
+        static NEVER: std::sync::LazyLock<CancelToken> = std::sync::LazyLock::new(CancelToken::new);
+        &NEVER
+    }
+
     /// Asks every holder of a clone of this token to stop.
     pub fn cancel(&self) {
         self.0.store(true, Ordering::Relaxed);

@@ -65,18 +65,32 @@ pub(crate) fn root_shot<const N: usize>(
 
 /// Two beams shot from their clamps, each as [`root_shot`] would shoot it alone (the same
 /// steps and numbers), integrated side by side where both take the Dormand-Prince pair
-/// ([`super::dopri::integrate_pair`]); a Taylor-series beam is shot on its own.
+/// ([`super::dopri::integrate_pair`]) or both the Taylor series
+/// ([`super::taylor::integrate_pair`]); one of each are shot one after the other.
 pub(crate) fn root_shot_pair<const N: usize>(
     shots: [(&BeamModel, TipForce, f64, ShotSettings, Option<Samples<'_>>); 2],
     meters: [&mut Meter<'_>; 2],
 ) -> [Result<(State<N>, u32), ShotFailure>; 2] {
     let [(ma, fa, m0a, sa, sha), (mb, fb, m0b, sb, shb)] = shots;
     let [meter_a, meter_b] = meters;
-    if super::taylor::applies::<N>(ma) || super::taylor::applies::<N>(mb) {
-        return [
-            root_shot::<N>(ma, fa, m0a, sa, sha, meter_a),
-            root_shot::<N>(mb, fb, m0b, sb, shb, meter_b),
-        ];
+    match (
+        super::taylor::applies::<N>(ma),
+        super::taylor::applies::<N>(mb),
+    ) {
+        (true, true) => {
+            let (ga, gb) = (Segment::from_clamp(m0a), Segment::from_clamp(m0b));
+            return super::taylor::integrate_pair::<N>(
+                [(ma, fa, ga, sa, sha), (mb, fb, gb, sb, shb)],
+                [meter_a, meter_b],
+            );
+        }
+        (false, false) => {}
+        _ => {
+            return [
+                root_shot::<N>(ma, fa, m0a, sa, sha, meter_a),
+                root_shot::<N>(mb, fb, m0b, sb, shb, meter_b),
+            ]
+        }
     }
     let spec = |model, force, moment, settings, shape| ShotSpec {
         model,

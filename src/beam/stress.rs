@@ -333,8 +333,8 @@ impl BeamSolver {
             alpha_x: load.alpha_x,
             alpha_y: load.alpha_y,
         };
-        let cancel = CancelToken::new();
-        let mut meter = Meter::new(self.budget.rk_steps, model, &cancel);
+        let cancel = CancelToken::never();
+        let mut meter = Meter::new(self.budget.rk_steps, model, cancel);
         let settings = self.settings(load);
         let mut at = |s: f64| -> Option<(f64, f64)> {
             if s <= left.s {

@@ -29,7 +29,7 @@ use crate::beam::{BeamSolver, Load, Resolution, ShapePoint, Stress, StressScratc
 use crate::scene::Mechanism;
 
 use super::geometry::Geometry;
-use super::solve::{FlexEval, FlexureModel, Kind, MechSolver};
+use super::solve::{shape_storage, FlexEval, FlexureModel, Kind, MechSolver};
 use super::{MechCase, MechError, TipFailure};
 
 thread_local! {
@@ -71,7 +71,7 @@ impl FlexureModel for BeamFlexure {
         // The shot samples its centre line: a check that converges is the solved shape,
         // whose stress the case reports (`stress`), for a few interpolations per step
         // instead of another shot.
-        let mut shape = Vec::new();
+        let mut shape = shape_storage();
         let tip = self
             .solver
             .shoot_root_tip(w[0], w[1], w[2], Some(&mut shape))?;
@@ -94,7 +94,7 @@ impl FlexureModel for BeamFlexure {
                 ([a, b], [(wa, _), (wb, _)]) => {
                     if kind != Kind::Values {
                         // With the variational equations; the shapes where asked for.
-                        let (mut sa, mut sb) = (Vec::new(), Vec::new());
+                        let (mut sa, mut sb) = (shape_storage(), shape_storage());
                         let sampled = kind == Kind::Shaped;
                         let [ra, rb] = shoot_root_pair([
                             (&a.solver, *wa, sampled.then_some(&mut sa)),
@@ -103,7 +103,7 @@ impl FlexureModel for BeamFlexure {
                         out.push(ra.map(|s| full_eval(&s, sa)).map_err(TipFailure::from));
                         out.push(rb.map(|s| full_eval(&s, sb)).map_err(TipFailure::from));
                     } else {
-                        let (mut sa, mut sb) = (Vec::new(), Vec::new());
+                        let (mut sa, mut sb) = (shape_storage(), shape_storage());
                         let [ra, rb] = shoot_root_tip_pair([
                             (&a.solver, *wa, Some(&mut sa)),
                             (&b.solver, *wb, Some(&mut sb)),
@@ -167,7 +167,7 @@ fn full_eval(shot: &RootShot, shape: Vec<ShapePoint>) -> FlexEval {
 impl BeamFlexure {
     /// [`FlexureModel::eval`], sampling the centre line where `shaped`.
     fn full(&self, w: [f64; 3], shaped: bool) -> Result<FlexEval, TipFailure> {
-        let mut shape = Vec::new();
+        let mut shape = shape_storage();
         let shot =
             self.solver
                 .shoot_root_sampled(w[0], w[1], w[2], shaped.then_some(&mut shape))?;

@@ -384,7 +384,12 @@ impl<M: FlexureModel> MechSolver<M> {
                         let before = std::mem::replace(&mut sys, st);
                         jacobians.clear();
                         if by_values {
-                            jacobians.extend(before.evals.into_iter().map(|e| e.jacobian));
+                            jacobians.extend(
+                                before
+                                    .evals
+                                    .into_iter()
+                                    .map(|mut e| std::mem::take(&mut e.jacobian)),
+                            );
                         }
                         x = trial;
                         break;

@@ -43,6 +43,17 @@
 //! The material law's limits (necking, crushing) are checked at each step's start by the
 //! law itself: its strain there is the series' first coefficient.
 //!
+//! ## Two shots side by side
+//!
+//! A mechanism evaluates its flexures two by two ([`integrate_pair`]). Each order of the full
+//! beam's series waits on the order before through a chain of about twenty dependent
+//! operations (`psi`'s order k gives `sin psi`'s, then the axial force's, the strain's, the
+//! shrink's, `1 / p^4`'s and `psi`'s order k + 1), which leaves most of the processor idle.
+//! So two shots step together, and where their series are of one kind (the same effects
+//! carried, the same order) they are built in the two lanes of one SSE2 register
+//! ([`num::Two`]): the same operations, one instruction for both. Each lane's arithmetic is
+//! the scalar build's, so each shot comes out as it would alone, to the bit (a test).
+//!
 //! The tolerances mean what they mean for the Runge-Kutta pair of [`super::shoot`]: the
 //! local error of a step, absolute on `psi, x, y`, relative to the load on `M`, and the
 //! looser relative `variational_tol` on the sensitivities.
@@ -58,7 +69,9 @@ use super::model::BeamModel;
 use super::shoot::{Meter, Samples, Segment, ShotFailure, ShotSettings, State, TipForce};
 use super::ShapePoint;
 
+mod num;
 mod series;
+use num::Two;
 use series::{coefficients, coefficients_full, Aux, Law};
 
 /// The highest order a step may use.
@@ -139,71 +152,293 @@ fn integrate_any<const N: usize>(
     force: TipForce,
     segment: Segment,
     settings: ShotSettings,
-    mut shape: Option<Samples<'_>>,
+    shape: Option<Samples<'_>>,
     meter: &mut Meter<'_>,
 ) -> Result<(State<N>, u32), ShotFailure> {
-    let mut u: State<N> = segment.initial_state();
-    let p = order_for(settings.tol);
-    let c = model.plate_compliance();
-    let (ax, ay) = (force.alpha_x, force.alpha_y);
-    let inv_tol = 1.0 / settings.tol;
-    let inv_var_tol = 1.0 / settings.variational_tol;
-    let inv_m = 1.0 / settings.moment_scale.max(1.0);
-    let mut s = segment.s_start;
-    let s_end = segment.s_end;
+    let mut run = Run::<N>::new(model, force, segment, settings, shape);
+    run.run_to_end(meter)?;
+    run.end()
+}
 
-    let mut next_sample = shape.as_mut().map_or(0, |samples| samples.start(&segment));
+/// Two shots integrated side by side, each as [`integrate`] would integrate it alone (the
+/// same steps and bits): each step's series of both are built order by order, interleaved,
+/// so that the processor overlaps their chains of dependent arithmetic (each order of the
+/// full beam's series waits on the one before, and one shot alone leaves most of the
+/// processor idle). A shot that ends first leaves the other to go on alone.
+pub(crate) fn integrate_pair<const N: usize>(
+    shots: [PairShot<'_, '_>; 2],
+    meters: [&mut Meter<'_>; 2],
+) -> [Result<(State<N>, u32), ShotFailure>; 2] {
+    #[cfg(target_arch = "x86_64")]
+    if crate::cpu::wide() {
+        // SAFETY: `wide` has just checked that this processor has AVX2 and FMA, the only
+        // features `integrate_pair_wide` enables.
+        return unsafe { integrate_pair_wide::<N>(shots, meters) };
+    }
+    integrate_pair_any::<N>(shots, meters)
+}
 
-    // Taylor coefficients: z[i][k] of state component i, and those of sin psi, cos psi.
-    let mut z = [[0.0_f64; MAX_ORDER + 1]; N];
-    let mut sn = [0.0_f64; MAX_ORDER + 1];
-    let mut cs = [0.0_f64; MAX_ORDER + 1];
-    // k psi_k, the factor of the sine and cosine recurrences.
-    let mut kpsi = [0.0_f64; MAX_ORDER + 1];
-    // The other effects' series (zero where an effect is off).
-    // (`N = 4` only: [`integrate`] has sent any other shot of such a beam elsewhere.)
-    let law = (N == 4 && !model.is_plain()).then(|| Law::of(model));
-    let mut aux = Aux::default();
-    let weight = |i: usize, value: f64| match i {
-        1 => inv_m * inv_tol,
-        // The sensitivities only steer Newton and the stability test: their looser,
-        // relative tolerance, as in the Runge-Kutta shot.
-        _ if i >= 4 => inv_var_tol / (1.0 + value.abs()),
-        _ => inv_tol,
+/// One shot of a pair: its beam, force, segment, settings and samples.
+pub(crate) type PairShot<'m, 's> = (
+    &'m BeamModel,
+    TipForce,
+    Segment,
+    ShotSettings,
+    Option<Samples<'s>>,
+);
+
+/// [`integrate_pair`] compiled with AVX2 and FMA.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+fn integrate_pair_wide<const N: usize>(
+    shots: [PairShot<'_, '_>; 2],
+    meters: [&mut Meter<'_>; 2],
+) -> [Result<(State<N>, u32), ShotFailure>; 2] {
+    integrate_pair_any::<N>(shots, meters)
+}
+
+/// [`integrate_pair`]'s body, inlined into each of its builds.
+#[inline(always)]
+fn integrate_pair_any<const N: usize>(
+    shots: [PairShot<'_, '_>; 2],
+    meters: [&mut Meter<'_>; 2],
+) -> [Result<(State<N>, u32), ShotFailure>; 2] {
+    let [(ma, fa, ga, sa, sha), (mb, fb, gb, sb, shb)] = shots;
+    let [meter_a, meter_b] = meters;
+    let mut a = Run::<N>::new(ma, fa, ga, sa, sha);
+    let mut b = Run::<N>::new(mb, fb, gb, sb, shb);
+    // Side by side while both go on with series of one kind and order.
+    let together = a.p == b.p && a.law.is_some() == b.law.is_some();
+    let (mut ra, mut rb) = (Ok(()), Ok(()));
+    // The pair's series, lane by lane.
+    let mut aux = Aux::<Two>::default();
+    if together {
+        loop {
+            match (a.begin(meter_a), b.begin(meter_b)) {
+                (Ok(true), Ok(true)) => {
+                    a.coefficients_with(&mut b, &mut aux);
+                    ra = a.finish();
+                    rb = b.finish();
+                }
+                // One has ended (or failed): the other takes the step it began alone.
+                (ga, gb) => {
+                    ra = ga.and_then(|go| a.step_begun(go));
+                    rb = gb.and_then(|go| b.step_begun(go));
+                }
+            }
+            if a.s >= a.s_end || b.s >= b.s_end || ra.is_err() || rb.is_err() {
+                break;
+            }
+        }
+    }
+    let finish = |r: Result<(), ShotFailure>, run: &mut Run<'_, '_, N>, meter| {
+        r?;
+        run.run_to_end(meter)?;
+        run.end()
     };
-    let mut steps = 0u32;
-    while s < s_end {
-        if steps >= settings.max_steps {
+    [finish(ra, &mut a, meter_a), finish(rb, &mut b, meter_b)]
+}
+
+/// One Taylor shot in progress: the integrator's whole state between steps.
+struct Run<'m, 's, const N: usize> {
+    model: &'m BeamModel,
+    force: TipForce,
+    settings: ShotSettings,
+    u: State<N>,
+    s: f64,
+    s_end: f64,
+    origin: (f64, f64),
+    /// The series' order.
+    p: usize,
+    inv_tol: f64,
+    inv_var_tol: f64,
+    inv_m: f64,
+    shape: Option<Samples<'s>>,
+    next_sample: usize,
+    /// Taylor coefficients: z[i][k] of state component i, and those of sin psi, cos psi.
+    z: [[f64; MAX_ORDER + 1]; N],
+    sn: [f64; MAX_ORDER + 1],
+    cs: [f64; MAX_ORDER + 1],
+    /// k psi_k, the factor of the sine and cosine recurrences.
+    kpsi: [f64; MAX_ORDER + 1],
+    /// The other effects' constants, `None` for the plain beam (`N = 4` only: [`integrate`]
+    /// has sent any other shot of such a beam elsewhere), their series, and the step's
+    /// start as they need it: the law's strain, `sin psi` and `cos psi`.
+    law: Option<Law>,
+    aux: Option<Aux<f64>>,
+    start: (f64, (f64, f64)),
+    steps: u32,
+}
+
+impl<'m, 's, const N: usize> Run<'m, 's, N> {
+    #[inline(always)]
+    fn new(
+        model: &'m BeamModel,
+        force: TipForce,
+        segment: Segment,
+        settings: ShotSettings,
+        mut shape: Option<Samples<'s>>,
+    ) -> Self {
+        let next_sample = shape.as_mut().map_or(0, |samples| samples.start(&segment));
+        Run {
+            model,
+            force,
+            settings,
+            u: segment.initial_state(),
+            s: segment.s_start,
+            s_end: segment.s_end,
+            origin: segment.origin,
+            p: order_for(settings.tol),
+            inv_tol: 1.0 / settings.tol,
+            inv_var_tol: 1.0 / settings.variational_tol,
+            inv_m: 1.0 / settings.moment_scale.max(1.0),
+            shape,
+            next_sample,
+            z: [[0.0; MAX_ORDER + 1]; N],
+            sn: [0.0; MAX_ORDER + 1],
+            cs: [0.0; MAX_ORDER + 1],
+            kpsi: [0.0; MAX_ORDER + 1],
+            law: (N == 4 && !model.is_plain()).then(|| Law::of(model)),
+            aux: None,
+            start: (0.0, (0.0, 0.0)),
+            steps: 0,
+        }
+    }
+
+    /// Steps to the segment's end.
+    #[inline(always)]
+    fn run_to_end(&mut self, meter: &mut Meter<'_>) -> Result<(), ShotFailure> {
+        loop {
+            let go = self.begin(meter)?;
+            if !go {
+                return Ok(());
+            }
+            self.step_begun(go)?;
+        }
+    }
+
+    /// The rest of a step [`Run::begin`] has begun (`go`; nothing if it found the end).
+    #[inline(always)]
+    fn step_begun(&mut self, go: bool) -> Result<(), ShotFailure> {
+        if go {
+            self.coefficients();
+            self.finish()?;
+        }
+        Ok(())
+    }
+
+    /// Begins a step: whether there is one to take (false at the segment's end), charged to
+    /// `meter`, with the step's start in the series and, for the full beam, the law's own
+    /// strain there (or its limit).
+    #[inline(always)]
+    fn begin(&mut self, meter: &mut Meter<'_>) -> Result<bool, ShotFailure> {
+        if self.s >= self.s_end {
+            return Ok(false);
+        }
+        if self.steps >= self.settings.max_steps {
             return Err(ShotFailure::StepBudget);
         }
-        meter.tick_weighted(if law.is_some() {
+        meter.tick_weighted(if self.law.is_some() {
             FULL_STEP_WEIGHT
         } else {
             STEP_WEIGHT
         })?;
         for i in 0..N {
-            z[i][0] = u[i];
+            self.z[i][0] = self.u[i];
         }
-        match law {
-            None => coefficients::<N>(&mut z, &mut sn, &mut cs, &mut kpsi, p, c, ax, ay),
+        if self.law.is_some() {
+            let (s0, c0) = crate::trig::sin_cos(self.u[0]);
+            let (ax, ay) = (self.force.alpha_x, self.force.alpha_y);
+            let (eps0, _, _) = self
+                .model
+                .axial_strain(ax * c0 + ay * s0)
+                .map_err(ShotFailure::Material)?;
+            self.start = (eps0, (s0, c0));
+        }
+        Ok(true)
+    }
+
+    /// The step's series.
+    #[inline(always)]
+    fn coefficients(&mut self) {
+        let (ax, ay) = (self.force.alpha_x, self.force.alpha_y);
+        match self.law {
+            None => {
+                let c = self.model.plate_compliance();
+                let Run {
+                    z, sn, cs, kpsi, p, ..
+                } = self;
+                coefficients::<N>(z, sn, cs, kpsi, *p, c, ax, ay);
+            }
             Some(law) => {
-                // The law's own strain at the step's start (or its limit).
-                let (s0, c0) = crate::trig::sin_cos(u[0]);
-                let (eps0, _, _) = model
-                    .axial_strain(ax * c0 + ay * s0)
-                    .map_err(ShotFailure::Material)?;
-                sn[0] = s0;
-                cs[0] = c0;
+                let (eps0, sc0) = self.start;
                 // The state alone (`applies`): its four rows, so that the series are built
                 // once, not once per state size. (Every state has them.)
-                let Some(state) = z.first_chunk_mut::<4>() else {
-                    return Err(ShotFailure::NonFinite);
-                };
-                coefficients_full(
-                    state, &mut sn, &mut cs, &mut kpsi, &mut aux, p, law, eps0, ax, ay,
-                );
+                if let Some(state) = self.z.first_chunk_mut::<4>() {
+                    let aux = self.aux.get_or_insert_with(Aux::default);
+                    coefficients_full(state, aux, self.p, law.one(), eps0, sc0, ax, ay);
+                }
             }
         }
+    }
+
+    /// [`Run::coefficients`] of this step and `other`'s, built side by side in the lanes of
+    /// `aux` where both are the full beam's series of one kind and order (the elastica's
+    /// keep their own loops).
+    #[inline(always)]
+    fn coefficients_with(&mut self, other: &mut Run<'_, '_, N>, aux: &mut Aux<Two>) {
+        let laws = match (self.law, other.law) {
+            (Some(la), Some(lb)) if self.p == other.p => Law::two(la, lb),
+            _ => None,
+        };
+        let Some(law) = laws else {
+            self.coefficients();
+            other.coefficients();
+            return;
+        };
+        let p = self.p;
+        let two = |a: f64, b: f64| Two::new(a, b);
+        let mut z = [[two(0.0, 0.0); MAX_ORDER + 1]; 4];
+        for (i, row) in z.iter_mut().enumerate() {
+            row[0] = two(self.z[i][0], other.z[i][0]);
+        }
+        let ((ea, (sa, ca)), (eb, (sb, cb))) = (self.start, other.start);
+        let (fa, fb) = (self.force, other.force);
+        coefficients_full(
+            &mut z,
+            aux,
+            p,
+            law,
+            two(ea, eb),
+            (two(sa, sb), two(ca, cb)),
+            two(fa.alpha_x, fb.alpha_x),
+            two(fa.alpha_y, fb.alpha_y),
+        );
+        for (i, row) in z.iter().enumerate() {
+            for (k, v) in row.iter().enumerate().take(p + 1).skip(1) {
+                [self.z[i][k], other.z[i][k]] = v.lanes();
+            }
+        }
+    }
+
+    /// The weight of component `i`'s error (its value `value`): the inverse of its tolerance.
+    #[inline(always)]
+    fn weights(&self) -> impl Fn(usize, f64) -> f64 {
+        let (inv_m, inv_tol, inv_var_tol) = (self.inv_m, self.inv_tol, self.inv_var_tol);
+        move |i, value| match i {
+            1 => inv_m * inv_tol,
+            // The sensitivities only steer Newton and the stability test: their looser,
+            // relative tolerance, as in the Runge-Kutta shot.
+            _ if i >= 4 => inv_var_tol / (1.0 + value.abs()),
+            _ => inv_tol,
+        }
+    }
+
+    /// Ends a step whose series are built: its length, its samples, the state at its end.
+    #[inline(always)]
+    fn finish(&mut self) -> Result<(), ShotFailure> {
+        let (p, u, z) = (self.p, self.u, &self.z);
+        let weight = self.weights();
         // The step from the last two coefficients, each scaled by its tolerance: the
         // truncation error is about the first neglected term.
         let (mut e_last, mut e_prev) = (0.0_f64, 0.0_f64);
@@ -226,7 +461,7 @@ fn integrate_any<const N: usize>(
         };
         let log_safety = -0.7 / (p - 1) as f64;
         let h_limit = (log_safety + log_h(e_last, p).min(log_h(e_prev, p - 1))).exp();
-        let remaining = s_end - s;
+        let remaining = self.s_end - self.s;
         let mut h = h_limit;
         let last = h >= remaining - 1e-12;
         if last {
@@ -234,37 +469,47 @@ fn integrate_any<const N: usize>(
         } else if h < 1e-12 {
             return Err(ShotFailure::StepBudget);
         }
-        let s_new = if last { s_end } else { s + h };
-        if let Some(samples) = shape.as_mut() {
+        let s_new = if last { self.s_end } else { self.s + h };
+        if self.shape.is_some() {
             let step = Step {
-                s,
+                s: self.s,
                 s_new,
                 h,
                 p,
-                origin: segment.origin,
+                origin: self.origin,
             };
             // The sensitivities sampled: d(psi, x, y)/dM, and d(psi, x, y)/dpsi for N = 12.
+            let next = &mut self.next_sample;
             if N == 12 {
                 let which = [4, 6, 7, 8 % N, 10 % N, 11 % N];
                 let weights = which.map(|i| weight(i, u[i]));
-                sample_step(&z, which, weights, &step, samples, &mut next_sample);
+                if let Some(samples) = self.shape.as_mut() {
+                    sample_step(z, which, weights, &step, samples, next);
+                }
             } else if N > 4 {
                 let which = [4, 6, 7];
                 let weights = which.map(|i| weight(i, u[i]));
-                sample_step(&z, which, weights, &step, samples, &mut next_sample);
-            } else {
+                if let Some(samples) = self.shape.as_mut() {
+                    sample_step(z, which, weights, &step, samples, next);
+                }
+            } else if let Some(samples) = self.shape.as_mut() {
                 // The state alone (N = 4): no sensitivities to sample.
-                sample_step::<N, 0>(&z, [], [], &step, samples, &mut next_sample);
+                sample_step::<N, 0>(z, [], [], &step, samples, next);
             }
         }
-        u = evaluate(&z, std::array::from_fn(|i| i), p, h);
-        s = s_new;
-        steps += 1;
+        self.u = evaluate(z, std::array::from_fn(|i| i), p, h);
+        self.s = s_new;
+        self.steps += 1;
+        Ok(())
     }
-    if u.iter().any(|v| !v.is_finite()) {
-        return Err(ShotFailure::NonFinite);
+
+    /// The state at the segment's end and the steps taken.
+    fn end(&self) -> Result<(State<N>, u32), ShotFailure> {
+        if self.u.iter().any(|v| !v.is_finite()) {
+            return Err(ShotFailure::NonFinite);
+        }
+        Ok((self.u, self.steps))
     }
-    Ok((u, steps))
 }
 
 /// One accepted step, as its samples need it.

@@ -504,3 +504,150 @@ proptest::proptest! {
         }
     }
 }
+
+/// Two shots integrated side by side ([`integrate_pair`]) are each the shot integrated alone,
+/// to the bit: end states, step counts and samples, in both builds (the pair's baseline
+/// build against the single shot's baseline build, and, where the processor has them, its
+/// AVX2 build too). On every pair of the beams with the other effects (series of one kind
+/// built in one register's lanes, of two kinds one after the other) and of the plain ones
+/// with and without sensitivities, under loads that take different numbers of steps, and
+/// with a shot whose material law fails beside one that goes on.
+#[test]
+fn a_pair_of_series_shots_is_each_shot_alone() {
+    let cancel = CancelToken::new();
+    // A failure by its `Debug` text (which writes its numbers exactly).
+    type Out = Result<(Vec<u64>, u32), String>;
+    fn bits<const N: usize>(r: Result<(State<N>, u32), ShotFailure>, points: &[ShapePoint]) -> Out {
+        let (u, steps) = r.map_err(|e| format!("{e:?}"))?;
+        let mut values = u.to_vec();
+        values.extend(points.iter().flat_map(|p| [p.s, p.x, p.y, p.psi]));
+        Ok((values.iter().map(|v| v.to_bits()).collect(), steps))
+    }
+    fn alone<const N: usize>(
+        model: &BeamModel,
+        (ax, ay, m0): (f64, f64, f64),
+        cancel: &CancelToken,
+    ) -> Out {
+        let force = TipForce {
+            alpha_x: ax,
+            alpha_y: ay,
+        };
+        let mut points = Vec::new();
+        let shape = Some(Samples {
+            points: &mut points,
+            count: 41,
+            sensitivities: None,
+        });
+        let mut meter = Meter::new(u64::MAX / 4, model, cancel);
+        let r = integrate_any::<N>(
+            model,
+            force,
+            Segment::from_clamp(m0),
+            settings(1e-9),
+            shape,
+            &mut meter,
+        );
+        bits(r, &points)
+    }
+    fn pair<const N: usize>(
+        wide: bool,
+        models: [&BeamModel; 2],
+        loads: [(f64, f64, f64); 2],
+        cancel: &CancelToken,
+    ) -> [Out; 2] {
+        let (mut pa, mut pb) = (Vec::new(), Vec::new());
+        let shot = |model, (ax, ay, m0): (f64, f64, f64), points| -> PairShot<'_, '_> {
+            let force = TipForce {
+                alpha_x: ax,
+                alpha_y: ay,
+            };
+            let shape = Some(Samples {
+                points,
+                count: 41,
+                sensitivities: None,
+            });
+            (model, force, Segment::from_clamp(m0), settings(1e-9), shape)
+        };
+        let shots = [
+            shot(models[0], loads[0], &mut pa),
+            shot(models[1], loads[1], &mut pb),
+        ];
+        let mut ma = Meter::new(u64::MAX / 4, models[0], cancel);
+        let mut mb = Meter::new(u64::MAX / 4, models[1], cancel);
+        let [ra, rb] = if wide {
+            #[cfg(target_arch = "x86_64")]
+            // SAFETY: the caller asks for the wide build only where `cpu::wide` said this
+            // processor has AVX2 and FMA.
+            let r = unsafe { integrate_pair_wide::<N>(shots, [&mut ma, &mut mb]) };
+            #[cfg(not(target_arch = "x86_64"))]
+            let r = integrate_pair_any::<N>(shots, [&mut ma, &mut mb]);
+            r
+        } else {
+            integrate_pair_any::<N>(shots, [&mut ma, &mut mb])
+        };
+        [bits(ra, &pa), bits(rb, &pb)]
+    }
+    let builds: &[bool] = if crate::cpu::wide() {
+        &[false, true]
+    } else {
+        &[false]
+    };
+    // The rubber's section necks under a pull of 200 at once.
+    let necks = (200.0, 0.0, 0.0);
+    let full = full_models();
+    assert!(
+        alone::<4>(&full[1], necks, &cancel).is_err(),
+        "the necking case must fail"
+    );
+    let mut compared = 0;
+    for (i, a) in full.iter().enumerate() {
+        for (j, b) in full.iter().enumerate() {
+            for l in 0..LOADS.len() {
+                let loads = [LOADS[l], LOADS[(l + i + j + 1) % LOADS.len()]];
+                for &wide in builds {
+                    let got = pair::<4>(wide, [a, b], loads, &cancel);
+                    let want = [
+                        alone::<4>(a, loads[0], &cancel),
+                        alone::<4>(b, loads[1], &cancel),
+                    ];
+                    assert_eq!(
+                        got, want,
+                        "models {i} and {j}, loads {loads:?}, wide {wide}"
+                    );
+                    compared += 1;
+                }
+            }
+            for &wide in builds {
+                let loads = [necks, LOADS[i]];
+                if j == 1 {
+                    let got = pair::<4>(wide, [b, a], loads, &cancel);
+                    let want = [
+                        alone::<4>(b, loads[0], &cancel),
+                        alone::<4>(a, loads[1], &cancel),
+                    ];
+                    assert!(got[0].is_err(), "the rubber must neck beside model {i}");
+                    assert_eq!(got, want, "necking beside model {i}, wide {wide}");
+                }
+            }
+        }
+    }
+    for a in &plain_models() {
+        for b in &plain_models() {
+            for &wide in builds {
+                let loads = [LOADS[0], LOADS[2]];
+                let want = [
+                    alone::<4>(a, loads[0], &cancel),
+                    alone::<4>(b, loads[1], &cancel),
+                ];
+                assert_eq!(pair::<4>(wide, [a, b], loads, &cancel), want);
+                let want = [
+                    alone::<16>(a, loads[0], &cancel),
+                    alone::<16>(b, loads[1], &cancel),
+                ];
+                assert_eq!(pair::<16>(wide, [a, b], loads, &cancel), want);
+                compared += 2;
+            }
+        }
+    }
+    assert_eq!(compared, (16 * 5 + 4 * 2) * builds.len());
+}
