@@ -71,7 +71,7 @@ use super::ShapePoint;
 
 mod num;
 mod series;
-use num::Two;
+use num::{Num, Two};
 use series::{coefficients, coefficients_full, Aux, Law};
 
 /// The highest order a step may use.
@@ -210,13 +210,15 @@ fn integrate_pair_any<const N: usize>(
     // Side by side while both go on with series of one kind and order.
     let together = a.p == b.p && a.law.is_some() == b.law.is_some();
     let (mut ra, mut rb) = (Ok(()), Ok(()));
-    // The pair's series, lane by lane.
-    let mut aux = Aux::<Two>::default();
+    let mut pair = PairSeries {
+        z: [[Two::splat(0.0); MAX_ORDER + 1]; 4],
+        aux: Aux::default(),
+    };
     if together {
         loop {
             match (a.begin(meter_a), b.begin(meter_b)) {
                 (Ok(true), Ok(true)) => {
-                    a.coefficients_with(&mut b, &mut aux);
+                    a.coefficients_with(&mut b, &mut pair);
                     ra = a.finish();
                     rb = b.finish();
                 }
@@ -237,6 +239,13 @@ fn integrate_pair_any<const N: usize>(
         run.end()
     };
     [finish(ra, &mut a, meter_a), finish(rb, &mut b, meter_b)]
+}
+
+/// Two shots' series, lane by lane ([`Run::coefficients_with`]), kept from step to step
+/// (each step writes every order it reads).
+struct PairSeries {
+    z: [[Two; MAX_ORDER + 1]; 4],
+    aux: Aux<Two>,
 }
 
 /// One Taylor shot in progress: the integrator's whole state between steps.
@@ -386,7 +395,7 @@ impl<'m, 's, const N: usize> Run<'m, 's, N> {
     /// `aux` where both are the full beam's series of one kind and order (the elastica's
     /// keep their own loops).
     #[inline(always)]
-    fn coefficients_with(&mut self, other: &mut Run<'_, '_, N>, aux: &mut Aux<Two>) {
+    fn coefficients_with(&mut self, other: &mut Run<'_, '_, N>, pair: &mut PairSeries) {
         let laws = match (self.law, other.law) {
             (Some(la), Some(lb)) if self.p == other.p => Law::two(la, lb),
             _ => None,
@@ -398,14 +407,14 @@ impl<'m, 's, const N: usize> Run<'m, 's, N> {
         };
         let p = self.p;
         let two = |a: f64, b: f64| Two::new(a, b);
-        let mut z = [[two(0.0, 0.0); MAX_ORDER + 1]; 4];
+        let PairSeries { z, aux } = pair;
         for (i, row) in z.iter_mut().enumerate() {
             row[0] = two(self.z[i][0], other.z[i][0]);
         }
         let ((ea, (sa, ca)), (eb, (sb, cb))) = (self.start, other.start);
         let (fa, fb) = (self.force, other.force);
         coefficients_full(
-            &mut z,
+            z,
             aux,
             p,
             law,
@@ -416,7 +425,7 @@ impl<'m, 's, const N: usize> Run<'m, 's, N> {
         );
         for (i, row) in z.iter().enumerate() {
             for (k, v) in row.iter().enumerate().take(p + 1).skip(1) {
-                [self.z[i][k], other.z[i][k]] = v.lanes();
+                v.store(&mut self.z[i][k], &mut other.z[i][k]);
             }
         }
     }

@@ -36,10 +36,10 @@ impl Two {
         Two(imp::new(a, b))
     }
 
-    /// The two lanes.
+    /// The two lanes stored into `a` and `b`.
     #[inline(always)]
-    pub(super) fn lanes(self) -> [f64; 2] {
-        imp::lanes(self.0)
+    pub(super) fn store(self, a: &mut f64, b: &mut f64) {
+        imp::store(self.0, a, b)
     }
 }
 
@@ -84,10 +84,11 @@ mod imp {
         unsafe { _mm_set_pd(b, a) }
     }
     #[inline(always)]
-    pub(super) fn lanes(v: V) -> [f64; 2] {
-        let mut out = [0.0; 2];
-        unsafe { _mm_storeu_pd(out.as_mut_ptr(), v) };
-        out
+    pub(super) fn store(v: V, a: &mut f64, b: &mut f64) {
+        unsafe {
+            _mm_store_sd(a, v);
+            _mm_storeh_pd(b, v);
+        }
     }
     #[inline(always)]
     pub(super) fn add(a: V, b: V) -> V {
@@ -121,8 +122,8 @@ mod imp {
         [a, b]
     }
     #[inline(always)]
-    pub(super) fn lanes(v: V) -> [f64; 2] {
-        v
+    pub(super) fn store(v: V, a: &mut f64, b: &mut f64) {
+        [*a, *b] = v;
     }
     #[inline(always)]
     pub(super) fn add(a: V, b: V) -> V {

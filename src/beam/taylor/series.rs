@@ -167,6 +167,15 @@ pub(super) struct Aux<T> {
     q: [T; MAX_ORDER + 1],
     g: [T; MAX_ORDER + 1],
     inv_slope: T,
+    /// The step's constants: the axial force at its start, the shear force times the shear
+    /// compliance there, and how the order-k coefficients of the strain, `1 / p^2` and `1 /
+    /// p^4` change with those of the axial force and the strain (the terms of order 0 with
+    /// order k).
+    n0: T,
+    shear_q0: T,
+    strain_of_force: T,
+    w2_of_strain: T,
+    w4_of_strain: T,
 }
 
 impl<T: Num> Default for Aux<T> {
@@ -184,6 +193,11 @@ impl<T: Num> Default for Aux<T> {
             q: zero,
             g: zero,
             inv_slope: T::splat(0.0),
+            n0: T::splat(0.0),
+            shear_q0: T::splat(0.0),
+            strain_of_force: T::splat(0.0),
+            w2_of_strain: T::splat(0.0),
+            w4_of_strain: T::splat(0.0),
         }
     }
 }
@@ -247,6 +261,15 @@ fn mid<const K: usize, T: Num>(a: &[T; MAX_ORDER + 1], b: &[T; MAX_ORDER + 1]) -
 /// and `K + 1` of the state. Each sum pairs order j of one series with order k - j of another:
 /// the terms of orders 1 to k - 1 ([`mid`]), which need nothing of this order (the processor
 /// sums them while the newest terms are computed), and then those with order 0 or k.
+///
+/// Order k's only new inputs are `k psi_k` and `M_k`, and every quantity of the order is
+/// affine in them with coefficients of older orders. The chain from one order's `k psi_k` to
+/// the next order's is kept short by taking each quantity on it straight from the one before
+/// by such an affine map (computed off the chain): the axial force from `k psi_k`, not from
+/// `sin psi` and `cos psi`; the strain from the force; `1 / p^2` and `1 / p^4` from the strain,
+/// not through `p` and `p^2`; and the next `k psi_k` from the bending moment's series without
+/// going through `psi`'s coefficient. About eleven dependent operations an order, where
+/// following the recurrences literally took twenty-two.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
 fn order_full<const K: usize, T: Num>(
@@ -259,93 +282,122 @@ fn order_full<const K: usize, T: Num>(
     ay: T,
 ) {
     let (stretch, shrink) = (law.stretch, law.shrink);
-    let nu = law.nu;
+    let (nu, shear) = (law.nu, law.shear);
     let k = K;
     let zero = T::splat(0.0);
     let one = T::splat(1.0);
     let two = T::splat(2.0);
-    let (s_k, c_k) = if k > 0 {
-        let kpsi_k = T::splat(k as f64) * z[0][k];
-        aux.kpsi[k] = kpsi_k;
-        let ss = mid::<K, T>(&aux.kpsi, &aux.cs) + kpsi_k * c0;
-        let cc = mid::<K, T>(&aux.kpsi, &aux.sn) + kpsi_k * s0;
-        let inv = T::splat(INV[k]);
-        (ss * inv, -cc * inv)
-    } else {
-        (s0, c0)
-    };
-    aux.sn[k] = s_k;
-    aux.cs[k] = c_k;
-    let n_k = ax * c_k + ay * s_k;
-    let q_k = -ax * s_k + ay * c_k;
-    aux.q[k] = q_k;
-    let e_k = if !stretch {
-        zero
-    } else if k == 0 {
-        if shrink {
+    let inv_next = T::splat(INV[k + 1]);
+    if k == 0 {
+        // The step's start, and the constants of its affine maps.
+        let n0 = ax * c0 + ay * s0;
+        let q0 = -ax * s0 + ay * c0;
+        aux.sn[0] = s0;
+        aux.cs[0] = c0;
+        aux.q[0] = q0;
+        aux.n0 = n0;
+        aux.shear_q0 = shear * q0;
+        let e0 = if stretch { eps0 } else { zero };
+        aux.e[0] = e0;
+        let (w2_0, w4_0) = if shrink {
             let p0 = one - nu * eps0;
             let p2 = p0 * p0;
             let w2 = one / p2;
             aux.p[0] = p0;
             aux.p2[0] = p2;
             aux.w2[0] = w2;
-            aux.w4[0] = w2 * w2;
             aux.inv_slope = one / (p0 * (one - T::splat(3.0) * nu * eps0));
-        }
-        eps0
+            aux.strain_of_force = law.axial * aux.inv_slope;
+            // d(1 / p^2) / d eps = 2 nu p / p^4 at order 0, and d(1 / p^4) / d eps twice
+            // that times 1 / p^2.
+            aux.w2_of_strain = two * nu * p0 * w2 * w2;
+            aux.w4_of_strain = two * w2 * aux.w2_of_strain;
+            (w2, w2 * w2)
+        } else {
+            (one, one)
+        };
+        aux.w4[0] = w4_0;
+        let g0 = if shrink {
+            shear * q0 * w2_0
+        } else {
+            shear * q0
+        };
+        aux.g[0] = g0;
+        let bm = w4_0 * z[1][0];
+        let kpsi_next = law.bend * bm;
+        aux.kpsi[1] = kpsi_next;
+        z[0][1] = kpsi_next * inv_next;
+        let (es, ec, gs, gc) = (e0 * s0, e0 * c0, g0 * s0, g0 * c0);
+        // (eps Q) = -ax (eps S) + ay (eps C), (gamma N) = ax (gamma C) + ay (gamma S).
+        z[1][1] = (-(q0 + (-ax * es + ay * ec)) + (ax * gc + ay * gs)) * inv_next;
+        z[2][1] = (c0 + ec - gs) * inv_next;
+        z[3][1] = (s0 + es + gc) * inv_next;
+        return;
+    }
+    let (n0, q0) = (aux.n0, aux.q[0]);
+    let kpsi_k = aux.kpsi[k];
+    let inv_k = T::splat(INV[k]);
+    // The sine and cosine recurrences: `S_k = sum (j psi_j) C_(k-j) / k`, and `C_k` alike.
+    let (mss, mcc) = (
+        mid::<K, T>(&aux.kpsi, &aux.cs),
+        mid::<K, T>(&aux.kpsi, &aux.sn),
+    );
+    let s_k = (mss + kpsi_k * c0) * inv_k;
+    let c_k = -(mcc + kpsi_k * s0) * inv_k;
+    aux.sn[k] = s_k;
+    aux.cs[k] = c_k;
+    // `N_k = ax C_k + ay S_k` and `Q_k = -ax S_k + ay C_k`, straight from `k psi_k`.
+    let n_k = (ay * mss - ax * mcc + kpsi_k * q0) * inv_k;
+    let q_k = (-(ax * mss) - ay * mcc - kpsi_k * n0) * inv_k;
+    aux.q[k] = q_k;
+    // The strain, and `1 / p^2`, `1 / p^4` and the shear strain `c_s Q / p^2`.
+    let (e_k, w4_k, g_k) = if !stretch {
+        (zero, zero, shear * q_k)
     } else if shrink {
         // Order k of `eps p^2 = c_e N`, solved for its one unknown `eps_k`.
+        let (e0, p0, w2_0) = (aux.e[0], aux.p[0], aux.w2[0]);
         let t = mid::<K, T>(&aux.p, &aux.p);
         let known = mid::<K, T>(&aux.e, &aux.p2);
-        let e_k = (law.axial * n_k - aux.e[0] * t - known) * aux.inv_slope;
+        let e_k = aux.strain_of_force * n_k - (e0 * t + known) * aux.inv_slope;
         let p_k = -nu * e_k;
-        let p2_k = two * aux.p[0] * p_k + t;
+        let p2_k = two * p0 * p_k + t;
+        // `1 / p^2` by the division recurrence, `-(sum p2_j w2_(k-j), j = 1..k) w2_0`, its
+        // `p2_k` term taken through `eps_k`.
+        let w2_old = -(mid::<K, T>(&aux.p2, &aux.w2) + t * w2_0) * w2_0;
+        let w2_k = w2_old + aux.w2_of_strain * e_k;
+        let w4_old = mid::<K, T>(&aux.w2, &aux.w2) + two * w2_0 * w2_old;
+        let w4_k = w4_old + aux.w4_of_strain * e_k;
+        let g_k = shear * (mid::<K, T>(&aux.q, &aux.w2) + q_k * w2_0) + aux.shear_q0 * w2_k;
         aux.p[k] = p_k;
         aux.p2[k] = p2_k;
-        // 1 / p^2 by the division recurrence.
-        aux.w2[k] = -(mid::<K, T>(&aux.p2, &aux.w2) + p2_k * aux.w2[0]) * aux.w2[0];
-        e_k
+        aux.w2[k] = w2_k;
+        (e_k, w4_k, g_k)
     } else {
-        law.axial * n_k
+        (law.axial * n_k, zero, shear * q_k)
     };
     aux.e[k] = e_k;
-    // 1 / p^4, and the shear strain `c_s Q / p^2`.
-    let (w4_k, g_k) = if !shrink {
-        (if k == 0 { one } else { zero }, law.shear * q_k)
-    } else if k > 0 {
-        let (w2_0, w2_k) = (aux.w2[0], aux.w2[k]);
-        let sq = mid::<K, T>(&aux.w2, &aux.w2);
-        let qw = mid::<K, T>(&aux.q, &aux.w2);
-        (
-            sq + two * w2_0 * w2_k,
-            law.shear * (qw + q_k * w2_0 + aux.q[0] * w2_k),
-        )
-    } else {
-        (aux.w4[0], law.shear * q_k * aux.w2[0])
-    };
     aux.w4[k] = w4_k;
     aux.g[k] = g_k;
-    // The strain's and the shear strain's products with S and C, and the bending
-    // compliance's with M.
-    let m_k = z[1][k];
-    let (es, ec, gs, gc, bm) = if k == 0 {
-        (e_k * s0, e_k * c0, g_k * s0, g_k * c0, w4_k * m_k)
-    } else {
-        let (e0, g0, w0, m0) = (aux.e[0], aux.g[0], aux.w4[0], z[1][0]);
-        (
-            mid::<K, T>(&aux.e, &aux.sn) + e0 * s_k + e_k * s0,
-            mid::<K, T>(&aux.e, &aux.cs) + e0 * c_k + e_k * c0,
-            mid::<K, T>(&aux.g, &aux.sn) + g0 * s_k + g_k * s0,
-            mid::<K, T>(&aux.g, &aux.cs) + g0 * c_k + g_k * c0,
-            mid::<K, T>(&aux.w4, &z[1]) + w0 * m_k + w4_k * m0,
-        )
-    };
-    let inv = T::splat(INV[k + 1]);
-    z[0][k + 1] = law.bend * bm * inv;
-    // (eps Q) = -ax (eps S) + ay (eps C), (gamma N) = ax (gamma C) + ay (gamma S).
-    z[1][k + 1] = (-(q_k + (-ax * es + ay * ec)) + (ax * gc + ay * gs)) * inv;
-    z[2][k + 1] = (c_k + ec - gs) * inv;
-    z[3][k + 1] = (s_k + es + gc) * inv;
+    // The bending compliance's product with M, and so the next order's `k psi_k`.
+    let (w0, m0, m_k) = (aux.w4[0], z[1][0], z[1][k]);
+    let bm = mid::<K, T>(&aux.w4, &z[1]) + w0 * m_k + w4_k * m0;
+    let kpsi_next = law.bend * bm;
+    aux.kpsi[k + 1] = kpsi_next;
+    z[0][k + 1] = kpsi_next * inv_next;
+    // The strain's and the shear strain's products with S and C: their terms of order 0 and
+    // k in `S_k`, `C_k` (all but the newest), then the newest.
+    let (e0, g0) = (aux.e[0], aux.g[0]);
+    let es = mid::<K, T>(&aux.e, &aux.sn) + e0 * s_k;
+    let ec = mid::<K, T>(&aux.e, &aux.cs) + e0 * c_k;
+    let gs = mid::<K, T>(&aux.g, &aux.sn) + g0 * s_k;
+    let gc = mid::<K, T>(&aux.g, &aux.cs) + g0 * c_k;
+    // M' = -(1 + eps) Q + gamma N: `-Q_k + ax (eps S) - ay (eps C) + ax (gamma C) + ay
+    // (gamma S)`, whose terms in `eps_k` and `gamma_k` are `-eps_k Q_0 + gamma_k N_0`.
+    let old = ax * es - ay * ec + (ax * gc + ay * gs) - q_k;
+    z[1][k + 1] = (old - e_k * q0 + g_k * n0) * inv_next;
+    let (es, ec, gs, gc) = (es + e_k * s0, ec + e_k * c0, gs + g_k * s0, gc + g_k * c0);
+    z[2][k + 1] = (c_k + ec - gs) * inv_next;
+    z[3][k + 1] = (s_k + es + gc) * inv_next;
 }
 
 /// `1 / k` for every order (`INV[0]` unused).
